@@ -1,0 +1,26 @@
+#pragma once
+// The standard benchmark scenes, built in code so that they are exactly as specified.
+
+#include <string>
+#include <vector>
+
+#include "robophi/scene.h"
+
+namespace robophi::cli {
+
+/// A named benchmark scene.
+struct BenchScene {
+  std::string name;
+  Scene scene;
+};
+
+/// CLOTH N: N×N particles 1 cm apart in z = 0, 1 kg in all, corners (0,0) and
+/// (N-1,0) fixed; structural and shear LS of stiffness 1e4 N/m, damping
+/// 0.2·sqrt(1e4·m); gravity -z; symplectic Euler, dt = 1e-4·32/N s, 1 s.
+Scene makeClothScene(int n);
+
+/// The standard set: CLOTH 32, 64, 128 and the example scenes. `quick` shortens
+/// every run to a smoke test.
+std::vector<BenchScene> standardBenchScenes(bool quick);
+
+}  // namespace robophi::cli

@@ -1,0 +1,122 @@
+// robophi bench: the standard scenes, headless, with throughput figures.
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "bench_scenes.h"
+#include "commands.h"
+#include "robophi/version.h"
+
+namespace robophi::cli {
+
+namespace {
+
+struct BenchArguments {
+  bool json = false;
+  bool quick = false;
+  std::string filter;
+  std::string record = "bench/results";
+};
+
+struct BenchResult {
+  std::string name;
+  std::int64_t particles = 0, connectors = 0, steps = 0;
+  double simulatedSeconds = 0.0, wallSeconds = 0.0;
+  double particleStepsPerSecond = 0.0, connectorEvalsPerSecond = 0.0;
+  std::string status;
+};
+
+BenchResult runBench(const BenchScene& bench) {
+  const Scene& scene = bench.scene;
+  World world(scene.model, scene.initial, scene.run.integrator);
+  const auto steps = static_cast<std::int64_t>(std::ceil(scene.run.duration / scene.run.dt - 1e-9));
+  BenchResult r;
+  r.name = bench.name;
+  r.particles = scene.model.particleCount();
+  r.connectors = static_cast<std::int64_t>(scene.model.linearSprings.size() +
+                                           scene.model.torsionSprings.size() +
+                                           scene.model.jointSprings.size());
+  r.status = "ok";
+  const auto start = std::chrono::steady_clock::now();
+  for (std::int64_t i = 0; i < steps; ++i) {
+    if (world.step(scene.run.dt) != StepStatus::kOk) {
+      r.status = "diverged";
+      break;
+    }
+  }
+  r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.steps = world.state().stepCount;
+  r.simulatedSeconds = world.state().time;
+  r.particleStepsPerSecond = static_cast<double>(r.particles * r.steps) / r.wallSeconds;
+  r.connectorEvalsPerSecond = static_cast<double>(r.connectors * r.steps) / r.wallSeconds;
+  return r;
+}
+
+nlohmann::ordered_json toJson(const BenchResult& r) {
+  return {{"scene", r.name},
+          {"status", r.status},
+          {"particles", r.particles},
+          {"connectors", r.connectors},
+          {"steps", r.steps},
+          {"simulated_s", r.simulatedSeconds},
+          {"wall_s", r.wallSeconds},
+          {"particle_steps_per_s", r.particleStepsPerSecond},
+          {"connector_evals_per_s", r.connectorEvalsPerSecond}};
+}
+
+int benchCommand(const BenchArguments& args) {
+  nlohmann::ordered_json all = nlohmann::ordered_json::array();
+  for (const BenchScene& bench : standardBenchScenes(args.quick)) {
+    if (!args.filter.empty() && bench.name.find(args.filter) == std::string::npos) continue;
+    const BenchResult r = runBench(bench);
+    all.push_back(toJson(r));
+    if (!args.json) {
+      std::printf(
+          "%-12s particles=%-7lld connectors=%-7lld steps=%-7lld wall_s=%-8.3f "
+          "particle_steps_per_s=%.3e connector_evals_per_s=%.3e %s\n",
+          r.name.c_str(), static_cast<long long>(r.particles),
+          static_cast<long long>(r.connectors), static_cast<long long>(r.steps), r.wallSeconds,
+          r.particleStepsPerSecond, r.connectorEvalsPerSecond, r.status.c_str());
+      std::fflush(stdout);
+    }
+  }
+  nlohmann::ordered_json doc;
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  doc["robophi"] = kVersion;
+  doc["date"] = date;
+  doc["quick"] = args.quick;
+  doc["results"] = all;
+  if (args.json) std::printf("%s\n", doc.dump(2).c_str());
+  if (!args.record.empty() && !args.quick) {
+    std::filesystem::create_directories(args.record);
+    const auto path = std::filesystem::path(args.record) / "latest.json";
+    std::ofstream(path) << doc.dump(2) << '\n';
+    if (!args.json) std::printf("recorded in %s\n", path.string().c_str());
+  }
+  for (const auto& r : all) {
+    if (r["status"] != "ok") return kExitDiverged;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand("bench", "Run the standard scenes headless and print throughput");
+  auto args = std::make_shared<BenchArguments>();
+  cmd->add_flag("--json", args->json, "Print the results as JSON");
+  cmd->add_flag("--quick", args->quick, "A short smoke run (not recorded)");
+  cmd->add_option("--filter", args->filter, "Only scenes whose name contains this");
+  cmd->add_option("--record", args->record,
+                  "Folder for latest.json (default bench/results; empty: do not record)");
+  cmd->callback([args, &exitCode] { exitCode = benchCommand(*args); });
+}
+
+}  // namespace robophi::cli

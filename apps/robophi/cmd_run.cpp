@@ -1,0 +1,119 @@
+// robophi run SCENE: simulate and write the results folder (docs/output-format.md).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "robophi/runner.h"
+#include "scene_input.h"
+
+namespace robophi::cli {
+
+namespace {
+
+struct RunArguments {
+  std::string scene;
+  std::string outDir;
+  std::optional<double> duration, dt, fps;
+  std::string integrator;
+  double energyRate = 1000.0;
+  bool quiet = false;
+};
+
+// A progress bar on a terminal; otherwise a status line every 10 s of wall time.
+std::function<void(const RunProgress&)> makeProgress(bool quiet) {
+  if (quiet) return {};
+  const bool terminal = isatty(fileno(stderr)) != 0;
+  auto lastLine = std::make_shared<double>(0.0);
+  return [terminal, lastLine](const RunProgress& p) {
+    const double fraction = p.duration > 0.0 ? std::min(1.0, p.simulatedTime / p.duration) : 1.0;
+    if (terminal) {
+      constexpr int kWidth = 40;
+      const int filled = static_cast<int>(fraction * kWidth);
+      std::fprintf(stderr, "\r[%s%s] %5.1f%%  t=%.4g s  %lld steps  %.1f s wall",
+                   std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                   std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(),
+                   100.0 * fraction, p.simulatedTime, static_cast<long long>(p.steps),
+                   p.wallSeconds);
+      std::fflush(stderr);
+    } else if (p.wallSeconds - *lastLine >= 10.0) {
+      *lastLine = p.wallSeconds;
+      std::fprintf(stderr, "robophi: %.1f%% t=%.4g s of %.4g s, %lld steps, %.1f s wall\n",
+                   100.0 * fraction, p.simulatedTime, p.duration, static_cast<long long>(p.steps),
+                   p.wallSeconds);
+    }
+  };
+}
+
+int runCommand(const RunArguments& args) {
+  auto scene = loadSceneOrReport(args.scene);
+  if (!scene) return kExitBadInput;
+
+  RunOptions options;
+  options.settings = scene->run;
+  if (args.duration) options.settings.duration = *args.duration;
+  if (args.dt) options.settings.dt = *args.dt;
+  if (args.fps) options.settings.fps = *args.fps;
+  if (!args.integrator.empty() && !parseIntegrator(args.integrator, options.settings.integrator)) {
+    std::fprintf(stderr, "robophi run: --integrator '%s': expected taylor, symplectic or verlet\n",
+                 args.integrator.c_str());
+    return kExitBadInput;
+  }
+  for (auto [name, value] : {std::pair{"--duration", options.settings.duration},
+                             std::pair{"--dt", options.settings.dt},
+                             std::pair{"--fps", options.settings.fps},
+                             std::pair{"--energy-rate", args.energyRate}}) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      std::fprintf(stderr, "robophi run: %s %g: expected a positive number\n", name, value);
+      return kExitBadInput;
+    }
+  }
+  options.energyRate = args.energyRate;
+  options.outDir = args.outDir.empty()
+                       ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem())
+                             .string()
+                       : args.outDir;
+  options.progress = makeProgress(args.quiet);
+
+  const StabilityEstimate stability = estimateStability(scene->model);
+  if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
+  for (const auto& w : preflightWarnings(*scene, options.settings, stability)) {
+    std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
+  }
+
+  const RunReport report = runScene(*scene, options);
+  if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+  std::printf(
+      "%s: %s, %lld steps (%s, dt %.3g s), %.4g s simulated in %.3f s wall, energy drift %.3g, "
+      "results in %s\n",
+      args.scene.c_str(), report.status.c_str(), static_cast<long long>(report.steps),
+      integratorName(options.settings.integrator), options.settings.dt, report.simulatedTime,
+      report.wallSeconds, report.energyDrift, options.outDir.c_str());
+  if (!report.ok()) {
+    std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
+    return kExitDiverged;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void addRunCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand("run", "Simulate a scene and write its results folder");
+  auto args = std::make_shared<RunArguments>();
+  cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
+  cmd->add_option("--out", args->outDir, "Results folder (default out/<scene name>)");
+  cmd->add_option("--duration", args->duration, "Model time to simulate (s)");
+  cmd->add_option("--dt", args->dt, "Constant time step (s)");
+  cmd->add_option("--integrator", args->integrator, "taylor | symplectic | verlet");
+  cmd->add_option("--fps", args->fps, "Frames per model second in particles.csv (default 60)");
+  cmd->add_option("--energy-rate", args->energyRate, "Rows of energy.csv per model second");
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress display");
+  cmd->callback([args, &exitCode] { exitCode = runCommand(*args); });
+}
+
+}  // namespace robophi::cli

@@ -1,0 +1,30 @@
+// robophi validate SCENE: exit 0 if the scene is valid, 2 otherwise.
+#include <cstdio>
+
+#include "commands.h"
+#include "robophi/runner.h"
+#include "scene_input.h"
+
+namespace robophi::cli {
+
+void addValidateCommand(CLI::App& app, int& exitCode) {
+  auto* cmd = app.add_subcommand("validate", "Check a scene file; exit 0 if valid, 2 if not");
+  auto path = std::make_shared<std::string>();
+  cmd->add_option("scene", *path, "Scene file (JSON)")->required();
+  cmd->callback([path, &exitCode] {
+    const auto scene = loadSceneOrReport(*path);
+    if (!scene) {
+      exitCode = kExitBadInput;
+      return;
+    }
+    const StabilityEstimate stability = estimateStability(scene->model);
+    std::printf("%s\n", describeScene(*scene, stability).c_str());
+    for (const auto& w : preflightWarnings(*scene, scene->run, stability)) {
+      std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());
+    }
+    std::printf("%s: valid\n", path->c_str());
+    exitCode = kExitOk;
+  });
+}
+
+}  // namespace robophi::cli

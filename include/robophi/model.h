@@ -1,0 +1,147 @@
+#pragma once
+/// \file
+/// Model: everything that does not change during a step (MODEL.md §1).
+/// Masses, radii, connector rest values and stiffnesses, objects and joints.
+/// The mutable part (positions, velocities, forces) is State (state.h).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "robophi/vec3.h"
+
+namespace robophi {
+
+/// Index of a particle in the model's flat arrays.
+using ParticleIndex = std::int32_t;
+inline constexpr ParticleIndex kNoParticle = -1;
+
+/// LS: linear spring/damper between particles a and b (MODEL §1, LS).
+/// F_a = (-κ Δl - μ l̇) k̂, F_b = -F_a, energy ½ κ Δl².
+struct LinearSpring {
+  ParticleIndex a = kNoParticle;
+  ParticleIndex b = kNoParticle;
+  /// Rest length l0 (m), > 0.
+  double restLength = 0.0;
+  /// Stiffness κ (N/m), >= 0.
+  double stiffness = 0.0;
+  /// Damping μ (N·s/m), >= 0.
+  double damping = 0.0;
+};
+
+/// TS: torsion spring/damper on the angle a-c-b, c the centre (MODEL §1, TS).
+/// θ in [0, π]; energy ½ κ (θ - θ0)². With θ0 = π it keeps a, c, b collinear.
+struct TorsionSpring {
+  ParticleIndex a = kNoParticle;
+  ParticleIndex c = kNoParticle;
+  ParticleIndex b = kNoParticle;
+  /// Rest angle θ0 (rad), in [0, π].
+  double restAngle = 0.0;
+  /// Stiffness κ (N·m/rad), >= 0.
+  double stiffness = 0.0;
+  /// Damping μ (N·m·s/rad), >= 0.
+  double damping = 0.0;
+};
+
+/// JS: joint spring/damper, a TS with a reference particle d that orients the
+/// angle (MODEL §1, JS). θ in [0, 2π) measured positive about n = (p_d - p_c)/|p_d - p_c|.
+/// No force is applied to d. The spring acts on θ - θ0 wrapped into (-π, π].
+struct JointSpring {
+  ParticleIndex a = kNoParticle;
+  ParticleIndex c = kNoParticle;
+  ParticleIndex b = kNoParticle;
+  ParticleIndex d = kNoParticle;
+  /// Rest (target) angle θ0 (rad), in [0, 2π).
+  double restAngle = 0.0;
+  /// Stiffness κ (N·m/rad), >= 0; 0 for a passive ("switched off") joint.
+  double stiffness = 0.0;
+  /// Damping μ (N·m·s/rad), >= 0.
+  double damping = 0.0;
+};
+
+/// A named group of particles made by one generator or listed in one scene object.
+struct ObjectInfo {
+  std::string name;
+  /// Generator that made it: "rope", "bar", "plate", "box", "ball", "wheel", "particles".
+  std::string kind;
+  ParticleIndex firstParticle = 0;
+  ParticleIndex particleCount = 0;
+  /// Index into Model::materials (contact properties); 0 is the default material.
+  std::int32_t material = 0;
+};
+
+/// Contact properties of a material (used by the contact stage, MODEL §3).
+struct Material {
+  std::string name = "default";
+  /// Collision rigidity κ_c (N/m). Stiffer needs a smaller step.
+  double contactStiffness = 1.0e4;
+  /// Collision damping μ_c (N·s/m).
+  double contactDamping = 10.0;
+  /// Static friction coefficient μ_s (-).
+  double staticFriction = 0.5;
+  /// Kinetic friction coefficient μ_k (-), <= μ_s.
+  double kineticFriction = 0.4;
+};
+
+/// The kind of a named joint.
+enum class JointKind : std::uint8_t {
+  /// Revolute: a JS measures and drives the angle. Value in rad, [0, 2π).
+  kRevolute,
+  /// Prismatic: a TS at 180° keeps the slider on the line. Value in m: the
+  /// distance from the origin particle to the slider along the line.
+  kPrismatic,
+};
+
+/// A named joint whose value is read at every step (joints.csv).
+struct Joint {
+  std::string name;
+  JointKind kind = JointKind::kRevolute;
+  /// Revolute: index into Model::jointSprings. Prismatic: index into Model::torsionSprings.
+  std::int32_t connector = -1;
+  /// Prismatic only: the LS (index into Model::linearSprings) that drives the
+  /// slider's distance from the origin, or -1 if the joint is free along its line.
+  std::int32_t driveSpring = -1;
+};
+
+/// The model: particles as flat arrays, connectors as small structs.
+struct Model {
+  // Particles. Every array has particleCount() entries.
+  /// Mass m_i (kg), > 0.
+  std::vector<double> mass;
+  /// 1 / m_i (1/kg); 0 for a fixed particle, which never moves.
+  std::vector<double> inverseMass;
+  /// Radius r_i (m), > 0: the particle's extent for contact and display.
+  std::vector<double> radius;
+  /// Linear damping c_i (N·s/m): force -c_i v_i, e.g. a medium's drag.
+  std::vector<double> linearDamping;
+  /// Index into objects of the object each particle belongs to.
+  std::vector<std::int32_t> objectOf;
+
+  // Connectors.
+  std::vector<LinearSpring> linearSprings;
+  std::vector<TorsionSpring> torsionSprings;
+  std::vector<JointSpring> jointSprings;
+
+  /// Gravity g (m/s²), applied as m_i g to every particle.
+  Vec3 gravity{0.0, 0.0, -9.81};
+
+  std::vector<ObjectInfo> objects;
+  std::vector<Material> materials{Material{}};
+  std::vector<Joint> joints;
+
+  ParticleIndex particleCount() const { return static_cast<ParticleIndex>(mass.size()); }
+  bool isFixed(ParticleIndex i) const { return inverseMass[i] == 0.0; }
+
+  /// Appends a particle and returns its index. A fixed particle gets inverseMass 0.
+  ParticleIndex addParticle(double particleMass, double particleRadius, bool fixed,
+                            std::int32_t object, double damping = 0.0);
+  /// Appends an object covering no particle yet; returns its index.
+  std::int32_t addObject(std::string name, std::string kind, std::int32_t material = 0);
+};
+
+/// Checks the model's internal consistency (array sizes, indices in range,
+/// positive masses and radii, non-negative stiffness). Returns an empty string if
+/// it holds, otherwise the first problem found, naming the item and the value.
+std::string checkModel(const Model& model);
+
+}  // namespace robophi

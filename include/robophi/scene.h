@@ -1,0 +1,66 @@
+#pragma once
+/// \file
+/// Scene files (JSON with // comments, SI units): docs/scene-format.md,
+/// schema docs/scene.schema.json. Loading reports every error, never only the first.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robophi/model.h"
+#include "robophi/state.h"
+#include "robophi/world.h"
+
+namespace robophi {
+
+/// How a scene asks to be run; the command line may override each field.
+struct RunSettings {
+  /// Model time to simulate (s), > 0.
+  double duration = 1.0;
+  /// Constant step δ (s), > 0.
+  double dt = 1.0e-4;
+  Integrator integrator = Integrator::kSymplecticEuler;
+  /// Frames per second written to particles.csv, > 0.
+  double fps = 60.0;
+};
+
+/// A loaded scene: the model, its initial state, and how to run it.
+struct Scene {
+  std::string name;
+  std::string description;
+  /// The file it came from ("<text>" for a scene parsed from a string).
+  std::string sourcePath;
+  Model model;
+  State initial;
+  RunSettings run;
+};
+
+/// One problem found in a scene file.
+struct Diagnostic {
+  std::string file;
+  /// 1-based line and column of the offending value; 0 when unknown.
+  int line = 0;
+  int column = 0;
+  /// JSON pointer of the offending value, e.g. "/objects/2/mass".
+  std::string pointer;
+  /// What is wrong: names the value and what was expected.
+  std::string message;
+
+  /// "file:line:column: error: message (at /pointer)".
+  std::string format(const char* severity = "error") const;
+};
+
+/// The outcome of loading: a scene if and only if there is no error.
+struct SceneLoadResult {
+  std::optional<Scene> scene;
+  std::vector<Diagnostic> errors;
+  std::vector<Diagnostic> warnings;
+  bool ok() const { return errors.empty() && scene.has_value(); }
+};
+
+/// Loads and validates a scene file. Every error is collected.
+SceneLoadResult loadSceneFile(const std::string& path);
+/// Same, from text; `fileName` is used in the messages.
+SceneLoadResult loadSceneText(const std::string& text, const std::string& fileName);
+
+}  // namespace robophi

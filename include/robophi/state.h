@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// State: what changes during a step. A plain value: copying it is a snapshot,
+/// and restoring the copy undoes a step (used by the adaptive step).
+
+#include <cstdint>
+#include <vector>
+
+#include "robophi/model.h"
+#include "robophi/vec3.h"
+
+namespace robophi {
+
+/// The energy account of a state (J). Potentials are measured at the state's
+/// positions; `dissipated` is the work removed by dissipative forces since t = 0.
+struct EnergyTally {
+  double kinetic = 0.0;
+  double linearSpring = 0.0;
+  double torsionSpring = 0.0;
+  double jointSpring = 0.0;
+  double gravity = 0.0;
+  /// Potential of contacts and of the environment (filled by the contact stage).
+  double contact = 0.0;
+  /// Work removed so far by damping, friction and viscosity (>= 0 when the
+  /// account is right; it only grows).
+  double dissipated = 0.0;
+
+  double potential() const { return linearSpring + torsionSpring + jointSpring + gravity + contact; }
+  /// Mechanical energy E = kinetic + potential.
+  double mechanical() const { return kinetic + potential(); }
+  /// E + dissipated: constant for an exact integration.
+  double total() const { return mechanical() + dissipated; }
+};
+
+/// The mutable state of a model.
+struct State {
+  /// Model time t (s).
+  double time = 0.0;
+  /// Number of steps taken.
+  std::int64_t stepCount = 0;
+  // Particle arrays, each of Model::particleCount() entries.
+  /// p_i (m).
+  std::vector<Vec3> position;
+  /// v_i (m/s).
+  std::vector<Vec3> velocity;
+  /// Net force F_i (N) at (position, velocity); valid when forcesValid.
+  std::vector<Vec3> force;
+  bool forcesValid = false;
+  /// Power of the dissipative forces (W, <= 0) at the last force evaluation.
+  double dissipativePower = 0.0;
+  EnergyTally energy;
+
+  /// A state at rest with every particle at the origin, sized for `model`.
+  static State sizedFor(const Model& model);
+};
+
+/// A 64-bit FNV-1a hash of the bits of time, positions and velocities:
+/// equal hashes mean bit-identical states.
+std::uint64_t stateHash(const State& state);
+
+}  // namespace robophi

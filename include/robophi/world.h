@@ -1,0 +1,78 @@
+#pragma once
+/// \file
+/// World: a model, its state, and the step that advances it (MODEL.md §2).
+
+#include <string>
+
+#include "robophi/model.h"
+#include "robophi/state.h"
+
+namespace robophi {
+
+/// The explicit integrators (MODEL §2). All cost one force evaluation per step.
+enum class Integrator : std::uint8_t {
+  /// The paper's scheme: v += a δ, p += v(t) δ + ½ a δ².
+  kTaylor,
+  /// Symplectic (semi-implicit) Euler: v += a δ, p += v(t+δ) δ.
+  kSymplecticEuler,
+  /// Velocity Verlet (kick-drift-kick); damping forces use the half-step velocity.
+  kVelocityVerlet,
+};
+
+/// Parses "taylor", "symplectic", "verlet"; returns false on an unknown name.
+bool parseIntegrator(const std::string& name, Integrator& out);
+const char* integratorName(Integrator integrator);
+
+/// How a step ended.
+enum class StepStatus : std::uint8_t {
+  kOk,
+  /// A position, velocity or energy became NaN or infinite.
+  kNonFinite,
+};
+
+/// The stability estimate of a model (MODEL §2): δ must stay below 2/ω_max.
+struct StabilityEstimate {
+  /// Upper bound of the fastest angular frequency ω_max (rad/s), from the
+  /// connectors' stiffness and the particles' masses (Gershgorin bound).
+  double omegaMax = 0.0;
+  /// Critical step (s) for the symplectic schemes, reduced for damping; infinite
+  /// when nothing is stiff.
+  double criticalStep = 0.0;
+  /// The particle that sets it, or kNoParticle.
+  ParticleIndex limitingParticle = kNoParticle;
+};
+StabilityEstimate estimateStability(const Model& model);
+
+/// Evaluates the net force on every particle at the state's positions and
+/// velocities and the potentials of the energy account (not `dissipated`).
+void computeForces(const Model& model, State& state);
+
+/// The simulation: owns an immutable model and its state.
+class World {
+ public:
+  World(Model model, State initial, Integrator integrator = Integrator::kSymplecticEuler);
+
+  /// Advances the state by one step of `dt` seconds.
+  StepStatus step(double dt);
+
+  const Model& model() const { return model_; }
+  const State& state() const { return state_; }
+  /// For tools that move particles by hand (tests, robotics targets).
+  /// Changing positions or velocities invalidates the cached forces.
+  State& mutableState() {
+    state_.forcesValid = false;
+    return state_;
+  }
+  Integrator integrator() const { return integrator_; }
+  void setIntegrator(Integrator integrator) { integrator_ = integrator; }
+
+  /// The first particle whose state is not finite, or kNoParticle.
+  ParticleIndex firstNonFiniteParticle() const;
+
+ private:
+  Model model_;
+  State state_;
+  Integrator integrator_;
+};
+
+}  // namespace robophi

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Configures and builds robophi into build/ (or $1) with both cores.
+# Extra arguments are passed to cmake's configure step.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+dir="${1:-$root/build}"
+shift || true
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+if [ ! -f "$dir/CMakeCache.txt" ]; then
+  cmake -S "$root" -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "$@"
+fi
+cmake --build "$dir" --parallel "$(nproc)"

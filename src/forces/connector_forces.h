@@ -1,0 +1,50 @@
+#pragma once
+// The force laws of the three connectors (MODEL §1), one connector at a time.
+// The accumulate* loops of forces.h call these; tests call them directly to
+// check action/reaction and force = -grad(energy).
+
+#include "robophi/model.h"
+#include "robophi/vec3.h"
+
+namespace robophi {
+
+/// Forces of a two-particle LS and its energy and dissipated power.
+struct LinearSpringForce {
+  Vec3 onA, onB;
+  /// ½ κ Δl² (J).
+  double energy = 0.0;
+  /// Power of the damper, -μ l̇² (W).
+  double dissipativePower = 0.0;
+};
+
+/// Forces of a TS or JS on a, c, b (none on a JS's reference d).
+struct AngularSpringForce {
+  Vec3 onA, onC, onB;
+  /// The connector's angle θ (rad): [0, π] for a TS, [0, 2π) for a JS.
+  double angle = 0.0;
+  /// ½ κ Δθ² (J).
+  double energy = 0.0;
+  /// Power of the damper, -μ θ̇² (W).
+  double dissipativePower = 0.0;
+};
+
+LinearSpringForce linearSpringForce(const LinearSpring& spring, const Vec3& pA, const Vec3& pB,
+                                    const Vec3& vA, const Vec3& vB);
+
+AngularSpringForce torsionSpringForce(const TorsionSpring& spring, const Vec3& pA, const Vec3& pC,
+                                      const Vec3& pB, const Vec3& vA, const Vec3& vC,
+                                      const Vec3& vB);
+
+AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, const Vec3& pC,
+                                    const Vec3& pB, const Vec3& pD, const Vec3& vA,
+                                    const Vec3& vC, const Vec3& vB);
+
+/// The TS angle θ = atan2(|u × w|, u·w) with u = p_a - p_c, w = p_b - p_c.
+double torsionAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB);
+/// The JS angle in [0, 2π), positive about n = p_d - p_c.
+double jointAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD);
+/// The JS angle's rate θ̇ = Σ_j ∂θ/∂p_j · v_j (rad/s).
+double jointAngleRate(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD,
+                      const Vec3& vA, const Vec3& vC, const Vec3& vB);
+
+}  // namespace robophi

@@ -1,0 +1,51 @@
+#include "integrate/integrators.h"
+
+namespace robophi {
+
+// Fixed particles (inverse mass 0) get no acceleration; they keep their
+// velocity, so a fixed particle given a velocity moves kinematically.
+
+void integrateTaylor(const Model& model, double dt, State& state) {
+  const auto n = model.particleCount();
+  const double halfDtSquared = 0.5 * dt * dt;
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const Vec3 acceleration = state.force[i] * model.inverseMass[i];
+    state.position[i] += state.velocity[i] * dt + acceleration * halfDtSquared;
+    state.velocity[i] += acceleration * dt;
+  }
+}
+
+void integrateSymplecticEuler(const Model& model, double dt, State& state) {
+  const auto n = model.particleCount();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    state.velocity[i] += state.force[i] * (model.inverseMass[i] * dt);
+    state.position[i] += state.velocity[i] * dt;
+  }
+}
+
+void integrateVerletDrift(const Model& model, double dt, State& state) {
+  const auto n = model.particleCount();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    state.velocity[i] += state.force[i] * (model.inverseMass[i] * 0.5 * dt);
+    state.position[i] += state.velocity[i] * dt;
+  }
+}
+
+void integrateVerletKick(const Model& model, double dt, State& state) {
+  const auto n = model.particleCount();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    state.velocity[i] += state.force[i] * (model.inverseMass[i] * 0.5 * dt);
+  }
+}
+
+double kineticEnergy(const Model& model, const State& state) {
+  double energy = 0.0;
+  const auto n = model.particleCount();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    if (model.inverseMass[i] == 0.0) continue;
+    energy += 0.5 * model.mass[i] * squaredNorm(state.velocity[i]);
+  }
+  return energy;
+}
+
+}  // namespace robophi

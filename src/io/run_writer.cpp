@@ -1,0 +1,148 @@
+#include "io/run_writer.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "robophi/joints.h"
+#include "robophi/version.h"
+
+namespace robophi {
+
+namespace {
+
+std::ofstream openOrThrow(const std::filesystem::path& path) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw std::runtime_error(fmt::format("cannot write {}", path.string()));
+  return out;
+}
+
+// Numbers are written in their shortest round-trip form, so a CSV read back
+// gives the bits that were simulated.
+void appendNumber(std::string& line, double value) { fmt::format_to(std::back_inserter(line), "{}", value); }
+
+}  // namespace
+
+RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir) {
+  std::filesystem::create_directories(dir_);
+  energy_ = openOrThrow(std::filesystem::path(dir_) / "energy.csv");
+  energy_ << "t,dt,kinetic,potential,dissipated,total\n";
+  particles_ = openOrThrow(std::filesystem::path(dir_) / "particles.csv");
+  line_ = "t";
+  for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i) {
+    fmt::format_to(std::back_inserter(line_), ",x{0},y{0},z{0}", i);
+  }
+  particles_ << line_ << '\n';
+  if (!scene.model.joints.empty()) {
+    joints_ = openOrThrow(std::filesystem::path(dir_) / "joints.csv");
+    line_ = "t";
+    for (const Joint& joint : scene.model.joints) line_ += "," + joint.name;
+    joints_ << line_ << '\n';
+  }
+}
+
+void RunWriter::writeEnergyRow(const State& state, double dt) {
+  line_.clear();
+  const EnergyTally& e = state.energy;
+  for (double value : {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.total()}) {
+    if (!line_.empty()) line_ += ',';
+    appendNumber(line_, value);
+  }
+  energy_ << line_ << '\n';
+}
+
+void RunWriter::writeFrame(const Model& model, const State& state) {
+  line_.clear();
+  appendNumber(line_, state.time);
+  for (const Vec3& p : state.position) {
+    for (double value : {p.x, p.y, p.z}) {
+      line_ += ',';
+      appendNumber(line_, value);
+    }
+  }
+  particles_ << line_ << '\n';
+  if (joints_.is_open()) {
+    line_.clear();
+    appendNumber(line_, state.time);
+    for (std::size_t j = 0; j < model.joints.size(); ++j) {
+      line_ += ',';
+      appendNumber(line_, jointValue(model, state, j));
+    }
+    joints_ << line_ << '\n';
+  }
+}
+
+std::string modelJson(const Scene& scene) {
+  const Model& model = scene.model;
+  nlohmann::ordered_json j;
+  j["name"] = scene.name;
+  std::vector<int> fixed;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) fixed.push_back(model.isFixed(i) ? 1 : 0);
+  j["particles"] = {{"count", model.particleCount()},
+                    {"mass", model.mass},
+                    {"radius", model.radius},
+                    {"object", model.objectOf},
+                    {"fixed", fixed}};
+  auto objects = nlohmann::ordered_json::array();
+  for (const ObjectInfo& o : model.objects) {
+    objects.push_back({{"name", o.name},
+                       {"kind", o.kind},
+                       {"first", o.firstParticle},
+                       {"count", o.particleCount},
+                       {"material", o.material}});
+  }
+  j["objects"] = objects;
+  auto linear = nlohmann::ordered_json::array(), torsion = nlohmann::ordered_json::array(),
+       joint = nlohmann::ordered_json::array();
+  for (const auto& s : model.linearSprings) linear.push_back({s.a, s.b, s.restLength});
+  for (const auto& s : model.torsionSprings) torsion.push_back({s.a, s.c, s.b, s.restAngle});
+  for (const auto& s : model.jointSprings) joint.push_back({s.a, s.c, s.b, s.d, s.restAngle});
+  j["connectors"] = {{"linear", linear}, {"torsion", torsion}, {"joint", joint}};
+  auto joints = nlohmann::ordered_json::array();
+  for (const Joint& jt : model.joints) {
+    joints.push_back(
+        {{"name", jt.name}, {"kind", jt.kind == JointKind::kRevolute ? "revolute" : "prismatic"}});
+  }
+  j["joints"] = joints;
+  j["gravity"] = {model.gravity.x, model.gravity.y, model.gravity.z};
+  return j.dump(1);
+}
+
+void RunWriter::finish(const Scene& scene, const RunSettings& settings, const RunReport& report) {
+  energy_.close();
+  particles_.close();
+  if (joints_.is_open()) joints_.close();
+  {
+    auto out = openOrThrow(std::filesystem::path(dir_) / "model.json");
+    out << modelJson(scene) << '\n';
+  }
+  nlohmann::ordered_json s;
+  s["robophi"] = kVersion;
+  s["scene"] = scene.sourcePath;
+  s["name"] = scene.name;
+  s["status"] = report.status;
+  if (!report.failure.empty()) s["failure"] = report.failure;
+  s["integrator"] = integratorName(settings.integrator);
+  s["steps"] = report.steps;
+  s["simulated_time_s"] = report.simulatedTime;
+  s["wall_time_s"] = report.wallSeconds;
+  s["dt_s"] = settings.dt;
+  s["critical_dt_s"] = report.stability.criticalStep;
+  s["omega_max_rad_s"] = report.stability.omegaMax;
+  s["particles"] = scene.model.particleCount();
+  s["linear_springs"] = scene.model.linearSprings.size();
+  s["torsion_springs"] = scene.model.torsionSprings.size();
+  s["joint_springs"] = scene.model.jointSprings.size();
+  s["energy"] = {{"initial_total_J", report.initialTotal},
+                 {"final_total_J", report.finalTotal},
+                 {"drift", report.energyDrift},
+                 {"dissipated_J", report.dissipated}};
+  s["state_hash"] = fmt::format("{:016x}", report.stateHash);
+  s["warnings"] = report.warnings;
+  auto out = openOrThrow(std::filesystem::path(dir_) / "summary.json");
+  out << s.dump(2) << '\n';
+}
+
+}  // namespace robophi
