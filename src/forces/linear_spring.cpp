@@ -14,7 +14,7 @@ inline bool linearSpringKernel(const LinearSpring& s, const Vec3& pA, const Vec3
   const Vec3 delta = pA - pB;
   const double length = norm(delta);
   if (!(length > 0.0)) return false;
-  const Vec3 kHat = delta / length;
+  const Vec3 kHat = delta * (1.0 / length);
   const double stretch = length - s.restLength;
   const double stretchRate = dot(vA - vB, kHat);
   const double dampingForce = s.damping * stretchRate;
