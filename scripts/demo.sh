@@ -4,4 +4,4 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh"
-"$root/build/robophi" run "$root/scenes/chain_on_bar.json" --out "$root/out/default"
+"$root/build/robophi" run "$root/scenes/default.json" --out "$root/out/default"

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "collision/contact_stage.h"
 #include "forces/forces.h"
 #include "integrate/integrators.h"
 
@@ -31,15 +32,20 @@ void computeForces(const Model& model, State& state) {
   e.jointSpring = joint.potential;
   state.dissipativePower = damping.dissipativePower + linear.dissipativePower +
                            torsion.dissipativePower + joint.dissipativePower;
+  // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
+  accumulateContacts(model, state);
   state.forcesValid = true;
+}
+
+void World::refresh() {
+  if (state_.forcesValid) return;
+  computeForces(model_, state_);
+  state_.energy.kinetic = kineticEnergy(model_, state_);
 }
 
 StepStatus World::step(double dt) {
   // 1. Forces at t (cached from the previous step when nothing changed).
-  if (!state_.forcesValid) {
-    computeForces(model_, state_);
-    state_.energy.kinetic = kineticEnergy(model_, state_);
-  }
+  refresh();
   const double powerAtStart = state_.dissipativePower;
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.

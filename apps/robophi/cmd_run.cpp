@@ -20,6 +20,7 @@ struct RunArguments {
   std::string outDir;
   std::optional<double> duration, dt, fps;
   std::string integrator;
+  std::string stepMode;
   double energyRate = 1000.0;
   bool quiet = false;
 };
@@ -63,6 +64,15 @@ int runCommand(const RunArguments& args) {
                  args.integrator.c_str());
     return kExitBadInput;
   }
+  if (args.stepMode == "constant") {
+    options.settings.stepMode = StepMode::kConstant;
+  } else if (args.stepMode == "adaptive") {
+    options.settings.stepMode = StepMode::kAdaptive;
+  } else if (!args.stepMode.empty()) {
+    std::fprintf(stderr, "robophi run: --step '%s': expected adaptive or constant\n",
+                 args.stepMode.c_str());
+    return kExitBadInput;
+  }
   for (auto [name, value] : {std::pair{"--duration", options.settings.duration},
                              std::pair{"--dt", options.settings.dt},
                              std::pair{"--fps", options.settings.fps},
@@ -87,12 +97,16 @@ int runCommand(const RunArguments& args) {
 
   const RunReport report = runScene(*scene, options);
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
-  std::printf(
-      "%s: %s, %lld steps (%s, dt %.3g s), %.4g s simulated in %.3f s wall, energy drift %.3g, "
-      "results in %s\n",
-      args.scene.c_str(), report.status.c_str(), static_cast<long long>(report.steps),
-      integratorName(options.settings.integrator), options.settings.dt, report.simulatedTime,
-      report.wallSeconds, report.energyDrift, options.outDir.c_str());
+  const std::string steps =
+      options.settings.stepMode == StepMode::kAdaptive
+          ? fmt::format("{} adaptive steps ({} rejected, dt {:.3g} to {:.3g} s)",
+                        report.adaptive.accepted, report.adaptive.rejected,
+                        report.adaptive.smallestStep, report.adaptive.largestStep)
+          : fmt::format("{} constant steps of {:.3g} s", report.steps, options.settings.dt);
+  std::printf("%s: %s, %s, %s; %.4g s simulated in %.3f s wall, energy drift %.3g; results in %s\n",
+              args.scene.c_str(), report.status.c_str(), steps.c_str(),
+              integratorName(options.settings.integrator), report.simulatedTime,
+              report.wallSeconds, report.energyDrift, options.outDir.c_str());
   if (!report.ok()) {
     std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
     return kExitDiverged;
@@ -108,7 +122,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
   cmd->add_option("--out", args->outDir, "Results folder (default out/<scene name>)");
   cmd->add_option("--duration", args->duration, "Model time to simulate (s)");
-  cmd->add_option("--dt", args->dt, "Constant time step (s)");
+  cmd->add_option("--step", args->stepMode,
+                  "adaptive (energy-based, the default) | constant (use --dt)");
+  cmd->add_option("--dt", args->dt, "Constant time step, or the first adaptive trial step (s)");
   cmd->add_option("--integrator", args->integrator, "taylor | symplectic | verlet");
   cmd->add_option("--fps", args->fps, "Frames per model second in particles.csv (default 60)");
   cmd->add_option("--energy-rate", args->energyRate, "Rows of energy.csv per model second");

@@ -55,6 +55,10 @@ class World {
   /// Advances the state by one step of `dt` seconds.
   StepStatus step(double dt);
 
+  /// Brings the cached forces and the energy account up to date with the
+  /// current positions and velocities (done by step() when needed).
+  void refresh();
+
   const Model& model() const { return model_; }
   const State& state() const { return state_; }
   /// For tools that move particles by hand (tests, robotics targets).
@@ -63,6 +67,8 @@ class World {
     state_.forcesValid = false;
     return state_;
   }
+  /// Puts back a state saved earlier (a snapshot copy): undoes steps exactly.
+  void restore(const State& saved) { state_ = saved; }
   Integrator integrator() const { return integrator_; }
   void setIntegrator(Integrator integrator) { integrator_ = integrator; }
 

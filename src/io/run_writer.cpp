@@ -125,10 +125,22 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   s["status"] = report.status;
   if (!report.failure.empty()) s["failure"] = report.failure;
   s["integrator"] = integratorName(settings.integrator);
+  const bool adaptive = settings.stepMode == StepMode::kAdaptive;
+  s["step_mode"] = adaptive ? "adaptive" : "constant";
   s["steps"] = report.steps;
+  if (adaptive) {
+    const AdaptiveStepStats& a = report.adaptive;
+    s["adaptive"] = {{"accepted_steps", a.accepted},
+                     {"rejected_steps", a.rejected},
+                     {"smallest_dt_s", a.accepted > 0 ? a.smallestStep : 0.0},
+                     {"largest_dt_s", a.largestStep},
+                     {"mean_dt_s", a.meanStep()},
+                     {"final_energy_error", a.lastEnergyError},
+                     {"energy_tolerance", settings.adaptive.energyTolerance}};
+  }
   s["simulated_time_s"] = report.simulatedTime;
   s["wall_time_s"] = report.wallSeconds;
-  s["dt_s"] = settings.dt;
+  s["dt_s"] = settings.dt;  // the constant step, or the first trial step
   s["critical_dt_s"] = report.stability.criticalStep;
   s["omega_max_rad_s"] = report.stability.omegaMax;
   s["particles"] = scene.model.particleCount();

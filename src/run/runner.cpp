@@ -9,7 +9,6 @@
 
 #include <fmt/format.h>
 
-#include "integrate/integrators.h"
 #include "io/run_writer.h"
 
 namespace robophi {
@@ -49,12 +48,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.warnings = preflightWarnings(scene, settings, report.stability);
 
   World world(scene.model, scene.initial, settings.integrator);
-  {
-    // The energy account of the initial state.
-    State& initial = world.mutableState();
-    computeForces(world.model(), initial);
-    initial.energy.kinetic = kineticEnergy(world.model(), initial);
-  }
+  world.refresh();  // the energy account of the initial state
   report.initialTotal = world.state().energy.total();
   const double energyScale = std::max(std::abs(world.state().energy.mechanical()), 1e-12);
 
@@ -69,26 +63,55 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   const auto start = Clock::now();
   auto lastProgress = start;
   std::int64_t nextFrame = 0, nextEnergyRow = 0;
-  const double dt = settings.dt;
-  // Steps are counted, not accumulated, so the final time does not drift.
-  const auto totalSteps = static_cast<std::int64_t>(std::ceil(settings.duration / dt - 1e-9));
-  for (std::int64_t step = 0; step <= totalSteps; ++step) {
+  std::int64_t lastFrameStep = -1, lastEnergyStep = -1;
+  // Writes the frame and energy row due at the state's time (the first state
+  // at or after each sample time; `last` forces both unless already written).
+  auto sample = [&](double dtUsed, bool last) {
+    if (!writer) return;
     const State& state = world.state();
-    if (writer) {
-      // Sample at the first step at or after each frame / energy-row time.
-      if (state.time >= sampleTime(nextFrame, settings.fps) - 0.5 * dt || step == totalSteps) {
-        writer->writeFrame(world.model(), state);
-        nextFrame = static_cast<std::int64_t>(std::floor(state.time * settings.fps + 0.5)) + 1;
-      }
-      if (state.time >= sampleTime(nextEnergyRow, options.energyRate) - 0.5 * dt ||
-          step == totalSteps) {
-        writer->writeEnergyRow(state, dt);
-        nextEnergyRow =
-            static_cast<std::int64_t>(std::floor(state.time * options.energyRate + 0.5)) + 1;
-      }
+    const double slack = 1e-9 * settings.dt;
+    if ((last && lastFrameStep != state.stepCount) ||
+        state.time >= sampleTime(nextFrame, settings.fps) - slack) {
+      writer->writeFrame(world.model(), state);
+      lastFrameStep = state.stepCount;
+      nextFrame = static_cast<std::int64_t>(std::floor(state.time * settings.fps + 1e-6)) + 1;
     }
-    if (step == totalSteps) break;
-    if (world.step(dt) != StepStatus::kOk) {
+    if ((last && lastEnergyStep != state.stepCount) ||
+        state.time >= sampleTime(nextEnergyRow, options.energyRate) - slack) {
+      lastEnergyStep = state.stepCount;
+      writer->writeEnergyRow(state, dtUsed);
+      nextEnergyRow =
+          static_cast<std::int64_t>(std::floor(state.time * options.energyRate + 1e-6)) + 1;
+    }
+  };
+
+  const bool adaptive = settings.stepMode == StepMode::kAdaptive;
+  std::optional<AdaptiveStepper> stepper;
+  if (adaptive) {
+    AdaptiveStepSettings controller = settings.adaptive;
+    controller.initialStep = settings.dt;  // RunSettings::dt is the first trial step
+    stepper.emplace(world.model(), controller);
+  }
+  // Constant steps are counted, not accumulated, so the final time does not drift.
+  const auto totalSteps =
+      static_cast<std::int64_t>(std::ceil(settings.duration / settings.dt - 1e-9));
+  sample(adaptive ? stepper->nextStep() : settings.dt, false);
+  for (;;) {
+    const State& state = world.state();
+    const bool done = adaptive ? state.time >= settings.duration * (1.0 - 1e-12)
+                               : state.stepCount >= totalSteps;
+    if (done) break;
+    double dtUsed = settings.dt;
+    if (adaptive) {
+      const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
+      if (!r.ok) {
+        report.status = "stalled";
+        report.failure = r.failure;
+        report.warnings.push_back(r.failure);
+        break;
+      }
+      dtUsed = r.dt;
+    } else if (world.step(settings.dt) != StepStatus::kOk) {
       report.status = "diverged";
       const ParticleIndex bad = world.firstNonFiniteParticle();
       report.failure = fmt::format(
@@ -98,7 +121,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       report.warnings.push_back(report.failure);
       break;
     }
-    if (options.progress && (step & 255) == 0) {
+    sample(dtUsed, false);
+    if (options.progress && (world.state().stepCount & 255) == 0) {
       const auto now = Clock::now();
       if (now - lastProgress > std::chrono::milliseconds(100)) {
         lastProgress = now;
@@ -107,6 +131,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
     }
   }
+  if (report.ok()) sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
+  if (stepper) report.adaptive = stepper->stats();
 
   const State& last = world.state();
   report.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -92,7 +92,9 @@ TEST_P(OscillatorTest, EnergyDriftBounded) {
 INSTANTIATE_TEST_SUITE_P(Symplectic, OscillatorTest,
                          ::testing::Values(Integrator::kSymplecticEuler,
                                            Integrator::kVelocityVerlet),
-                         [](const auto& info) { return std::string(integratorName(info.param)); });
+                         [](const auto& paramInfo) {
+                           return std::string(integratorName(paramInfo.param));
+                         });
 
 // A damped oscillator dissipates exactly what its energy loses: the account
 // E + dissipated stays constant to the integrator's accuracy.

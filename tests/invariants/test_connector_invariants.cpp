@@ -193,7 +193,9 @@ TEST(JointSpringInvariants, AcrossTheWrap) {
     EXPECT_NEAR(f.energy, expected, 1e-12) << "theta " << theta;
     // Pulled toward θ0 = 0.1: b pushed the positive way round (+y near θ = 0).
     EXPECT_GT(f.onB.y, 0.0);
-    if (previousEnergy >= 0.0) EXPECT_LT(f.energy, previousEnergy);
+    if (previousEnergy >= 0.0) {
+      EXPECT_LT(f.energy, previousEnergy);
+    }
     previousEnergy = f.energy;
   }
 }

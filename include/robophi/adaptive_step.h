@@ -1,0 +1,104 @@
+#pragma once
+/// \file
+/// The energy-based adaptive time step (ATS, MODEL.md §4; the rule is written
+/// out in docs/adaptive-step.md). The paper's factors are lost: every factor
+/// here is our own choice, set in AdaptiveStepSettings.
+
+#include <cstdint>
+#include <string>
+
+#include "robophi/world.h"
+
+namespace robophi {
+
+/// The controller's settings, with their defaults and units.
+struct AdaptiveStepSettings {
+  /// First trial step δ0 (s).
+  double initialStep = 1.0e-4;
+  /// Smallest step (s): below it the run stops and says where it got stuck.
+  double minStep = 1.0e-10;
+  /// Largest step (s).
+  double maxStep = 1.0e-2;
+  /// Accepted energy error per step, relative to the energy scale (-): a step is
+  /// rejected when (ΔE + ΔW_dissipated) / scale > tolerance (energy created).
+  double energyTolerance = 1.0e-5;
+  /// A step is also rejected when it loses more than this many tolerances
+  /// (energy destroyed by the integration, not by dissipation). 1 makes the
+  /// test symmetric, which keeps a variable-step symplectic scheme from drifting.
+  double lossToleranceFactor = 1.0;
+  /// Floor of the energy scale (J), so a system at rest does not force tiny steps.
+  double energyFloor = 1.0e-9;
+  /// Step factor after a rejection (-), < 1.
+  double shrinkFactor = 0.5;
+  /// Step factor after `growAfter` calm steps (-), > 1.
+  double growFactor = 1.2;
+  /// Consecutive calm steps (error < tolerance/4) before growing.
+  int growAfter = 4;
+  /// Largest penetration of a contact, as a fraction of the smaller particle's
+  /// radius (-): a deeper step is rejected.
+  double maxPenetrationFraction = 0.1;
+  /// The step stays below this fraction of the connectors' stability estimate 2/ω_max (-).
+  double stabilitySafety = 0.9;
+  /// Rejections in a row before the run stops with a diagnosis.
+  int maxRejectionsInARow = 200;
+};
+
+/// Counters of an adaptive run.
+struct AdaptiveStepStats {
+  std::int64_t accepted = 0;
+  std::int64_t rejected = 0;
+  double smallestStep = 0.0;
+  double largestStep = 0.0;
+  double sumOfSteps = 0.0;
+  /// Relative energy error and size (s) of the last accepted step.
+  double lastEnergyError = 0.0;
+  double lastStep = 0.0;
+  double meanStep() const { return accepted > 0 ? sumOfSteps / static_cast<double>(accepted) : 0.0; }
+};
+
+/// The outcome of one adaptive advance.
+struct AdaptiveStepResult {
+  bool ok = true;
+  /// The step taken (s).
+  double dt = 0.0;
+  /// Relative energy error of the accepted step.
+  double energyError = 0.0;
+  /// Trials rejected before it.
+  int rejections = 0;
+  /// When !ok: what went wrong and where (particles, connectors, contacts).
+  std::string failure;
+};
+
+/// Takes accepted steps of a World, rejecting and retrying the ones that create
+/// energy or penetrate too deep. A rejected trial leaves no trace in the state:
+/// the state is restored from a copy.
+class AdaptiveStepper {
+ public:
+  AdaptiveStepper(const Model& model, AdaptiveStepSettings settings);
+
+  /// Advances `world` by one accepted step of at most `maxDt` seconds.
+  AdaptiveStepResult advance(World& world, double maxDt);
+
+  const AdaptiveStepStats& stats() const { return stats_; }
+  const AdaptiveStepSettings& settings() const { return settings_; }
+  /// The step the next trial will use (s).
+  double nextStep() const { return step_; }
+
+ private:
+  /// Relative energy error of a trial from `before` to `after`.
+  double energyError(const State& before, const State& after) const;
+  std::string diagnose(const World& world) const;
+
+  AdaptiveStepSettings settings_;
+  double stabilityLimit_;
+  double step_;
+  int calmSteps_ = 0;
+  AdaptiveStepStats stats_;
+  State saved_;
+};
+
+/// The deepest penetration of the state's contacts as a fraction of the smaller
+/// radius involved (0 when nothing touches). Provided by the contact stage.
+double deepestPenetrationFraction(const Model& model, const State& state);
+
+}  // namespace robophi

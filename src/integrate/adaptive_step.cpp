@@ -1,0 +1,133 @@
+// The energy-based adaptive time step (MODEL §4, docs/adaptive-step.md).
+#include "robophi/adaptive_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "forces/connector_forces.h"
+
+namespace robophi {
+
+namespace {
+
+// The energy that can turn into motion: kinetic plus the elastic potentials
+// (gravity's potential depends on where the origin is, so it sets no scale).
+double activeEnergy(const EnergyTally& e) {
+  return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
+}
+
+}  // namespace
+
+AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
+    : settings_(settings),
+      stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
+      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
+  stats_.smallestStep = std::numeric_limits<double>::infinity();
+}
+
+double AdaptiveStepper::energyError(const State& before, const State& after) const {
+  // MODEL §4: error = (E(t+δ) - E(t) - W_dissipative) / max(|E|, E_floor), where
+  // W_dissipative (<= 0) is the work of damping, friction and viscosity.
+  const double created = (after.energy.mechanical() - before.energy.mechanical()) +
+                         (after.energy.dissipated - before.energy.dissipated);
+  const double scale = std::max(
+      {activeEnergy(before.energy), activeEnergy(after.energy), settings_.energyFloor});
+  return created / scale;
+}
+
+AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
+  AdaptiveStepResult result;
+  world.refresh();
+  saved_ = world.state();
+  for (;;) {
+    const double dt = std::min(step_, maxDt);
+    const StepStatus status = world.step(dt);
+    const double error = status == StepStatus::kOk
+                             ? energyError(saved_, world.state())
+                             : std::numeric_limits<double>::infinity();
+    const bool tooDeep =
+        status == StepStatus::kOk && settings_.maxPenetrationFraction > 0.0 &&
+        deepestPenetrationFraction(world.model(), world.state()) > settings_.maxPenetrationFraction;
+    const bool accepted = !tooDeep && error <= settings_.energyTolerance &&
+                          error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
+    if (accepted) {
+      result.dt = dt;
+      result.energyError = error;
+      ++stats_.accepted;
+      stats_.smallestStep = std::min(stats_.smallestStep, dt);
+      stats_.largestStep = std::max(stats_.largestStep, dt);
+      stats_.sumOfSteps += dt;
+      stats_.lastEnergyError = error;
+      stats_.lastStep = dt;
+      // Grow after a run of calm steps (only when the full step was used).
+      if (std::abs(error) < 0.25 * settings_.energyTolerance && dt == step_) {
+        if (++calmSteps_ >= settings_.growAfter) {
+          step_ = std::min({step_ * settings_.growFactor, settings_.maxStep, stabilityLimit_});
+          calmSteps_ = 0;
+        }
+      } else {
+        calmSteps_ = 0;
+      }
+      return result;
+    }
+    // Reject: restore the copy, shrink, retry.
+    ++stats_.rejected;
+    ++result.rejections;
+    calmSteps_ = 0;
+    const std::string why = diagnose(world);
+    world.restore(saved_);
+    step_ = dt * settings_.shrinkFactor;
+    if (step_ < settings_.minStep || result.rejections >= settings_.maxRejectionsInARow) {
+      result.ok = false;
+      result.failure = fmt::format(
+          "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "
+          "s: {}",
+          step_, settings_.minStep, result.rejections, saved_.time, why);
+      return result;
+    }
+  }
+}
+
+std::string AdaptiveStepper::diagnose(const World& world) const {
+  // Where the trial went wrong: the particle with the largest acceleration and
+  // the connector holding the most energy.
+  const Model& model = world.model();
+  const State& state = world.state();
+  ParticleIndex worst = kNoParticle;
+  double worstAcceleration = -1.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    const double a = norm(state.force[i]) * model.inverseMass[i];
+    if (!(a <= worstAcceleration)) {
+      worstAcceleration = a;
+      worst = i;
+    }
+  }
+  std::string where;
+  if (worst != kNoParticle) {
+    const auto object = model.objectOf[worst];
+    const std::string objectName =
+        object >= 0 && object < static_cast<std::int32_t>(model.objects.size())
+            ? model.objects[object].name
+            : std::string("?");
+    where = fmt::format("particle {} (object '{}') has the largest acceleration, {:.3g} m/s²",
+                        worst, objectName, worstAcceleration);
+  }
+  double worstEnergy = 0.0;
+  std::string connector;
+  for (std::size_t k = 0; k < model.linearSprings.size(); ++k) {
+    const LinearSpring& s = model.linearSprings[k];
+    const double e = linearSpringForce(s, state.position[s.a], state.position[s.b], {}, {}).energy;
+    if (e > worstEnergy) {
+      worstEnergy = e;
+      connector = fmt::format("LS {} (particles {}, {}) holds {:.3g} J", k, s.a, s.b, e);
+    }
+  }
+  if (!connector.empty()) where += "; " + connector;
+  if (state.energy.contact > 0.0) where += fmt::format("; contacts hold {:.3g} J", state.energy.contact);
+  return where;
+}
+
+}  // namespace robophi
