@@ -22,3 +22,30 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+
+# The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
+# brings three.js and playwright-core into viewer/node_modules. node and npm may
+# already come from elsewhere (e.g. NodeSource); apt installs them only if not.
+viewer_packages=(chromium)
+command -v node >/dev/null 2>&1 || viewer_packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || viewer_packages+=(npm)
+viewer_missing=()
+for p in "${viewer_packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+    viewer_missing+=("$p")
+done
+if [ ${#viewer_missing[@]} -gt 0 ]; then
+  echo "robophi: installing ${viewer_missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+    "${viewer_missing[@]}"
+fi
+
+repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ ! -d "$repo_root/viewer/node_modules/three" ] ||
+   [ ! -d "$repo_root/viewer/node_modules/playwright-core" ]; then
+  echo "robophi: npm ci --prefix viewer"
+  npm ci --prefix "$repo_root/viewer" --no-audit --no-fund
+fi

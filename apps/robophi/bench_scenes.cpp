@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "bench_pile.h"
+
 namespace robophi::cli {
 
 Scene makeClothScene(int n) {
@@ -54,6 +56,11 @@ std::vector<BenchScene> standardBenchScenes(bool quick) {
     Scene cloth = makeClothScene(n);
     if (quick) cloth.run.duration = 0.01;
     scenes.push_back({cloth.name, std::move(cloth)});
+  }
+  for (int n : {10, 20}) {
+    Scene pile = makePileScene(n);
+    if (quick) pile.run.duration = 0.01;
+    scenes.push_back({pile.name, std::move(pile)});
   }
   return scenes;
 }

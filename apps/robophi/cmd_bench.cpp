@@ -1,4 +1,5 @@
 // robophi bench: the standard scenes, headless, with throughput figures.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -8,6 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_pile.h"
 #include "bench_scenes.h"
 #include "commands.h"
 #include "robophi/version.h"
@@ -28,6 +30,8 @@ struct BenchResult {
   std::int64_t particles = 0, connectors = 0, steps = 0;
   double simulatedSeconds = 0.0, wallSeconds = 0.0;
   double particleStepsPerSecond = 0.0, connectorEvalsPerSecond = 0.0;
+  // Contact figures: mean contacts per step, deepest penetration (m and / radius).
+  double contactsPerStep = 0.0, maxPenetration = 0.0, maxPenetrationFraction = 0.0;
   std::string status;
 };
 
@@ -42,14 +46,20 @@ BenchResult runBench(const BenchScene& bench) {
                                            scene.model.torsionSprings.size() +
                                            scene.model.jointSprings.size());
   r.status = "ok";
+  double contactSum = 0.0;
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
     if (world.step(scene.run.dt) != StepStatus::kOk) {
       r.status = "diverged";
       break;
     }
+    const ContactStats contacts = lastContactStats(world.state());
+    contactSum += static_cast<double>(contacts.particleContacts + contacts.environmentContacts);
+    r.maxPenetration = std::max(r.maxPenetration, contacts.maxPenetration);
+    r.maxPenetrationFraction = std::max(r.maxPenetrationFraction, contacts.maxPenetrationFraction);
   }
   r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.contactsPerStep = steps > 0 ? contactSum / static_cast<double>(steps) : 0.0;
   r.steps = world.state().stepCount;
   r.simulatedSeconds = world.state().time;
   r.particleStepsPerSecond = static_cast<double>(r.particles * r.steps) / r.wallSeconds;
@@ -66,10 +76,15 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
           {"simulated_s", r.simulatedSeconds},
           {"wall_s", r.wallSeconds},
           {"particle_steps_per_s", r.particleStepsPerSecond},
-          {"connector_evals_per_s", r.connectorEvalsPerSecond}};
+          {"connector_evals_per_s", r.connectorEvalsPerSecond},
+          {"contacts_per_step", r.contactsPerStep},
+          {"max_penetration_m", r.maxPenetration},
+          {"max_penetration_over_radius", r.maxPenetrationFraction}};
 }
 
 int benchCommand(const BenchArguments& args) {
+  // SCALING: contact detection cost from 1e3 to 1e6 particles (bench_pile.cpp).
+  if (args.filter.find("SCALING") != std::string::npos) return runContactScaling(args.json);
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   for (const BenchScene& bench : standardBenchScenes(args.quick)) {
     if (!args.filter.empty() && bench.name.find(args.filter) == std::string::npos) continue;
@@ -82,6 +97,11 @@ int benchCommand(const BenchArguments& args) {
           r.name.c_str(), static_cast<long long>(r.particles),
           static_cast<long long>(r.connectors), static_cast<long long>(r.steps), r.wallSeconds,
           r.particleStepsPerSecond, r.connectorEvalsPerSecond, r.status.c_str());
+      if (r.contactsPerStep > 0.0) {
+        std::printf("%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius)\n",
+                    r.name.c_str(), r.contactsPerStep, r.maxPenetration,
+                    100.0 * r.maxPenetrationFraction);
+      }
       std::fflush(stdout);
     }
   }

@@ -13,9 +13,10 @@ int main(int argc, char** argv) {
   robophi::cli::addRunCommand(app, exitCode);
   robophi::cli::addValidateCommand(app, exitCode);
   robophi::cli::addBenchCommand(app, exitCode);
+  robophi::cli::addExportCommand(app);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::Error& e) {
     return app.exit(e);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "robophi: error: %s\n", e.what());

@@ -26,7 +26,9 @@ struct AdaptiveStepSettings {
   /// (energy destroyed by the integration, not by dissipation). 1 makes the
   /// test symmetric, which keeps a variable-step symplectic scheme from drifting.
   double lossToleranceFactor = 1.0;
-  /// Floor of the energy scale (J), so a system at rest does not force tiny steps.
+  /// Floor of the energy scale (J). The scale is also never below the energy
+  /// gravity can release in the scene (Σ m |g| × the particles' bounding-box
+  /// diagonal at the start), so a system at rest does not force tiny steps.
   double energyFloor = 1.0e-9;
   /// Step factor after a rejection (-), < 1.
   double shrinkFactor = 0.5;
@@ -92,6 +94,8 @@ class AdaptiveStepper {
   AdaptiveStepSettings settings_;
   double stabilityLimit_;
   double step_;
+  /// Σ m |g| × scene size (J), measured at the first step; -1 until then.
+  double gravityScale_ = -1.0;
   int calmSteps_ = 0;
   AdaptiveStepStats stats_;
   State saved_;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "robophi/contact.h"
 #include "robophi/vec3.h"
 
 namespace robophi {
@@ -128,6 +129,11 @@ struct Model {
   std::vector<ObjectInfo> objects;
   std::vector<Material> materials{Material{}};
   std::vector<Joint> joints;
+
+  /// What particles collide with besides each other, and the medium (MODEL §3).
+  Environment environment;
+  /// How contacts are found and computed (docs/contact.md).
+  ContactSettings contact;
 
   ParticleIndex particleCount() const { return static_cast<ParticleIndex>(mass.size()); }
   bool isFixed(ParticleIndex i) const { return inverseMass[i] == 0.0; }

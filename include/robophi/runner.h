@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "robophi/adaptive_step.h"
 #include "robophi/scene.h"
 #include "robophi/world.h"
 
@@ -27,13 +28,16 @@ struct RunOptions {
   double energyRate = 1000.0;
   /// Output folder; empty writes nothing.
   std::string outDir;
+  /// Also write outDir/replay.html (robophi export html).
+  bool writeReplay = true;
   /// Called about every 0.1 s of wall time.
   std::function<void(const RunProgress&)> progress;
 };
 
 /// What a run did.
 struct RunReport {
-  /// "ok", or "diverged" when a state became NaN or infinite.
+  /// "ok"; "diverged" when a state became NaN or infinite (constant step);
+  /// "stalled" when the adaptive step fell below its floor.
   std::string status = "ok";
   /// For a diverged run: which particle, when.
   std::string failure;
@@ -47,6 +51,8 @@ struct RunReport {
   double energyDrift = 0.0;
   double dissipated = 0.0;
   StabilityEstimate stability;
+  /// Accepted and rejected steps, step sizes (adaptive mode).
+  AdaptiveStepStats adaptive;
   std::uint64_t stateHash = 0;
   std::vector<std::string> warnings;
   bool ok() const { return status == "ok"; }

@@ -7,19 +7,31 @@
 #include <string>
 #include <vector>
 
+#include "robophi/adaptive_step.h"
 #include "robophi/model.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
 
 namespace robophi {
 
+/// How the step size is chosen.
+enum class StepMode : std::uint8_t {
+  /// Energy-based adaptive step (ATS, MODEL §4); `dt` is the first trial step.
+  kAdaptive,
+  /// Constant step (CTS) of `dt`.
+  kConstant,
+};
+
 /// How a scene asks to be run; the command line may override each field.
 struct RunSettings {
   /// Model time to simulate (s), > 0.
   double duration = 1.0;
-  /// Constant step δ (s), > 0.
+  /// Constant step δ (s), > 0; the first trial step in adaptive mode.
   double dt = 1.0e-4;
-  Integrator integrator = Integrator::kSymplecticEuler;
+  StepMode stepMode = StepMode::kAdaptive;
+  /// The adaptive controller's settings (used in adaptive mode).
+  AdaptiveStepSettings adaptive;
+  Integrator integrator = Integrator::kVelocityVerlet;
   /// Frames per second written to particles.csv, > 0.
   double fps = 60.0;
 };

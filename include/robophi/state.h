@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "robophi/contact.h"
 #include "robophi/model.h"
 #include "robophi/vec3.h"
 
@@ -49,6 +50,11 @@ struct State {
   /// Power of the dissipative forces (W, <= 0) at the last force evaluation.
   double dissipativePower = 0.0;
   EnergyTally energy;
+  /// Touching pairs and environment contacts with their friction anchors, sorted
+  /// by Contact::key(), as of the last force evaluation (MODEL §3).
+  std::vector<Contact> contacts;
+  /// The contact stage's cache (not part of the value: see ContactCacheHolder).
+  ContactCacheHolder contactCache;
 
   /// A state at rest with every particle at the origin, sized for `model`.
   static State sizedFor(const Model& model);

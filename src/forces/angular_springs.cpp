@@ -71,42 +71,52 @@ AngularSpringForce torsionSpringForce(const TorsionSpring& spring, const Vec3& p
 
 namespace {
 
-// MODEL §1 JS: θ = acos(û·ŵ) if (û × ŵ)·n >= 0, else 2π - acos(û·ŵ), with its
-// gradient. `valid` is false when an arm or the axis has zero length.
+// MODEL §1 JS, measured about the axis: with n = (p_d - p_c)/|p_d - p_c|,
+//   y = (u × w)·n,  x = u·w - (u·n)(w·n)      (= u⊥·w⊥, u⊥ the part of u normal to n)
+//   θ = atan2(y, x) in [0, 2π)
+// equals acos(û·ŵ) or 2π - acos(û·ŵ) of MODEL §1 when the arms are normal to n,
+// and stays smooth when they are not (the sign of (u × w)·n alone would flip
+// the angle between θ and 2π - θ as the arms pass through a straight line).
+// The gradient is exact in all four particles, so the forces sum to zero,
+// their torques sum to zero, and F = -grad(E); the force on d is zero when the
+// arms lie in the plane through c normal to the axis.
 struct JointGeometry {
   bool valid = false;
   double angle = 0.0;
-  AngleGradient gradient;
+  Vec3 gradA, gradB, gradC, gradD;
 };
 
 JointGeometry jointGeometry(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD) {
-  JointGeometry geometry;
+  JointGeometry g;
   const Vec3 u = pA - pC, w = pB - pC, axis = pD - pC;
-  const double uLength = norm(u), wLength = norm(w), axisLength = norm(axis);
-  if (!(uLength > 0.0) || !(wLength > 0.0) || !(axisLength > 0.0)) return geometry;
-  const Vec3 n = axis / axisLength;
-  const Vec3 uxw = cross(u, w);
-  const double sine = norm(uxw);
-  const double unsignedAngle = std::atan2(sine, dot(u, w));
-  const bool positive = dot(uxw, n) >= 0.0;
-  geometry.angle = positive ? unsignedAngle : kTwoPi - unsignedAngle;
-  if (geometry.angle >= kTwoPi) geometry.angle -= kTwoPi;
+  const double axisLength = norm(axis);
+  if (!(axisLength > 0.0)) return g;
+  const Vec3 n = axis * (1.0 / axisLength);
+  const double uN = dot(u, n), wN = dot(w, n);
+  const double y = dot(cross(u, w), n);
+  const double x = dot(u, w) - uN * wN;
+  double angle = std::atan2(y, x);
+  if (angle < 0.0) angle += kTwoPi;
+  if (angle >= kTwoPi) angle -= kTwoPi;
+  g.angle = angle;
+  // x² + y² = |u⊥|² |w⊥|²: zero when an arm lies along the axis.
+  const double r2 = x * x + y * y;
+  if (!(r2 > kDegenerateSine * kDegenerateSine * squaredNorm(u) * squaredNorm(w))) return g;
+  // dθ = (x dy - y dx) / (x² + y²).
+  const double cx = -y / r2, cy = x / r2;
+  g.gradA = cross(w, n) * cy + (w - n * wN) * cx;
+  g.gradB = cross(n, u) * cy + (u - n * uN) * cx;
+  const Vec3 gradN = cross(u, w) * cy - (u * wN + w * uN) * cx;
+  // Through n = axis/|axis|: ∂θ/∂axis = (I - n nᵀ) ∂θ/∂n / |axis|.
+  g.gradD = (gradN - n * dot(n, gradN)) * (1.0 / axisLength);
+  g.gradC = -(g.gradA + g.gradB + g.gradD);
+  g.valid = true;
+  return g;
+}
 
-  // Oriented normal of the arms' plane; where that plane is undefined (arms
-  // aligned) the joint axis, made perpendicular to u, orients the rotation.
-  Vec3 m;
-  if (sine > kDegenerateSine * uLength * wLength) {
-    m = uxw * ((positive ? 1.0 : -1.0) / sine);
-  } else {
-    const Vec3 uHat = u / uLength;
-    const Vec3 nPerp = n - uHat * dot(n, uHat);
-    const double nPerpLength = norm(nPerp);
-    if (!(nPerpLength > kDegenerateSine)) return geometry;
-    m = nPerp / nPerpLength;
-  }
-  geometry.gradient = angleGradient(m, u, uLength, w, wLength);
-  geometry.valid = true;
-  return geometry;
+double jointRate(const JointGeometry& g, const Vec3& vA, const Vec3& vC, const Vec3& vB,
+                 const Vec3& vD) {
+  return dot(g.gradA, vA) + dot(g.gradB, vB) + dot(g.gradC, vC) + dot(g.gradD, vD);
 }
 
 }  // namespace
@@ -116,26 +126,31 @@ double jointAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD
 }
 
 double jointAngleRate(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD,
-                      const Vec3& vA, const Vec3& vC, const Vec3& vB) {
-  const JointGeometry geometry = jointGeometry(pA, pC, pB, pD);
-  if (!geometry.valid) return 0.0;
-  return dot(geometry.gradient.a, vA - vC) + dot(geometry.gradient.b, vB - vC);
+                      const Vec3& vA, const Vec3& vC, const Vec3& vB, const Vec3& vD) {
+  const JointGeometry g = jointGeometry(pA, pC, pB, pD);
+  return g.valid ? jointRate(g, vA, vC, vB, vD) : 0.0;
 }
 
 AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, const Vec3& pC,
                                     const Vec3& pB, const Vec3& pD, const Vec3& vA,
-                                    const Vec3& vC, const Vec3& vB) {
+                                    const Vec3& vC, const Vec3& vB, const Vec3& vD) {
   AngularSpringForce out;
-  const JointGeometry geometry = jointGeometry(pA, pC, pB, pD);
-  out.angle = geometry.angle;
+  const JointGeometry g = jointGeometry(pA, pC, pB, pD);
+  out.angle = g.angle;
   // The spring pulls the short way round: Δθ wrapped into (-π, π].
-  double angleError = geometry.angle - spring.restAngle;
+  double angleError = g.angle - spring.restAngle;
   if (angleError > std::numbers::pi) angleError -= kTwoPi;
   if (angleError <= -std::numbers::pi) angleError += kTwoPi;
   out.energy = 0.5 * spring.stiffness * angleError * angleError;
-  if (!geometry.valid) return out;
-  applyAngularLaw(geometry.gradient, angleError, spring.stiffness, spring.damping, vA, vC, vB,
-                  out);
+  if (!g.valid) return out;
+  // F_j = -(κ Δθ + μ θ̇) ∂θ/∂p_j.
+  const double angleRate = jointRate(g, vA, vC, vB, vD);
+  const double generalizedForce = -(spring.stiffness * angleError + spring.damping * angleRate);
+  out.onA = g.gradA * generalizedForce;
+  out.onB = g.gradB * generalizedForce;
+  out.onC = g.gradC * generalizedForce;
+  out.onD = g.gradD * generalizedForce;
+  out.dissipativePower = -spring.damping * angleRate * angleRate;
   return out;
 }
 
@@ -160,10 +175,11 @@ ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& p
   for (const JointSpring& s : model.jointSprings) {
     const AngularSpringForce f =
         jointSpringForce(s, position[s.a], position[s.c], position[s.b], position[s.d],
-                         velocity[s.a], velocity[s.c], velocity[s.b]);
+                         velocity[s.a], velocity[s.c], velocity[s.b], velocity[s.d]);
     force[s.a] += f.onA;
     force[s.b] += f.onB;
     force[s.c] += f.onC;
+    force[s.d] += f.onD;
     tally.potential += f.energy;
     tally.dissipativePower += f.dissipativePower;
   }

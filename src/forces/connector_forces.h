@@ -17,9 +17,10 @@ struct LinearSpringForce {
   double dissipativePower = 0.0;
 };
 
-/// Forces of a TS or JS on a, c, b (none on a JS's reference d).
+/// Forces of a TS on a, c, b, or of a JS on a, c, b and its reference d (zero
+/// when the arms lie in the plane through c normal to the axis).
 struct AngularSpringForce {
-  Vec3 onA, onC, onB;
+  Vec3 onA, onC, onB, onD;
   /// The connector's angle θ (rad): [0, π] for a TS, [0, 2π) for a JS.
   double angle = 0.0;
   /// ½ κ Δθ² (J).
@@ -37,14 +38,15 @@ AngularSpringForce torsionSpringForce(const TorsionSpring& spring, const Vec3& p
 
 AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, const Vec3& pC,
                                     const Vec3& pB, const Vec3& pD, const Vec3& vA,
-                                    const Vec3& vC, const Vec3& vB);
+                                    const Vec3& vC, const Vec3& vB, const Vec3& vD);
 
 /// The TS angle θ = atan2(|u × w|, u·w) with u = p_a - p_c, w = p_b - p_c.
 double torsionAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB);
-/// The JS angle in [0, 2π), positive about n = p_d - p_c.
+/// The JS angle in [0, 2π): the rotation from u to w about n = (p_d - p_c)/|p_d - p_c|,
+/// measured between their projections on the plane normal to n.
 double jointAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD);
 /// The JS angle's rate θ̇ = Σ_j ∂θ/∂p_j · v_j (rad/s).
 double jointAngleRate(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD,
-                      const Vec3& vA, const Vec3& vC, const Vec3& vB);
+                      const Vec3& vA, const Vec3& vC, const Vec3& vB, const Vec3& vD);
 
 }  // namespace robophi

@@ -19,6 +19,22 @@ double activeEnergy(const EnergyTally& e) {
   return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
 }
 
+// The energy gravity can release within the scene: Σ m_i |g| × the diagonal of
+// the box around the particles. It keeps the scale of a system that starts at
+// rest well above the round-off of the energy sums.
+double gravityEnergyScale(const Model& model, const State& state) {
+  if (state.position.empty()) return 0.0;
+  Vec3 low = state.position.front(), high = low;
+  double freeMass = 0.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    const Vec3& p = state.position[i];
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+    if (!model.isFixed(i)) freeMass += model.mass[i];
+  }
+  return freeMass * norm(model.gravity) * norm(high - low);
+}
+
 }  // namespace
 
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
@@ -34,13 +50,14 @@ double AdaptiveStepper::energyError(const State& before, const State& after) con
   const double created = (after.energy.mechanical() - before.energy.mechanical()) +
                          (after.energy.dissipated - before.energy.dissipated);
   const double scale = std::max(
-      {activeEnergy(before.energy), activeEnergy(after.energy), settings_.energyFloor});
+      {activeEnergy(before.energy), activeEnergy(after.energy), gravityScale_, settings_.energyFloor});
   return created / scale;
 }
 
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
+  if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
   saved_ = world.state();
   for (;;) {
     const double dt = std::min(step_, maxDt);

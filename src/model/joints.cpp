@@ -35,7 +35,7 @@ double jointRate(const Model& model, const State& state, std::size_t joint) {
   const auto& v = state.velocity;
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[j.connector];
-    return jointAngleRate(p[s.a], p[s.c], p[s.b], p[s.d], v[s.a], v[s.c], v[s.b]);
+    return jointAngleRate(p[s.a], p[s.c], p[s.b], p[s.d], v[s.a], v[s.c], v[s.b], v[s.d]);
   }
   const TorsionSpring& s = model.torsionSprings[j.connector];
   const Vec3 line = p[s.b] - p[s.a];

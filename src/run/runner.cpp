@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "io/run_writer.h"
+#include "robophi/replay.h"
 
 namespace robophi {
 
@@ -147,6 +148,12 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (writer) {
     writer->finish(scene, settings, report);
     writer.reset();
+    // The replay page is built from the finished files; a failure there is a
+    // warning (the results are complete without it).
+    std::string replayError;
+    if (options.writeReplay && !writeReplayHtml(staging, ReplayOptions{}, replayError)) {
+      report.warnings.push_back("replay.html not written: " + replayError);
+    }
     std::filesystem::remove_all(options.outDir);
     std::filesystem::rename(staging, options.outDir);
   }

@@ -1,0 +1,200 @@
+// PILE and SCALING: the contact benchmarks (docs/contact.md).
+#include "bench_pile.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "collision/contact_stage.h"
+
+namespace robophi::cli {
+
+namespace {
+
+// SplitMix64: a fixed, portable sequence (std distributions differ between libraries).
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [-1, 1).
+  double symmetric() { return static_cast<double>(next() >> 11) * 0x1.0p-52 - 1.0; }
+};
+
+constexpr double kPileRadius = 0.01;     // m
+constexpr double kPileSpacing = 0.025;   // m
+constexpr double kPileDensity = 1000.0;  // kg/m³
+// Pair stiffness κ_c = 2e4 N/m: the top layer lands at about sqrt(2 g n·5 mm)
+// (1.4 m/s for n = 20) on a ball at rest, penetrating v sqrt(m/2 / κ_c) = 0.45 mm
+// (< 10% of r = 1 mm); the static load of a 20-ball column, 0.8 N, is 0.04 mm.
+constexpr double kPilePairStiffness = 2.0e4;  // N/m
+// μ_c for ζ = 0.3 between two balls.
+constexpr double kPileDampingRatio = 0.3;
+// δ = 1e-4 s: ω = sqrt(κ_c / (m/2)) = 3.1e3 rad/s, ω δ = 0.31; a ball held by
+// 12 neighbours has ω δ ≈ 0.76 < 2.
+constexpr double kPileStep = 1.0e-4;  // s
+
+}  // namespace
+
+Scene makePileScene(int n) {
+  Scene scene;
+  scene.name = fmt::format("PILE-{}", n * n * n);
+  scene.sourcePath = "<bench>";
+  Model& model = scene.model;
+  model.gravity = {0.0, 0.0, -9.81};
+  const double mass = kPileDensity * 4.0 / 3.0 * M_PI * std::pow(kPileRadius, 3);
+  // Every surface has the same material: pair values are half the material's (series).
+  Material material;
+  material.name = "pile";
+  material.contactStiffness = 2.0 * kPilePairStiffness;
+  material.contactDamping =
+      2.0 * (2.0 * kPileDampingRatio * std::sqrt(kPilePairStiffness * 0.5 * mass));
+  material.staticFriction = 0.5;
+  material.kineticFriction = 0.5;
+  model.materials.push_back(material);
+  const std::int32_t pile = 1;
+
+  const double width = n * kPileSpacing;
+  SplitMix64 random{0x5EED0000ULL + static_cast<std::uint64_t>(n)};
+  const auto count = static_cast<std::size_t>(n) * n * n;
+  scene.initial.position.reserve(count);
+  model.objects.reserve(count);
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const std::int32_t object = model.addObject(fmt::format("ball{}", model.objects.size()),
+                                                     "ball", pile);
+        model.addParticle(mass, kPileRadius, false, object);
+        const Vec3 jitter{random.symmetric(), random.symmetric(), random.symmetric()};
+        scene.initial.position.push_back(Vec3{-0.5 * width + (i + 0.5) * kPileSpacing,
+                                              -0.5 * width + (j + 0.5) * kPileSpacing,
+                                              0.015 + k * kPileSpacing} +
+                                         jitter * 0.002);
+      }
+    }
+  }
+  // Ground and four walls 0.6 m high, 5 cm thick.
+  Environment& environment = model.environment;
+  environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, pile});
+  constexpr double kWallHeight = 0.6, kWallThickness = 0.05;
+  const double reach = 0.5 * width + 0.5 * kWallThickness;
+  const double halfLength = 0.5 * width + kWallThickness;
+  for (int side = 0; side < 4; ++side) {
+    BoxObstacle wall;
+    wall.material = pile;
+    const double sign = side % 2 == 0 ? 1.0 : -1.0;
+    if (side < 2) {
+      wall.center = {sign * reach, 0.0, 0.5 * kWallHeight};
+      wall.halfExtents = {0.5 * kWallThickness, halfLength, 0.5 * kWallHeight};
+    } else {
+      wall.center = {0.0, sign * reach, 0.5 * kWallHeight};
+      wall.halfExtents = {halfLength, 0.5 * kWallThickness, 0.5 * kWallHeight};
+    }
+    environment.boxes.push_back(wall);
+  }
+  scene.initial.velocity.assign(count, Vec3{});
+  scene.initial.force.assign(count, Vec3{});
+  scene.run.integrator = Integrator::kSymplecticEuler;
+  scene.run.stepMode = StepMode::kConstant;
+  scene.run.dt = kPileStep;
+  scene.run.duration = 1.0;
+  return scene;
+}
+
+namespace {
+
+// A loose lattice of `count` balls 2 cm apart, jittered ±2 mm: about half the
+// neighbour pairs touch. `oneObject` puts them all in one object (tree search).
+Scene makeScalingScene(std::int64_t count, bool oneObject) {
+  Scene scene;
+  Model& model = scene.model;
+  model.gravity = {};
+  const auto side = static_cast<std::int64_t>(std::ceil(std::cbrt(static_cast<double>(count))));
+  SplitMix64 random{0xC0FFEEULL};
+  std::int32_t object = oneObject ? model.addObject("cloud", "particles") : -1;
+  model.objects.reserve(oneObject ? 1 : static_cast<std::size_t>(count));
+  scene.initial.position.reserve(static_cast<std::size_t>(count));
+  for (std::int64_t q = 0; q < count; ++q) {
+    if (!oneObject) object = model.addObject("ball", "ball");
+    model.addParticle(0.004, 0.01, false, object);
+    const auto i = static_cast<double>(q % side);
+    const auto j = static_cast<double>((q / side) % side);
+    const auto k = static_cast<double>(q / (side * side));
+    const Vec3 jitter{random.symmetric(), random.symmetric(), random.symmetric()};
+    scene.initial.position.push_back(Vec3{i, j, k} * 0.02 + jitter * 0.002);
+  }
+  scene.initial.velocity.assign(static_cast<std::size_t>(count), Vec3{});
+  scene.initial.force.assign(static_cast<std::size_t>(count), Vec3{});
+  return scene;
+}
+
+}  // namespace
+
+int runContactScaling(bool json) {
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  for (const bool oneObject : {false, true}) {
+    const char* mode = oneObject ? "tree" : "grid";
+    std::vector<double> logN, logT;
+    for (const std::int64_t count : {1000LL, 10000LL, 100000LL, 1000000LL}) {
+      Scene scene = makeScalingScene(count, oneObject);
+      State state = scene.initial;
+      // First pass builds the cache (trees, exclusions); then time the passes.
+      accumulateContacts(scene.model, state);
+      const int repeats = count >= 1000000 ? 2 : (count >= 100000 ? 5 : 20);
+      const auto start = std::chrono::steady_clock::now();
+      for (int r = 0; r < repeats; ++r) {
+        for (Vec3& f : state.force) f = Vec3{};
+        accumulateContacts(scene.model, state);
+      }
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+          repeats;
+      const ContactStats stats = lastContactStats(state);
+      const double allPairs = 0.5 * static_cast<double>(count) * static_cast<double>(count - 1);
+      logN.push_back(std::log(static_cast<double>(count)));
+      logT.push_back(std::log(seconds));
+      results.push_back({{"mode", mode},
+                         {"particles", count},
+                         {"pass_s", seconds},
+                         {"contacts", stats.particleContacts},
+                         {"pair_tests", stats.pairTests},
+                         {"node_tests", stats.nodeTests},
+                         {"all_pairs_over_tests", allPairs / static_cast<double>(stats.pairTests)}});
+      if (!json) {
+        std::printf(
+            "SCALING-%s particles=%-8lld pass_s=%-10.4g contacts=%-8lld pair_tests=%-9lld "
+            "node_tests=%-9lld all_pairs/tests=%.3g\n",
+            mode, static_cast<long long>(count), seconds,
+            static_cast<long long>(stats.particleContacts),
+            static_cast<long long>(stats.pairTests), static_cast<long long>(stats.nodeTests),
+            allPairs / static_cast<double>(stats.pairTests));
+        std::fflush(stdout);
+      }
+    }
+    // Least-squares slope of log(time) against log(n).
+    double meanN = 0.0, meanT = 0.0;
+    for (std::size_t k = 0; k < logN.size(); ++k) {
+      meanN += logN[k] / static_cast<double>(logN.size());
+      meanT += logT[k] / static_cast<double>(logT.size());
+    }
+    double covariance = 0.0, variance = 0.0;
+    for (std::size_t k = 0; k < logN.size(); ++k) {
+      covariance += (logN[k] - meanN) * (logT[k] - meanT);
+      variance += (logN[k] - meanN) * (logN[k] - meanN);
+    }
+    const double slope = covariance / variance;
+    results.push_back({{"mode", mode}, {"loglog_slope", slope}});
+    if (!json) std::printf("SCALING-%s log-log slope (1e3..1e6) = %.3f\n", mode, slope);
+  }
+  if (json) std::printf("%s\n", results.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace robophi::cli

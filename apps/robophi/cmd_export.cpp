@@ -1,0 +1,76 @@
+// robophi export html|vtk DIR: a finished run folder as a replay page or a
+// ParaView time series (docs/viewer.md). Exit 0 on success, 1 on failure, with
+// the message naming the file and what is wrong.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "robophi/replay.h"
+#include "robophi/vtk_export.h"
+
+namespace robophi::cli {
+
+namespace {
+
+// main() returns the exit code of a CLI::RuntimeError without printing, so the
+// message goes to stderr here.
+[[noreturn]] void fail(const std::string& error) {
+  std::fprintf(stderr, "robophi export: error: %s\n", error.c_str());
+  throw CLI::RuntimeError(kExitFailure);
+}
+
+}  // namespace
+
+void addExportCommand(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("export", "Turn a run folder into a replay page or ParaView files");
+  cmd->require_subcommand(1);
+
+  struct HtmlArgs {
+    std::string runDir;
+    std::string out;
+    double sizeCapMb = 50.0;
+  };
+  auto html = std::make_shared<HtmlArgs>();
+  auto* htmlCmd = cmd->add_subcommand(
+      "html", "Write a self-contained replay page (opens from disk, no server needed)");
+  htmlCmd->add_option("DIR", html->runDir, "Run folder (written by robophi run)")->required();
+  htmlCmd->add_option("--out", html->out, "Output file (default DIR/replay.html)");
+  htmlCmd
+      ->add_option("--size-cap-mb", html->sizeCapMb,
+                   "Largest page size (MB); frames are decimated to fit")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  htmlCmd->callback([html] {
+    ReplayOptions options;
+    options.sizeCapBytes = html->sizeCapMb * 1e6;
+    options.outputPath = html->out;
+    std::string error;
+    if (!writeReplayHtml(html->runDir, options, error)) fail(error);
+    const std::string written = html->out.empty()
+                                    ? (std::filesystem::path(html->runDir) / "replay.html").string()
+                                    : html->out;
+    std::printf("wrote %s\n", written.c_str());
+  });
+
+  struct VtkArgs {
+    std::string runDir;
+    std::string out;
+  };
+  auto vtk = std::make_shared<VtkArgs>();
+  auto* vtkCmd =
+      cmd->add_subcommand("vtk", "Write ParaView files: one .vtp per frame and a .pvd collection");
+  vtkCmd->add_option("DIR", vtk->runDir, "Run folder (written by robophi run)")->required();
+  vtkCmd->add_option("--out", vtk->out, "Output folder (default DIR/vtk)");
+  vtkCmd->callback([vtk] {
+    const std::string outDir =
+        vtk->out.empty() ? (std::filesystem::path(vtk->runDir) / "vtk").string() : vtk->out;
+    std::string error;
+    if (!writeVtkSeries(vtk->runDir, outDir, error)) fail(error);
+    std::printf("wrote %s\n", (std::filesystem::path(outDir) / "run.pvd").string().c_str());
+  });
+}
+
+}  // namespace robophi::cli

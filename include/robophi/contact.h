@@ -1,0 +1,196 @@
+#pragma once
+/// \file
+/// Contact (MODEL.md §3, docs/contact.md): the environment the particles collide
+/// with, the contact settings of a model, and the contact records a State carries
+/// from step to step (their friction anchors).
+///
+/// The contact stage (src/collision/) finds every touching pair of particles with
+/// one sphere tree per object and a broad phase over objects (§3.2), applies the
+/// visco-elastic normal force (§3.1) and Coulomb friction (§3.3) realised with a
+/// tangential anchor spring, and the medium's viscosity (§3.4).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "robophi/vec3.h"
+
+namespace robophi {
+
+struct Model;
+struct State;
+
+/// A half-space the particles stay above: the ground, or a wall.
+struct GroundPlane {
+  /// A point of the plane (m).
+  Vec3 point{0.0, 0.0, 0.0};
+  /// Unit normal pointing out of the solid (-).
+  Vec3 normal{0.0, 0.0, 1.0};
+  /// Index into Model::materials.
+  std::int32_t material = 0;
+};
+
+/// A terrain z = h(x, y): heights on a regular grid over an x-y rectangle,
+/// bilinear between samples. Outside the rectangle there is no terrain.
+struct Heightfield {
+  /// x, y of sample (0, 0) (m).
+  double originX = 0.0, originY = 0.0;
+  /// Distance between samples along x and y (m), > 0.
+  double cellSizeX = 1.0, cellSizeY = 1.0;
+  /// Samples along x (columns) and y (rows), >= 2 each.
+  std::int32_t columns = 0, rows = 0;
+  /// Heights (m), (rows × columns): heights[j * columns + i] at (x0 + i dx, y0 + j dy).
+  std::vector<double> heights;
+  /// Index into Model::materials.
+  std::int32_t material = 0;
+
+  /// Whether (x, y) lies over the grid.
+  bool covers(double x, double y) const;
+  /// h(x, y) (m) and its gradient (dh/dx, dh/dy) by bilinear interpolation;
+  /// (x, y) is clamped onto the grid.
+  double heightAt(double x, double y, double* dhdx = nullptr, double* dhdy = nullptr) const;
+};
+
+/// A fixed oriented box.
+struct BoxObstacle {
+  /// Centre (m).
+  Vec3 center;
+  /// Half sizes along the box's own axes (m), > 0.
+  Vec3 halfExtents{0.5, 0.5, 0.5};
+  /// The box's axes in the world frame: orthonormal, right-handed (-).
+  Vec3 axisX{1.0, 0.0, 0.0}, axisY{0.0, 1.0, 0.0}, axisZ{0.0, 0.0, 1.0};
+  std::int32_t material = 0;
+};
+
+/// A fixed sphere.
+struct SphereObstacle {
+  Vec3 center;
+  /// Radius (m), > 0.
+  double radius = 0.5;
+  std::int32_t material = 0;
+};
+
+/// Everything fixed that particles collide with, and the medium around them.
+/// Environment items are numbered planes first, then heightfields, boxes, spheres.
+struct Environment {
+  std::vector<GroundPlane> planes;
+  std::vector<Heightfield> heightfields;
+  std::vector<BoxObstacle> boxes;
+  std::vector<SphereObstacle> spheres;
+  /// Viscosity of the medium k (N·s/m per particle, MODEL §3.4): a particle moving
+  /// at V feels -k (V·n) V̂ where its surface faces the motion. 0: no medium.
+  double viscosity = 0.0;
+
+  std::int32_t itemCount() const {
+    return static_cast<std::int32_t>(planes.size() + heightfields.size() + boxes.size() +
+                                     spheres.size());
+  }
+};
+
+/// Contact parameters for one pair of objects (or an object and the environment),
+/// replacing the combination of their materials.
+struct ContactPairOverride {
+  /// Object indices; objectB = -1 means every environment item.
+  std::int32_t objectA = 0, objectB = -1;
+  /// κ_c (N/m), μ_c (N·s/m), μ_s, μ_k (-).
+  double stiffness = 1.0e4, damping = 10.0, staticFriction = 0.5, kineticFriction = 0.4;
+};
+
+/// How contacts are found and computed (docs/contact.md).
+struct ContactSettings {
+  /// Contact stage on or off.
+  bool enabled = true;
+  /// Particles of one object collide with each other unless a connector ties them.
+  bool selfCollision = true;
+  /// Tangential anchor stiffness k_t = ratio × κ_c (-); §3.3 sticking.
+  double tangentialStiffnessRatio = 0.5;
+  /// Tangential anchor damping as a fraction of critical (-): c_t = ratio × 2 √(k_t m_eff),
+  /// m_eff = m_a m_b / (m_a + m_b) (the particle's mass against the environment or a
+  /// fixed particle). 1: a suddenly loaded sticking contact does not overshoot.
+  double tangentialDampingRatio = 1.0;
+  /// MODEL §3.3 "V ≠ 0" tolerance (m/s): a sliding contact sticks again below it.
+  double stickVelocity = 1.0e-4;
+  /// Most particles in a leaf of an object's sphere tree (>= 1).
+  std::int32_t leafSize = 4;
+  /// Overrides by object pair; looked up by binary search when not empty.
+  std::vector<ContactPairOverride> pairOverrides;
+};
+
+/// A contact between particle `a` and either particle `other` (> a) or the
+/// environment item -1 - other. Kept in State, sorted by key().
+struct Contact {
+  std::int32_t a = -1;
+  std::int32_t other = -1;
+  /// d (m): distance minus radii, < 0 when it touches (MODEL §3.1).
+  double depth = 0.0;
+  /// Normal force F_n (N), >= 0, at the last evaluation.
+  double normalForce = 0.0;
+  /// Elastic energy of the friction anchor ½ k_t |δ_t|² (J) at the last evaluation.
+  double anchorEnergy = 0.0;
+  /// k̂: unit normal from the other body to a (-).
+  Vec3 normal;
+  /// Friction anchor (m): p_a - p_other (pair) or p_a (environment) where the
+  /// contact stuck; δ_t is the tangential part of the displacement from it.
+  Vec3 anchor;
+  /// 1 while sliding (MODEL §3.3 V ≠ 0), 0 while sticking.
+  std::int32_t sliding = 0;
+
+  bool withEnvironment() const { return other < 0; }
+  std::int32_t environmentItem() const { return -1 - other; }
+  /// Sort key: (a, other) with environment contacts after a's particle contacts.
+  std::uint64_t key() const {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+           static_cast<std::uint32_t>(other);
+  }
+};
+
+/// Counters of the last contact evaluation.
+struct ContactStats {
+  /// Particle-particle distance tests of the narrow phase.
+  std::int64_t pairTests = 0;
+  /// Sphere-sphere tests between tree nodes.
+  std::int64_t nodeTests = 0;
+  /// Particle-environment tests.
+  std::int64_t environmentTests = 0;
+  std::int64_t particleContacts = 0;
+  std::int64_t environmentContacts = 0;
+  /// Deepest penetration -d (m) and as a fraction of the smaller radius (-).
+  double maxPenetration = 0.0;
+  double maxPenetrationFraction = 0.0;
+};
+
+struct ContactScratch;
+
+/// The contact stage's derived data and scratch buffers (sphere trees, grid,
+/// exclusion lists), built from the Model on first use. It is a cache, not part
+/// of the state's value: copying a State gives the copy an empty cache (rebuilt
+/// when needed), and assigning a State keeps the target's own cache.
+class ContactCacheHolder {
+ public:
+  ContactCacheHolder();
+  ~ContactCacheHolder();
+  ContactCacheHolder(const ContactCacheHolder&);
+  ContactCacheHolder& operator=(const ContactCacheHolder&);
+  ContactCacheHolder(ContactCacheHolder&&) noexcept;
+  ContactCacheHolder& operator=(ContactCacheHolder&&) noexcept;
+
+  ContactScratch* get() const { return scratch_.get(); }
+  void reset(std::unique_ptr<ContactScratch> scratch);
+
+ private:
+  std::unique_ptr<ContactScratch> scratch_;
+};
+
+/// Counters of the contact evaluation that produced `state` (zeros before the first).
+ContactStats lastContactStats(const State& state);
+
+/// Reads a binary (P5) or text (P2) PGM image as a heightfield: pixel value v maps
+/// to minHeight + (maxHeight - minHeight) v / maxval; image column i is x index i,
+/// image row r is y index rows-1-r (the image seen from above, +y up). Returns an
+/// empty string on success, otherwise what is wrong with the file.
+std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
+                               double cellSizeX, double cellSizeY, double minHeight,
+                               double maxHeight, Heightfield& out);
+
+}  // namespace robophi

@@ -1,0 +1,246 @@
+// The contact cache: what the contact stage derives once from the Model
+// (exclusion lists, material table, which particles go to the grid and which
+// objects get a sphere tree) and keeps between steps.
+#include "collision/contact_cache.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "collision/environment.h"
+#include "collision/sphere_tree.h"
+
+namespace robophi {
+
+ContactCacheHolder::ContactCacheHolder() = default;
+ContactCacheHolder::~ContactCacheHolder() = default;
+// A copy starts with an empty cache; an assignment keeps the target's own.
+ContactCacheHolder::ContactCacheHolder(const ContactCacheHolder&) {}
+ContactCacheHolder& ContactCacheHolder::operator=(const ContactCacheHolder&) { return *this; }
+ContactCacheHolder::ContactCacheHolder(ContactCacheHolder&&) noexcept = default;
+ContactCacheHolder& ContactCacheHolder::operator=(ContactCacheHolder&&) noexcept = default;
+void ContactCacheHolder::reset(std::unique_ptr<ContactScratch> scratch) {
+  scratch_ = std::move(scratch);
+}
+
+ContactStats lastContactStats(const State& state) {
+  const ContactScratch* cache = state.contactCache.get();
+  return cache != nullptr ? cache->stats : ContactStats{};
+}
+
+namespace {
+
+// What the cache depends on, folded into one number.
+std::int64_t modelSignature(const Model& model) {
+  std::uint64_t h = 1469598103934665603ULL;
+  const auto mix = [&h](std::uint64_t v) {
+    h ^= v;
+    h *= 1099511628211ULL;
+  };
+  mix(static_cast<std::uint64_t>(model.particleCount()));
+  mix(model.objects.size());
+  mix(model.linearSprings.size());
+  mix(model.torsionSprings.size());
+  mix(model.jointSprings.size());
+  mix(model.materials.size());
+  mix(static_cast<std::uint64_t>(model.environment.itemCount()));
+  mix(model.contact.pairOverrides.size());
+  mix(static_cast<std::uint64_t>(model.contact.leafSize));
+  return static_cast<std::int64_t>(h);
+}
+
+// Series springs (and dashpots): each material is half of the contact.
+double series(double a, double b) { return a + b > 0.0 ? a * b / (a + b) : 0.0; }
+
+PairParameters combine(const ContactSettings& settings, double stiffness, double damping,
+                       double staticFriction, double kineticFriction) {
+  PairParameters p;
+  p.stiffness = stiffness;
+  p.damping = damping;
+  p.staticFriction = staticFriction;
+  p.kineticFriction = std::min(kineticFriction, staticFriction);
+  p.tangentialStiffness = settings.tangentialStiffnessRatio * stiffness;
+  p.tangentialDampingRatio = settings.tangentialDampingRatio;
+  return p;
+}
+
+void buildExclusions(const Model& model, ContactScratch& cache) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+  const auto add = [&pairs](std::int32_t i, std::int32_t j) {
+    if (i == j || i < 0 || j < 0) return;
+    pairs.emplace_back(std::min(i, j), std::max(i, j));
+  };
+  for (const LinearSpring& s : model.linearSprings) add(s.a, s.b);
+  for (const TorsionSpring& s : model.torsionSprings) {
+    add(s.a, s.c);
+    add(s.b, s.c);
+    add(s.a, s.b);
+  }
+  for (const JointSpring& s : model.jointSprings) {
+    add(s.a, s.c);
+    add(s.b, s.c);
+    add(s.a, s.b);
+    add(s.d, s.a);
+    add(s.d, s.b);
+    add(s.d, s.c);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  cache.exclusionStart.assign(n + 1, 0);
+  for (const auto& [i, j] : pairs) ++cache.exclusionStart[static_cast<std::size_t>(i) + 1];
+  for (std::size_t i = 0; i < n; ++i) cache.exclusionStart[i + 1] += cache.exclusionStart[i];
+  cache.exclusionPartner.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    cache.exclusionPartner[k] = pairs[k].second;  // sorted by (i, j): rows are contiguous
+  }
+}
+
+void classifyParticles(const Model& model, ContactScratch& cache) {
+  const ParticleIndex n = model.particleCount();
+  const auto objectCount = static_cast<std::int32_t>(model.objects.size());
+  cache.particleObject.assign(static_cast<std::size_t>(n), -1);
+  cache.particleMaterial.assign(static_cast<std::size_t>(n), 0);
+  std::vector<std::int32_t> objectSize(static_cast<std::size_t>(objectCount), 0);
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const std::int32_t object = model.objectOf[i];
+    if (object < 0 || object >= objectCount) continue;
+    cache.particleObject[i] = object;
+    const std::int32_t material = model.objects[object].material;
+    cache.particleMaterial[i] =
+        material >= 0 && material < cache.materialCount ? material : 0;
+    ++objectSize[object];
+  }
+  // Single particles go to the grid unless they are much larger than the
+  // typical one (they would make the cells too large): those get a tree.
+  std::vector<std::int32_t> singles;
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const std::int32_t object = cache.particleObject[i];
+    if (object < 0 || objectSize[object] == 1) singles.push_back(i);
+  }
+  double limit = 0.0;
+  if (!singles.empty()) {
+    std::vector<double> radii;
+    radii.reserve(singles.size());
+    for (std::int32_t i : singles) radii.push_back(model.radius[i]);
+    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
+                     radii.end());
+    limit = 4.0 * radii[radii.size() / 2];
+  }
+  cache.gridParticles.clear();
+  cache.cellSize = 0.0;
+  std::vector<std::int32_t> largeSingles;
+  for (std::int32_t i : singles) {
+    if (model.radius[i] <= limit) {
+      cache.gridParticles.push_back(i);
+      cache.cellSize = std::max(cache.cellSize, 2.0 * model.radius[i]);
+    } else {
+      largeSingles.push_back(i);
+    }
+  }
+  // Tree objects: in object order, then the large single particles.
+  std::vector<std::vector<std::int32_t>> members(static_cast<std::size_t>(objectCount));
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const std::int32_t object = cache.particleObject[i];
+    if (object >= 0 && objectSize[object] >= 2) members[object].push_back(i);
+  }
+  cache.trees.clear();
+  cache.treeParticles.clear();
+  cache.nodes.clear();
+  cache.treeMembers.clear();
+  for (std::int32_t object = 0; object < objectCount; ++object) {
+    if (members[object].empty()) continue;
+    cache.treeMembers.push_back(std::move(members[object]));
+    cache.trees.push_back(TreeObject{object, 0, 0, 0, false});
+  }
+  for (std::int32_t i : largeSingles) {
+    cache.treeMembers.push_back({i});
+    cache.trees.push_back(TreeObject{cache.particleObject[i], 0, 0, 0, false});
+  }
+  for (std::size_t t = 0; t < cache.trees.size(); ++t) {
+    bool allFixed = true;
+    for (std::int32_t i : cache.treeMembers[t]) allFixed = allFixed && model.inverseMass[i] == 0.0;
+    cache.trees[t].allFixed = allFixed;
+  }
+  cache.treesBuilt = false;
+}
+
+}  // namespace
+
+ContactScratch& prepareContactCache(const Model& model, State& state) {
+  ContactScratch* cache = state.contactCache.get();
+  const std::int64_t signature = modelSignature(model);
+  if (cache == nullptr || cache->signature != signature) {
+    state.contactCache.reset(std::make_unique<ContactScratch>());
+    cache = state.contactCache.get();
+    cache->signature = signature;
+    const ContactSettings& settings = model.contact;
+    // Material-pair table (docs/contact.md: series κ_c and μ_c, geometric-mean friction).
+    cache->materialCount = static_cast<std::int32_t>(model.materials.size());
+    const auto m = static_cast<std::size_t>(cache->materialCount);
+    cache->materialPairs.resize(m * m);
+    for (std::size_t i = 0; i < m; ++i) {
+      for (std::size_t j = 0; j < m; ++j) {
+        const Material& a = model.materials[i];
+        const Material& b = model.materials[j];
+        cache->materialPairs[i * m + j] =
+            combine(settings, series(a.contactStiffness, b.contactStiffness),
+                    series(a.contactDamping, b.contactDamping),
+                    std::sqrt(a.staticFriction * b.staticFriction),
+                    std::sqrt(a.kineticFriction * b.kineticFriction));
+      }
+    }
+    const std::int32_t items = model.environment.itemCount();
+    cache->environmentMaterials.resize(static_cast<std::size_t>(items));
+    cache->environmentTops.resize(static_cast<std::size_t>(items));
+    for (std::int32_t e = 0; e < items; ++e) {
+      const std::int32_t material = environmentMaterial(model.environment, e);
+      cache->environmentMaterials[e] =
+          material >= 0 && material < cache->materialCount ? material : 0;
+      cache->environmentTops[e] = environmentTop(model.environment, e);
+    }
+    cache->overrides = settings.pairOverrides;
+    for (ContactPairOverride& o : cache->overrides) {
+      if (o.objectB >= 0 && o.objectB < o.objectA) std::swap(o.objectA, o.objectB);
+      if (o.objectB < 0) o.objectB = -1;
+    }
+    std::sort(cache->overrides.begin(), cache->overrides.end(),
+              [](const ContactPairOverride& x, const ContactPairOverride& y) {
+                return std::tie(x.objectA, x.objectB) < std::tie(y.objectA, y.objectB);
+              });
+    buildExclusions(model, *cache);
+    classifyParticles(model, *cache);
+  }
+  if (!cache->treesBuilt) {
+    buildSphereTrees(model, state.position, *cache);
+    cache->treesBuilt = true;
+  }
+  return *cache;
+}
+
+const PairParameters& pairParameters(const Model& model, const ContactScratch& cache,
+                                     std::int32_t a, std::int32_t other,
+                                     PairParameters& overrideOut) {
+  const std::int32_t materialA = cache.particleMaterial[a];
+  const std::int32_t materialB =
+      other >= 0 ? cache.particleMaterial[other] : cache.environmentMaterials[-1 - other];
+  const PairParameters& table =
+      cache.materialPairs[static_cast<std::size_t>(materialA) * cache.materialCount + materialB];
+  if (cache.overrides.empty()) return table;
+  std::int32_t objectA = cache.particleObject[a];
+  std::int32_t objectB = other >= 0 ? cache.particleObject[other] : -1;
+  if (objectA < 0) return table;
+  if (objectB >= 0 && objectB < objectA) std::swap(objectA, objectB);
+  if (objectB < 0 && other >= 0) return table;
+  const auto it = std::lower_bound(
+      cache.overrides.begin(), cache.overrides.end(), std::make_pair(objectA, objectB),
+      [](const ContactPairOverride& o, const std::pair<std::int32_t, std::int32_t>& key) {
+        return std::tie(o.objectA, o.objectB) < std::tie(key.first, key.second);
+      });
+  if (it == cache.overrides.end() || it->objectA != objectA || it->objectB != objectB) return table;
+  overrideOut = combine(model.contact, it->stiffness, it->damping, it->staticFriction,
+                        it->kineticFriction);
+  return overrideOut;
+}
+
+}  // namespace robophi

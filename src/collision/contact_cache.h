@@ -1,0 +1,116 @@
+#pragma once
+// The contact stage's derived data (built once from the Model: exclusion lists,
+// material table, sphere-tree topology) and its per-step scratch buffers (grid,
+// refitted spheres, the next contact list). Nothing here allocates in a step
+// once the buffers have grown to the scene's size.
+
+#include <cstdint>
+#include <vector>
+
+#include "robophi/contact.h"
+#include "robophi/model.h"
+#include "robophi/state.h"
+
+namespace robophi {
+
+/// Contact parameters of a pair after combining materials (docs/contact.md).
+struct PairParameters {
+  double stiffness = 0.0;        // κ_c (N/m)
+  double damping = 0.0;          // μ_c (N·s/m)
+  double staticFriction = 0.0;   // μ_s (-)
+  double kineticFriction = 0.0;  // μ_k (-)
+  double tangentialStiffness = 0.0;  // k_t (N/m)
+  /// c_t = tangentialDampingRatio × 2 √(k_t m_eff), m_eff the pair's reduced mass.
+  double tangentialDampingRatio = 0.0;  // (-)
+};
+
+/// A node of an object's sphere tree. Its particles are
+/// ContactScratch::treeParticles[first, first + count); children are contiguous.
+struct TreeNode {
+  Vec3 center;
+  double radius = 0.0;
+  std::int32_t first = 0, count = 0;
+  std::int32_t firstChild = -1, childCount = 0;
+  bool isLeaf() const { return childCount == 0; }
+};
+
+/// An object with a sphere tree (two or more particles, or one large particle).
+struct TreeObject {
+  std::int32_t object = -1;
+  std::int32_t rootNode = 0;
+  /// [begin, end) of its nodes in ContactScratch::nodes (pre-order: parents first).
+  std::int32_t nodeBegin = 0, nodeEnd = 0;
+  bool allFixed = false;
+};
+
+struct ContactScratch {
+  // ---- Built once from the Model (prepareContactCache).
+  /// What the cache was built for; rebuilt when the model no longer matches.
+  std::int64_t signature = 0;
+  /// Exclusion lists (CSR): partners j > i sharing an LS/TS/JS with i, sorted,
+  /// in exclusionPartner[exclusionStart[i], exclusionStart[i + 1]).
+  std::vector<std::int32_t> exclusionStart;    // (particleCount + 1)
+  std::vector<std::int32_t> exclusionPartner;  // (exclusions)
+  /// Material of each particle (its object's), (particleCount).
+  std::vector<std::int32_t> particleMaterial;
+  /// Object of each particle, or -1, (particleCount).
+  std::vector<std::int32_t> particleObject;
+  /// Material-pair table, (materials × materials); environment uses the item's material.
+  std::vector<PairParameters> materialPairs;
+  std::int32_t materialCount = 0;
+  /// Environment item materials, (environment items).
+  std::vector<std::int32_t> environmentMaterials;
+  /// Highest point of each heightfield item (m), for culling; 0 for other items.
+  std::vector<double> environmentTops;
+  /// Single small particles handled by the grid, ascending particle index.
+  std::vector<std::int32_t> gridParticles;
+  /// Grid cell size h (m) = the largest grid particle's diameter.
+  double cellSize = 0.0;
+  /// Objects with a sphere tree.
+  std::vector<TreeObject> trees;
+  /// Particles of each tree object, ascending, (trees).
+  std::vector<std::vector<std::int32_t>> treeMembers;
+  /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
+  std::vector<ContactPairOverride> overrides;
+  std::vector<TreeNode> nodes;
+  std::vector<std::int32_t> treeParticles;
+  bool treesBuilt = false;
+
+  // ---- Per-step scratch.
+  std::vector<std::int64_t> cellOfItem;     // (gridParticles) cell id
+  std::vector<std::int32_t> cellStart;      // (cells + 1) or (hash buckets + 1)
+  std::vector<std::int32_t> sortedItem;     // (gridParticles) position in gridParticles
+  std::vector<std::int64_t> sortedCell;     // (gridParticles) cell id, for hash mode
+  std::vector<double> sortedData;           // (4 × gridParticles) x, y, z, r
+  std::vector<std::int32_t> sortedParticle;  // (gridParticles)
+  std::vector<std::int64_t> sortedKey;      // (gridParticles) cell key of each slot
+  std::vector<std::int32_t> sweepOrder;     // (trees) sort-and-sweep order
+  std::vector<Contact> freshContacts;       // the new list, swapped into State
+  std::vector<Contact> mergedContacts;      // merge buffer
+  std::vector<Contact> treeContacts;        // unsorted finds of the tree search
+  std::vector<Contact> rowContacts;         // one particle's finds (sorted per row)
+  std::vector<Vec3> objectCentroid;         // (objects) for viscosity
+  std::vector<double> objectMass;           // (objects)
+  ContactStats stats;
+};
+
+/// Builds (or rebuilds when stale) the derived data of the cache for `model`.
+ContactScratch& prepareContactCache(const Model& model, State& state);
+
+/// The combined parameters of particles a and b (or b = -1 - item for the environment).
+const PairParameters& pairParameters(const Model& model, const ContactScratch& cache,
+                                     std::int32_t a, std::int32_t other,
+                                     PairParameters& overrideOut);
+
+/// Whether a connector ties particles a < b.
+inline bool excluded(const ContactScratch& cache, std::int32_t a, std::int32_t b) {
+  const std::int32_t* begin = cache.exclusionPartner.data() + cache.exclusionStart[a];
+  const std::int32_t* end = cache.exclusionPartner.data() + cache.exclusionStart[a + 1];
+  for (const std::int32_t* p = begin; p != end; ++p) {
+    if (*p == b) return true;
+    if (*p > b) return false;
+  }
+  return false;
+}
+
+}  // namespace robophi

@@ -1,0 +1,328 @@
+// Contact detection (MODEL §3.2): a uniform grid over the single small
+// particles (the broad phase of many one-particle objects), sort-and-sweep over
+// the root spheres of the tree objects, and the sphere-tree searches between
+// them. The result is sorted by (particle, partner): deterministic by construction.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "collision/contact_stage.h"
+#include "collision/environment.h"
+#include "collision/sphere_tree.h"
+
+namespace robophi {
+
+namespace {
+
+// Cells are addressed densely when the particles' box holds few enough cells,
+// otherwise through a hash table (each entry keeps its cell key to reject
+// collisions).
+constexpr std::int64_t kCoordinateLimit = 1 << 20;
+
+struct GridFrame {
+  bool dense = true;
+  Vec3 origin;
+  double inverseCell = 0.0;
+  std::int64_t nx = 0, ny = 0, nz = 0;
+  std::uint64_t mask = 0;  // hash mode: table size - 1
+};
+
+inline std::int64_t cellCoordinate(double value, double origin, double inverseCell) {
+  const double c = std::floor((value - origin) * inverseCell);
+  return static_cast<std::int64_t>(
+      std::clamp(c, -static_cast<double>(kCoordinateLimit), static_cast<double>(kCoordinateLimit)));
+}
+
+inline std::int64_t packCell(std::int64_t ix, std::int64_t iy, std::int64_t iz) {
+  constexpr std::int64_t kMask = (1 << 21) - 1;
+  return (ix & kMask) | ((iy & kMask) << 21) | ((iz & kMask) << 42);
+}
+
+inline std::uint64_t hashCell(std::int64_t key) {
+  auto h = static_cast<std::uint64_t>(key);
+  h ^= h >> 31;
+  h *= 0x9E3779B97F4A7C15ULL;
+  h ^= h >> 29;
+  return h;
+}
+
+// Builds the grid of cache.gridParticles: counting sort into cells.
+GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
+  GridFrame g;
+  const auto count = static_cast<std::int32_t>(cache.gridParticles.size());
+  if (count == 0 || !(cache.cellSize > 0.0)) return g;
+  g.inverseCell = 1.0 / cache.cellSize;
+  Vec3 low = position[cache.gridParticles[0]], high = low;
+  bool finite = true;
+  for (std::int32_t k = 0; k < count; ++k) {
+    const Vec3& p = position[cache.gridParticles[k]];
+    finite = finite && isFinite(p);
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  g.origin = low;
+  const double cells = (std::floor((high.x - low.x) * g.inverseCell) + 1.0) *
+                       (std::floor((high.y - low.y) * g.inverseCell) + 1.0) *
+                       (std::floor((high.z - low.z) * g.inverseCell) + 1.0);
+  const double denseLimit = std::max(8.0 * count, 4096.0);
+  std::size_t tableSize = 0;
+  if (finite && cells <= denseLimit) {
+    g.dense = true;
+    g.nx = static_cast<std::int64_t>(std::floor((high.x - low.x) * g.inverseCell)) + 1;
+    g.ny = static_cast<std::int64_t>(std::floor((high.y - low.y) * g.inverseCell)) + 1;
+    g.nz = static_cast<std::int64_t>(std::floor((high.z - low.z) * g.inverseCell)) + 1;
+    tableSize = static_cast<std::size_t>(g.nx * g.ny * g.nz);
+  } else {
+    g.dense = false;
+    tableSize = 1;
+    while (tableSize < 2 * static_cast<std::size_t>(count)) tableSize <<= 1;
+    g.mask = tableSize - 1;
+  }
+  cache.cellOfItem.resize(static_cast<std::size_t>(count));
+  cache.sortedCell.resize(static_cast<std::size_t>(count));
+  cache.cellStart.assign(tableSize + 1, 0);
+  for (std::int32_t k = 0; k < count; ++k) {
+    const Vec3& p = position[cache.gridParticles[k]];
+    const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
+    const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
+    const std::int64_t iz = cellCoordinate(p.z, g.origin.z, g.inverseCell);
+    std::int64_t bucket = 0;
+    if (g.dense) {
+      bucket = (iz * g.ny + iy) * g.nx + ix;
+      cache.sortedCell[k] = bucket;
+    } else {
+      const std::int64_t key = packCell(ix, iy, iz);
+      cache.sortedCell[k] = key;
+      bucket = static_cast<std::int64_t>(hashCell(key) & g.mask);
+    }
+    cache.cellOfItem[k] = bucket;
+    ++cache.cellStart[static_cast<std::size_t>(bucket) + 1];
+  }
+  for (std::size_t c = 0; c < tableSize; ++c) cache.cellStart[c + 1] += cache.cellStart[c];
+  // Scatter in particle order (stable): a cell lists its particles ascending.
+  cache.sortedParticle.resize(static_cast<std::size_t>(count));
+  cache.sortedData.resize(4 * static_cast<std::size_t>(count));
+  std::vector<std::int64_t>& keyOfSlot = cache.sortedKey;
+  keyOfSlot.resize(static_cast<std::size_t>(count));
+  cache.sortedItem.assign(cache.cellStart.begin(), cache.cellStart.end() - 1);  // fill pointers
+  for (std::int32_t k = 0; k < count; ++k) {
+    const std::int32_t slot = cache.sortedItem[static_cast<std::size_t>(cache.cellOfItem[k])]++;
+    const std::int32_t i = cache.gridParticles[k];
+    cache.sortedParticle[slot] = i;
+    keyOfSlot[slot] = cache.sortedCell[k];
+    double* data = cache.sortedData.data() + 4 * static_cast<std::size_t>(slot);
+    data[0] = position[i].x;
+    data[1] = position[i].y;
+    data[2] = position[i].z;
+    data[3] = model.radius[i];
+  }
+  return g;
+}
+
+// Appends to cache.rowContacts the grid particles j > i in slots [begin, end)
+// touching particle i (at p, radius r). In hash mode only slots of cell `key`.
+inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i, const Vec3& p,
+                      double r, std::int32_t begin, std::int32_t end, bool checkKey,
+                      std::int64_t key) {
+  const double* data = cache.sortedData.data();
+  for (std::int32_t s = begin; s < end; ++s) {
+    const std::int32_t j = cache.sortedParticle[s];
+    if (j <= i) continue;
+    if (checkKey && cache.sortedKey[s] != key) continue;
+    ++cache.stats.pairTests;
+    const double* q = data + 4 * static_cast<std::size_t>(s);
+    const double dx = p.x - q[0], dy = p.y - q[1], dz = p.z - q[2];
+    const double reach = r + q[3];
+    if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
+    if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
+    if (excluded(cache, i, j)) continue;
+    Contact c;
+    c.a = i;
+    c.other = j;
+    cache.rowContacts.push_back(c);
+  }
+}
+
+// Grid particle i against its 27 neighbour cells.
+void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cache,
+                    std::int32_t i, const Vec3& p) {
+  const double r = model.radius[i];
+  const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
+  const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
+  const std::int64_t iz = cellCoordinate(p.z, g.origin.z, g.inverseCell);
+  if (g.dense) {
+    const std::int64_t x0 = std::max<std::int64_t>(ix - 1, 0), x1 = std::min(ix + 1, g.nx - 1);
+    for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, g.nz - 1);
+         ++z) {
+      for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, g.ny - 1);
+           ++y) {
+        const std::int64_t row = (z * g.ny + y) * g.nx;
+        scanSlots(model, cache, i, p, r, cache.cellStart[static_cast<std::size_t>(row + x0)],
+                  cache.cellStart[static_cast<std::size_t>(row + x1 + 1)], false, 0);
+      }
+    }
+    return;
+  }
+  for (std::int64_t z = iz - 1; z <= iz + 1; ++z) {
+    for (std::int64_t y = iy - 1; y <= iy + 1; ++y) {
+      for (std::int64_t x = ix - 1; x <= ix + 1; ++x) {
+        const std::int64_t key = packCell(x, y, z);
+        const std::size_t bucket = hashCell(key) & g.mask;
+        scanSlots(model, cache, i, p, r, cache.cellStart[bucket], cache.cellStart[bucket + 1], true,
+                  key);
+      }
+    }
+  }
+}
+
+// Particle i against every environment item, appended to `out` in item order.
+inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::int32_t i,
+                                      ContactScratch& cache, std::vector<Contact>& out) {
+  const std::int32_t items = model.environment.itemCount();
+  const double r = model.radius[i];
+  for (std::int32_t e = 0; e < items; ++e) {
+    ++cache.stats.environmentTests;
+    double signedDistance = 0.0;
+    Vec3 normal;
+    if (!environmentDistance(model.environment, e, p, signedDistance, normal)) continue;
+    const double depth = signedDistance - r;
+    if (depth >= 0.0) continue;
+    Contact c;
+    c.a = i;
+    c.other = -1 - e;
+    c.depth = depth;
+    c.normal = normal;
+    out.push_back(c);
+  }
+}
+
+// Tree objects against the grid particles near their root sphere.
+void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, const GridFrame& g,
+                     ContactScratch& cache) {
+  if (cache.gridParticles.empty()) return;
+  const double h = cache.cellSize;
+  for (const TreeObject& tree : cache.trees) {
+    const TreeNode& root = cache.nodes[tree.rootNode];
+    const double reach = root.radius + 0.5 * h;
+    const Vec3 lo = root.center - Vec3{reach, reach, reach};
+    const Vec3 hi = root.center + Vec3{reach, reach, reach};
+    const auto visit = [&](std::int32_t begin, std::int32_t end, bool checkKey, std::int64_t key) {
+      for (std::int32_t s = begin; s < end; ++s) {
+        if (checkKey && cache.sortedKey[s] != key) continue;
+        const std::int32_t j = cache.sortedParticle[s];
+        if (tree.allFixed && model.inverseMass[j] == 0.0) continue;
+        treeVersusParticle(model, position, cache, tree.rootNode, j);
+      }
+    };
+    const std::int64_t x0 = cellCoordinate(lo.x, g.origin.x, g.inverseCell);
+    const std::int64_t y0 = cellCoordinate(lo.y, g.origin.y, g.inverseCell);
+    const std::int64_t z0 = cellCoordinate(lo.z, g.origin.z, g.inverseCell);
+    const std::int64_t x1 = cellCoordinate(hi.x, g.origin.x, g.inverseCell);
+    const std::int64_t y1 = cellCoordinate(hi.y, g.origin.y, g.inverseCell);
+    const std::int64_t z1 = cellCoordinate(hi.z, g.origin.z, g.inverseCell);
+    if (g.dense) {
+      const std::int64_t xa = std::max<std::int64_t>(x0, 0), xb = std::min(x1, g.nx - 1);
+      if (xa > xb) continue;
+      for (std::int64_t z = std::max<std::int64_t>(z0, 0); z <= std::min(z1, g.nz - 1); ++z) {
+        for (std::int64_t y = std::max<std::int64_t>(y0, 0); y <= std::min(y1, g.ny - 1); ++y) {
+          const std::int64_t row = (z * g.ny + y) * g.nx;
+          visit(cache.cellStart[static_cast<std::size_t>(row + xa)],
+                cache.cellStart[static_cast<std::size_t>(row + xb + 1)], false, 0);
+        }
+      }
+      continue;
+    }
+    const double cells = static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1) *
+                         static_cast<double>(z1 - z0 + 1);
+    if (cells > static_cast<double>(cache.gridParticles.size())) {
+      visit(0, static_cast<std::int32_t>(cache.sortedParticle.size()), false, 0);
+      continue;
+    }
+    for (std::int64_t z = z0; z <= z1; ++z) {
+      for (std::int64_t y = y0; y <= y1; ++y) {
+        for (std::int64_t x = x0; x <= x1; ++x) {
+          const std::int64_t key = packCell(x, y, z);
+          const std::size_t bucket = hashCell(key) & g.mask;
+          visit(cache.cellStart[bucket], cache.cellStart[bucket + 1], true, key);
+        }
+      }
+    }
+  }
+}
+
+// Sort-and-sweep along x over the tree objects' root spheres, then tree-vs-tree.
+void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache) {
+  const auto count = static_cast<std::int32_t>(cache.trees.size());
+  if (count < 2) return;
+  auto& order = cache.sweepOrder;
+  order.resize(static_cast<std::size_t>(count));
+  for (std::int32_t t = 0; t < count; ++t) order[t] = t;
+  const auto minX = [&](std::int32_t t) {
+    const TreeNode& root = cache.nodes[cache.trees[t].rootNode];
+    return root.center.x - root.radius;
+  };
+  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    const double xa = minX(a), xb = minX(b);
+    return xa < xb || (xa == xb && a < b);
+  });
+  for (std::int32_t k = 0; k < count; ++k) {
+    const TreeObject& a = cache.trees[order[k]];
+    const TreeNode& rootA = cache.nodes[a.rootNode];
+    const double maxX = rootA.center.x + rootA.radius;
+    for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
+      const TreeObject& b = cache.trees[order[l]];
+      if (a.allFixed && b.allFixed) continue;
+      treeVersusTree(model, position, cache, a.rootNode, b.rootNode);
+    }
+  }
+}
+
+}  // namespace
+
+void detectContacts(const Model& model, const State& state, ContactScratch& cache) {
+  const std::vector<Vec3>& position = state.position;
+  cache.stats = ContactStats{};
+  cache.freshContacts.clear();
+  cache.treeContacts.clear();
+  refitSphereTrees(model, position, cache);
+  const GridFrame grid = buildGrid(model, position, cache);
+
+  // Grid particles in ascending order: their partners sorted, then the environment.
+  for (const std::int32_t i : cache.gridParticles) {
+    const Vec3& p = position[i];
+    cache.rowContacts.clear();
+    gridNeighbours(model, grid, cache, i, p);
+    if (cache.rowContacts.size() > 1) {
+      std::sort(cache.rowContacts.begin(), cache.rowContacts.end(),
+                [](const Contact& x, const Contact& y) { return x.other < y.other; });
+    }
+    cache.freshContacts.insert(cache.freshContacts.end(), cache.rowContacts.begin(),
+                               cache.rowContacts.end());
+    if (model.inverseMass[i] != 0.0) {
+      particleVersusEnvironment(model, p, i, cache, cache.freshContacts);
+    }
+  }
+
+  // Tree objects: against each other, themselves, the grid and the environment.
+  treesVersusTrees(model, position, cache);
+  treesVersusGrid(model, position, grid, cache);
+  const std::int32_t items = model.environment.itemCount();
+  for (const TreeObject& tree : cache.trees) {
+    if (model.contact.selfCollision && !tree.allFixed) treeSelf(model, position, cache, tree.rootNode);
+    if (tree.allFixed) continue;
+    for (std::int32_t e = 0; e < items; ++e) {
+      treeVersusEnvironment(model, position, cache, tree.rootNode, e);
+    }
+  }
+  if (!cache.treeContacts.empty()) {
+    const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };
+    std::sort(cache.treeContacts.begin(), cache.treeContacts.end(), byKey);
+    cache.mergedContacts.resize(cache.freshContacts.size() + cache.treeContacts.size());
+    std::merge(cache.freshContacts.begin(), cache.freshContacts.end(), cache.treeContacts.begin(),
+               cache.treeContacts.end(), cache.mergedContacts.begin(), byKey);
+    std::swap(cache.freshContacts, cache.mergedContacts);
+  }
+}
+
+}  // namespace robophi

@@ -1,0 +1,175 @@
+// The contact force (MODEL §3.1) and Coulomb friction (§3.3), realised for an
+// explicit integrator with a tangential anchor spring (docs/contact.md):
+//   sticking: F_t = -k_t δ_t - c_t v_t while |F_t| <= μ_s F_n (no creep: δ_t is a
+//             displacement from a fixed anchor, so it cannot grow without bound);
+//   sliding:  F_t = -μ_k F_n v̂_t, the anchor following at |δ_t| = μ_k F_n / k_t;
+//   a sliding contact sticks again when |v_t| <= stickVelocity (the tolerance
+//   that "V ≠ 0" needs in floating point).
+#include <algorithm>
+#include <cmath>
+
+#include "collision/contact_stage.h"
+#include "robophi/adaptive_step.h"
+
+namespace robophi {
+
+namespace {
+
+struct StageTally {
+  double potential = 0.0;
+  double dissipativePower = 0.0;
+  double releasedEnergy = 0.0;  // anchor energy lost when slipping or opening (J)
+};
+
+// One contact: normal force, friction, energy. `previous` is the same contact at
+// the last evaluation, or nullptr for a new one. Returns the force on a.
+inline Vec3 contactForce(const Model& model, const PairParameters& k, double reducedMass,
+                         const Vec3& relative, const Vec3& relativeVelocity,
+                         const Contact* previous, Contact& c, StageTally& tally) {
+  const Vec3& n = c.normal;
+  // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
+  const double d = c.depth;
+  const double dDot = dot(relativeVelocity, n);
+  double normalForce = -k.stiffness * d - k.damping * dDot;
+  if (normalForce < 0.0) normalForce = 0.0;
+  c.normalForce = normalForce;
+  tally.potential += 0.5 * k.stiffness * d * d;
+  // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
+  tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
+  Vec3 force = n * normalForce;
+
+  if (k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0)) {
+    c.anchor = relative;
+    return force;
+  }
+  // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
+  // from where the contact stuck.
+  double previousEnergy = 0.0;
+  if (previous != nullptr) {
+    c.anchor = previous->anchor;
+    c.sliding = previous->sliding;
+    previousEnergy = previous->anchorEnergy;
+  } else {
+    c.anchor = relative;
+    c.sliding = 0;
+  }
+  const Vec3 displacement = relative - c.anchor;
+  const Vec3 delta = displacement - n * dot(displacement, n);
+  const Vec3 slip = relativeVelocity - n * dDot;
+  const double tangentialDamping =
+      k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness * reducedMass);
+  // The Coulomb test is on each part: the anchor spring (the load the contact
+  // holds) and the damper (which acts only while the anchor moves) must each stay
+  // within μ_s F_n, so |F_t| <= 2 μ_s F_n during a transient and μ_s F_n at rest.
+  // A test on their sum would break a critically damped anchor loaded suddenly at
+  // 88% of μ_s F_n: its sum overshoots the load by up to e^-2 = 13.5%.
+  const Vec3 elastic = delta * -k.tangentialStiffness;
+  const Vec3 damper = slip * -tangentialDamping;
+  const double limit = k.staticFriction * normalForce;
+  const double elasticSquared = squaredNorm(elastic);
+  const double slipSquared = squaredNorm(slip);
+  const double stickVelocity = model.contact.stickVelocity;
+  const bool stick = elasticSquared <= limit * limit && squaredNorm(damper) <= limit * limit &&
+                     (c.sliding == 0 || slipSquared <= stickVelocity * stickVelocity);
+  if (stick) {
+    // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
+    c.sliding = 0;
+    c.anchor = relative - delta;
+    c.anchorEnergy = 0.5 * k.tangentialStiffness * squaredNorm(delta);
+    tally.dissipativePower -= tangentialDamping * slipSquared;
+    return force + elastic + damper;
+  }
+  // Sliding (or breaking away): μ_k F_n against the slip velocity.
+  Vec3 direction;
+  const double slipSpeed = std::sqrt(slipSquared);
+  if (slipSpeed > 0.0) {
+    direction = slip / slipSpeed;
+  } else if (elasticSquared > 0.0) {
+    direction = elastic / -std::sqrt(elasticSquared);
+  }
+  const double friction = k.kineticFriction * normalForce;
+  const Vec3 consistent = direction * (friction / k.tangentialStiffness);
+  c.sliding = 1;
+  c.anchor = relative - consistent;
+  c.anchorEnergy = 0.5 * k.tangentialStiffness * squaredNorm(consistent);
+  tally.releasedEnergy += previousEnergy - c.anchorEnergy;
+  tally.dissipativePower -= friction * slipSpeed;
+  return force - direction * friction;
+}
+
+}  // namespace
+
+void accumulateContacts(const Model& model, State& state) {
+  if (!model.contact.enabled || model.particleCount() == 0) {
+    state.contacts.clear();
+    state.energy.contact = 0.0;
+    return;
+  }
+  ContactScratch& cache = prepareContactCache(model, state);
+  detectContacts(model, state, cache);
+
+  StageTally tally;
+  const std::vector<Contact>& previous = state.contacts;
+  std::size_t old = 0;
+  const std::vector<Vec3>& p = state.position;
+  const std::vector<Vec3>& v = state.velocity;
+  std::vector<Vec3>& f = state.force;
+  ContactStats& stats = cache.stats;
+  PairParameters overrideParameters;
+  for (Contact& c : cache.freshContacts) {
+    // Carry the friction anchor of a contact that persists (both lists sorted).
+    const std::uint64_t key = c.key();
+    while (old < previous.size() && previous[old].key() < key) {
+      tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
+      ++old;
+    }
+    const Contact* before =
+        old < previous.size() && previous[old].key() == key ? &previous[old] : nullptr;
+    if (before != nullptr) ++old;
+    const PairParameters& k = pairParameters(model, cache, c.a, c.other, overrideParameters);
+    const std::int32_t a = c.a;
+    double smallerRadius = model.radius[a];
+    if (c.other >= 0) {
+      const std::int32_t b = c.other;
+      // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
+      const Vec3 relative = p[a] - p[b];
+      const double distance = norm(relative);
+      c.normal = distance > 0.0 ? relative / distance : Vec3{0.0, 0.0, 1.0};
+      c.depth = distance - (model.radius[a] + model.radius[b]);
+      smallerRadius = std::min(smallerRadius, model.radius[b]);
+      // Reduced mass m_a m_b / (m_a + m_b); a fixed particle counts as infinitely heavy.
+      const double inverseSum = model.inverseMass[a] + model.inverseMass[b];
+      const double reducedMass = 1.0 / inverseSum;
+      const Vec3 force =
+          contactForce(model, k, reducedMass, relative, v[a] - v[b], before, c, tally);
+      f[a] += force;
+      f[b] -= force;
+      ++stats.particleContacts;
+    } else {
+      const Vec3 force = contactForce(model, k, model.mass[a], p[a], v[a], before, c, tally);
+      f[a] += force;
+      ++stats.environmentContacts;
+    }
+    stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
+    stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+  }
+  for (; old < previous.size(); ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+  std::swap(state.contacts, cache.freshContacts);
+
+  const double viscousPower = accumulateViscosity(model, state, cache);
+  state.energy.contact = tally.potential;
+  state.dissipativePower += tally.dissipativePower + viscousPower;
+  state.energy.dissipated += tally.releasedEnergy;
+}
+
+double deepestPenetrationFraction(const Model& model, const State& state) {
+  double deepest = 0.0;
+  for (const Contact& c : state.contacts) {
+    double r = model.radius[c.a];
+    if (c.other >= 0) r = std::min(r, model.radius[c.other]);
+    deepest = std::max(deepest, -c.depth / r);
+  }
+  return deepest;
+}
+
+}  // namespace robophi

@@ -1,0 +1,239 @@
+// The environment's geometry: ground planes, heightfield terrain, oriented boxes
+// and spheres (MODEL §3, docs/contact.md), and the PGM heightfield reader.
+#include "collision/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace robophi {
+
+namespace {
+
+// Environment item kinds in the order of their numbering.
+enum class ItemKind : std::uint8_t { kPlane, kHeightfield, kBox, kSphere };
+
+ItemKind kindOf(const Environment& e, std::int32_t& item) {
+  const auto planes = static_cast<std::int32_t>(e.planes.size());
+  const auto fields = static_cast<std::int32_t>(e.heightfields.size());
+  const auto boxes = static_cast<std::int32_t>(e.boxes.size());
+  if (item < planes) return ItemKind::kPlane;
+  item -= planes;
+  if (item < fields) return ItemKind::kHeightfield;
+  item -= fields;
+  if (item < boxes) return ItemKind::kBox;
+  item -= boxes;
+  return ItemKind::kSphere;
+}
+
+// Signed distance to an oriented box and its outward normal (exact outside;
+// inside, the nearest face).
+double boxDistance(const BoxObstacle& box, const Vec3& p, Vec3& normal) {
+  const Vec3 r = p - box.center;
+  const double local[3] = {dot(r, box.axisX), dot(r, box.axisY), dot(r, box.axisZ)};
+  const double half[3] = {box.halfExtents.x, box.halfExtents.y, box.halfExtents.z};
+  double q[3], outside[3];
+  double outsideSquared = 0.0;
+  int nearest = 0;
+  for (int k = 0; k < 3; ++k) {
+    q[k] = std::abs(local[k]) - half[k];
+    outside[k] = std::max(q[k], 0.0);
+    outsideSquared += outside[k] * outside[k];
+    if (q[k] > q[nearest]) nearest = k;
+  }
+  const Vec3* axes[3] = {&box.axisX, &box.axisY, &box.axisZ};
+  if (outsideSquared > 0.0) {
+    const double distance = std::sqrt(outsideSquared);
+    normal = Vec3{};
+    for (int k = 0; k < 3; ++k) {
+      normal += *axes[k] * (std::copysign(outside[k], local[k]) / distance);
+    }
+    return distance;
+  }
+  normal = *axes[nearest] * (local[nearest] >= 0.0 ? 1.0 : -1.0);
+  return q[nearest];
+}
+
+}  // namespace
+
+bool Heightfield::covers(double x, double y) const {
+  return x >= originX && y >= originY && x <= originX + (columns - 1) * cellSizeX &&
+         y <= originY + (rows - 1) * cellSizeY;
+}
+
+double Heightfield::heightAt(double x, double y, double* dhdx, double* dhdy) const {
+  const double fx = std::clamp((x - originX) / cellSizeX, 0.0, static_cast<double>(columns - 1));
+  const double fy = std::clamp((y - originY) / cellSizeY, 0.0, static_cast<double>(rows - 1));
+  const int i = std::min(static_cast<int>(fx), columns - 2);
+  const int j = std::min(static_cast<int>(fy), rows - 2);
+  const double tx = fx - i, ty = fy - j;
+  const auto at = [&](int ii, int jj) { return heights[static_cast<std::size_t>(jj) * columns + ii]; };
+  const double h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
+  if (dhdx != nullptr) *dhdx = ((h10 - h00) * (1.0 - ty) + (h11 - h01) * ty) / cellSizeX;
+  if (dhdy != nullptr) *dhdy = ((h01 - h00) * (1.0 - tx) + (h11 - h10) * tx) / cellSizeY;
+  return (h00 * (1.0 - tx) + h10 * tx) * (1.0 - ty) + (h01 * (1.0 - tx) + h11 * tx) * ty;
+}
+
+bool environmentDistance(const Environment& environment, std::int32_t item, const Vec3& p,
+                         double& signedDistance, Vec3& normal) {
+  switch (kindOf(environment, item)) {
+    case ItemKind::kPlane: {
+      const GroundPlane& plane = environment.planes[item];
+      normal = plane.normal;
+      signedDistance = dot(p - plane.point, plane.normal);
+      return true;
+    }
+    case ItemKind::kHeightfield: {
+      // The vertical gap projected on the normal n = (-h_x, -h_y, 1)/|...|: the
+      // distance to the tangent plane, exact on a plane, close on gentle terrain.
+      const Heightfield& field = environment.heightfields[item];
+      if (!field.covers(p.x, p.y)) return false;
+      double hx = 0.0, hy = 0.0;
+      const double h = field.heightAt(p.x, p.y, &hx, &hy);
+      const double inverseLength = 1.0 / std::sqrt(1.0 + hx * hx + hy * hy);
+      normal = Vec3{-hx, -hy, 1.0} * inverseLength;
+      signedDistance = (p.z - h) * inverseLength;
+      return true;
+    }
+    case ItemKind::kBox:
+      signedDistance = boxDistance(environment.boxes[item], p, normal);
+      return true;
+    case ItemKind::kSphere: {
+      const SphereObstacle& sphere = environment.spheres[item];
+      const Vec3 r = p - sphere.center;
+      const double distance = norm(r);
+      normal = distance > 0.0 ? r / distance : Vec3{0.0, 0.0, 1.0};
+      signedDistance = distance - sphere.radius;
+      return true;
+    }
+  }
+  return false;
+}
+
+double environmentTop(const Environment& environment, std::int32_t item) {
+  std::int32_t local = item;
+  if (kindOf(environment, local) != ItemKind::kHeightfield) return 0.0;
+  const auto& heights = environment.heightfields[local].heights;
+  return heights.empty() ? 0.0 : *std::max_element(heights.begin(), heights.end());
+}
+
+bool environmentFarFrom(const Environment& environment, std::int32_t item, const Vec3& center,
+                        double radius, double top) {
+  std::int32_t local = item;
+  if (kindOf(environment, local) == ItemKind::kHeightfield) {
+    const Heightfield& field = environment.heightfields[local];
+    const double xMax = field.originX + (field.columns - 1) * field.cellSizeX;
+    const double yMax = field.originY + (field.rows - 1) * field.cellSizeY;
+    if (center.x + radius < field.originX || center.x - radius > xMax ||
+        center.y + radius < field.originY || center.y - radius > yMax) {
+      return true;
+    }
+    return center.z - radius > top;
+  }
+  double signedDistance = 0.0;
+  Vec3 normal;
+  environmentDistance(environment, item, center, signedDistance, normal);
+  return signedDistance > radius;
+}
+
+std::int32_t environmentMaterial(const Environment& environment, std::int32_t item) {
+  switch (kindOf(environment, item)) {
+    case ItemKind::kPlane:
+      return environment.planes[item].material;
+    case ItemKind::kHeightfield:
+      return environment.heightfields[item].material;
+    case ItemKind::kBox:
+      return environment.boxes[item].material;
+    case ItemKind::kSphere:
+      return environment.spheres[item].material;
+  }
+  return 0;
+}
+
+namespace {
+
+// Next PGM header token, skipping whitespace and # comments.
+bool pgmToken(std::istream& in, std::string& token) {
+  token.clear();
+  int c = in.get();
+  while (c != EOF) {
+    if (c == '#') {
+      while (c != EOF && c != '\n') c = in.get();
+    } else if (!std::isspace(c)) {
+      break;
+    }
+    c = in.get();
+  }
+  while (c != EOF && !std::isspace(c)) {
+    token.push_back(static_cast<char>(c));
+    c = in.get();
+  }
+  return !token.empty();
+}
+
+}  // namespace
+
+std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
+                               double cellSizeX, double cellSizeY, double minHeight,
+                               double maxHeight, Heightfield& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fmt::format("{}: cannot open the file", path);
+  std::string magic, token;
+  if (!pgmToken(in, magic) || (magic != "P2" && magic != "P5"))
+    return fmt::format("{}: not a PGM image (expected P2 or P5, got '{}')", path, magic);
+  long header[3] = {0, 0, 0};
+  for (long& value : header) {
+    if (!pgmToken(in, token)) return fmt::format("{}: truncated header", path);
+    try {
+      value = std::stol(token);
+    } catch (...) {
+      return fmt::format("{}: bad header value '{}'", path, token);
+    }
+  }
+  const long width = header[0], height = header[1], maxval = header[2];
+  if (width < 2 || height < 2 || width > 100000 || height > 100000)
+    return fmt::format("{}: size {}×{} must be at least 2×2", path, width, height);
+  if (maxval < 1 || maxval > 65535)
+    return fmt::format("{}: maxval {} must be in [1, 65535]", path, maxval);
+  if (!(cellSizeX > 0.0) || !(cellSizeY > 0.0))
+    return fmt::format("{}: cell sizes ({}, {}) must be > 0", path, cellSizeX, cellSizeY);
+  Heightfield field;
+  field.originX = originX;
+  field.originY = originY;
+  field.cellSizeX = cellSizeX;
+  field.cellSizeY = cellSizeY;
+  field.columns = static_cast<std::int32_t>(width);
+  field.rows = static_cast<std::int32_t>(height);
+  field.heights.assign(static_cast<std::size_t>(width * height), 0.0);
+  const double scale = (maxHeight - minHeight) / static_cast<double>(maxval);
+  for (long r = 0; r < height; ++r) {
+    for (long i = 0; i < width; ++i) {
+      long value = 0;
+      if (magic == "P2") {
+        if (!pgmToken(in, token)) return fmt::format("{}: truncated pixel data", path);
+        value = std::strtol(token.c_str(), nullptr, 10);
+      } else if (maxval < 256) {
+        const int c = in.get();
+        if (c == EOF) return fmt::format("{}: truncated pixel data", path);
+        value = c;
+      } else {
+        const int hi = in.get(), lo = in.get();
+        if (lo == EOF) return fmt::format("{}: truncated pixel data", path);
+        value = hi * 256 + lo;
+      }
+      if (value < 0 || value > maxval)
+        return fmt::format("{}: pixel ({}, {}) = {} exceeds maxval {}", path, i, r, value, maxval);
+      const std::size_t j = static_cast<std::size_t>(height - 1 - r);
+      field.heights[j * static_cast<std::size_t>(width) + static_cast<std::size_t>(i)] =
+          minHeight + scale * static_cast<double>(value);
+    }
+  }
+  field.material = out.material;
+  out = std::move(field);
+  return {};
+}
+
+}  // namespace robophi

@@ -1,0 +1,29 @@
+#pragma once
+// Signed distances from a point to the environment's items (MODEL §3: a particle
+// of radius r touches an item when d = signed distance - r < 0).
+
+#include <cstdint>
+
+#include "robophi/contact.h"
+#include "robophi/vec3.h"
+
+namespace robophi {
+
+/// The signed distance (m, negative inside) from p to environment item `item` and
+/// the unit outward normal there. False when the item does not reach p (a point
+/// beside a heightfield's rectangle).
+bool environmentDistance(const Environment& environment, std::int32_t item, const Vec3& p,
+                         double& signedDistance, Vec3& normal);
+
+/// The highest point of a heightfield item (m); 0 for other items.
+double environmentTop(const Environment& environment, std::int32_t item);
+
+/// True when a sphere (center, radius) cannot touch item `item`: a cheap test for
+/// culling a sphere-tree node. `top` is environmentTop(environment, item).
+bool environmentFarFrom(const Environment& environment, std::int32_t item, const Vec3& center,
+                        double radius, double top);
+
+/// The material of environment item `item`.
+std::int32_t environmentMaterial(const Environment& environment, std::int32_t item);
+
+}  // namespace robophi

@@ -1,0 +1,241 @@
+// The sphere hierarchy (MODEL §3.2). Each tree object's particles are
+// permuted so that every node covers a contiguous range; nodes are stored
+// parents first with contiguous children, so a reverse sweep refits them.
+#include "collision/sphere_tree.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "collision/environment.h"
+
+namespace robophi {
+
+namespace {
+
+constexpr int kMaxDepth = 20;
+
+// Splits treeParticles[first, first + count) of node `index` into octants about
+// its box centre and recurses (pre-order, children appended contiguously).
+void buildNode(const std::vector<Vec3>& position, ContactScratch& cache, std::int32_t index,
+               std::int32_t leafSize, int depth) {
+  const std::int32_t first = cache.nodes[index].first;
+  const std::int32_t count = cache.nodes[index].count;
+  if (count <= leafSize || depth >= kMaxDepth) return;
+  Vec3 low = position[cache.treeParticles[first]], high = low;
+  for (std::int32_t k = first; k < first + count; ++k) {
+    const Vec3& p = position[cache.treeParticles[k]];
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  if (!(squaredNorm(high - low) > 0.0)) return;  // coincident particles: one leaf
+  const Vec3 mid = (low + high) * 0.5;
+  const auto octant = [&](std::int32_t particle) {
+    const Vec3& p = position[particle];
+    return (p.x >= mid.x ? 1 : 0) | (p.y >= mid.y ? 2 : 0) | (p.z >= mid.z ? 4 : 0);
+  };
+  // Stable counting sort of the range by octant.
+  std::array<std::int32_t, 9> start{};
+  for (std::int32_t k = first; k < first + count; ++k) ++start[octant(cache.treeParticles[k]) + 1];
+  for (int o = 0; o < 8; ++o) start[o + 1] += start[o];
+  std::vector<std::int32_t> sorted(static_cast<std::size_t>(count));
+  std::array<std::int32_t, 8> fill{};
+  for (int o = 0; o < 8; ++o) fill[o] = start[o];
+  for (std::int32_t k = first; k < first + count; ++k) {
+    const std::int32_t particle = cache.treeParticles[k];
+    sorted[fill[octant(particle)]++] = particle;
+  }
+  std::copy(sorted.begin(), sorted.end(), cache.treeParticles.begin() + first);
+  const auto firstChild = static_cast<std::int32_t>(cache.nodes.size());
+  std::int32_t children = 0;
+  for (int o = 0; o < 8; ++o) {
+    if (start[o + 1] == start[o]) continue;
+    TreeNode child;
+    child.first = first + start[o];
+    child.count = start[o + 1] - start[o];
+    cache.nodes.push_back(child);
+    ++children;
+  }
+  cache.nodes[index].firstChild = firstChild;
+  cache.nodes[index].childCount = children;
+  for (std::int32_t c = firstChild; c < firstChild + children; ++c) {
+    buildNode(position, cache, c, leafSize, depth + 1);
+  }
+}
+
+}  // namespace
+
+void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache) {
+  cache.nodes.clear();
+  cache.treeParticles.clear();
+  const std::int32_t leafSize = std::max(1, model.contact.leafSize);
+  for (std::size_t t = 0; t < cache.trees.size(); ++t) {
+    TreeObject& tree = cache.trees[t];
+    const auto& members = cache.treeMembers[t];
+    TreeNode root;
+    root.first = static_cast<std::int32_t>(cache.treeParticles.size());
+    root.count = static_cast<std::int32_t>(members.size());
+    cache.treeParticles.insert(cache.treeParticles.end(), members.begin(), members.end());
+    tree.rootNode = static_cast<std::int32_t>(cache.nodes.size());
+    tree.nodeBegin = tree.rootNode;
+    cache.nodes.push_back(root);
+    buildNode(position, cache, tree.rootNode, leafSize, 0);
+    tree.nodeEnd = static_cast<std::int32_t>(cache.nodes.size());
+  }
+  refitSphereTrees(model, position, cache);
+}
+
+void refitSphereTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache) {
+  for (auto k = static_cast<std::int32_t>(cache.nodes.size()) - 1; k >= 0; --k) {
+    TreeNode& node = cache.nodes[k];
+    Vec3 low, high;
+    if (node.isLeaf()) {
+      // Centre of the box around the particles' spheres; radius reaches the farthest sphere.
+      const std::int32_t* particles = cache.treeParticles.data() + node.first;
+      low = high = position[particles[0]];
+      double rMax = 0.0;
+      for (std::int32_t q = 0; q < node.count; ++q) {
+        const Vec3& p = position[particles[q]];
+        low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+        high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+        rMax = std::max(rMax, model.radius[particles[q]]);
+      }
+      node.center = (low + high) * 0.5;
+      double reach = 0.0;
+      for (std::int32_t q = 0; q < node.count; ++q) {
+        const std::int32_t i = particles[q];
+        reach = std::max(reach, norm(position[i] - node.center) + model.radius[i]);
+      }
+      node.radius = reach;
+    } else {
+      const TreeNode* children = cache.nodes.data() + node.firstChild;
+      low = children[0].center - Vec3{children[0].radius, children[0].radius, children[0].radius};
+      high = children[0].center + Vec3{children[0].radius, children[0].radius, children[0].radius};
+      for (std::int32_t c = 1; c < node.childCount; ++c) {
+        const Vec3 r{children[c].radius, children[c].radius, children[c].radius};
+        const Vec3 lo = children[c].center - r, hi = children[c].center + r;
+        low = {std::min(low.x, lo.x), std::min(low.y, lo.y), std::min(low.z, lo.z)};
+        high = {std::max(high.x, hi.x), std::max(high.y, hi.y), std::max(high.z, hi.z)};
+      }
+      node.center = (low + high) * 0.5;
+      double reach = 0.0;
+      for (std::int32_t c = 0; c < node.childCount; ++c) {
+        reach = std::max(reach, norm(children[c].center - node.center) + children[c].radius);
+      }
+      node.radius = reach;
+    }
+  }
+}
+
+namespace {
+
+inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNode& b) {
+  ++cache.stats.nodeTests;
+  const double reach = a.radius + b.radius;
+  return squaredNorm(a.center - b.center) < reach * reach;
+}
+
+}  // namespace
+
+// MODEL §3.2 Locate_Contact: descend the larger node while the spheres touch.
+void treeVersusTree(const Model& model, const std::vector<Vec3>& position,
+                    ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB) {
+  const TreeNode& a = cache.nodes[nodeA];
+  const TreeNode& b = cache.nodes[nodeB];
+  if (!spheresTouch(cache, a, b)) return;
+  if (a.isLeaf() && b.isLeaf()) {
+    for (std::int32_t p = a.first; p < a.first + a.count; ++p) {
+      for (std::int32_t q = b.first; q < b.first + b.count; ++q) {
+        testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
+      }
+    }
+    return;
+  }
+  if (b.isLeaf() || (!a.isLeaf() && a.radius >= b.radius)) {
+    const std::int32_t first = a.firstChild, count = a.childCount;
+    for (std::int32_t c = first; c < first + count; ++c) {
+      treeVersusTree(model, position, cache, c, nodeB);
+    }
+  } else {
+    const std::int32_t first = b.firstChild, count = b.childCount;
+    for (std::int32_t c = first; c < first + count; ++c) {
+      treeVersusTree(model, position, cache, nodeA, c);
+    }
+  }
+}
+
+void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+              std::int32_t node) {
+  const TreeNode& n = cache.nodes[node];
+  if (n.isLeaf()) {
+    for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
+      for (std::int32_t q = p + 1; q < n.first + n.count; ++q) {
+        testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
+      }
+    }
+    return;
+  }
+  const std::int32_t first = n.firstChild, count = n.childCount;
+  for (std::int32_t c = first; c < first + count; ++c) {
+    treeSelf(model, position, cache, c);
+    for (std::int32_t d = c + 1; d < first + count; ++d) {
+      treeVersusTree(model, position, cache, c, d);
+    }
+  }
+}
+
+void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
+                        ContactScratch& cache, std::int32_t node, std::int32_t particle) {
+  const TreeNode& n = cache.nodes[node];
+  ++cache.stats.nodeTests;
+  const double reach = n.radius + model.radius[particle];
+  if (squaredNorm(n.center - position[particle]) >= reach * reach) return;
+  if (n.isLeaf()) {
+    for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
+      testParticlePair(model, position, cache, cache.treeParticles[p], particle);
+    }
+    return;
+  }
+  const std::int32_t first = n.firstChild, count = n.childCount;
+  for (std::int32_t c = first; c < first + count; ++c) {
+    treeVersusParticle(model, position, cache, c, particle);
+  }
+}
+
+void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
+                           ContactScratch& cache, std::int32_t node, std::int32_t item) {
+  const TreeNode& n = cache.nodes[node];
+  if (environmentFarFrom(model.environment, item, n.center, n.radius,
+                         cache.environmentTops[item])) {
+    return;
+  }
+  if (n.isLeaf()) {
+    for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
+      const std::int32_t i = cache.treeParticles[p];
+      if (model.inverseMass[i] == 0.0) continue;
+      ++cache.stats.environmentTests;
+      double signedDistance = 0.0;
+      Vec3 normal;
+      if (!environmentDistance(model.environment, item, position[i], signedDistance, normal)) {
+        continue;
+      }
+      const double depth = signedDistance - model.radius[i];
+      if (depth >= 0.0) continue;
+      Contact c;
+      c.a = i;
+      c.other = -1 - item;
+      c.depth = depth;
+      c.normal = normal;
+      cache.treeContacts.push_back(c);
+    }
+    return;
+  }
+  const std::int32_t first = n.firstChild, count = n.childCount;
+  for (std::int32_t c = first; c < first + count; ++c) {
+    treeVersusEnvironment(model, position, cache, c, item);
+  }
+}
+
+}  // namespace robophi

@@ -1,0 +1,51 @@
+#pragma once
+// The sphere hierarchy of MODEL §3.2: an octree over each object's particles,
+// every node enclosed by a sphere refitted bottom-up at every step, and the
+// recursive tree-vs-tree, self and tree-vs-environment searches.
+
+#include <vector>
+
+#include "collision/contact_cache.h"
+
+namespace robophi {
+
+/// Builds the octree topology of every tree object from the positions.
+void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache);
+
+/// Refits every node's sphere to the current positions, leaves first: each
+/// sphere encloses its particles' spheres, so a deforming object misses nothing.
+void refitSphereTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache);
+
+/// The particles a, b (a != b) that may touch: appended to cache.treeContacts
+/// as (min, max) when |p_a - p_b| < r_a + r_b and no connector ties them.
+void treeVersusTree(const Model& model, const std::vector<Vec3>& position,
+                    ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB);
+/// Pairs inside one object (self-collision).
+void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+              std::int32_t node);
+/// Pairs between a tree and one particle outside it.
+void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
+                        ContactScratch& cache, std::int32_t node, std::int32_t particle);
+/// Contacts between a tree's particles and environment item `item`.
+void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
+                           ContactScratch& cache, std::int32_t node, std::int32_t item);
+
+/// The narrow-phase test of particles a, b: appends a contact when they touch.
+inline void testParticlePair(const Model& model, const std::vector<Vec3>& position,
+                             ContactScratch& cache, std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  ++cache.stats.pairTests;
+  const Vec3 r = position[a] - position[b];
+  const double reach = model.radius[a] + model.radius[b];
+  if (squaredNorm(r) >= reach * reach) return;
+  if (model.inverseMass[a] == 0.0 && model.inverseMass[b] == 0.0) return;
+  if (excluded(cache, a, b)) return;
+  Contact c;
+  c.a = a;
+  c.other = b;
+  cache.treeContacts.push_back(c);
+}
+
+}  // namespace robophi

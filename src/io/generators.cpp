@@ -1,0 +1,275 @@
+#include "io/generators.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace robophi::io {
+
+namespace {
+
+// θ = atan2(|u × w|, u·w), MODEL §1 TS.
+double angleAt(const Vec3& pA, const Vec3& pC, const Vec3& pB) {
+  const Vec3 u = pA - pC, w = pB - pC;
+  return std::atan2(norm(cross(u, w)), dot(u, w));
+}
+
+void addLink(GeneratedObject& object, int a, int b) {
+  const double restLength = norm(object.position[a] - object.position[b]);
+  object.linearSprings.push_back(LinearSpring{a, b, restLength, 0.0, 0.0});
+}
+
+void addBend(GeneratedObject& object, int a, int c, int b) {
+  const auto& p = object.position;
+  object.torsionSprings.push_back(TorsionSpring{a, c, b, angleAt(p[a], p[c], p[b]), 0.0, 0.0});
+}
+
+void addParticles(GeneratedObject& object, std::vector<Vec3> positions, double totalMass,
+                  double particleRadius) {
+  const auto count = static_cast<double>(positions.size());
+  object.position = std::move(positions);
+  object.mass.assign(object.size(), totalMass / count);
+  object.radius.assign(object.size(), particleRadius);
+}
+
+// A lattice of n[0]×n[1]×n[2] cells; index[(i n1 + j) n2 + k] is the particle
+// at cell (i, j, k), or -1 where a shape (the ball) leaves the cell empty.
+struct Lattice {
+  std::array<int, 3> n{1, 1, 1};
+  std::vector<int> index;
+
+  int at(int i, int j, int k) const {
+    if (i < 0 || j < 0 || k < 0 || i >= n[0] || j >= n[1] || k >= n[2]) return -1;
+    return index[static_cast<std::size_t>((i * n[1] + j) * n[2] + k)];
+  }
+};
+
+// Cell centres of a lattice filling `size` around `center` (inset by half a
+// cell), keeping the cells `keep` accepts.
+template <typename Keep>
+Lattice fillLattice(std::array<int, 3> n, const Vec3& center, const Vec3& size,
+                    std::vector<Vec3>& positions, Keep keep) {
+  Lattice lattice{n, {}};
+  const Vec3 cell{size.x / n[0], size.y / n[1], size.z / n[2]};
+  for (int i = 0; i < n[0]; ++i) {
+    for (int j = 0; j < n[1]; ++j) {
+      for (int k = 0; k < n[2]; ++k) {
+        const Vec3 offset{(i + 0.5) * cell.x - 0.5 * size.x, (j + 0.5) * cell.y - 0.5 * size.y,
+                          (k + 0.5) * cell.z - 0.5 * size.z};
+        if (keep(offset)) {
+          lattice.index.push_back(static_cast<int>(positions.size()));
+          positions.push_back(center + offset);
+        } else {
+          lattice.index.push_back(-1);
+        }
+      }
+    }
+  }
+  return lattice;
+}
+
+// LS to the 26 neighbours (axis, face and body diagonals; each pair once) and
+// TS along each lattice line.
+void connectLattice(GeneratedObject& object, const Lattice& lattice) {
+  const auto& n = lattice.n;
+  for (int i = 0; i < n[0]; ++i) {
+    for (int j = 0; j < n[1]; ++j) {
+      for (int k = 0; k < n[2]; ++k) {
+        const int self = lattice.at(i, j, k);
+        if (self < 0) continue;
+        for (int di = -1; di <= 1; ++di) {
+          for (int dj = -1; dj <= 1; ++dj) {
+            for (int dk = -1; dk <= 1; ++dk) {
+              // Only the 13 offsets whose first non-zero component is positive.
+              const bool forward = di > 0 || (di == 0 && (dj > 0 || (dj == 0 && dk > 0)));
+              const int other = lattice.at(i + di, j + dj, k + dk);
+              if (forward && other >= 0) addLink(object, self, other);
+            }
+          }
+        }
+        const int along[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+        for (const auto& e : along) {
+          const int before = lattice.at(i - e[0], j - e[1], k - e[2]);
+          const int after = lattice.at(i + e[0], j + e[1], k + e[2]);
+          if (before >= 0 && after >= 0) addBend(object, before, self, after);
+        }
+      }
+    }
+  }
+}
+
+// Rodrigues: R v = v cos φ + (k × v) sin φ + k (k·v)(1 - cos φ), k a unit axis.
+Vec3 rotate(const Vec3& v, const Vec3& unitAxis, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return v * c + cross(unitAxis, v) * s + unitAxis * (dot(unitAxis, v) * (1.0 - c));
+}
+
+// Two unit vectors perpendicular to the unit vector `n` and to each other.
+void basisAround(const Vec3& n, Vec3& e1, Vec3& e2) {
+  const Vec3 helper = std::fabs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  e1 = cross(n, helper);
+  e1 = e1 / norm(e1);
+  e2 = cross(n, e1);
+}
+
+}  // namespace
+
+GeneratedObject makeRope(const RopeSpec& spec) {
+  GeneratedObject rope;
+  const int n = spec.particles;
+  std::vector<Vec3> positions;
+  for (int i = 0; i < n; ++i) {
+    const double t = n == 1 ? 0.5 : static_cast<double>(i) / (n - 1);
+    positions.push_back(spec.start + (spec.end - spec.start) * t);
+  }
+  rope.spacing = n > 1 ? norm(spec.end - spec.start) / (n - 1) : 0.0;
+  addParticles(rope, std::move(positions), spec.mass,
+               spec.radius > 0.0 ? spec.radius : 0.5 * rope.spacing);
+  for (int i = 0; i + 1 < n; ++i) addLink(rope, i, i + 1);
+  for (int i = 1; i + 1 < n; ++i) addBend(rope, i - 1, i, i + 1);
+  return rope;
+}
+
+GeneratedObject makeBox(const BoxSpec& spec) {
+  GeneratedObject box;
+  std::vector<Vec3> positions;
+  const Lattice lattice =
+      fillLattice(spec.cells, spec.center, spec.size, positions, [](const Vec3&) { return true; });
+  const double cellMin = std::min(
+      {spec.size.x / spec.cells[0], spec.size.y / spec.cells[1], spec.size.z / spec.cells[2]});
+  box.spacing = cellMin;
+  addParticles(box, std::move(positions), spec.mass,
+               spec.radius > 0.0 ? spec.radius : 0.5 * cellMin);
+  connectLattice(box, lattice);
+  return box;
+}
+
+GeneratedObject makePlate(const PlateSpec& spec) {
+  GeneratedObject plate;
+  std::vector<Vec3> positions;
+  const Vec3 size{spec.sizeX, spec.sizeY, 0.0};
+  const Lattice lattice = fillLattice({spec.cells[0], spec.cells[1], 1}, spec.center, size,
+                                      positions, [](const Vec3&) { return true; });
+  const double cellMin = std::min(spec.sizeX / spec.cells[0], spec.sizeY / spec.cells[1]);
+  const double thickness = spec.thickness > 0.0 ? spec.thickness : cellMin;
+  plate.spacing = cellMin;
+  addParticles(plate, std::move(positions), spec.mass,
+               spec.radius > 0.0 ? spec.radius : 0.5 * std::min(cellMin, thickness));
+  connectLattice(plate, lattice);
+  return plate;
+}
+
+GeneratedObject makeBall(const BallSpec& spec) {
+  GeneratedObject ball;
+  const int n = spec.cells;
+  const double diameter = 2.0 * spec.radius;
+  const double cell = diameter / n;
+  std::vector<Vec3> positions;
+  // Keep the cells whose centre is inside the ball (with a rounding margin).
+  const double limit = spec.radius * (1.0 + 1e-9);
+  const Lattice lattice =
+      fillLattice({n, n, n}, spec.center, {diameter, diameter, diameter}, positions,
+                  [&](const Vec3& offset) { return norm(offset) <= limit; });
+  ball.spacing = cell;
+  const double defaultRadius = n == 1 ? spec.radius : 0.5 * cell;
+  addParticles(ball, std::move(positions), spec.mass,
+               spec.particleRadius > 0.0 ? spec.particleRadius : defaultRadius);
+  connectLattice(ball, lattice);
+  return ball;
+}
+
+GeneratedObject makeWheel(const WheelSpec& spec) {
+  GeneratedObject wheel;
+  const int n = spec.rimParticles;
+  const Vec3 axis = spec.axis / norm(spec.axis);
+  Vec3 e1, e2;
+  basisAround(axis, e1, e2);
+  // Two rings across the width: cells of width/2, particles at ±width/4.
+  const double halfGap = 0.25 * spec.width;
+  const double particleRadius = std::min(0.25 * spec.width, spec.radius * std::sin(M_PI / n));
+  const double rimRadius = spec.radius - particleRadius;
+  std::vector<Vec3> positions;
+  for (int ring = 0; ring < 2; ++ring) {
+    const Vec3 side = axis * (ring == 0 ? -halfGap : halfGap);
+    for (int i = 0; i < n; ++i) {
+      const double phi = 2.0 * M_PI * i / n;
+      positions.push_back(spec.center + side +
+                          (e1 * std::cos(phi) + e2 * std::sin(phi)) * rimRadius);
+    }
+  }
+  const int hub0 = 2 * n, hub1 = 2 * n + 1;
+  positions.push_back(spec.center - axis * halfGap);
+  positions.push_back(spec.center + axis * halfGap);
+  wheel.spacing = std::min(2.0 * halfGap, 2.0 * rimRadius * std::sin(M_PI / n));
+  addParticles(wheel, std::move(positions), spec.mass, particleRadius);
+  for (int i = 0; i < n; ++i) {
+    const int next = (i + 1) % n;
+    const int a0 = i, b0 = next, a1 = n + i, b1 = n + next;
+    addLink(wheel, a0, b0);  // rim, ring 0
+    addLink(wheel, a1, b1);  // rim, ring 1
+    addLink(wheel, a0, a1);  // across the width
+    addLink(wheel, a0, b1);  // diagonals: the rim band is triangulated
+    addLink(wheel, b0, a1);
+    // Spokes to both hub particles: each rim particle is held in 3-D.
+    addLink(wheel, a0, hub0);
+    addLink(wheel, a0, hub1);
+    addLink(wheel, a1, hub0);
+    addLink(wheel, a1, hub1);
+  }
+  addLink(wheel, hub0, hub1);  // axle
+  return wheel;
+}
+
+void rotateObject(GeneratedObject& object, const Vec3& pivot, const Vec3& axis, double angle) {
+  const double length = norm(axis);
+  if (!(length > 0.0) || angle == 0.0) return;
+  const Vec3 unitAxis = axis / length;
+  for (auto& p : object.position) p = pivot + rotate(p - pivot, unitAxis, angle);
+}
+
+void rotateObjectRpy(GeneratedObject& object, const Vec3& pivot, const Vec3& rollPitchYaw) {
+  // R = Rz(yaw) Ry(pitch) Rx(roll): roll first, about the fixed axes.
+  rotateObject(object, pivot, {1, 0, 0}, rollPitchYaw.x);
+  rotateObject(object, pivot, {0, 1, 0}, rollPitchYaw.y);
+  rotateObject(object, pivot, {0, 0, 1}, rollPitchYaw.z);
+}
+
+double defaultStiffness(const GeneratedObject& object, double dt) {
+  // Σ over the springs at particle i of (1/m_i + 1/m_j), per unit stiffness.
+  std::vector<double> rowSum(object.size(), 0.0);
+  for (const auto& s : object.linearSprings) {
+    const double both = 1.0 / object.mass[s.a] + 1.0 / object.mass[s.b];
+    rowSum[s.a] += both;
+    rowSum[s.b] += both;
+  }
+  const double worst = rowSum.empty() ? 0.0 : *std::max_element(rowSum.begin(), rowSum.end());
+  if (!(worst > 0.0)) return 0.0;
+  const double omega = 0.25 / dt;
+  return omega * omega / worst;
+}
+
+void resolveSprings(GeneratedObject& object, const SpringSettings& settings, double dt,
+                    double bendFactor) {
+  const double minMass =
+      object.mass.empty() ? 0.0 : *std::min_element(object.mass.begin(), object.mass.end());
+  const double stiffness = settings.stiffness.value_or(defaultStiffness(object, dt));
+  const double damping = settings.damping.value_or(0.2 * std::sqrt(stiffness * minMass / 2.0));
+  for (auto& s : object.linearSprings) {
+    s.stiffness = stiffness;
+    s.damping = damping;
+  }
+  const double h2 = object.spacing * object.spacing;
+  const double bend = settings.bendStiffness.value_or(bendFactor * stiffness * h2);
+  const double bendDamping =
+      settings.bendDamping.value_or(0.2 * std::sqrt(bend * minMass * h2 / 2.0));
+  if (bend == 0.0 && bendDamping == 0.0) {
+    object.torsionSprings.clear();
+    return;
+  }
+  for (auto& s : object.torsionSprings) {
+    s.stiffness = bend;
+    s.damping = bendDamping;
+  }
+}
+
+}  // namespace robophi::io

@@ -1,0 +1,419 @@
+#include "io/json_locator.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+namespace robophi::io {
+
+namespace {
+
+// Thrown on the first syntax error; caught by readLocatedJson.
+struct SyntaxError {
+  SourcePosition where;
+  std::string message;
+};
+
+// A recursive-descent reader over the text, tracking line and column.
+class Reader {
+ public:
+  Reader(std::string_view text, LocatedJson& out, std::vector<JsonProblem>& problems)
+      : text_(text), out_(&out), problems_(problems) {}
+
+  void readDocument() {
+    skipBlanks();
+    if (atEnd()) fail("the file is empty: expected a JSON object");
+    out_->value = readValue("", 0);
+    skipBlanks();
+    if (!atEnd()) fail(fmt::format("unexpected {} after the end of the document", describeHere()));
+  }
+
+ private:
+  static constexpr int kMaxDepth = 200;
+
+  bool atEnd() const { return offset_ >= text_.size(); }
+  char peek() const { return atEnd() ? '\0' : text_[offset_]; }
+  SourcePosition here() const { return {line_, column_}; }
+
+  void advance() {
+    const char c = text_[offset_++];
+    if (c == '\n') {
+      ++line_;
+      column_ = 1;
+    } else if ((static_cast<unsigned char>(c) & 0xC0) != 0x80) {
+      // Count characters: UTF-8 continuation bytes do not start a new column.
+      ++column_;
+    }
+  }
+
+  [[noreturn]] void fail(std::string message) const {
+    throw SyntaxError{here(), std::move(message)};
+  }
+  [[noreturn]] void failAt(SourcePosition where, std::string message) const {
+    throw SyntaxError{where, std::move(message)};
+  }
+
+  std::string describeHere() const {
+    if (atEnd()) return "end of file";
+    const char c = peek();
+    if (static_cast<unsigned char>(c) < 0x20) return fmt::format("control character 0x{:02x}", c);
+    return fmt::format("'{}'", c);
+  }
+
+  // Skips white space, `// line` and `/* block */` comments.
+  void skipBlanks() {
+    while (!atEnd()) {
+      const char c = peek();
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+        advance();
+      } else if (c == '/' && offset_ + 1 < text_.size() && text_[offset_ + 1] == '/') {
+        while (!atEnd() && peek() != '\n') advance();
+      } else if (c == '/' && offset_ + 1 < text_.size() && text_[offset_ + 1] == '*') {
+        const SourcePosition start = here();
+        advance();
+        advance();
+        while (!(peek() == '*' && offset_ + 1 < text_.size() && text_[offset_ + 1] == '/')) {
+          if (atEnd()) failAt(start, "unterminated /* comment");
+          advance();
+        }
+        advance();
+        advance();
+      } else {
+        return;
+      }
+    }
+  }
+
+  nlohmann::json readValue(const std::string& pointer, int depth) {
+    if (depth > kMaxDepth) fail("the document is nested too deeply");
+    out_->valuePositions[pointer] = here();
+    const char c = peek();
+    if (c == '{') return readObject(pointer, depth);
+    if (c == '[') return readArray(pointer, depth);
+    if (c == '"') return readString();
+    if (c == '-' || (c >= '0' && c <= '9')) return readNumber();
+    if (std::isalpha(static_cast<unsigned char>(c))) return readWord();
+    if (atEnd()) fail("unexpected end of file: expected a value");
+    fail(
+        fmt::format("unexpected {}: expected a value (object, array, string, number, true, "
+                    "false or null)",
+                    describeHere()));
+  }
+
+  nlohmann::json readObject(const std::string& pointer, int depth) {
+    nlohmann::json object = nlohmann::json::object();
+    const SourcePosition open = here();
+    advance();  // {
+    skipBlanks();
+    if (peek() == '}') {
+      advance();
+      return object;
+    }
+    while (true) {
+      skipBlanks();
+      if (atEnd()) failAt(open, "unterminated object: '{' is never closed");
+      if (peek() != '"') {
+        if (peek() == '}') fail("trailing comma before '}'");
+        fail(fmt::format("expected a key in double quotes, got {}", describeHere()));
+      }
+      const SourcePosition keyAt = here();
+      const std::string key = readString();
+      const std::string member = pointer + "/" + pointerToken(key);
+      skipBlanks();
+      if (peek() != ':')
+        fail(fmt::format("expected ':' after key \"{}\", got {}", key, describeHere()));
+      advance();
+      skipBlanks();
+      if (object.contains(key)) {
+        const SourcePosition first = out_->keyPositions[member];
+        problems_.push_back({keyAt, member,
+                             fmt::format("duplicate key '{}' (first at line {}, column {})", key,
+                                         first.line, first.column)});
+        // Read the duplicate into a scratch document so the first keeps its positions.
+        LocatedJson scratch;
+        LocatedJson* const document = out_;
+        out_ = &scratch;
+        readValue(member, depth + 1);
+        out_ = document;
+      } else {
+        out_->keyPositions[member] = keyAt;
+        object[key] = readValue(member, depth + 1);
+      }
+      skipBlanks();
+      if (peek() == ',') {
+        advance();
+        continue;
+      }
+      if (peek() == '}') {
+        advance();
+        return object;
+      }
+      if (atEnd()) failAt(open, "unterminated object: '{' is never closed");
+      fail(fmt::format("expected ',' or '}}' after the value of \"{}\", got {}", key,
+                       describeHere()));
+    }
+  }
+
+  nlohmann::json readArray(const std::string& pointer, int depth) {
+    nlohmann::json array = nlohmann::json::array();
+    const SourcePosition open = here();
+    advance();  // [
+    skipBlanks();
+    if (peek() == ']') {
+      advance();
+      return array;
+    }
+    while (true) {
+      skipBlanks();
+      if (atEnd()) failAt(open, "unterminated array: '[' is never closed");
+      if (peek() == ']') fail("trailing comma before ']'");
+      array.push_back(readValue(pointer + "/" + std::to_string(array.size()), depth + 1));
+      skipBlanks();
+      if (peek() == ',') {
+        advance();
+        continue;
+      }
+      if (peek() == ']') {
+        advance();
+        return array;
+      }
+      if (atEnd()) failAt(open, "unterminated array: '[' is never closed");
+      fail(fmt::format("expected ',' or ']' in the array, got {}", describeHere()));
+    }
+  }
+
+  static void appendUtf8(std::string& out, std::uint32_t codePoint) {
+    if (codePoint < 0x80) {
+      out += static_cast<char>(codePoint);
+    } else if (codePoint < 0x800) {
+      out += static_cast<char>(0xC0 | (codePoint >> 6));
+      out += static_cast<char>(0x80 | (codePoint & 0x3F));
+    } else if (codePoint < 0x10000) {
+      out += static_cast<char>(0xE0 | (codePoint >> 12));
+      out += static_cast<char>(0x80 | ((codePoint >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (codePoint & 0x3F));
+    } else {
+      out += static_cast<char>(0xF0 | (codePoint >> 18));
+      out += static_cast<char>(0x80 | ((codePoint >> 12) & 0x3F));
+      out += static_cast<char>(0x80 | ((codePoint >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (codePoint & 0x3F));
+    }
+  }
+
+  std::uint32_t readHex4() {
+    std::uint32_t value = 0;
+    for (int i = 0; i < 4; ++i) {
+      const char c = peek();
+      std::uint32_t digit = 0;
+      if (c >= '0' && c <= '9') {
+        digit = static_cast<std::uint32_t>(c - '0');
+      } else if (c >= 'a' && c <= 'f') {
+        digit = static_cast<std::uint32_t>(c - 'a' + 10);
+      } else if (c >= 'A' && c <= 'F') {
+        digit = static_cast<std::uint32_t>(c - 'A' + 10);
+      } else {
+        fail("expected 4 hexadecimal digits after \\u");
+      }
+      value = value * 16 + digit;
+      advance();
+    }
+    return value;
+  }
+
+  std::string readString() {
+    const SourcePosition open = here();
+    advance();  // "
+    std::string result;
+    while (true) {
+      if (atEnd()) failAt(open, "unterminated string");
+      const char c = peek();
+      if (c == '"') {
+        advance();
+        return result;
+      }
+      if (c == '\n') failAt(open, "unterminated string (a string cannot span lines)");
+      if (static_cast<unsigned char>(c) < 0x20)
+        fail("control character in a string: use an escape");
+      if (c != '\\') {
+        result += c;
+        advance();
+        continue;
+      }
+      advance();
+      const char e = peek();
+      switch (e) {
+        case '"':
+          result += '"';
+          break;
+        case '\\':
+          result += '\\';
+          break;
+        case '/':
+          result += '/';
+          break;
+        case 'b':
+          result += '\b';
+          break;
+        case 'f':
+          result += '\f';
+          break;
+        case 'n':
+          result += '\n';
+          break;
+        case 'r':
+          result += '\r';
+          break;
+        case 't':
+          result += '\t';
+          break;
+        case 'u': {
+          advance();
+          std::uint32_t codePoint = readHex4();
+          if (codePoint >= 0xD800 && codePoint < 0xDC00 && peek() == '\\') {
+            advance();
+            if (peek() != 'u') fail("expected a low surrogate \\u escape");
+            advance();
+            const std::uint32_t low = readHex4();
+            if (low < 0xDC00 || low >= 0xE000) fail("invalid low surrogate in \\u escape");
+            codePoint = 0x10000 + ((codePoint - 0xD800) << 10) + (low - 0xDC00);
+          }
+          appendUtf8(result, codePoint);
+          continue;
+        }
+        default:
+          fail(fmt::format("invalid escape \\{} in a string", e));
+      }
+      advance();
+    }
+  }
+
+  nlohmann::json readNumber() {
+    const SourcePosition start = here();
+    const std::size_t begin = offset_;
+    bool integral = true;
+    if (peek() == '-') advance();
+    if (peek() == '0') {
+      advance();
+      if (std::isdigit(static_cast<unsigned char>(peek())))
+        failAt(start, "a number cannot have leading zeros");
+    } else if (std::isdigit(static_cast<unsigned char>(peek()))) {
+      while (std::isdigit(static_cast<unsigned char>(peek()))) advance();
+    } else {
+      if (std::isalpha(static_cast<unsigned char>(peek())))
+        failAt(start,
+               "-" + readIdentifier() + " is not a JSON number: scene values must be finite");
+      fail("expected a digit after '-'");
+    }
+    if (peek() == '.') {
+      integral = false;
+      advance();
+      if (!std::isdigit(static_cast<unsigned char>(peek()))) fail("expected a digit after '.'");
+      while (std::isdigit(static_cast<unsigned char>(peek()))) advance();
+    }
+    if (peek() == 'e' || peek() == 'E') {
+      integral = false;
+      advance();
+      if (peek() == '+' || peek() == '-') advance();
+      if (!std::isdigit(static_cast<unsigned char>(peek())))
+        fail("expected a digit in the exponent");
+      while (std::isdigit(static_cast<unsigned char>(peek()))) advance();
+    }
+    const std::string_view token = text_.substr(begin, offset_ - begin);
+    if (integral) {
+      std::int64_t value = 0;
+      const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+      if (ec == std::errc() && end == token.data() + token.size()) return value;
+    }
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec == std::errc::result_out_of_range) {
+      // Underflow to zero is harmless; overflow would be an infinity.
+      if (std::fabs(std::strtod(std::string(token).c_str(), nullptr)) > 1.0)
+        failAt(start, fmt::format("number {} is too large for a double (max ~1.8e308)", token));
+      return 0.0;
+    }
+    if (ec != std::errc() || end != token.data() + token.size())
+      failAt(start, fmt::format("invalid number {}", token));
+    return value;
+  }
+
+  std::string readIdentifier() {
+    std::string word;
+    while (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '_') {
+      word += peek();
+      advance();
+    }
+    return word;
+  }
+
+  nlohmann::json readWord() {
+    const SourcePosition start = here();
+    const std::string word = readIdentifier();
+    if (word == "true") return true;
+    if (word == "false") return false;
+    if (word == "null") return nullptr;
+    if (word == "NaN" || word == "nan" || word == "Infinity" || word == "inf" || word == "infinity")
+      failAt(start, fmt::format("{} is not a JSON number: scene values must be finite", word));
+    failAt(start, fmt::format("unexpected word '{}': expected a value (strings need double quotes)",
+                              word));
+  }
+
+  std::string_view text_;
+  LocatedJson* out_;
+  std::vector<JsonProblem>& problems_;
+  std::size_t offset_ = 0;
+  int line_ = 1;
+  int column_ = 1;
+};
+
+}  // namespace
+
+SourcePosition LocatedJson::positionOf(const std::string& pointer) const {
+  std::string p = pointer;
+  while (true) {
+    if (const auto it = valuePositions.find(p); it != valuePositions.end()) return it->second;
+    const auto slash = p.rfind('/');
+    if (slash == std::string::npos) return {};
+    p.resize(slash);
+  }
+}
+
+SourcePosition LocatedJson::keyPositionOf(const std::string& pointer) const {
+  if (const auto it = keyPositions.find(pointer); it != keyPositions.end()) return it->second;
+  return positionOf(pointer);
+}
+
+JsonReadResult readLocatedJson(std::string_view text) {
+  JsonReadResult result;
+  LocatedJson located;
+  // A UTF-8 byte order mark is not part of the document.
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  try {
+    Reader reader(text, located, result.errors);
+    reader.readDocument();
+  } catch (const SyntaxError& e) {
+    result.errors.push_back({e.where, "", "JSON syntax error: " + e.message});
+    return result;
+  }
+  result.json = std::move(located);
+  return result;
+}
+
+std::string pointerToken(std::string_view key) {
+  std::string token;
+  for (const char c : key) {
+    if (c == '~') {
+      token += "~0";
+    } else if (c == '/') {
+      token += "~1";
+    } else {
+      token += c;
+    }
+  }
+  return token;
+}
+
+}  // namespace robophi::io

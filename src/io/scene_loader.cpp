@@ -1,0 +1,205 @@
+// Scene files → Scene (docs/scene-format.md). The loader reads the whole file,
+// reports every problem with its line, column and JSON pointer, and returns a
+// scene only when there is none: nothing half-built leaves this file.
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "io/generators.h"
+#include "io/json_locator.h"
+#include "io/scene_fields.h"
+#include "io/scene_links.h"
+#include "io/scene_objects.h"
+#include "robophi/scene.h"
+
+namespace robophi {
+
+namespace {
+
+using io::Bound;
+using io::DiagnosticSink;
+using io::ObjectReader;
+using io::SceneObject;
+
+constexpr int kFormatVersion = 1;
+
+RunSettings readRun(DiagnosticSink& sink, const nlohmann::json* value) {
+  RunSettings run;
+  if (value == nullptr) return run;
+  ObjectReader r(sink, *value, "/run", "'run'");
+  run.duration = r.numberOr("duration", run.duration, Bound::kPositive, "s");
+  run.dt = r.numberOr("dt", run.dt, Bound::kPositive, "s");
+  run.fps = r.numberOr("fps", run.fps, Bound::kPositive, "frames/s");
+  if (const auto name = r.string("integrator")) {
+    if (!parseIntegrator(*name, run.integrator)) {
+      sink.error("/run/integrator",
+                 fmt::format("unknown integrator \"{}\"{} (expected symplectic, taylor or verlet)",
+                             *name, io::didYouMean(*name, {"symplectic", "taylor", "verlet"})));
+    }
+  }
+  if (const auto mode = r.string("step")) {
+    if (*mode == "adaptive") {
+      run.stepMode = StepMode::kAdaptive;
+    } else if (*mode == "constant") {
+      run.stepMode = StepMode::kConstant;
+    } else {
+      sink.error("/run/step",
+                 fmt::format("unknown step mode \"{}\"{} (expected adaptive or constant)", *mode,
+                             io::didYouMean(*mode, {"adaptive", "constant"})));
+    }
+  }
+  run.adaptive.initialStep = run.dt;
+  r.finish();
+  return run;
+}
+
+// Reads every object entry; names must be unique.
+std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list, double dt,
+                                     std::map<std::string, std::size_t>& byName) {
+  std::vector<SceneObject> objects;
+  if (list == nullptr) {
+    sink.error("", "missing required key 'objects' (an array of objects)");
+    return objects;
+  }
+  if (!list->is_array()) {
+    sink.error("/objects", fmt::format("'objects': expected an array of objects, got {}",
+                                       io::describeJson(*list)));
+    return objects;
+  }
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    SceneObject object = io::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i), dt);
+    if (!object.name.empty()) {
+      const auto [it, fresh] = byName.emplace(object.name, objects.size());
+      if (!fresh) {
+        sink.error(object.pointer + "/name",
+                   fmt::format("duplicate object name '{}' (first defined at {})", object.name,
+                               objects[it->second].pointer));
+      }
+    }
+    objects.push_back(std::move(object));
+  }
+  return objects;
+}
+
+// Appends the valid objects' particles and connectors to the model.
+void placeObjects(std::vector<SceneObject>& objects, Model& model, State& state) {
+  for (auto& object : objects) {
+    if (!object.valid) continue;
+    const std::int32_t id = model.addObject(object.name, object.kind);
+    const auto& g = object.geometry;
+    object.firstParticle = model.particleCount();
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      model.addParticle(g.mass[i], g.radius[i], object.fixed[i], id, object.linearDamping);
+      state.position.push_back(g.position[i]);
+      state.velocity.push_back(object.fixed[i] ? Vec3{} : object.velocity[i]);
+    }
+    const ParticleIndex offset = object.firstParticle;
+    for (LinearSpring s : g.linearSprings) {
+      s.a += offset;
+      s.b += offset;
+      model.linearSprings.push_back(s);
+    }
+    for (TorsionSpring s : g.torsionSprings) {
+      s.a += offset;
+      s.c += offset;
+      s.b += offset;
+      model.torsionSprings.push_back(s);
+    }
+  }
+  state.force.assign(state.position.size(), Vec3{});
+}
+
+void readScene(DiagnosticSink& sink, const nlohmann::json& root, Scene& scene) {
+  ObjectReader r(sink, root, "", "the scene");
+  if (!r.valid()) return;
+  r.allow({"$schema"});
+  if (const auto version = r.integer("robophi", 0)) {
+    if (*version != kFormatVersion)
+      sink.error("/robophi", fmt::format("'robophi': format version {} is not supported "
+                                         "(this program reads version {})",
+                                         *version, kFormatVersion));
+  }
+  scene.name = r.string("name").value_or("");
+  scene.description = r.string("description").value_or("");
+  scene.run = readRun(sink, r.member("run"));
+  if (const auto g = r.vec3("gravity", "m/s²")) scene.model.gravity = *g;
+
+  // Objects first (a bad dt falls back to the default for the stiffness defaults).
+  std::map<std::string, std::size_t> byName;
+  std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), scene.run.dt, byName);
+  placeObjects(objects, scene.model, scene.initial);
+
+  io::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};
+  // Connectors inside "particles" objects use local indices.
+  // (objects[i] was read from the entry objects[i].)
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const SceneObject& object = objects[i];
+    const nlohmann::json& entry = (*r.member("objects"))[i];
+    if (object.kind != "particles" || !entry.is_object() || !entry.contains("connectors")) continue;
+    io::ParticleLookup local = lookup;
+    local.local = &object;
+    io::readConnectors(sink, entry["connectors"], object.pointer + "/connectors", local,
+                       scene.model);
+  }
+  if (const auto* list = r.member("connectors"))
+    io::readConnectors(sink, *list, "/connectors", lookup, scene.model);
+  if (const auto* list = r.member("joints"))
+    io::readJoints(sink, *list, "/joints", lookup, scene.model);
+  r.finish();
+}
+
+}  // namespace
+
+SceneLoadResult loadSceneText(const std::string& text, const std::string& fileName) {
+  SceneLoadResult result;
+  io::JsonReadResult json = io::readLocatedJson(text);
+  DiagnosticSink sink(fileName, json.json ? &*json.json : nullptr);
+  for (const auto& problem : json.errors)
+    sink.errorAt(problem.where, problem.pointer, problem.message);
+  if (!json.json) {
+    result.errors = sink.takeErrors();
+    return result;
+  }
+
+  Scene scene;
+  scene.sourcePath = fileName;
+  readScene(sink, json.json->value, scene);
+
+  if (sink.errorCount() == 0) {
+    // Internal check: the loader's own output must be a consistent model.
+    if (const std::string problem = checkModel(scene.model); !problem.empty())
+      sink.error("", "internal error, the model built from this scene is inconsistent: " + problem);
+    if (scene.model.particleCount() == 0) sink.error("/objects", "the scene has no particle");
+  }
+  if (sink.errorCount() == 0) {
+    // MODEL §2: δ must stay below 2/ω_max for the symplectic schemes.
+    const StabilityEstimate stability = estimateStability(scene.model);
+    if (scene.run.dt > stability.criticalStep)
+      sink.warning("/run/dt",
+                   fmt::format("dt {:g} s exceeds the critical step {:.3g} s "
+                               "estimated for this model (particle {}): the run may "
+                               "diverge",
+                               scene.run.dt, stability.criticalStep, stability.limitingParticle));
+  }
+  result.errors = sink.takeErrors();
+  result.warnings = sink.takeWarnings();
+  if (result.errors.empty()) result.scene = std::move(scene);
+  return result;
+}
+
+SceneLoadResult loadSceneFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    SceneLoadResult result;
+    result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot open the scene file"});
+    return result;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return loadSceneText(text.str(), path);
+}
+
+}  // namespace robophi

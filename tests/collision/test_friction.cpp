@@ -1,0 +1,94 @@
+// MODEL §3.3: Coulomb friction realised with an anchor spring. A sliding block
+// stops after v0²/(2 μ_k g); on a slope it sticks below atan(μ_s) without creep
+// and slides above it at g (sin α - μ_k cos α).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "collision/contact_test_util.h"
+
+namespace robophi {
+namespace {
+
+constexpr double kMass = 1.0, kRadius = 0.05, kStiffness = 1.0e6;
+constexpr double kStaticFriction = 0.5, kKineticFriction = 0.4, kG = 9.81;
+
+// A particle resting on the ground z = 0 at its equilibrium depth, with gravity
+// tilted by `slope` (rad) about y: the ground acts as a slope rising towards -x.
+World restingParticle(double slope, const Vec3& velocity = {}) {
+  Model model;
+  State state;
+  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kMass);  // ζ = 0.5
+  model.gravity = Vec3{std::sin(slope), 0.0, -std::cos(slope)} * kG;
+  test::addBall(model, state, {0.0, 0.0, kRadius - kMass * kG * std::cos(slope) / kStiffness},
+                kMass, kRadius);
+  state.velocity[0] = velocity;
+  model.environment.planes.push_back(GroundPlane{});
+  test::overrideWithEnvironment(model, 0, kStiffness, damping, kStaticFriction, kKineticFriction);
+  return World(model, state, Integrator::kSymplecticEuler);
+}
+
+TEST(Friction, SlidingBlockStopsAfterTheCoulombDistance) {
+  constexpr double kSpeed = 2.0;  // m/s
+  World world = restingParticle(0.0, {kSpeed, 0.0, 0.0});
+  const double expected = kSpeed * kSpeed / (2.0 * kKineticFriction * kG);
+  constexpr double kStep = 1.0e-5;
+  for (int step = 0; step < 120'000; ++step) world.step(kStep);  // 1.2 s; stops at 0.51 s
+  const double travelled = world.state().position[0].x;
+  std::printf("sliding block: travelled %.6f m, v0²/(2 μk g) = %.6f m (%.3f%%), speed %.2e\n",
+              travelled, expected, 100.0 * (travelled / expected - 1.0),
+              norm(world.state().velocity[0]));
+  EXPECT_NEAR(travelled / expected, 1.0, 0.005);
+  EXPECT_LT(norm(world.state().velocity[0]), 1e-3);
+}
+
+TEST(Friction, SticksJustBelowTheFrictionAngleWithoutCreep) {
+  const double angle = std::atan(kStaticFriction) - 0.25 * M_PI / 180.0;
+  World world = restingParticle(angle);
+  constexpr double kStep = 1.0e-4;
+  const double x0 = world.state().position[0].x;
+  for (int step = 0; step < 50'000; ++step) world.step(kStep);
+  const double x5 = world.state().position[0].x;
+  for (int step = 0; step < 50'000; ++step) world.step(kStep);
+  const double x10 = world.state().position[0].x;
+  const double firstHalf = std::abs(x5 - x0), secondHalf = std::abs(x10 - x5);
+  std::printf("stick at %.3f°: creep %.3e m in 0-5 s, %.3e m in 5-10 s\n", angle * 180.0 / M_PI,
+              firstHalf, secondHalf);
+  EXPECT_LT(std::abs(x10 - x0), 1e-3);
+  EXPECT_LE(secondHalf, firstHalf);
+  EXPECT_LT(secondHalf, 1e-6);
+  EXPECT_EQ(world.state().contacts.size(), 1u);
+  EXPECT_EQ(world.state().contacts[0].sliding, 0);
+}
+
+TEST(Friction, SlidesJustAboveTheFrictionAngleAtTheKineticAcceleration) {
+  const double angle = std::atan(kStaticFriction) + 0.25 * M_PI / 180.0;
+  World world = restingParticle(angle);
+  constexpr double kStep = 1.0e-4;
+  for (int step = 0; step < 10'000; ++step) world.step(kStep);
+  const double v1 = world.state().velocity[0].x;
+  for (int step = 0; step < 10'000; ++step) world.step(kStep);
+  const double v2 = world.state().velocity[0].x;
+  const double acceleration = (v2 - v1) / 1.0;
+  const double expected = kG * (std::sin(angle) - kKineticFriction * std::cos(angle));
+  std::printf("slide at %.3f°: a = %.6f m/s², g (sin α - μk cos α) = %.6f m/s²\n",
+              angle * 180.0 / M_PI, acceleration, expected);
+  EXPECT_NEAR(acceleration / expected, 1.0, 1e-3);
+  EXPECT_EQ(world.state().contacts[0].sliding, 1);
+}
+
+TEST(Friction, EnergyAccountCloses) {
+  // A sliding block: kinetic energy goes into the dissipated account.
+  World world = restingParticle(0.0, {1.0, 0.5, 0.0});
+  world.step(1.0e-5);
+  const double initial = world.state().energy.total();
+  for (int step = 0; step < 50'000; ++step) world.step(1.0e-5);
+  const double final = world.state().energy.total();
+  std::printf("sliding energy: total %.9f -> %.9f J (dissipated %.6f J)\n", initial, final,
+              world.state().energy.dissipated);
+  EXPECT_NEAR(final, initial, 1e-3 * 0.5 * 1.25);
+}
+
+}  // namespace
+}  // namespace robophi

@@ -1,0 +1,140 @@
+// The replay page: written from a hand-made run folder, under its size cap (frames
+// decimated when needed), with the frame data exactly as particles.csv holds it.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "robophi/replay.h"
+
+namespace robophi {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+// The run data object embedded in the page.
+nlohmann::json pageData(const std::string& page) {
+  const std::string open = "<script id=\"robophi-data\" type=\"application/json\">";
+  const std::size_t start = page.find(open) + open.size();
+  return nlohmann::json::parse(page.substr(start, page.find("</script>", start) - start));
+}
+
+// Two particles, `frames` frames at 100 fps with positions that need all 17 digits.
+class ReplayHtmlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device seed;
+    dir_ = fs::temp_directory_path() / ("robophi_replay_test_" + std::to_string(seed()));
+    fs::create_directories(dir_);
+    writeText(dir_ / "model.json", R"({"name": "two </script> balls",
+      "particles": {"count": 2, "mass": [1, 1], "radius": [0.1, 0.1], "object": [0, 0],
+                    "fixed": [0, 0]},
+      "objects": [{"name": "pair", "kind": "rope", "first": 0, "count": 2, "material": 0}],
+      "connectors": {"linear": [[0, 1, 1.0]], "torsion": [], "joint": []},
+      "joints": [], "gravity": [0, 0, -9.81]})");
+    writeText(dir_ / "energy.csv",
+              "t,dt,kinetic,potential,dissipated,total\n0,0.001,0,1,0,1\n1,0.001,0.5,0.5,0,1\n");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void writeFrames(int frames) {
+    std::string csv = "t,x0,y0,z0,x1,y1,z1\n";
+    for (int k = 0; k < frames; ++k) {
+      const double t = k / 100.0;
+      fmt::format_to(std::back_inserter(csv), "{},{},0,{},{},0,1\n", t, t / 3.0, 1.0 / (k + 3),
+                     1.0 + t / 7.0);
+    }
+    writeText(dir_ / "particles.csv", csv);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(ReplayHtmlTest, KeepsEveryFrameExactlyUnderTheCap) {
+  writeFrames(50);
+  std::string error;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), {}, error)) << error;
+  const std::string page = readText(dir_ / "replay.html");
+  // The name's "</script>" must not end the data element early.
+  EXPECT_EQ(page.find("two </script>"), std::string::npos);
+  const nlohmann::json data = pageData(page);
+  EXPECT_EQ(data["name"], "two </script> balls");
+  EXPECT_EQ(data["frames"]["stride"], 1);
+  ASSERT_EQ(data["frames"]["rows"].size(), 50u);
+  // Frame 7 holds the bits of particles.csv.
+  const nlohmann::json& row = data["frames"]["rows"][7];
+  EXPECT_EQ(row[0].get<double>(), 0.07);
+  EXPECT_EQ(row[1].get<double>(), 0.07 / 3.0);
+  EXPECT_EQ(row[3].get<double>(), 1.0 / 10);
+  EXPECT_EQ(data["energy"]["columns"].size(), 6u);
+  EXPECT_FALSE(data.contains("contacts"));
+}
+
+TEST_F(ReplayHtmlTest, DecimatesFramesToStayUnderTheCap) {
+  writeFrames(20000);
+  const auto fullSize = static_cast<double>(fs::file_size(dir_ / "particles.csv"));
+  ReplayOptions options;
+  options.outputPath = (dir_ / "small.html").string();
+  std::string error;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
+  const double withoutFrames =
+      static_cast<double>(fs::file_size(options.outputPath)) -
+      static_cast<double>(pageData(readText(options.outputPath)).dump().size());
+  // A cap that leaves room for about a quarter of the frames.
+  options.sizeCapBytes = withoutFrames + 0.25 * fullSize;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
+  EXPECT_LE(static_cast<double>(fs::file_size(options.outputPath)), options.sizeCapBytes);
+  const nlohmann::json data = pageData(readText(options.outputPath));
+  EXPECT_GT(data["frames"]["stride"].get<int>(), 1);
+  EXPECT_EQ(data["frames"]["sourceCount"], 20000);
+  const nlohmann::json& rows = data["frames"]["rows"];
+  EXPECT_EQ(rows.front()[0].get<double>(), 0.0);
+  EXPECT_EQ(rows.back()[0].get<double>(), 19999 / 100.0);  // the last frame is always kept
+}
+
+TEST_F(ReplayHtmlTest, RefusesACapSmallerThanThePage) {
+  writeFrames(5);
+  ReplayOptions options;
+  options.sizeCapBytes = 1000;
+  std::string error;
+  EXPECT_FALSE(writeReplayHtml(dir_.string(), options, error));
+  EXPECT_NE(error.find("size cap"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(dir_ / "replay.html"));
+}
+
+TEST_F(ReplayHtmlTest, NamesAMissingEnergyFile) {
+  writeFrames(5);
+  fs::remove(dir_ / "energy.csv");
+  std::string error;
+  EXPECT_FALSE(writeReplayHtml(dir_.string(), {}, error));
+  EXPECT_NE(error.find("energy.csv"), std::string::npos) << error;
+}
+
+TEST_F(ReplayHtmlTest, NamesABadContactsColumn) {
+  writeFrames(5);
+  writeText(dir_ / "contacts.csv", "t,a,b,fx,fy\n0,0,1,0,0\n");
+  std::string error;
+  EXPECT_FALSE(writeReplayHtml(dir_.string(), {}, error));
+  EXPECT_NE(error.find("contacts.csv:1: missing column 'fz'"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace robophi

@@ -1,0 +1,8 @@
+# The replay page in headless Chromium (tests/viewer/run_viewer_test.sh).
+# Included from tests/CMakeLists.txt. Skipped (77) when Chromium or
+# viewer/node_modules is missing, unless CI=true. The screenshot is written to
+# <build>/tests/viewer/replay.png.
+add_test(NAME viewer_replay
+         COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:robophi>
+                 ${CMAKE_CURRENT_BINARY_DIR}/viewer)
+set_tests_properties(viewer_replay PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 300)
