@@ -16,6 +16,7 @@ inline constexpr int kExitDiverged = 3;
 void addRunCommand(CLI::App& app, int& exitCode);
 void addValidateCommand(CLI::App& app, int& exitCode);
 void addBenchCommand(CLI::App& app, int& exitCode);
+void addStudyCommand(CLI::App& app, int& exitCode);
 void addExportCommand(CLI::App& app);
 
 }  // namespace robophi::cli

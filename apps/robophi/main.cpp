@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   robophi::cli::addValidateCommand(app, exitCode);
   robophi::cli::addBenchCommand(app, exitCode);
   robophi::cli::addExportCommand(app);
+  robophi::cli::addStudyCommand(app, exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Error& e) {

@@ -30,12 +30,18 @@ struct AdaptiveStepSettings {
   /// gravity can release in the scene (Σ m |g| × the particles' bounding-box
   /// diagonal at the start), so a system at rest does not force tiny steps.
   double energyFloor = 1.0e-9;
-  /// Step factor after a rejection (-), < 1.
+  /// Largest step factor after a rejection (-), < 1: a rejected step is at least
+  /// halved, more when its error was far above the tolerance (down to 0.1).
   double shrinkFactor = 0.5;
-  /// Step factor after `growAfter` calm steps (-), > 1.
-  double growFactor = 1.2;
-  /// Consecutive calm steps (error < tolerance/4) before growing.
-  int growAfter = 4;
+  /// Largest step factor after an accepted step (-), > 1.
+  double growFactor = 2.0;
+  /// Safety factor of the step proposal (-), < 1 (see errorOrder).
+  double safety = 0.8;
+  /// Order p of the per-step energy error in δ (error ∝ δ^p): the next step is
+  /// δ · safety · (tolerance / |error|)^(1/p), within [0.1, shrinkFactor] after a
+  /// rejection and [1, growFactor] after an acceptance. 0: from the integrator
+  /// (3 for velocity Verlet, 2 for symplectic Euler and the paper's scheme).
+  double errorOrder = 0.0;
   /// Largest penetration of a contact, as a fraction of the smaller particle's
   /// radius (-): a deeper step is rejected.
   double maxPenetrationFraction = 0.1;
@@ -89,14 +95,17 @@ class AdaptiveStepper {
  private:
   /// Relative energy error of a trial from `before` to `after`.
   double energyError(const State& before, const State& after) const;
+  /// The step factor δ_next/δ that an error calls for (unclamped).
+  double proposal(double error) const;
   std::string diagnose(const World& world) const;
 
   AdaptiveStepSettings settings_;
   double stabilityLimit_;
   double step_;
+  /// The error order in use (set at the first step from the integrator).
+  double errorOrder_ = 0.0;
   /// Σ m |g| × scene size (J), measured at the first step; -1 until then.
   double gravityScale_ = -1.0;
-  int calmSteps_ = 0;
   AdaptiveStepStats stats_;
   State saved_;
 };

@@ -21,6 +21,8 @@ struct RunProgress {
   double wallSeconds = 0.0;
 };
 
+struct RunReport;
+
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
   RunSettings settings;
@@ -32,6 +34,11 @@ struct RunOptions {
   bool writeReplay = true;
   /// Called about every 0.1 s of wall time.
   std::function<void(const RunProgress&)> progress;
+  /// Called after each accepted step, after the scene's own robotics tasks
+  /// (docs/robotics.md): it may change the world through its public API (joint
+  /// targets, World::mutableModel) and add lines to RunReport::events; returning
+  /// false ends the run early (e.g. a goal reached).
+  std::function<bool(World&, RunReport&)> betweenSteps;
 };
 
 /// What a run did.
@@ -55,6 +62,9 @@ struct RunReport {
   AdaptiveStepStats adaptive;
   std::uint64_t stateHash = 0;
   std::vector<std::string> warnings;
+  /// What the robotics tasks did (goal reached, virtual obstacles added, grasp
+  /// verdict), in order; written to summary.json as "events".
+  std::vector<std::string> events;
   bool ok() const { return status == "ok"; }
 };
 

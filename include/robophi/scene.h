@@ -9,6 +9,7 @@
 
 #include "robophi/adaptive_step.h"
 #include "robophi/model.h"
+#include "robophi/robotics/task_spec.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
 
@@ -45,6 +46,8 @@ struct Scene {
   Model model;
   State initial;
   RunSettings run;
+  /// Robotics tasks run between steps (docs/robotics.md); empty for most scenes.
+  robotics::SceneTasks robotics;
 };
 
 /// One problem found in a scene file.

@@ -67,6 +67,13 @@ class World {
     state_.forcesValid = false;
     return state_;
   }
+  /// Between steps only (robotics tasks, docs/robotics.md): joint targets and
+  /// stiffness, attractors, virtual obstacles. Invalidates the cached forces; a
+  /// change of the model's size or topology also rebuilds the contact cache.
+  Model& mutableModel() {
+    state_.forcesValid = false;
+    return model_;
+  }
   /// Puts back a state saved earlier (a snapshot copy): undoes steps exactly.
   void restore(const State& saved) { state_ = saved; }
   Integrator integrator() const { return integrator_; }

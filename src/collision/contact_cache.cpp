@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "collision/environment.h"
@@ -107,8 +108,7 @@ void classifyParticles(const Model& model, ContactScratch& cache) {
     if (object < 0 || object >= objectCount) continue;
     cache.particleObject[i] = object;
     const std::int32_t material = model.objects[object].material;
-    cache.particleMaterial[i] =
-        material >= 0 && material < cache.materialCount ? material : 0;
+    cache.particleMaterial[i] = material >= 0 && material < cache.materialCount ? material : 0;
     ++objectSize[object];
   }
   // Single particles go to the grid unless they are much larger than the
@@ -193,11 +193,19 @@ ContactScratch& prepareContactCache(const Model& model, State& state) {
     const std::int32_t items = model.environment.itemCount();
     cache->environmentMaterials.resize(static_cast<std::size_t>(items));
     cache->environmentTops.resize(static_cast<std::size_t>(items));
+    cache->environmentLow.resize(static_cast<std::size_t>(items));
+    cache->environmentHigh.resize(static_cast<std::size_t>(items));
     for (std::int32_t e = 0; e < items; ++e) {
       const std::int32_t material = environmentMaterial(model.environment, e);
       cache->environmentMaterials[e] =
           material >= 0 && material < cache->materialCount ? material : 0;
       cache->environmentTops[e] = environmentTop(model.environment, e);
+      constexpr double kInfinity = std::numeric_limits<double>::infinity();
+      if (!environmentBounds(model.environment, e, cache->environmentLow[e],
+                             cache->environmentHigh[e])) {
+        cache->environmentLow[e] = {-kInfinity, -kInfinity, -kInfinity};
+        cache->environmentHigh[e] = {kInfinity, kInfinity, kInfinity};
+      }
     }
     cache->overrides = settings.pairOverrides;
     for (ContactPairOverride& o : cache->overrides) {
@@ -238,8 +246,8 @@ const PairParameters& pairParameters(const Model& model, const ContactScratch& c
         return std::tie(o.objectA, o.objectB) < std::tie(key.first, key.second);
       });
   if (it == cache.overrides.end() || it->objectA != objectA || it->objectB != objectB) return table;
-  overrideOut = combine(model.contact, it->stiffness, it->damping, it->staticFriction,
-                        it->kineticFriction);
+  overrideOut =
+      combine(model.contact, it->stiffness, it->damping, it->staticFriction, it->kineticFriction);
   return overrideOut;
 }
 

@@ -15,10 +15,10 @@ namespace robophi {
 
 /// Contact parameters of a pair after combining materials (docs/contact.md).
 struct PairParameters {
-  double stiffness = 0.0;        // κ_c (N/m)
-  double damping = 0.0;          // μ_c (N·s/m)
-  double staticFriction = 0.0;   // μ_s (-)
-  double kineticFriction = 0.0;  // μ_k (-)
+  double stiffness = 0.0;            // κ_c (N/m)
+  double damping = 0.0;              // μ_c (N·s/m)
+  double staticFriction = 0.0;       // μ_s (-)
+  double kineticFriction = 0.0;      // μ_k (-)
   double tangentialStiffness = 0.0;  // k_t (N/m)
   /// c_t = tangentialDampingRatio × 2 √(k_t m_eff), m_eff the pair's reduced mass.
   double tangentialDampingRatio = 0.0;  // (-)
@@ -62,6 +62,8 @@ struct ContactScratch {
   std::vector<std::int32_t> environmentMaterials;
   /// Highest point of each heightfield item (m), for culling; 0 for other items.
   std::vector<double> environmentTops;
+  /// Bounding boxes of the environment items (m); planes get an infinite box.
+  std::vector<Vec3> environmentLow, environmentHigh;
   /// Single small particles handled by the grid, ascending particle index.
   std::vector<std::int32_t> gridParticles;
   /// Grid cell size h (m) = the largest grid particle's diameter.
@@ -77,20 +79,20 @@ struct ContactScratch {
   bool treesBuilt = false;
 
   // ---- Per-step scratch.
-  std::vector<std::int64_t> cellOfItem;     // (gridParticles) cell id
-  std::vector<std::int32_t> cellStart;      // (cells + 1) or (hash buckets + 1)
-  std::vector<std::int32_t> sortedItem;     // (gridParticles) position in gridParticles
-  std::vector<std::int64_t> sortedCell;     // (gridParticles) cell id, for hash mode
-  std::vector<double> sortedData;           // (4 × gridParticles) x, y, z, r
+  std::vector<std::int64_t> cellOfItem;      // (gridParticles) cell id
+  std::vector<std::int32_t> cellStart;       // (cells + 1) or (hash buckets + 1)
+  std::vector<std::int32_t> sortedItem;      // (gridParticles) position in gridParticles
+  std::vector<std::int64_t> sortedCell;      // (gridParticles) cell id, for hash mode
+  std::vector<double> sortedData;            // (4 × gridParticles) x, y, z, r
   std::vector<std::int32_t> sortedParticle;  // (gridParticles)
-  std::vector<std::int64_t> sortedKey;      // (gridParticles) cell key of each slot
-  std::vector<std::int32_t> sweepOrder;     // (trees) sort-and-sweep order
-  std::vector<Contact> freshContacts;       // the new list, swapped into State
-  std::vector<Contact> mergedContacts;      // merge buffer
-  std::vector<Contact> treeContacts;        // unsorted finds of the tree search
-  std::vector<Contact> rowContacts;         // one particle's finds (sorted per row)
-  std::vector<Vec3> objectCentroid;         // (objects) for viscosity
-  std::vector<double> objectMass;           // (objects)
+  std::vector<std::int64_t> sortedKey;       // (gridParticles) cell key of each slot
+  std::vector<std::int32_t> sweepOrder;      // (trees) sort-and-sweep order
+  std::vector<Contact> freshContacts;        // the new list, swapped into State
+  std::vector<Contact> mergedContacts;       // merge buffer
+  std::vector<Contact> treeContacts;         // unsorted finds of the tree search
+  std::vector<Contact> rowContacts;          // one particle's finds (sorted per row)
+  std::vector<Vec3> objectCentroid;          // (objects) for viscosity
+  std::vector<double> objectMass;            // (objects)
   ContactStats stats;
 };
 

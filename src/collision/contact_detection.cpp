@@ -144,16 +144,15 @@ inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i,
 }
 
 // Grid particle i against its 27 neighbour cells.
-void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cache,
-                    std::int32_t i, const Vec3& p) {
+void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cache, std::int32_t i,
+                    const Vec3& p) {
   const double r = model.radius[i];
   const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
   const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
   const std::int64_t iz = cellCoordinate(p.z, g.origin.z, g.inverseCell);
   if (g.dense) {
     const std::int64_t x0 = std::max<std::int64_t>(ix - 1, 0), x1 = std::min(ix + 1, g.nx - 1);
-    for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, g.nz - 1);
-         ++z) {
+    for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, g.nz - 1); ++z) {
       for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, g.ny - 1);
            ++y) {
         const std::int64_t row = (z * g.ny + y) * g.nx;
@@ -181,6 +180,13 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
   const std::int32_t items = model.environment.itemCount();
   const double r = model.radius[i];
   for (std::int32_t e = 0; e < items; ++e) {
+    // Cheap cull: the particle's sphere must reach the item's bounding box.
+    const Vec3& low = cache.environmentLow[e];
+    const Vec3& high = cache.environmentHigh[e];
+    if (p.x + r < low.x || p.x - r > high.x || p.y + r < low.y || p.y - r > high.y ||
+        p.z + r < low.z || p.z - r > high.z) {
+      continue;
+    }
     ++cache.stats.environmentTests;
     double signedDistance = 0.0;
     Vec3 normal;
@@ -309,7 +315,8 @@ void detectContacts(const Model& model, const State& state, ContactScratch& cach
   treesVersusGrid(model, position, grid, cache);
   const std::int32_t items = model.environment.itemCount();
   for (const TreeObject& tree : cache.trees) {
-    if (model.contact.selfCollision && !tree.allFixed) treeSelf(model, position, cache, tree.rootNode);
+    if (model.contact.selfCollision && !tree.allFixed)
+      treeSelf(model, position, cache, tree.rootNode);
     if (tree.allFixed) continue;
     for (std::int32_t e = 0; e < items; ++e) {
       treeVersusEnvironment(model, position, cache, tree.rootNode, e);

@@ -150,6 +150,7 @@ void accumulateContacts(const Model& model, State& state) {
       f[a] += force;
       ++stats.environmentContacts;
     }
+    tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
   }

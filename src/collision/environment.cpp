@@ -2,12 +2,12 @@
 // and spheres (MODEL §3, docs/contact.md), and the PGM heightfield reader.
 #include "collision/environment.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace robophi {
 
@@ -70,7 +70,9 @@ double Heightfield::heightAt(double x, double y, double* dhdx, double* dhdy) con
   const int i = std::min(static_cast<int>(fx), columns - 2);
   const int j = std::min(static_cast<int>(fy), rows - 2);
   const double tx = fx - i, ty = fy - j;
-  const auto at = [&](int ii, int jj) { return heights[static_cast<std::size_t>(jj) * columns + ii]; };
+  const auto at = [&](int ii, int jj) {
+    return heights[static_cast<std::size_t>(jj) * columns + ii];
+  };
   const double h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
   if (dhdx != nullptr) *dhdx = ((h10 - h00) * (1.0 - ty) + (h11 - h01) * ty) / cellSizeX;
   if (dhdy != nullptr) *dhdy = ((h01 - h00) * (1.0 - tx) + (h11 - h10) * tx) / cellSizeY;
@@ -137,6 +139,42 @@ bool environmentFarFrom(const Environment& environment, std::int32_t item, const
   Vec3 normal;
   environmentDistance(environment, item, center, signedDistance, normal);
   return signedDistance > radius;
+}
+
+bool environmentBounds(const Environment& environment, std::int32_t item, Vec3& low, Vec3& high) {
+  std::int32_t local = item;
+  switch (kindOf(environment, local)) {
+    case ItemKind::kPlane:
+      return false;
+    case ItemKind::kHeightfield: {
+      const Heightfield& field = environment.heightfields[local];
+      const auto [lowest, highest] =
+          std::minmax_element(field.heights.begin(), field.heights.end());
+      low = {field.originX, field.originY, *lowest};
+      high = {field.originX + (field.columns - 1) * field.cellSizeX,
+              field.originY + (field.rows - 1) * field.cellSizeY, *highest};
+      return true;
+    }
+    case ItemKind::kBox: {
+      const BoxObstacle& box = environment.boxes[local];
+      const Vec3 h = box.halfExtents;
+      const Vec3 extent{
+          std::abs(box.axisX.x) * h.x + std::abs(box.axisY.x) * h.y + std::abs(box.axisZ.x) * h.z,
+          std::abs(box.axisX.y) * h.x + std::abs(box.axisY.y) * h.y + std::abs(box.axisZ.y) * h.z,
+          std::abs(box.axisX.z) * h.x + std::abs(box.axisY.z) * h.y + std::abs(box.axisZ.z) * h.z};
+      low = box.center - extent;
+      high = box.center + extent;
+      return true;
+    }
+    case ItemKind::kSphere: {
+      const SphereObstacle& sphere = environment.spheres[local];
+      const Vec3 r{sphere.radius, sphere.radius, sphere.radius};
+      low = sphere.center - r;
+      high = sphere.center + r;
+      return true;
+    }
+  }
+  return false;
 }
 
 std::int32_t environmentMaterial(const Environment& environment, std::int32_t item) {

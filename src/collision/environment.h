@@ -23,6 +23,9 @@ double environmentTop(const Environment& environment, std::int32_t item);
 bool environmentFarFrom(const Environment& environment, std::int32_t item, const Vec3& center,
                         double radius, double top);
 
+/// A box containing item `item` (m); false when it has none (a plane).
+bool environmentBounds(const Environment& environment, std::int32_t item, Vec3& low, Vec3& high);
+
 /// The material of environment item `item`.
 std::int32_t environmentMaterial(const Environment& environment, std::int32_t item);
 

@@ -140,8 +140,8 @@ inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNod
 }  // namespace
 
 // MODEL §3.2 Locate_Contact: descend the larger node while the spheres touch.
-void treeVersusTree(const Model& model, const std::vector<Vec3>& position,
-                    ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB) {
+void treeVersusTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                    std::int32_t nodeA, std::int32_t nodeB) {
   const TreeNode& a = cache.nodes[nodeA];
   const TreeNode& b = cache.nodes[nodeB];
   if (!spheresTouch(cache, a, b)) return;

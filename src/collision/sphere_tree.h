@@ -10,18 +10,16 @@
 namespace robophi {
 
 /// Builds the octree topology of every tree object from the positions.
-void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
-                      ContactScratch& cache);
+void buildSphereTrees(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache);
 
 /// Refits every node's sphere to the current positions, leaves first: each
 /// sphere encloses its particles' spheres, so a deforming object misses nothing.
-void refitSphereTrees(const Model& model, const std::vector<Vec3>& position,
-                      ContactScratch& cache);
+void refitSphereTrees(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache);
 
 /// The particles a, b (a != b) that may touch: appended to cache.treeContacts
 /// as (min, max) when |p_a - p_b| < r_a + r_b and no connector ties them.
-void treeVersusTree(const Model& model, const std::vector<Vec3>& position,
-                    ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB);
+void treeVersusTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                    std::int32_t nodeA, std::int32_t nodeB);
 /// Pairs inside one object (self-collision).
 void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
               std::int32_t node);

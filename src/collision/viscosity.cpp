@@ -22,7 +22,8 @@ double accumulateViscosity(const Model& model, State& state, ContactScratch& cac
     cache.objectMass[o] += model.mass[i];
   }
   for (std::size_t o = 0; o < objects; ++o) {
-    if (cache.objectMass[o] > 0.0) cache.objectCentroid[o] = cache.objectCentroid[o] / cache.objectMass[o];
+    if (cache.objectMass[o] > 0.0)
+      cache.objectCentroid[o] = cache.objectCentroid[o] / cache.objectMass[o];
   }
   double power = 0.0;
   for (ParticleIndex i = 0; i < n; ++i) {

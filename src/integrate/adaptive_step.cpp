@@ -44,6 +44,11 @@ AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settin
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
 
+double AdaptiveStepper::proposal(double error) const {
+  const double ratio = settings_.energyTolerance / std::max(std::abs(error), 1e-300);
+  return settings_.safety * std::pow(ratio, 1.0 / errorOrder_);
+}
+
 double AdaptiveStepper::energyError(const State& before, const State& after) const {
   // MODEL §4: error = (E(t+δ) - E(t) - W_dissipative) / max(|E|, E_floor), where
   // W_dissipative (<= 0) is the work of damping, friction and viscosity.
@@ -57,6 +62,11 @@ double AdaptiveStepper::energyError(const State& before, const State& after) con
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
+  if (errorOrder_ <= 0.0) {
+    errorOrder_ = settings_.errorOrder > 0.0 ? settings_.errorOrder
+                  : world.integrator() == Integrator::kVelocityVerlet ? 3.0
+                                                                      : 2.0;
+  }
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
   saved_ = world.state();
   for (;;) {
@@ -79,25 +89,21 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       stats_.sumOfSteps += dt;
       stats_.lastEnergyError = error;
       stats_.lastStep = dt;
-      // Grow after a run of calm steps (only when the full step was used).
-      if (std::abs(error) < 0.25 * settings_.energyTolerance && dt == step_) {
-        if (++calmSteps_ >= settings_.growAfter) {
-          step_ = std::min({step_ * settings_.growFactor, settings_.maxStep, stabilityLimit_});
-          calmSteps_ = 0;
-        }
-      } else {
-        calmSteps_ = 0;
-      }
+      // Grow when the error leaves room: δ · safety · (tol/|e|)^(1/p), at most × growFactor.
+      step_ = std::min({step_ * std::clamp(proposal(error), 1.0, settings_.growFactor),
+                        settings_.maxStep, stabilityLimit_});
       return result;
     }
-    // Reject: restore the copy, shrink, retry.
+    // Reject: restore the copy, shrink (at least halve), retry.
     ++stats_.rejected;
     ++result.rejections;
-    calmSteps_ = 0;
-    const std::string why = diagnose(world);
+    step_ = dt * std::clamp(tooDeep ? settings_.shrinkFactor : proposal(error), 0.1,
+                            settings_.shrinkFactor);
+    const bool stalled =
+        step_ < settings_.minStep || result.rejections >= settings_.maxRejectionsInARow;
+    const std::string why = stalled ? diagnose(world) : std::string();  // the failed trial
     world.restore(saved_);
-    step_ = dt * settings_.shrinkFactor;
-    if (step_ < settings_.minStep || result.rejections >= settings_.maxRejectionsInARow) {
+    if (stalled) {
       result.ok = false;
       result.failure = fmt::format(
           "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "

@@ -25,6 +25,10 @@ struct GeneratedObject {
   std::vector<TorsionSpring> torsionSprings;  // local indices; stiffness from bend*
   /// The typical distance between neighbours (m): sets default bend stiffness.
   double spacing = 0.0;
+  /// Robots (src/robotics/): JS in local indices and their named joints, whose
+  /// Joint::connector indexes jointSprings; placed with the name "<object>.<name>".
+  std::vector<JointSpring> jointSprings;
+  std::vector<Joint> joints;
 
   std::size_t size() const { return position.size(); }
 };

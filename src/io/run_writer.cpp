@@ -153,6 +153,7 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
                  {"dissipated_J", report.dissipated}};
   s["state_hash"] = fmt::format("{:016x}", report.stateHash);
   s["warnings"] = report.warnings;
+  if (!report.events.empty()) s["events"] = report.events;
   auto out = openOrThrow(std::filesystem::path(dir_) / "summary.json");
   out << s.dump(2) << '\n';
 }

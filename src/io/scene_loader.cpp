@@ -5,14 +5,17 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "collision/contact_scene.h"
 #include "io/generators.h"
 #include "io/json_locator.h"
 #include "io/scene_fields.h"
 #include "io/scene_links.h"
 #include "io/scene_objects.h"
+#include "robotics/scene_robotics.h"
 #include "robophi/scene.h"
 
 namespace robophi {
@@ -108,14 +111,27 @@ void placeObjects(std::vector<SceneObject>& objects, Model& model, State& state)
       s.b += offset;
       model.torsionSprings.push_back(s);
     }
+    // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).
+    const auto jointBase = static_cast<std::int32_t>(model.jointSprings.size());
+    for (JointSpring s : g.jointSprings) {
+      for (ParticleIndex* p : {&s.a, &s.b, &s.c, &s.d}) *p += offset;
+      model.jointSprings.push_back(s);
+    }
+    for (Joint joint : g.joints) {
+      joint.name = object.name + "." + joint.name;
+      joint.connector += jointBase;
+      model.joints.push_back(std::move(joint));
+    }
   }
   state.force.assign(state.position.size(), Vec3{});
 }
 
-void readScene(DiagnosticSink& sink, const nlohmann::json& root, Scene& scene) {
+void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::string& sceneDirectory,
+               Scene& scene) {
   ObjectReader r(sink, root, "", "the scene");
   if (!r.valid()) return;
-  r.allow({"$schema"});
+  // The contact keys are read by parseContactScene (docs/contact.md).
+  r.allow({"$schema", "materials", "contactPairs", "environment", "medium", "contact"});
   if (const auto version = r.integer("robophi", 0)) {
     if (*version != kFormatVersion)
       sink.error("/robophi", fmt::format("'robophi': format version {} is not supported "
@@ -148,6 +164,12 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, Scene& scene) {
     io::readConnectors(sink, *list, "/connectors", lookup, scene.model);
   if (const auto* list = r.member("joints"))
     io::readJoints(sink, *list, "/joints", lookup, scene.model);
+  if (const auto* section = r.member("robotics"))  // goals, paths, limits (docs/robotics.md)
+    robotics::readRoboticsSection(sink, *section, "/robotics", lookup, scene);
+  parseContactScene(root, sceneDirectory, scene.model,
+                    [&sink](const std::string& pointer, const std::string& message) {
+                      sink.error(pointer, message);
+                    });
   r.finish();
 }
 
@@ -166,7 +188,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 
   Scene scene;
   scene.sourcePath = fileName;
-  readScene(sink, json.json->value, scene);
+  readScene(sink, json.json->value,
+            std::filesystem::path(fileName).parent_path().string(), scene);
 
   if (sink.errorCount() == 0) {
     // Internal check: the loader's own output must be a consistent model.

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "robotics/robot_builders.h"
+
 namespace robophi::io {
 
 namespace {
@@ -22,6 +24,7 @@ constexpr TypeName kTypes[] = {
     {"rope", "rope"},   {"chain", "rope"},          {"bar", "bar"},     {"box", "box"},
     {"cube", "box"},    {"plate", "plate"},         {"cloth", "plate"}, {"ball", "ball"},
     {"wheel", "wheel"}, {"particles", "particles"},
+    {"arm", "arm"},     {"vehicle", "vehicle"},     {"hand", "hand"},  // robotics/robot_builders.h
 };
 
 SpringSettings readSprings(ObjectReader& r) {
@@ -294,7 +297,8 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto type = r.string("type", true);
   const std::string what = fmt::format("{} '{}'", type.value_or("object"), object.name);
   ObjectReader reader(sink, entry, pointer, what);
-  reader.allow({"name", "type", "fixed"});
+  // "material" is read by the contact keys (src/collision/contact_scene.cpp).
+  reader.allow({"name", "type", "fixed", "material"});
   if (r.member("name") && r.member("name")->is_string() && object.name.empty())
     sink.error(r.memberPointer("name"), "'name' must not be empty");
   if (object.name.find(':') != std::string::npos)
@@ -308,7 +312,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   if (type && object.kind.empty()) {
     sink.error(r.memberPointer("type"),
                fmt::format("unknown object type \"{}\"{} (expected one of rope, chain, bar, box, "
-                           "cube, plate, cloth, ball, wheel, particles)",
+                           "cube, plate, cloth, ball, wheel, particles, arm, vehicle, hand)",
                            *type, didYouMean(*type, objectTypeNames())));
   }
   const auto velocity = reader.vec3("velocity", "m/s");
@@ -323,6 +327,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   if (kind == "ball") generated = readBall(reader, object.geometry, dt);
   if (kind == "wheel") generated = readWheel(reader, object.geometry, dt);
   if (kind == "particles") generated = readParticles(reader, object);
+  if (robotics::isRobotKind(kind)) generated = robotics::readRobot(reader, object, dt);
   // Unknown keys are reported only when the type is known (else every key would be).
   if (!kind.empty()) reader.finish();
 

@@ -11,6 +11,7 @@
 
 #include "io/run_writer.h"
 #include "robophi/replay.h"
+#include "robophi/robotics/tasks.h"
 
 namespace robophi {
 
@@ -86,6 +87,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
   };
 
+  const auto robotTasks = robotics::makeSceneTasks(scene);  // empty when the scene has none
   const bool adaptive = settings.stepMode == StepMode::kAdaptive;
   std::optional<AdaptiveStepper> stepper;
   if (adaptive) {
@@ -123,6 +125,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       break;
     }
     sample(dtUsed, false);
+    // Robotics tasks between steps (docs/robotics.md); either may end the run.
+    if (robotTasks && !robotTasks(world, report)) break;
+    if (options.betweenSteps && !options.betweenSteps(world, report)) break;
     if (options.progress && (world.state().stepCount & 255) == 0) {
       const auto now = Clock::now();
       if (now - lastProgress > std::chrono::milliseconds(100)) {

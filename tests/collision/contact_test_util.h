@@ -23,8 +23,7 @@ inline ParticleIndex addBall(Model& model, State& state, const Vec3& p, double m
 
 /// Exact pair parameters between object `object` and the environment.
 inline void overrideWithEnvironment(Model& model, std::int32_t object, double stiffness,
-                                    double damping, double staticFriction,
-                                    double kineticFriction) {
+                                    double damping, double staticFriction, double kineticFriction) {
   model.contact.pairOverrides.push_back(
       ContactPairOverride{object, -1, stiffness, damping, staticFriction, kineticFriction});
 }

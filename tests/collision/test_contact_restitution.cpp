@@ -72,8 +72,8 @@ TEST(ContactRestitution, ClampedForceMatchesItsExactSolution) {
     const double clamped = clampedRestitution(zeta);
     EXPECT_NEAR(e, clamped, 1e-3) << "ζ = " << zeta << ", formula (unclamped) "
                                   << formulaRestitution(zeta);
-    std::printf("ζ = %.2f: e measured %.6f, clamped exact %.6f, exp(-ζπ/√(1-ζ²)) %.6f\n", zeta,
-                e, clamped, formulaRestitution(zeta));
+    std::printf("ζ = %.2f: e measured %.6f, clamped exact %.6f, exp(-ζπ/√(1-ζ²)) %.6f\n", zeta, e,
+                clamped, formulaRestitution(zeta));
   }
 }
 

@@ -1,0 +1,60 @@
+#pragma once
+/// \file
+/// Joint control between steps (MODEL §1 "Joint drive and passive joints"):
+/// servo targets, stiffness and damping, switching a joint off, limits. These
+/// change the World's model through World::mutableModel: call them between
+/// steps only, never from inside a force stage.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robophi/joints.h"
+#include "robophi/robotics/task_spec.h"
+#include "robophi/world.h"
+
+namespace robophi::robotics {
+
+/// The index of the joint named `name` in Model::joints, or nullopt.
+std::optional<std::size_t> findJoint(const Model& model, const std::string& name);
+
+/// The servo parameters of a joint: target (rad or m), stiffness, damping. For a
+/// revolute joint they are its JS's; for a prismatic joint its drive LS's (a
+/// prismatic joint without a drive has none: `hasDrive` false).
+struct JointServo {
+  bool hasDrive = true;
+  double target = 0.0, stiffness = 0.0, damping = 0.0;
+};
+JointServo jointServo(const Model& model, std::size_t joint);
+
+/// Drives the joint to `target` (rad, wrapped into [0, 2π), or m > 0): sets the
+/// JS rest angle or the drive LS rest length. Returns false for a prismatic
+/// joint without a drive.
+bool setJointTarget(World& world, std::size_t joint, double target);
+/// Sets the servo's stiffness (N·m/rad or N/m) and damping (N·m·s/rad or N·s/m).
+bool setJointStiffness(World& world, std::size_t joint, double stiffness, double damping);
+/// Switches the joint off (passive, MODEL §1): stiffness 0, small `damping`.
+bool switchOffJoint(World& world, std::size_t joint, double damping);
+
+/// Keeps joints within their limits: after each step, a joint outside
+/// [min, max] becomes a stiff servo to the violated bound; once back inside, its
+/// own servo settings are restored. One per scene or robot.
+class JointLimiter {
+ public:
+  explicit JointLimiter(std::vector<JointLimitSpec> limits);
+  /// Checks every limit against the world's state and updates the servos.
+  void update(World& world);
+  /// Whether limit `i` is holding its joint now.
+  bool active(std::size_t i) const { return active_[i]; }
+  /// How many times a limit engaged so far.
+  int engagements() const { return engagements_; }
+
+ private:
+  std::vector<JointLimitSpec> limits_;
+  std::vector<bool> active_;
+  std::vector<JointServo> saved_;
+  int engagements_ = 0;
+};
+
+}  // namespace robophi::robotics

@@ -1,0 +1,78 @@
+#pragma once
+/// \file
+/// Robotics tasks that run between steps (docs/robotics.md, MODEL §5): goal
+/// monitoring, local-minimum escape with virtual obstacles, grasp checks, joint
+/// limits. They observe the World and change it only through its public API.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robophi/contact.h"
+#include "robophi/robotics/joint_control.h"
+#include "robophi/robotics/task_spec.h"
+#include "robophi/runner.h"
+#include "robophi/scene.h"
+#include "robophi/world.h"
+
+namespace robophi::robotics {
+
+/// Where the robot stands with respect to a goal.
+struct GoalStatus {
+  /// Largest distance (m) of an attracted particle from its virtual copy.
+  double worstDistance = 0.0;
+  /// Mean speed (m/s) of the attracted particles.
+  double meanSpeed = 0.0;
+  bool reached = false;
+};
+GoalStatus goalStatus(const World& world, const GoalSpec& goal);
+
+/// MODEL §5.2: detects a local minimum (slow, away from the goal, for a while)
+/// and adds virtual sphere obstacles there, one after another, until it escapes.
+class LocalMinimumEscape {
+ public:
+  LocalMinimumEscape(EscapeSpec spec, GoalSpec goal);
+  /// Call after each step; returns a description when it added an obstacle.
+  std::optional<std::string> update(World& world);
+  /// The virtual obstacles added so far, in order.
+  const std::vector<SphereObstacle>& added() const { return added_; }
+
+ private:
+  EscapeSpec spec_;
+  GoalSpec goal_;
+  /// Time (s) since when the robot is stopped away from the goal; < 0: moving.
+  double stoppedSince_ = -1.0;
+  std::vector<SphereObstacle> added_;
+};
+
+/// MODEL §5.3: watches a grasped object: rest position after settling, drift
+/// after it, and a velocity disturbance at a set time.
+class GraspCheck {
+ public:
+  explicit GraspCheck(GraspSpec spec) : spec_(spec) {}
+  /// Call after each step; returns a description of what happened, if anything.
+  std::optional<std::string> update(World& world);
+  bool settled() const { return settled_; }
+  /// Largest distance (m) of the object's centre of mass from its rest position since it settled.
+  double largestDrift() const { return largestDrift_; }
+  /// Stable so far: settled and never beyond the tolerance.
+  bool stable() const { return settled_ && largestDrift_ <= spec_.tolerance; }
+  /// A one-line verdict with the figures.
+  std::string verdict() const;
+
+ private:
+  GraspSpec spec_;
+  bool settled_ = false, disturbed_ = false;
+  Vec3 rest_;
+  double largestDrift_ = 0.0;
+};
+
+/// The centre of mass (m) of object `object`.
+Vec3 objectCenterOfMass(const World& world, std::int32_t object);
+
+/// The scene's robotics tasks as a runner hook (RunOptions::betweenSteps form);
+/// an empty function when the scene has none. Events go to RunReport::events.
+std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene);
+
+}  // namespace robophi::robotics

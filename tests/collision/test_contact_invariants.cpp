@@ -1,0 +1,180 @@
+// Contact forces obey action/reaction (MODEL §3.1), runs are bit-identical, and
+// the environment items and the medium act as specified.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "collision/contact_stage.h"
+#include "collision/contact_test_util.h"
+
+namespace robophi {
+namespace {
+
+// A 3×3×3 lattice object tied by LS to axis neighbours.
+void addLatticeObject(Model& model, State& state, const Vec3& center, const Vec3& velocity) {
+  const std::int32_t object = model.addObject("block", "box");
+  const int first = model.particleCount();
+  for (int k = 0; k < 27; ++k) {
+    model.addParticle(0.05, 0.02, false, object);
+    state.position.push_back(center + Vec3{k % 3 - 1.0, (k / 3) % 3 - 1.0, k / 9 - 1.0} * 0.04);
+    state.velocity.push_back(velocity);
+    state.force.push_back(Vec3{});
+  }
+  for (int k = 0; k < 27; ++k) {
+    const int x = k % 3, y = (k / 3) % 3, z = k / 9;
+    if (x < 2) model.linearSprings.push_back({first + k, first + k + 1, 0.04, 5e3, 0.5});
+    if (y < 2) model.linearSprings.push_back({first + k, first + k + 3, 0.04, 5e3, 0.5});
+    if (z < 2) model.linearSprings.push_back({first + k, first + k + 9, 0.04, 5e3, 0.5});
+  }
+}
+
+Vec3 momentum(const Model& model, const State& state) {
+  Vec3 p;
+  for (int i = 0; i < model.particleCount(); ++i) p += state.velocity[i] * model.mass[i];
+  return p;
+}
+
+TEST(ContactInvariants, TwoFreeObjectsCollidingConserveMomentum) {
+  Model model;
+  State state;
+  model.gravity = {};
+  addLatticeObject(model, state, {-0.1, 0.0, 0.0}, {1.0, 0.2, 0.0});
+  addLatticeObject(model, state, {0.1, 0.03, 0.01}, {-1.5, 0.0, 0.1});
+  model.materials[0].staticFriction = 0.8;
+  model.materials[0].kineticFriction = 0.6;
+  World world(model, state, Integrator::kSymplecticEuler);
+  const Vec3 initial = momentum(world.model(), world.state());
+  std::size_t mostContacts = 0;
+  for (int step = 0; step < 4000; ++step) {
+    world.step(5e-5);
+    mostContacts = std::max(mostContacts, world.state().contacts.size());
+  }
+  const Vec3 final = momentum(world.model(), world.state());
+  const double error = norm(final - initial) / norm(initial);
+  std::printf("momentum: relative change %.3e over 0.2 s, up to %zu contacts\n", error,
+              mostContacts);
+  EXPECT_GT(mostContacts, 3u);
+  EXPECT_LT(error, 1e-12);
+}
+
+TEST(ContactInvariants, PileRunsAreBitIdentical) {
+  const auto run = [] {
+    Model model;
+    State state;
+    test::TestRandom random{3};
+    for (int k = 0; k < 288; ++k) {  // 6 × 6 × 8 lattice, 2.5 cm, jittered
+      const Vec3 lattice{k % 6 - 2.5, (k / 6) % 6 - 2.5, k / 36 + 0.6};
+      test::addBall(model, state,
+                    lattice * 0.025 +
+                        Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * 0.002,
+                    0.004, 0.01);
+    }
+    model.environment.planes.push_back(GroundPlane{});
+    for (const Vec3& n : {Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0}}) {
+      model.environment.planes.push_back(GroundPlane{n * -0.075, n, 0});
+    }
+    model.environment.boxes.push_back(BoxObstacle{{0.0, 0.0, 0.0}, {0.02, 0.02, 0.02}});
+    model.materials[0].contactStiffness = 4e4;
+    model.materials[0].contactDamping = 6.0;
+    World world(model, state);
+    for (int step = 0; step < 3000; ++step) world.step(1e-4);
+    return std::make_pair(stateHash(world.state()), world.state().contacts.size());
+  };
+  const auto first = run();
+  const auto second = run();
+  std::printf("pile hash %016llx, %zu contacts\n", static_cast<unsigned long long>(first.first),
+              first.second);
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_GT(first.second, 100u);
+}
+
+TEST(ContactInvariants, EnvironmentItemsGiveDistanceAndNormal) {
+  Model model;
+  State state;
+  const double r = 0.01;
+  // Heightfield z = 0.1 x over [0, 1]², a box rotated 45° about z, a sphere.
+  Heightfield field;
+  field.columns = 3;
+  field.rows = 3;
+  field.cellSizeX = field.cellSizeY = 0.5;
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) field.heights.push_back(0.1 * 0.5 * i);
+  }
+  model.environment.heightfields.push_back(field);
+  BoxObstacle box;
+  box.center = {3.0, 0.0, 0.0};
+  box.halfExtents = {0.1, 0.1, 0.1};
+  box.axisX = Vec3{1.0, 1.0, 0.0} / std::sqrt(2.0);
+  box.axisY = Vec3{-1.0, 1.0, 0.0} / std::sqrt(2.0);
+  model.environment.boxes.push_back(box);
+  model.environment.spheres.push_back(SphereObstacle{{5.0, 0.0, 0.0}, 0.5, 0});
+  test::addBall(model, state, {0.5, 0.5, 0.05 + 0.005}, 0.01, r);  // 5 mm above terrain
+  test::addBall(model, state, {3.0 + 0.1 * std::sqrt(2.0) + 0.005, 0.0, 0.0}, 0.01, r);
+  test::addBall(model, state, {5.0, 0.0, 0.5 + 0.004}, 0.01, r);
+  model.gravity = {};
+  accumulateContacts(model, state);
+  ASSERT_EQ(state.contacts.size(), 3u);
+  const double slopeNormalZ = 1.0 / std::sqrt(1.01);
+  EXPECT_NEAR(state.contacts[0].depth, 0.005 * slopeNormalZ - r, 1e-12);
+  EXPECT_NEAR(state.contacts[0].normal.x, -0.1 * slopeNormalZ, 1e-12);
+  EXPECT_NEAR(state.contacts[1].depth, 0.005 - r, 1e-12);  // at the box's corner
+  EXPECT_NEAR(state.contacts[1].normal.x, 1.0, 1e-12);
+  EXPECT_NEAR(state.contacts[2].depth, 0.004 - r, 1e-12);
+  EXPECT_NEAR(state.contacts[2].normal.z, 1.0, 1e-12);
+}
+
+TEST(ContactInvariants, HeightfieldLoadsFromPgm) {
+  const std::string path = testing::TempDir() + "/terrain.pgm";
+  {
+    std::ofstream out(path);
+    out << "P2\n# a ramp\n3 2\n255\n0 0 0\n0 255 255\n";
+  }
+  Heightfield field;
+  const std::string error = loadHeightfieldPgm(path, 0.0, 0.0, 1.0, 1.0, 0.0, 2.0, field);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(field.columns, 3);
+  EXPECT_EQ(field.rows, 2);
+  // Image row 0 is the top (y index 1).
+  EXPECT_DOUBLE_EQ(field.heightAt(0.0, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(field.heightAt(2.0, 0.0), 2.0);
+  EXPECT_DOUBLE_EQ(field.heightAt(1.5, 0.0), 2.0);
+  EXPECT_DOUBLE_EQ(field.heightAt(0.5, 0.0), 1.0);
+  EXPECT_NE(loadHeightfieldPgm(path + ".missing", 0, 0, 1, 1, 0, 1, field), "");
+}
+
+TEST(ContactInvariants, ViscosityGivesTheTerminalSpeed) {
+  // A single particle falling in a medium: m g = k v at terminal speed.
+  Model model;
+  State state;
+  test::addBall(model, state, {0.0, 0.0, 0.0}, 0.1, 0.01);
+  model.environment.viscosity = 0.5;  // N·s/m
+  World world(model, state);
+  for (int step = 0; step < 20000; ++step) world.step(1e-3);
+  const double terminal = 0.1 * 9.81 / 0.5;
+  std::printf("terminal speed %.9f m/s, m g / k = %.9f m/s\n", -world.state().velocity[0].z,
+              terminal);
+  EXPECT_NEAR(-world.state().velocity[0].z / terminal, 1.0, 1e-6);
+}
+
+TEST(ContactInvariants, ViscosityActsOnlyWhereTheSurfaceFacesTheMotion) {
+  // Two particles of one object moving along +x: only the front one feels drag.
+  Model model;
+  State state;
+  const std::int32_t object = model.addObject("pair", "particles");
+  for (int k = 0; k < 2; ++k) {
+    model.addParticle(0.1, 0.01, false, object);
+    state.position.push_back({0.1 * k, 0.0, 0.0});
+    state.velocity.push_back({2.0, 0.0, 0.0});
+    state.force.push_back({});
+  }
+  model.gravity = {};
+  model.environment.viscosity = 0.5;
+  accumulateContacts(model, state);
+  EXPECT_DOUBLE_EQ(state.force[0].x, 0.0);   // rear: n = -x
+  EXPECT_DOUBLE_EQ(state.force[1].x, -1.0);  // front: -k (V·n) V̂
+}
+
+}  // namespace
+}  // namespace robophi
