@@ -42,8 +42,9 @@ struct AdaptiveStepSettings {
   /// rejection and [1, growFactor] after an acceptance. 0: from the integrator
   /// (3 for velocity Verlet, 2 for symplectic Euler and the paper's scheme).
   double errorOrder = 0.0;
-  /// Largest penetration of a contact, as a fraction of the smaller particle's
-  /// radius (-): a deeper step is rejected.
+  /// Largest growth within one step of the deepest contact penetration, as a
+  /// fraction of the smaller radius in the contact (-): a step that pushes in
+  /// further is rejected. The depth a contact settles at is set by κ_c, not here.
   double maxPenetrationFraction = 0.1;
   /// The step stays below this fraction of the connectors' stability estimate 2/ω_max (-).
   double stabilitySafety = 0.9;

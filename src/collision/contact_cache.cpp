@@ -113,8 +113,14 @@ void classifyParticles(const Model& model, ContactScratch& cache) {
   }
   // Single particles go to the grid unless they are much larger than the
   // typical one (they would make the cells too large): those get a tree.
+  // Virtual particles (robotics goals and paths, docs/robotics.md) touch nothing.
+  const auto isVirtual = [&](ParticleIndex i) {
+    const std::int32_t object = cache.particleObject[i];
+    return object >= 0 && model.objects[object].kind == "virtual";
+  };
   std::vector<std::int32_t> singles;
   for (ParticleIndex i = 0; i < n; ++i) {
+    if (isVirtual(i)) continue;
     const std::int32_t object = cache.particleObject[i];
     if (object < 0 || objectSize[object] == 1) singles.push_back(i);
   }
@@ -142,7 +148,7 @@ void classifyParticles(const Model& model, ContactScratch& cache) {
   std::vector<std::vector<std::int32_t>> members(static_cast<std::size_t>(objectCount));
   for (ParticleIndex i = 0; i < n; ++i) {
     const std::int32_t object = cache.particleObject[i];
-    if (object >= 0 && objectSize[object] >= 2) members[object].push_back(i);
+    if (object >= 0 && objectSize[object] >= 2 && !isVirtual(i)) members[object].push_back(i);
   }
   cache.trees.clear();
   cache.treeParticles.clear();

@@ -69,15 +69,22 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   }
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
   saved_ = world.state();
+  const double penetrationBefore = settings_.maxPenetrationFraction > 0.0
+                                       ? deepestPenetrationFraction(world.model(), saved_)
+                                       : 0.0;
   for (;;) {
     const double dt = std::min(step_, maxDt);
     const StepStatus status = world.step(dt);
     const double error = status == StepStatus::kOk
                              ? energyError(saved_, world.state())
                              : std::numeric_limits<double>::infinity();
+    // Geometric control (MODEL §4): one step may not push the deepest contact
+    // further in by more than the set fraction of a radius. (The depth a soft
+    // contact reaches at rest is physics, set by κ_c, and is not capped.)
     const bool tooDeep =
         status == StepStatus::kOk && settings_.maxPenetrationFraction > 0.0 &&
-        deepestPenetrationFraction(world.model(), world.state()) > settings_.maxPenetrationFraction;
+        deepestPenetrationFraction(world.model(), world.state()) - penetrationBefore >
+            settings_.maxPenetrationFraction;
     const bool accepted = !tooDeep && error <= settings_.energyTolerance &&
                           error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
     if (accepted) {
