@@ -58,12 +58,22 @@ std::vector<BenchScene> standardBenchScenes(bool quick) {
   for (int n : {32, 64, 128}) {
     Scene cloth = makeClothScene(n);
     if (quick) cloth.run.duration = 0.01;
-    scenes.push_back({cloth.name, std::move(cloth)});
+    scenes.push_back({cloth.name, std::move(cloth), false, ""});
   }
   for (int n : {10, 20}) {
     Scene pile = makePileScene(n);
     if (quick) pile.run.duration = 0.01;
-    scenes.push_back({pile.name, std::move(pile)});
+    scenes.push_back({pile.name, std::move(pile), false, ""});
+  }
+  // The cost of one ATS step against one CTS step on the same steps (issue 4).
+  for (const std::string& base : {std::string("CLOTH-64"), std::string("PILE-1000")}) {
+    for (const BenchScene& b : scenes) {
+      if (b.name != base) continue;
+      BenchScene adaptive{base + "-ATS", b.scene, true, base};
+      if (!quick) adaptive.scene.run.duration = std::min(adaptive.scene.run.duration, 0.5);
+      scenes.push_back(std::move(adaptive));
+      break;
+    }
   }
   return scenes;
 }

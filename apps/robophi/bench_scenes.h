@@ -12,6 +12,11 @@ namespace robophi::cli {
 struct BenchScene {
   std::string name;
   Scene scene;
+  /// Run with the adaptive step capped at the scene's dt, so that it takes the
+  /// same steps as the constant run and the per-step cost can be compared.
+  bool adaptive = false;
+  /// For an adaptive run: the constant-step scene it is compared with.
+  std::string comparedWith;
 };
 
 /// CLOTH N: N×N particles 1 cm apart in z = 0, 1 kg in all, corners (0,0) and

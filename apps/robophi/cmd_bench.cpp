@@ -11,6 +11,7 @@
 
 #include "bench_pile.h"
 #include "bench_scenes.h"
+#include "robophi/adaptive_step.h"
 #include "commands.h"
 #include "robophi/version.h"
 
@@ -30,6 +31,7 @@ struct BenchResult {
   std::int64_t particles = 0, connectors = 0, steps = 0;
   double simulatedSeconds = 0.0, wallSeconds = 0.0;
   double particleStepsPerSecond = 0.0, connectorEvalsPerSecond = 0.0;
+  std::int64_t rejected = 0;
   // Contact figures: mean contacts per step, deepest penetration (m and / radius).
   double contactsPerStep = 0.0, maxPenetration = 0.0, maxPenetrationFraction = 0.0;
   std::string status;
@@ -47,9 +49,21 @@ BenchResult runBench(const BenchScene& bench) {
                                            scene.model.jointSprings.size());
   r.status = "ok";
   double contactSum = 0.0;
+  // Adaptive: capped at the constant step, so both take the same steps and
+  // their wall time per step compares the cost of one iteration.
+  AdaptiveStepSettings controller;
+  controller.initialStep = controller.maxStep = scene.run.dt;
+  AdaptiveStepper stepper(scene.model, controller);
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
-    if (world.step(scene.run.dt) != StepStatus::kOk) {
+    if (bench.adaptive) {
+      const AdaptiveStepResult a = stepper.advance(world, scene.run.duration - world.state().time);
+      if (!a.ok) {
+        r.status = "stalled";
+        break;
+      }
+      if (world.state().time >= scene.run.duration * (1.0 - 1e-12)) break;
+    } else if (world.step(scene.run.dt) != StepStatus::kOk) {
       r.status = "diverged";
       break;
     }
@@ -61,6 +75,7 @@ BenchResult runBench(const BenchScene& bench) {
   r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.contactsPerStep = steps > 0 ? contactSum / static_cast<double>(steps) : 0.0;
   r.steps = world.state().stepCount;
+  r.rejected = stepper.stats().rejected;
   r.simulatedSeconds = world.state().time;
   r.particleStepsPerSecond = static_cast<double>(r.particles * r.steps) / r.wallSeconds;
   r.connectorEvalsPerSecond = static_cast<double>(r.connectors * r.steps) / r.wallSeconds;
@@ -77,6 +92,7 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
           {"wall_s", r.wallSeconds},
           {"particle_steps_per_s", r.particleStepsPerSecond},
           {"connector_evals_per_s", r.connectorEvalsPerSecond},
+          {"rejected_steps", r.rejected},
           {"contacts_per_step", r.contactsPerStep},
           {"max_penetration_m", r.maxPenetration},
           {"max_penetration_over_radius", r.maxPenetrationFraction}};
@@ -103,6 +119,19 @@ int benchCommand(const BenchArguments& args) {
                     100.0 * r.maxPenetrationFraction);
       }
       std::fflush(stdout);
+    }
+    if (bench.adaptive) {
+      // Wall time per trial step (accepted or rejected) against the constant run's per step.
+      for (const auto& other : all) {
+        if (other["scene"] != bench.comparedWith) continue;
+        const double ats = r.wallSeconds / static_cast<double>(r.steps + r.rejected);
+        const double cts = other["wall_s"].get<double>() / other["steps"].get<double>();
+        all.back()["ats_over_cts_cost_per_step"] = ats / cts;
+        if (!args.json) {
+          std::printf("%-12s ATS cost per step / CTS cost per step = %.3f (%lld rejected)\n",
+                      r.name.c_str(), ats / cts, static_cast<long long>(r.rejected));
+        }
+      }
     }
   }
   nlohmann::ordered_json doc;
