@@ -3,25 +3,27 @@
 # Safe to run again: apt-get skips what is already there.
 set -euo pipefail
 
-packages=(
-  build-essential cmake ninja-build pkg-config
-  nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
-  python3 python3-numpy python3-pytest
-)
-
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-
-if [ ${#missing[@]} -gt 0 ]; then
+# Installs the Debian packages among "$@" that are not installed yet.
+install_missing() {
+  local missing=() p
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+      missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
   echo "robophi: installing ${missing[*]}"
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}"
+}
+
+install_missing \
+  build-essential cmake ninja-build pkg-config \
+  nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
+  python3 python3-numpy python3-pytest
 
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may
@@ -29,19 +31,7 @@ fi
 viewer_packages=(chromium)
 command -v node >/dev/null 2>&1 || viewer_packages+=(nodejs)
 command -v npm >/dev/null 2>&1 || viewer_packages+=(npm)
-viewer_missing=()
-for p in "${viewer_packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
-    viewer_missing+=("$p")
-done
-if [ ${#viewer_missing[@]} -gt 0 ]; then
-  echo "robophi: installing ${viewer_missing[*]}"
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
-    "${viewer_missing[@]}"
-fi
+install_missing "${viewer_packages[@]}"
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [ ! -d "$repo_root/viewer/node_modules/three" ] ||

@@ -68,6 +68,14 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
                                                                       : 2.0;
   }
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
+  if (!(step_ >= settings_.minStep)) {
+    result.ok = false;
+    result.failure = fmt::format(
+        "the adaptive step {:.3g} s is below its floor {:.3g} s before any trial (the "
+        "stability estimate allows {:.3g} s): {}",
+        step_, settings_.minStep, stabilityLimit_, diagnose(world));
+    return result;
+  }
   saved_ = world.state();
   const double penetrationBefore = settings_.maxPenetrationFraction > 0.0
                                        ? deepestPenetrationFraction(world.model(), saved_)

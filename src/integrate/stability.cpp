@@ -49,7 +49,10 @@ StabilityEstimate estimateStability(const Model& model) {
     shortestArm[s.b] = std::min(shortestArm[s.b], s.restLength);
   }
   auto addAngular = [&](ParticleIndex p, double kappa, double mu) {
-    const double arm = std::isfinite(shortestArm[p]) ? shortestArm[p] : 2.0 * model.radius[p];
+    // Never below the particle's diameter (an LS of zero rest length, e.g. an
+    // attractor, sets no arm).
+    const double arm = std::isfinite(shortestArm[p]) ? std::max(shortestArm[p], 2.0 * model.radius[p])
+                                                     : 2.0 * model.radius[p];
     stiffness[p] += kappa / (arm * arm);
     damping[p] += mu / (arm * arm);
   };

@@ -427,8 +427,13 @@ TEST(SceneFiles, DefaultSceneHasAChainABarAndAJoint) {
   ASSERT_TRUE(result.ok()) << allErrors(result);
   const Model& m = result.scene->model;
   EXPECT_GE(m.objects.size(), 3u);
+  EXPECT_EQ(m.objects[0].name, "bar");
+  EXPECT_EQ(m.objects[1].name, "chain");
+  EXPECT_TRUE(m.isFixed(m.objects[0].firstParticle));
   EXPECT_FALSE(m.joints.empty());
-  EXPECT_DOUBLE_EQ(result.scene->run.duration, 2.0);
+  EXPECT_EQ(m.environment.planes.size(), 1u);  // the ground
+  EXPECT_TRUE(m.contact.enabled);
+  EXPECT_DOUBLE_EQ(result.scene->run.duration, 3.0);
 }
 
 }  // namespace
