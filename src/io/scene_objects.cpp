@@ -132,9 +132,13 @@ bool readBox(ObjectReader& r, GeneratedObject& out, double dt, bool cube) {
   const auto mass = r.number("mass", Bound::kPositive, kMass, true);
   const auto radius = r.number("radius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
+  // Elastic moduli instead of spring stiffness (docs/bar-calibration.md).
+  const auto young = r.number("youngModulus", Bound::kPositive, "Pa");
+  const auto shear = r.number("shearModulus", Bound::kPositive, "Pa");
   if (!center || !size || !cells || !mass) return false;
   out = makeBox({*center, *size, *cells, *mass, radius.value_or(0.0)});
   resolveSprings(out, springs, dt, 0.0);
+  if (young && !robotics::calibrateLattice(r, out, *size, *cells, *young, shear)) return false;
   return applyRotation(r, out, *center);
 }
 

@@ -83,8 +83,9 @@ bool readArm(ObjectReader& r, io::SceneObject& object, double dt) {
     ok = false;
   } else {
     for (std::size_t i = 0; i < links->size(); ++i) {
-      const auto v = io::checkNumber(r.sink(), (*links)[i], fmt::format("{}/{}", r.memberPointer("links"), i),
-                                     "links", Bound::kPositive, "m");
+      const auto v =
+          io::checkNumber(r.sink(), (*links)[i], fmt::format("{}/{}", r.memberPointer("links"), i),
+                          "links", Bound::kPositive, "m");
       ok = ok && v.has_value();
       spec.links.push_back(v.value_or(1.0));
     }
@@ -116,8 +117,7 @@ bool readArm(ObjectReader& r, io::SceneObject& object, double dt) {
     }
   }
   for (std::size_t i = 0; i < n && ok; ++i) {
-    if (!(norm(spec.axes[i]) > 0.0) ||
-        norm(cross(unit(spec.axes[i]), spec.direction)) < 1e-3) {
+    if (!(norm(spec.axes[i]) > 0.0) || norm(cross(unit(spec.axes[i]), spec.direction)) < 1e-3) {
       r.sink().error(r.memberPointer("axes"),
                      fmt::format("'axes': joint {} axis is zero or parallel to 'direction' "
                                  "(a roll joint is not supported)",
@@ -217,7 +217,8 @@ void moveToEnd(GeneratedObject& o, const std::vector<int>& particles, std::vecto
   for (int k = 0; k < n; ++k) newIndex[static_cast<std::size_t>(order[k])] = k;
   const auto permute = [&order](auto& values) {
     auto copy = values;
-    for (std::size_t k = 0; k < order.size(); ++k) values[k] = copy[static_cast<std::size_t>(order[k])];
+    for (std::size_t k = 0; k < order.size(); ++k)
+      values[k] = copy[static_cast<std::size_t>(order[k])];
   };
   permute(o.position);
   permute(o.mass);

@@ -5,6 +5,8 @@
 // Salisbury hand). Each is one scene object whose named joints are placed as
 // "<object>.<joint>". Wired into the loader by one line in io/scene_objects.cpp.
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,14 @@ ChainParts appendChain(io::GeneratedObject& object, const ChainSpec& spec);
 /// renumbers every connector (tools and tips become "object:-k").
 void moveToEnd(io::GeneratedObject& object, const std::vector<int>& particles,
                std::vector<bool>* fixed);
+
+/// Sets a box lattice's LS from elastic moduli E (Pa) and G (Pa, default 0.4 E)
+/// so that its traction, flexion and torsion stiffness match E·A/L, 3·E·I/L³ and
+/// G·J/L (docs/bar-calibration.md). Needs cubic cells. Returns false (reported)
+/// when the lattice cannot be calibrated.
+bool calibrateLattice(io::ObjectReader& r, io::GeneratedObject& box, const Vec3& size,
+                      const std::array<int, 3>& cells, double youngModulus,
+                      std::optional<double> shearModulus);
 
 bool isRobotKind(const std::string& kind);
 /// Reads an arm, vehicle or hand entry into `object` (geometry and fixed

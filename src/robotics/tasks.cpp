@@ -120,9 +120,13 @@ std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
     double duration = 0.0;
     bool reported = false;
   };
-  auto run = std::make_shared<Running>(Running{JointLimiter(tasks.limits), tasks.goals,
+  auto run = std::make_shared<Running>(Running{JointLimiter(tasks.limits),
+                                               tasks.goals,
                                                std::vector<bool>(tasks.goals.size(), false),
-                                               {}, {}, scene.run.duration, false});
+                                               {},
+                                               {},
+                                               scene.run.duration,
+                                               false});
   for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e, tasks.goals[e.goal]);
   for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g);
   return [run](World& world, RunReport& report) {

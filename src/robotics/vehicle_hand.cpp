@@ -86,8 +86,7 @@ bool readVehicle(ObjectReader& r, io::SceneObject& object, double dt) {
     for (double y : ys) {
       ++wheelIndex;
       const Vec3 wheelCenter = *center + Vec3{x, y, 0.0};
-      const int offset =
-          append(g, io::makeWheel({wheelCenter, R, W, {0, 1, 0}, n, *wheelMass}));
+      const int offset = append(g, io::makeWheel({wheelCenter, R, W, {0, 1, 0}, n, *wheelMass}));
       const double side = y > 0.0 ? 1.0 : -1.0;
       int hubs[2] = {offset + 2 * n, offset + 2 * n + 1};
       if (side * (g.position[hubs[0]].y - g.position[hubs[1]].y) > 0.0) std::swap(hubs[0], hubs[1]);
@@ -95,8 +94,8 @@ bool readVehicle(ObjectReader& r, io::SceneObject& object, double dt) {
       // the axle line, and above each hub. Two stiff links fix a hub in x and y;
       // the soft link above is the suspension spring (MODEL §5: the vehicle adapts).
       const double towardMiddle = x > 0.0 ? -1.0 : 1.0;
-      const int inward = addParticle(
-          g, g.position[hubs[0]] - Vec3{0.0, side * 0.6 * W, 0.0}, mountMass, mountRadius);
+      const int inward = addParticle(g, g.position[hubs[0]] - Vec3{0.0, side * 0.6 * W, 0.0},
+                                     mountMass, mountRadius);
       std::vector<int> mounts = {inward};
       for (int hub : hubs) {
         const int ahead = addParticle(g, g.position[hub] + Vec3{towardMiddle * 1.5 * R, 0.0, 0.0},
@@ -139,8 +138,7 @@ bool readHand(ObjectReader& r, io::SceneObject& object, double dt) {
   const auto links = r.numbers("links", 3, "[proximal, middle, distal] (m)", true);
   const auto mass = r.number("mass", Bound::kPositive, "kg", true);
   const auto width = r.number("width", Bound::kPositive, "m");
-  const double jointStiffness =
-      r.numberOr("jointStiffness", 0.0, Bound::kNonNegative, "N·m/rad");
+  const double jointStiffness = r.numberOr("jointStiffness", 0.0, Bound::kNonNegative, "N·m/rad");
   const auto jointDamping = r.number("jointDamping", Bound::kNonNegative, "N·m·s/rad");
   const auto spread = r.number("spread", Bound::kAny, "rad");
   const io::SpringSettings springs{r.number("stiffness", Bound::kNonNegative, "N/m"),
@@ -188,8 +186,8 @@ bool readHand(ObjectReader& r, io::SceneObject& object, double dt) {
   moveToEnd(g, tips, &object.fixed);
   io::resolveSprings(g, springs, dt, 0.0);
   const double minMass = *std::min_element(g.mass.begin(), g.mass.end());
-  const double jd = jointDamping.value_or(0.05 * std::sqrt(g.linearSprings[0].stiffness * minMass) *
-                                          w * w);
+  const double jd =
+      jointDamping.value_or(0.05 * std::sqrt(g.linearSprings[0].stiffness * minMass) * w * w);
   for (auto& s : g.jointSprings) s.damping = jd;
   return true;
 }

@@ -1,0 +1,121 @@
+// MODEL §5.1 motion generation: a passive arm following its tool to a goal, and a
+// mobile robot kept on a straight line and on an arc of circle (paper §6, exp. 6).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "robophi/joints.h"
+#include "robophi/robotics/joint_control.h"
+#include "robophi/robotics/tasks.h"
+#include "robophi/runner.h"
+#include "robophi/scene.h"
+
+namespace robophi {
+namespace {
+
+Scene loadScene(const std::string& name) {
+  SceneLoadResult result = loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/" + name);
+  for (const auto& e : result.errors) ADD_FAILURE() << e.format();
+  EXPECT_TRUE(result.ok());
+  return std::move(*result.scene);
+}
+
+bool reached(const RunReport& report) {
+  for (const auto& e : report.events)
+    if (e.find("reached at") != std::string::npos) return true;
+  return false;
+}
+
+TEST(MotionGeneration, PassiveArmToolReachesVirtualToolAndJointsGiveTheTrajectory) {
+  const Scene scene = loadScene("arm_reach.json");
+  ASSERT_EQ(scene.model.joints.size(), 2u);
+  EXPECT_EQ(scene.model.joints[0].name, "arm.j1");
+  EXPECT_EQ(scene.model.joints[1].name, "arm.j2");
+  const auto tool = static_cast<ParticleIndex>(scene.model.objects[0].particleCount - 1);
+  // The joints are passive: stiffness 0 (MODEL §1).
+  for (const auto& s : scene.model.jointSprings) EXPECT_EQ(s.stiffness, 0.0);
+  RunOptions options;
+  options.settings = scene.run;
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  EXPECT_TRUE(reached(report));
+  EXPECT_LT(report.simulatedTime, scene.run.duration);  // stopped when reached
+  // The joint values are the trajectory: forward kinematics of (j1, j2) puts the
+  // tool at the goal (links 0.5 m and 0.4 m, angles π = straight).
+  const double q1 = jointValue(scene.model, last, 0) - M_PI;
+  const double q2 = jointValue(scene.model, last, 1) - M_PI;
+  const double x = 0.5 * std::cos(q1) + 0.4 * std::cos(q1 + q2);
+  const double y = 0.5 * std::sin(q1) + 0.4 * std::sin(q1 + q2);
+  EXPECT_NEAR(x, 0.2, 0.015);
+  EXPECT_NEAR(y, 0.6, 0.015);
+  EXPECT_NEAR(last.position[tool].x, 0.2, 0.011);
+  EXPECT_NEAR(last.position[tool].y, 0.6, 0.011);
+  // Analytic inverse kinematics: |q2| = acos((d² - L1² - L2²) / (2 L1 L2)).
+  const double d2 = 0.2 * 0.2 + 0.6 * 0.6;
+  EXPECT_NEAR(std::abs(q2), std::acos((d2 - 0.25 - 0.16) / 0.4), 0.04);
+}
+
+TEST(MotionGeneration, MobileRobotStaysOnItsStraightLine) {
+  const Scene scene = loadScene("mobile_line.json");
+  RunOptions options;
+  options.settings = scene.run;
+  double largestOffLine = 0.0;
+  options.betweenSteps = [&](World& world, RunReport&) {
+    largestOffLine = std::max(largestOffLine, std::abs(world.state().position[4].y));
+    return true;
+  };
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  EXPECT_TRUE(reached(report));
+  EXPECT_NEAR(last.position[4].x, 2.0, 0.01);
+  // It starts drifting sideways at 0.5 m/s; the TS at 180° holds it within 1 cm.
+  EXPECT_LT(largestOffLine, 0.01);
+  RecordProperty("largest_off_line_m", std::to_string(largestOffLine));
+}
+
+TEST(MotionGeneration, MobileRobotFollowsAnArcOfCircle) {
+  const Scene scene = loadScene("mobile_arc.json");
+  RunOptions options;
+  options.settings = scene.run;
+  double largestRadiusError = 0.0;
+  options.betweenSteps = [&](World& world, RunReport&) {
+    const Vec3& p = world.state().position[4];
+    largestRadiusError = std::max(largestRadiusError, std::abs(std::hypot(p.x, p.y) - 1.0));
+    return true;
+  };
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  EXPECT_TRUE(reached(report));
+  EXPECT_NEAR(last.position[4].x, 0.0, 0.015);
+  EXPECT_NEAR(last.position[4].y, 1.0, 0.015);
+  // The straight chord would pass 0.29 m inside the circle; the arc holds within 1 cm.
+  EXPECT_LT(largestRadiusError, 0.01);
+  RecordProperty("largest_radius_error_m", std::to_string(largestRadiusError));
+}
+
+// Joint control API: servo target, limits, passive switch (MODEL §1).
+TEST(JointControl, ServoLimitAndSwitchOff) {
+  Scene scene = loadScene("revolute_arm.json");
+  World world(scene.model, scene.initial, scene.run.integrator);
+  const auto elbow = robotics::findJoint(world.model(), "elbow");
+  ASSERT_TRUE(elbow.has_value());
+  ASSERT_TRUE(robotics::setJointTarget(world, *elbow, 2.6));
+  EXPECT_DOUBLE_EQ(robotics::jointServo(world.model(), *elbow).target, 2.6);
+  // A limit at [2.8, 3.5] holds the elbow at 2.8 while its own servo wants 2.6.
+  robotics::JointLimiter limiter({{*elbow, 2.8, 3.5, 400.0, 5.0}});
+  for (int i = 0; i < 20000; ++i) {
+    world.step(1e-4);
+    limiter.update(world);
+  }
+  EXPECT_GT(limiter.engagements(), 0);
+  EXPECT_NEAR(jointValue(world.model(), world.state(), *elbow), 2.8, 0.03);
+  ASSERT_TRUE(robotics::switchOffJoint(world, *elbow, 0.01));
+  EXPECT_EQ(robotics::jointServo(world.model(), *elbow).stiffness, 0.0);
+}
+
+}  // namespace
+}  // namespace robophi
