@@ -35,6 +35,10 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir) {
     fmt::format_to(std::back_inserter(line_), ",x{0},y{0},z{0}", i);
   }
   particles_ << line_ << '\n';
+  if (scene.model.contact.enabled) {
+    contacts_ = openOrThrow(std::filesystem::path(dir_) / "contacts.csv");
+    contacts_ << "t,a,b,fx,fy,fz\n";
+  }
   if (!scene.model.joints.empty()) {
     joints_ = openOrThrow(std::filesystem::path(dir_) / "joints.csv");
     line_ = "t";
@@ -63,6 +67,25 @@ void RunWriter::writeFrame(const Model& model, const State& state) {
     }
   }
   particles_ << line_ << '\n';
+  if (contacts_.is_open()) {
+    // The normal force on a (N); b is the other particle, or particleCount + the
+    // environment item.
+    for (const Contact& c : state.contacts) {
+      if (c.normalForce <= 0.0) continue;
+      line_.clear();
+      appendNumber(line_, state.time);
+      const std::int64_t b = c.withEnvironment()
+                                 ? static_cast<std::int64_t>(model.particleCount()) + c.environmentItem()
+                                 : c.other;
+      fmt::format_to(std::back_inserter(line_), ",{},{}", c.a, b);
+      const Vec3 f = c.normal * c.normalForce;
+      for (double value : {f.x, f.y, f.z}) {
+        line_ += ',';
+        appendNumber(line_, value);
+      }
+      contacts_ << line_ << '\n';
+    }
+  }
   if (joints_.is_open()) {
     line_.clear();
     appendNumber(line_, state.time);
@@ -114,6 +137,7 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   energy_.close();
   particles_.close();
   if (joints_.is_open()) joints_.close();
+  if (contacts_.is_open()) contacts_.close();
   {
     auto out = openOrThrow(std::filesystem::path(dir_) / "model.json");
     out << modelJson(scene) << '\n';

@@ -25,6 +25,7 @@ class RunWriter {
   std::ofstream energy_;
   std::ofstream particles_;
   std::ofstream joints_;
+  std::ofstream contacts_;
   std::string line_;  // reused buffer for one CSV row
 };
 
