@@ -25,7 +25,7 @@ std::string markdownTable(const std::vector<StudyRow>& rows) {
       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyRow& r : rows) {
     md += fmt::format("| {} | {} | {} ({}) | {:.3g} | {:.3g} | {:.3g} | {}{} | {:.3g} | {:.3g} | "
-                      "{:.0f} | {:.2f} |\n",
+                      "{:.3g} | {:.2f} |\n",
                       r.caseName, r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error,
                       r.ats.wallSeconds, r.cts.dt, r.ctsBudgetExhausted ? ">" : "", r.cts.steps,
                       r.cts.error, r.cts.wallSeconds, r.stepRatio, r.costPerStepRatio);

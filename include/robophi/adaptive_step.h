@@ -102,6 +102,8 @@ class AdaptiveStepper {
 
   AdaptiveStepSettings settings_;
   double stabilityLimit_;
+  /// Whether stabilityLimit_ has been refined with the first state's positions.
+  bool refinedLimit_;
   double step_;
   /// The error order in use (set at the first step from the integrator).
   double errorOrder_ = 0.0;

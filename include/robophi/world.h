@@ -41,7 +41,11 @@ struct StabilityEstimate {
   /// The particle that sets it, or kNoParticle.
   ParticleIndex limitingParticle = kNoParticle;
 };
-StabilityEstimate estimateStability(const Model& model);
+/// From the model alone: a Gershgorin bound, conservative. Given positions, the
+/// linear springs' part is found by power iteration on the stiffness linearised
+/// there, which is much tighter on braced lattices.
+StabilityEstimate estimateStability(const Model& model,
+                                    const std::vector<Vec3>* position = nullptr);
 
 /// Evaluates the net force on every particle at the state's positions and
 /// velocities and the potentials of the energy account (not `dissipated`).

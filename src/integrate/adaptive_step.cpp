@@ -40,6 +40,7 @@ double gravityEnergyScale(const Model& model, const State& state) {
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
     : settings_(settings),
       stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
+      refinedLimit_(false),
       step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
@@ -62,6 +63,13 @@ double AdaptiveStepper::energyError(const State& before, const State& after) con
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
+  if (!refinedLimit_) {
+    // The tighter estimate needs positions: refine at the first step.
+    refinedLimit_ = true;
+    stabilityLimit_ = std::max(
+        stabilityLimit_, settings_.stabilitySafety *
+                             estimateStability(world.model(), &world.state().position).criticalStep);
+  }
   if (errorOrder_ <= 0.0) {
     errorOrder_ = settings_.errorOrder > 0.0 ? settings_.errorOrder
                   : world.integrator() == Integrator::kVelocityVerlet ? 3.0

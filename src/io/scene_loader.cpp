@@ -199,7 +199,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
   }
   if (sink.errorCount() == 0) {
     // MODEL §2: δ must stay below 2/ω_max for the symplectic schemes.
-    const StabilityEstimate stability = estimateStability(scene.model);
+    const StabilityEstimate stability =
+        estimateStability(scene.model, &scene.initial.position);
     if (scene.run.dt > stability.criticalStep)
       sink.warning("/run/dt",
                    fmt::format("dt {:g} s exceeds the critical step {:.3g} s "

@@ -46,7 +46,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   using Clock = std::chrono::steady_clock;
   const RunSettings& settings = options.settings;
   RunReport report;
-  report.stability = estimateStability(scene.model);
+  report.stability = estimateStability(scene.model, &scene.initial.position);
   report.warnings = preflightWarnings(scene, settings, report.stability);
 
   World world(scene.model, scene.initial, settings.integrator);
