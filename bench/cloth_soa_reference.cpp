@@ -74,9 +74,9 @@ int main(int argc, char** argv) {
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("CLOTH-%d reference SoA loop: steps=%ld wall_s=%.3f particle_steps_per_s=%.3e "
-              "(z of the last particle %.6f)\n",
-              n, steps, wall, static_cast<double>(count) * static_cast<double>(steps) / wall,
-              z[count - 1]);
+  std::printf(
+      "CLOTH-%d reference SoA loop: steps=%ld wall_s=%.3f particle_steps_per_s=%.3e "
+      "(z of the last particle %.6f)\n",
+      n, steps, wall, static_cast<double>(count) * static_cast<double>(steps) / wall, z[count - 1]);
   return 0;
 }

@@ -1,17 +1,17 @@
 #include "bench_scenes.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "bench_pile.h"
 
 namespace robophi::cli {
 
 Scene makeClothScene(int n) {
-  constexpr double kSpacing = 0.01;      // m
-  constexpr double kTotalMass = 1.0;     // kg
-  constexpr double kStiffness = 1.0e4;   // N/m
+  constexpr double kSpacing = 0.01;     // m
+  constexpr double kTotalMass = 1.0;    // kg
+  constexpr double kStiffness = 1.0e4;  // N/m
   Scene scene;
   scene.name = fmt::format("CLOTH-{}", n);
   scene.sourcePath = "<bench>";

@@ -1,18 +1,18 @@
 // robophi bench: the standard scenes, headless, with throughput figures.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "bench_pile.h"
 #include "bench_scenes.h"
-#include "robophi/adaptive_step.h"
 #include "commands.h"
+#include "robophi/adaptive_step.h"
 #include "robophi/version.h"
 
 namespace robophi::cli {
@@ -110,9 +110,9 @@ int benchCommand(const BenchArguments& args) {
       std::printf(
           "%-12s particles=%-7lld connectors=%-7lld steps=%-7lld wall_s=%-8.3f "
           "particle_steps_per_s=%.3e connector_evals_per_s=%.3e %s\n",
-          r.name.c_str(), static_cast<long long>(r.particles),
-          static_cast<long long>(r.connectors), static_cast<long long>(r.steps), r.wallSeconds,
-          r.particleStepsPerSecond, r.connectorEvalsPerSecond, r.status.c_str());
+          r.name.c_str(), static_cast<long long>(r.particles), static_cast<long long>(r.connectors),
+          static_cast<long long>(r.steps), r.wallSeconds, r.particleStepsPerSecond,
+          r.connectorEvalsPerSecond, r.status.c_str());
       if (r.contactsPerStep > 0.0) {
         std::printf("%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius)\n",
                     r.name.c_str(), r.contactsPerStep, r.maxPenetration,

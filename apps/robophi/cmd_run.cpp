@@ -1,11 +1,10 @@
 // robophi run SCENE: simulate and write the results folder (docs/output-format.md).
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-
-#include <fmt/format.h>
 
 #include "commands.h"
 #include "robophi/runner.h"
@@ -73,20 +72,19 @@ int runCommand(const RunArguments& args) {
                  args.stepMode.c_str());
     return kExitBadInput;
   }
-  for (auto [name, value] : {std::pair{"--duration", options.settings.duration},
-                             std::pair{"--dt", options.settings.dt},
-                             std::pair{"--fps", options.settings.fps},
-                             std::pair{"--energy-rate", args.energyRate}}) {
+  for (auto [name, value] :
+       {std::pair{"--duration", options.settings.duration}, std::pair{"--dt", options.settings.dt},
+        std::pair{"--fps", options.settings.fps}, std::pair{"--energy-rate", args.energyRate}}) {
     if (!(value > 0.0) || !std::isfinite(value)) {
       std::fprintf(stderr, "robophi run: %s %g: expected a positive number\n", name, value);
       return kExitBadInput;
     }
   }
   options.energyRate = args.energyRate;
-  options.outDir = args.outDir.empty()
-                       ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem())
-                             .string()
-                       : args.outDir;
+  options.outDir =
+      args.outDir.empty()
+          ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
+          : args.outDir;
   options.progress = makeProgress(args.quiet);
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
@@ -105,8 +103,8 @@ int runCommand(const RunArguments& args) {
           : fmt::format("{} constant steps of {:.3g} s", report.steps, options.settings.dt);
   std::printf("%s: %s, %s, %s; %.4g s simulated in %.3f s wall, energy drift %.3g; results in %s\n",
               args.scene.c_str(), report.status.c_str(), steps.c_str(),
-              integratorName(options.settings.integrator), report.simulatedTime,
-              report.wallSeconds, report.energyDrift, options.outDir.c_str());
+              integratorName(options.settings.integrator), report.simulatedTime, report.wallSeconds,
+              report.energyDrift, options.outDir.c_str());
   if (!report.ok()) {
     std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
     return kExitDiverged;

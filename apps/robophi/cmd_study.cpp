@@ -1,9 +1,9 @@
 // robophi study ats: the paper's ATS-against-CTS comparison, as a table.
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-
-#include <fmt/format.h>
 
 #include "commands.h"
 #include "study_ats.h"
@@ -24,11 +24,12 @@ std::string markdownTable(const std::vector<StudyRow>& rows) {
       "steps | CTS error | CTS wall s | CTS/ATS steps | ATS/CTS cost per step |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyRow& r : rows) {
-    md += fmt::format("| {} | {} | {} ({}) | {:.3g} | {:.3g} | {:.3g} | {}{} | {:.3g} | {:.3g} | "
-                      "{:.3g} | {:.2f} |\n",
-                      r.caseName, r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error,
-                      r.ats.wallSeconds, r.cts.dt, r.ctsBudgetExhausted ? ">" : "", r.cts.steps,
-                      r.cts.error, r.cts.wallSeconds, r.stepRatio, r.costPerStepRatio);
+    md += fmt::format(
+        "| {} | {} | {} ({}) | {:.3g} | {:.3g} | {:.3g} | {}{} | {:.3g} | {:.3g} | "
+        "{:.3g} | {:.2f} |\n",
+        r.caseName, r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error, r.ats.wallSeconds,
+        r.cts.dt, r.ctsBudgetExhausted ? ">" : "", r.cts.steps, r.cts.error, r.cts.wallSeconds,
+        r.stepRatio, r.costPerStepRatio);
   }
   return md;
 }
@@ -40,12 +41,12 @@ int studyCommand(const StudyArguments& args) {
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());
     rows.push_back(runStudyCase(c, args.maxCtsSteps));
     const StudyRow& r = rows.back();
-    std::printf("%-40s ATS %7lld steps (%lld rejected) error %.3g | CTS dt %.3g %9lld steps "
-                "error %.3g | steps x%.0f, cost per step x%.2f\n",
-                r.caseName.c_str(), static_cast<long long>(r.ats.steps),
-                static_cast<long long>(r.ats.rejected), r.ats.error, r.cts.dt,
-                static_cast<long long>(r.cts.steps), r.cts.error, r.stepRatio,
-                r.costPerStepRatio);
+    std::printf(
+        "%-40s ATS %7lld steps (%lld rejected) error %.3g | CTS dt %.3g %9lld steps "
+        "error %.3g | steps x%.0f, cost per step x%.2f\n",
+        r.caseName.c_str(), static_cast<long long>(r.ats.steps),
+        static_cast<long long>(r.ats.rejected), r.ats.error, r.cts.dt,
+        static_cast<long long>(r.cts.steps), r.cts.error, r.stepRatio, r.costPerStepRatio);
     std::fflush(stdout);
   }
   if (args.out.empty()) return kExitOk;

@@ -17,8 +17,7 @@ void addValidateCommand(CLI::App& app, int& exitCode) {
       exitCode = kExitBadInput;
       return;
     }
-    const StabilityEstimate stability =
-        estimateStability(scene->model, &scene->initial.position);
+    const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
     std::printf("%s\n", describeScene(*scene, stability).c_str());
     for (const auto& w : preflightWarnings(*scene, scene->run, stability)) {
       std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());

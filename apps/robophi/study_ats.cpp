@@ -1,11 +1,11 @@
 #include "study_ats.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <numbers>
-
-#include <fmt/format.h>
 
 #include "robophi/adaptive_step.h"
 #include "robophi/contact.h"
@@ -39,7 +39,8 @@ StudyCase ballDrop(double contactStiffness) {
     const int object = model.addObject("ball", "particles");
     model.addParticle(1.0, kRadius, false, object);
     model.environment.planes.push_back(GroundPlane{});
-    model.contact.pairOverrides.push_back(ContactPairOverride{0, -1, contactStiffness, 0.0, 0.0, 0.0});
+    model.contact.pairOverrides.push_back(
+        ContactPairOverride{0, -1, contactStiffness, 0.0, 0.0, 0.0});
     State state = State::sizedFor(model);
     state.position[0] = {0.0, 0.0, kHeight + kRadius};
     return World(std::move(model), std::move(state), Integrator::kVelocityVerlet);
@@ -184,9 +185,9 @@ std::vector<StudyCase> atsStudyCases() {
   cases.push_back(ballDrop(1.0e10));
   cases.push_back(oscillator(0.0));
   cases.push_back(oscillator(0.05));
-  cases.push_back(referenceCase(
-      "stiff bar falling flat", "centre of mass at t = 0.5 s vs reference (m)", 0.5,
-      [] { return worldFromScene(kBarScene, "<bar study>"); }, 2e-6, {0}));
+  cases.push_back(
+      referenceCase("stiff bar falling flat", "centre of mass at t = 0.5 s vs reference (m)", 0.5,
+                    [] { return worldFromScene(kBarScene, "<bar study>"); }, 2e-6, {0}));
   cases.push_back(referenceCase(
       "wheel and cube on a 10 degree slope", "centres of mass at t = 1 s vs reference (m)", 1.0,
       [] { return worldFromScene(kWheelCubeScene, "<wheel-cube study>"); }, 2e-6, {0, 1}));
@@ -210,8 +211,7 @@ StudyRun runAdaptive(const StudyCase& c) {
     }
     c.observe(world);
   }
-  run.wallSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   run.steps = stepper.stats().accepted;
   run.rejected = stepper.stats().rejected;
   run.dt = stepper.stats().meanStep();
@@ -234,8 +234,7 @@ StudyRun runConstant(const StudyCase& c, double dt) {
     }
     c.observe(world);
   }
-  run.wallSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   run.steps = world.state().stepCount;
   run.error = run.finite ? c.error(world) : INFINITY;
   return run;

@@ -62,7 +62,9 @@ struct AdaptiveStepStats {
   /// Relative energy error and size (s) of the last accepted step.
   double lastEnergyError = 0.0;
   double lastStep = 0.0;
-  double meanStep() const { return accepted > 0 ? sumOfSteps / static_cast<double>(accepted) : 0.0; }
+  double meanStep() const {
+    return accepted > 0 ? sumOfSteps / static_cast<double>(accepted) : 0.0;
+  }
 };
 
 /// The outcome of one adaptive advance.

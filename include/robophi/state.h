@@ -26,7 +26,9 @@ struct EnergyTally {
   /// account is right; it only grows).
   double dissipated = 0.0;
 
-  double potential() const { return linearSpring + torsionSpring + jointSpring + gravity + contact; }
+  double potential() const {
+    return linearSpring + torsionSpring + jointSpring + gravity + contact;
+  }
   /// Mechanical energy E = kinetic + potential.
   double mechanical() const { return kinetic + potential(); }
   /// E + dissipated: constant for an exact integration.

@@ -132,8 +132,8 @@ double jointAngleRate(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3
 }
 
 AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, const Vec3& pC,
-                                    const Vec3& pB, const Vec3& pD, const Vec3& vA,
-                                    const Vec3& vC, const Vec3& vB, const Vec3& vD) {
+                                    const Vec3& pB, const Vec3& pD, const Vec3& vA, const Vec3& vC,
+                                    const Vec3& vB, const Vec3& vD) {
   AngularSpringForce out;
   const JointGeometry g = jointGeometry(pA, pC, pB, pD);
   out.angle = g.angle;

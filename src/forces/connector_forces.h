@@ -37,8 +37,8 @@ AngularSpringForce torsionSpringForce(const TorsionSpring& spring, const Vec3& p
                                       const Vec3& vB);
 
 AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, const Vec3& pC,
-                                    const Vec3& pB, const Vec3& pD, const Vec3& vA,
-                                    const Vec3& vC, const Vec3& vB, const Vec3& vD);
+                                    const Vec3& pB, const Vec3& pD, const Vec3& vA, const Vec3& vC,
+                                    const Vec3& vB, const Vec3& vD);
 
 /// The TS angle θ = atan2(|u × w|, u·w) with u = p_a - p_c, w = p_b - p_c.
 double torsionAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB);

@@ -42,8 +42,8 @@ ForceTally accumulateLinearSprings(const Model& model, const std::vector<Vec3>& 
   for (const LinearSpring& s : model.linearSprings) {
     Vec3 forceOnA;
     double energy = 0.0, power = 0.0;
-    if (!linearSpringKernel(s, position[s.a], position[s.b], velocity[s.a], velocity[s.b],
-                            forceOnA, energy, power)) {
+    if (!linearSpringKernel(s, position[s.a], position[s.b], velocity[s.a], velocity[s.b], forceOnA,
+                            energy, power)) {
       continue;
     }
     force[s.a] += forceOnA;

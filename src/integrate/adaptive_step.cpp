@@ -1,11 +1,11 @@
 // The energy-based adaptive time step (MODEL §4, docs/adaptive-step.md).
 #include "robophi/adaptive_step.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <fmt/format.h>
 
 #include "forces/connector_forces.h"
 
@@ -55,8 +55,8 @@ double AdaptiveStepper::energyError(const State& before, const State& after) con
   // W_dissipative (<= 0) is the work of damping, friction and viscosity.
   const double created = (after.energy.mechanical() - before.energy.mechanical()) +
                          (after.energy.dissipated - before.energy.dissipated);
-  const double scale = std::max(
-      {activeEnergy(before.energy), activeEnergy(after.energy), gravityScale_, settings_.energyFloor});
+  const double scale = std::max({activeEnergy(before.energy), activeEnergy(after.energy),
+                                 gravityScale_, settings_.energyFloor});
   return created / scale;
 }
 
@@ -66,12 +66,13 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   if (!refinedLimit_) {
     // The tighter estimate needs positions: refine at the first step.
     refinedLimit_ = true;
-    stabilityLimit_ = std::max(
-        stabilityLimit_, settings_.stabilitySafety *
-                             estimateStability(world.model(), &world.state().position).criticalStep);
+    stabilityLimit_ =
+        std::max(stabilityLimit_,
+                 settings_.stabilitySafety *
+                     estimateStability(world.model(), &world.state().position).criticalStep);
   }
   if (errorOrder_ <= 0.0) {
-    errorOrder_ = settings_.errorOrder > 0.0 ? settings_.errorOrder
+    errorOrder_ = settings_.errorOrder > 0.0                          ? settings_.errorOrder
                   : world.integrator() == Integrator::kVelocityVerlet ? 3.0
                                                                       : 2.0;
   }
@@ -91,9 +92,8 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   for (;;) {
     const double dt = std::min(step_, maxDt);
     const StepStatus status = world.step(dt);
-    const double error = status == StepStatus::kOk
-                             ? energyError(saved_, world.state())
-                             : std::numeric_limits<double>::infinity();
+    const double error = status == StepStatus::kOk ? energyError(saved_, world.state())
+                                                   : std::numeric_limits<double>::infinity();
     // Geometric control (MODEL §4): one step may not push the deepest contact
     // further in by more than the set fraction of a radius. (The depth a soft
     // contact reaches at rest is physics, set by κ_c, and is not capped.)
@@ -172,7 +172,8 @@ std::string AdaptiveStepper::diagnose(const World& world) const {
     }
   }
   if (!connector.empty()) where += "; " + connector;
-  if (state.energy.contact > 0.0) where += fmt::format("; contacts hold {:.3g} J", state.energy.contact);
+  if (state.energy.contact > 0.0)
+    where += fmt::format("; contacts hold {:.3g} J", state.energy.contact);
   return where;
 }
 

@@ -104,8 +104,9 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   auto addAngular = [&](ParticleIndex p, double kappa, double mu) {
     // Never below the particle's diameter (an LS of zero rest length, e.g. an
     // attractor, sets no arm).
-    const double arm = std::isfinite(shortestArm[p]) ? std::max(shortestArm[p], 2.0 * model.radius[p])
-                                                     : 2.0 * model.radius[p];
+    const double arm = std::isfinite(shortestArm[p])
+                           ? std::max(shortestArm[p], 2.0 * model.radius[p])
+                           : 2.0 * model.radius[p];
     stiffness[p] += kappa / (arm * arm);
     damping[p] += mu / (arm * arm);
     angularK[p] += kappa / (arm * arm);

@@ -1,10 +1,10 @@
 #include "io/run_writer.h"
 
-#include <filesystem>
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "robophi/joints.h"
 #include "robophi/version.h"
@@ -21,7 +21,9 @@ std::ofstream openOrThrow(const std::filesystem::path& path) {
 
 // Numbers are written in their shortest round-trip form, so a CSV read back
 // gives the bits that were simulated.
-void appendNumber(std::string& line, double value) { fmt::format_to(std::back_inserter(line), "{}", value); }
+void appendNumber(std::string& line, double value) {
+  fmt::format_to(std::back_inserter(line), "{}", value);
+}
 
 }  // namespace
 
@@ -74,9 +76,10 @@ void RunWriter::writeFrame(const Model& model, const State& state) {
       if (c.normalForce <= 0.0) continue;
       line_.clear();
       appendNumber(line_, state.time);
-      const std::int64_t b = c.withEnvironment()
-                                 ? static_cast<std::int64_t>(model.particleCount()) + c.environmentItem()
-                                 : c.other;
+      const std::int64_t b =
+          c.withEnvironment()
+              ? static_cast<std::int64_t>(model.particleCount()) + c.environmentItem()
+              : c.other;
       fmt::format_to(std::back_inserter(line_), ",{},{}", c.a, b);
       const Vec3 f = c.normal * c.normalForce;
       for (double value : {f.x, f.y, f.z}) {
@@ -102,7 +105,8 @@ std::string modelJson(const Scene& scene) {
   nlohmann::ordered_json j;
   j["name"] = scene.name;
   std::vector<int> fixed;
-  for (ParticleIndex i = 0; i < model.particleCount(); ++i) fixed.push_back(model.isFixed(i) ? 1 : 0);
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i)
+    fixed.push_back(model.isFixed(i) ? 1 : 0);
   j["particles"] = {{"count", model.particleCount()},
                     {"mass", model.mass},
                     {"radius", model.radius},

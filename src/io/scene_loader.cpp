@@ -4,8 +4,8 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -15,8 +15,8 @@
 #include "io/scene_fields.h"
 #include "io/scene_links.h"
 #include "io/scene_objects.h"
-#include "robotics/scene_robotics.h"
 #include "robophi/scene.h"
+#include "robotics/scene_robotics.h"
 
 namespace robophi {
 
@@ -188,8 +188,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 
   Scene scene;
   scene.sourcePath = fileName;
-  readScene(sink, json.json->value,
-            std::filesystem::path(fileName).parent_path().string(), scene);
+  readScene(sink, json.json->value, std::filesystem::path(fileName).parent_path().string(), scene);
 
   if (sink.errorCount() == 0) {
     // Internal check: the loader's own output must be a consistent model.
@@ -199,8 +198,7 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
   }
   if (sink.errorCount() == 0) {
     // MODEL §2: δ must stay below 2/ω_max for the symplectic schemes.
-    const StabilityEstimate stability =
-        estimateStability(scene.model, &scene.initial.position);
+    const StabilityEstimate stability = estimateStability(scene.model, &scene.initial.position);
     if (scene.run.dt > stability.criticalStep)
       sink.warning("/run/dt",
                    fmt::format("dt {:g} s exceeds the critical step {:.3g} s "

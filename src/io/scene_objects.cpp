@@ -23,8 +23,8 @@ struct TypeName {
 constexpr TypeName kTypes[] = {
     {"rope", "rope"},   {"chain", "rope"},          {"bar", "bar"},     {"box", "box"},
     {"cube", "box"},    {"plate", "plate"},         {"cloth", "plate"}, {"ball", "ball"},
-    {"wheel", "wheel"}, {"particles", "particles"},
-    {"arm", "arm"},     {"vehicle", "vehicle"},     {"hand", "hand"},  // robotics/robot_builders.h
+    {"wheel", "wheel"}, {"particles", "particles"}, {"arm", "arm"},     {"vehicle", "vehicle"},
+    {"hand", "hand"},  // robotics/robot_builders.h
 };
 
 SpringSettings readSprings(ObjectReader& r) {

@@ -1,8 +1,8 @@
 #include "robophi/model.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 namespace robophi {
 
@@ -47,15 +47,15 @@ std::string checkModel(const Model& model) {
       return fmt::format("particle {}: radius {} must be a positive number (m)", i,
                          model.radius[i]);
     if (!(model.linearDamping[i] >= 0.0))
-      return fmt::format("particle {}: damping {} must be >= 0 (N·s/m)", i,
-                         model.linearDamping[i]);
+      return fmt::format("particle {}: damping {} must be >= 0 (N·s/m)", i, model.linearDamping[i]);
   }
   for (std::size_t k = 0; k < model.linearSprings.size(); ++k) {
     const auto& s = model.linearSprings[k];
     if (!inRange(s.a, n) || !inRange(s.b, n) || s.a == s.b)
       return fmt::format("LS {}: particles ({}, {}) must be two different particles of {}", k, s.a,
                          s.b, n);
-    if (!(s.restLength > 0.0)) return fmt::format("LS {}: rest length {} must be > 0", k, s.restLength);
+    if (!(s.restLength > 0.0))
+      return fmt::format("LS {}: rest length {} must be > 0", k, s.restLength);
     if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0))
       return fmt::format("LS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
                          s.damping);
@@ -64,8 +64,8 @@ std::string checkModel(const Model& model) {
     const auto& s = model.torsionSprings[k];
     if (!inRange(s.a, n) || !inRange(s.b, n) || !inRange(s.c, n) || s.a == s.c || s.b == s.c ||
         s.a == s.b)
-      return fmt::format("TS {}: particles ({}, {}, {}) must be three different particles of {}",
-                         k, s.a, s.c, s.b, n);
+      return fmt::format("TS {}: particles ({}, {}, {}) must be three different particles of {}", k,
+                         s.a, s.c, s.b, n);
     if (!(s.restAngle >= 0.0 && s.restAngle <= M_PI))
       return fmt::format("TS {}: rest angle {} must be in [0, π]", k, s.restAngle);
     if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0))

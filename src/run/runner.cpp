@@ -2,12 +2,12 @@
 // staging folder that makes the output appear whole or not at all.
 #include "robophi/runner.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
-
-#include <fmt/format.h>
 
 #include "io/run_writer.h"
 #include "robophi/replay.h"
@@ -101,8 +101,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   sample(adaptive ? stepper->nextStep() : settings.dt, false);
   for (;;) {
     const State& state = world.state();
-    const bool done = adaptive ? state.time >= settings.duration * (1.0 - 1e-12)
-                               : state.stepCount >= totalSteps;
+    const bool done =
+        adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : state.stepCount >= totalSteps;
     if (done) break;
     double dtUsed = settings.dt;
     if (adaptive) {

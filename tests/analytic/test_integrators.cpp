@@ -162,8 +162,8 @@ TEST(Pendulum, SmallAnglePeriod) {
   state.position[1] = {hang * std::sin(theta0), 0.0, -hang * std::cos(theta0)};
   World world(std::move(model), std::move(state), Integrator::kVelocityVerlet);
   const double expected = 2.0 * kPi * std::sqrt(hang / g) * (1.0 + theta0 * theta0 / 16.0);
-  const Swing swing = simulateSwing(world, 1e-4, static_cast<int>(6.5 * expected / 1e-4), 0.0,
-                                    xOfParticle1);
+  const Swing swing =
+      simulateSwing(world, 1e-4, static_cast<int>(6.5 * expected / 1e-4), 0.0, xOfParticle1);
   ASSERT_GE(swing.crossings.size(), 5u);
   const double measured =
       (swing.crossings.back() - swing.crossings.front()) / double(swing.crossings.size() - 1);
@@ -192,7 +192,8 @@ TEST(FreeFall, Exact) {
     const Vec3& v = world.state().velocity[0];
     EXPECT_NEAR(p.x, v0.x * t, 1e-12);
     EXPECT_NEAR(p.y, v0.y * t, 1e-12);
-    EXPECT_NEAR(p.z, 10.0 + v0.z * t - 0.5 * g * t * (t + lag), 1e-11) << integratorName(integrator);
+    EXPECT_NEAR(p.z, 10.0 + v0.z * t - 0.5 * g * t * (t + lag), 1e-11)
+        << integratorName(integrator);
     EXPECT_NEAR(v.z, v0.z - g * t, 1e-11);
   }
 }

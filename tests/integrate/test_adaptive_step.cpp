@@ -31,7 +31,7 @@ TEST(AdaptiveStep, RejectionRestoresExactly) {
   World adaptive = makeStretchedPair(1.0e4, Integrator::kVelocityVerlet);
   World replay = makeStretchedPair(1.0e4, Integrator::kVelocityVerlet);
   AdaptiveStepSettings settings;
-  settings.initialStep = 0.05;  // far too large: the first trials are rejected
+  settings.initialStep = 0.05;     // far too large: the first trials are rejected
   settings.stabilitySafety = 1e9;  // let the energy test do the work
   AdaptiveStepper stepper(adaptive.model(), settings);
   for (int i = 0; i < 500; ++i) {
@@ -48,8 +48,8 @@ TEST(AdaptiveStep, RejectionRestoresExactly) {
 // The energy error per accepted step stays within the tolerance, so the
 // oscillator keeps its energy; and the step settles where ωδ is small.
 TEST(AdaptiveStep, KeepsEnergyWithinTolerance) {
-  for (Integrator integrator : {Integrator::kSymplecticEuler, Integrator::kVelocityVerlet,
-                                Integrator::kTaylor}) {
+  for (Integrator integrator :
+       {Integrator::kSymplecticEuler, Integrator::kVelocityVerlet, Integrator::kTaylor}) {
     World world = makeStretchedPair(1.0e4, integrator);
     AdaptiveStepSettings settings;
     AdaptiveStepper stepper(world.model(), settings);

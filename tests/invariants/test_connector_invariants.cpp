@@ -113,8 +113,8 @@ TEST(TorsionSpringInvariants, RandomConfigurations) {
 // Arms of different lengths: the paper's force law would break angular
 // momentum here; the gradient form must not.
 TEST(TorsionSpringInvariants, UnequalArms) {
-  TorsionCase tc{{2.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.1, 0.05},
-                 TorsionSpring{0, 1, 2, 2.0, 10.0, 1.0}};
+  TorsionCase tc{
+      {2.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.1, 0.05}, TorsionSpring{0, 1, 2, 2.0, 10.0, 1.0}};
   checkTorsion(tc, {0.0, 1.0, 0.0}, {0.3, 0.0, 0.1}, {-1.0, 0.0, 0.0}, 1e-5);
 }
 
@@ -125,8 +125,7 @@ TEST(TorsionSpringInvariants, NearStraight) {
     const Vec3 pB{-std::cos(offset), std::sin(offset) * 0.8, std::sin(offset) * 0.6};
     TorsionCase tc{{1.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, pB, TorsionSpring{0, 1, 2, kPi, 5.0, 0.1}};
     checkTorsion(tc, {0.0, 0.2, 0.0}, {}, {0.0, -0.1, 0.3}, offset > 1e-6 ? 1e-5 : 0.0);
-    const AngularSpringForce f =
-        torsionSpringForce(tc.spring, tc.pA, tc.pC, tc.pB, {}, {}, {});
+    const AngularSpringForce f = torsionSpringForce(tc.spring, tc.pA, tc.pC, tc.pB, {}, {}, {});
     // |F_b| = κ (π - θ) / |w| -> 0 linearly: a smooth restoring force.
     EXPECT_NEAR(norm(f.onB), 5.0 * offset, 1e-9) << "offset " << offset;
     EXPECT_NEAR(f.angle, kPi - offset, 1e-12);
@@ -163,8 +162,8 @@ TEST(JointSpringInvariants, RandomConfigurations) {
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi - 1e-9);
   for (int trial = 0; trial < 200; ++trial) {
-    checkJoint(randomVec(rng, 1.0), randomVec(rng, 1.0), randomVec(rng, 1.0),
-               randomVec(rng, 1.0), JointSpring{0, 1, 2, 3, angle(rng), 4.0, 0.3}, 1e-5);
+    checkJoint(randomVec(rng, 1.0), randomVec(rng, 1.0), randomVec(rng, 1.0), randomVec(rng, 1.0),
+               JointSpring{0, 1, 2, 3, angle(rng), 4.0, 0.3}, 1e-5);
   }
 }
 
@@ -176,9 +175,9 @@ TEST(JointSpringInvariants, NoForceOnTheReferenceForInPlaneArms) {
   for (int trial = 0; trial < 50; ++trial) {
     const double theta = angle(rng);
     const Vec3 pA{0.7, 0, 0}, pC{0, 0, 0}, pB{1.3 * std::cos(theta), 1.3 * std::sin(theta), 0};
-    const AngularSpringForce f = jointSpringForce(JointSpring{0, 1, 2, 3, angle(rng), 4.0, 0.3},
-                                                  pA, pC, pB, {0, 0, 0.2}, {0.1, 0.3, 0},
-                                                  {}, {-0.2, 0.1, 0}, {});
+    const AngularSpringForce f =
+        jointSpringForce(JointSpring{0, 1, 2, 3, angle(rng), 4.0, 0.3}, pA, pC, pB, {0, 0, 0.2},
+                         {0.1, 0.3, 0}, {}, {-0.2, 0.1, 0}, {});
     EXPECT_LT(norm(f.onD), 1e-12 * (norm(f.onA) + 1.0));
     EXPECT_NEAR(f.angle, theta, 1e-12);
   }

@@ -12,7 +12,8 @@ namespace robophi {
 namespace {
 
 TEST(Grasp, ThreeFingeredHandHoldsTheBallThroughADisturbance) {
-  SceneLoadResult loaded = loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/hand_grasp.json");
+  SceneLoadResult loaded =
+      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/hand_grasp.json");
   ASSERT_TRUE(loaded.ok());
   const Scene& scene = *loaded.scene;
   ASSERT_EQ(scene.model.joints.size(), 9u);  // three fingers, three joints each
