@@ -12,23 +12,15 @@
 #include <string>
 
 #include "robophi/replay.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string readText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using testing::readText;
+using testing::writeText;
 
 // The run data object embedded in the page.
 nlohmann::json pageData(const std::string& page) {

@@ -12,23 +12,15 @@
 #include <vector>
 
 #include "robophi/vtk_export.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string readText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using testing::readText;
+using testing::writeText;
 
 // The value of attribute `name` in the first tag that starts at or after `from`.
 std::string attribute(const std::string& xml, std::size_t from, const std::string& name) {
