@@ -89,7 +89,7 @@ int runCommand(const RunArguments& args) {
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
-  for (const auto& w : preflightWarnings(*scene, options.settings, stability)) {
+  for (const auto& w : preflightWarnings(options.settings, stability)) {
     std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
   }
 

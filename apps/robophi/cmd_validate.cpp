@@ -19,7 +19,7 @@ void addValidateCommand(CLI::App& app, int& exitCode) {
     }
     const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
     std::printf("%s\n", describeScene(*scene, stability).c_str());
-    for (const auto& w : preflightWarnings(*scene, scene->run, stability)) {
+    for (const auto& w : preflightWarnings(scene->run, stability)) {
       std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());
     }
     std::printf("%s: valid\n", path->c_str());

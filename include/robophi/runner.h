@@ -43,7 +43,8 @@ struct RunOptions {
 
 /// What a run did.
 struct RunReport {
-  /// "ok"; "diverged" when a state became NaN or infinite (constant step);
+  /// "ok"; "diverged" when a state became NaN or infinite, or the energy grew
+  /// over 100 times its initial value (constant step);
   /// "stalled" when the adaptive step fell below its floor.
   std::string status = "ok";
   /// For a diverged run: which particle, when.
@@ -69,7 +70,7 @@ struct RunReport {
 };
 
 /// Warnings about a scene before it runs (e.g. a step above the stability estimate).
-std::vector<std::string> preflightWarnings(const Scene& scene, const RunSettings& settings,
+std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability);
 
 /// Runs the scene. When options.outDir is set, the results are written to a

@@ -54,7 +54,6 @@ RunSettings readRun(DiagnosticSink& sink, const nlohmann::json* value) {
                              io::didYouMean(*mode, {"adaptive", "constant"})));
     }
   }
-  run.adaptive.initialStep = run.dt;
   r.finish();
   return run;
 }
@@ -195,16 +194,6 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
     if (const std::string problem = checkModel(scene.model); !problem.empty())
       sink.error("", "internal error, the model built from this scene is inconsistent: " + problem);
     if (scene.model.particleCount() == 0) sink.error("/objects", "the scene has no particle");
-  }
-  if (sink.errorCount() == 0) {
-    // MODEL §2: δ must stay below 2/ω_max for the symplectic schemes.
-    const StabilityEstimate stability = estimateStability(scene.model, &scene.initial.position);
-    if (scene.run.dt > stability.criticalStep)
-      sink.warning("/run/dt",
-                   fmt::format("dt {:g} s exceeds the critical step {:.3g} s "
-                               "estimated for this model (particle {}): the run may "
-                               "diverge",
-                               scene.run.dt, stability.criticalStep, stability.limitingParticle));
   }
   result.errors = sink.takeErrors();
   result.warnings = sink.takeWarnings();

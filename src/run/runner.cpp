@@ -15,9 +15,8 @@
 
 namespace robophi {
 
-std::vector<std::string> preflightWarnings(const Scene& scene, const RunSettings& settings,
+std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability) {
-  (void)scene;
   std::vector<std::string> warnings;
   if (settings.dt > stability.criticalStep) {
     warnings.push_back(fmt::format(
@@ -29,6 +28,10 @@ std::vector<std::string> preflightWarnings(const Scene& scene, const RunSettings
 }
 
 namespace {
+
+// Energy drift (relative to the initial mechanical energy) above which a finite
+// run is reported as diverged.
+constexpr double kRunawayEnergyGrowth = 100.0;
 
 // A folder beside `target` that is renamed to it when complete.
 std::string stagingFolder(const std::string& target) {
@@ -47,7 +50,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   const RunSettings& settings = options.settings;
   RunReport report;
   report.stability = estimateStability(scene.model, &scene.initial.position);
-  report.warnings = preflightWarnings(scene, settings, report.stability);
+  report.warnings = preflightWarnings(settings, report.stability);
 
   World world(scene.model, scene.initial, settings.integrator);
   world.refresh();  // the energy account of the initial state
@@ -147,6 +150,16 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.finalTotal = last.energy.total();
   report.dissipated = last.energy.dissipated;
   report.energyDrift = (report.finalTotal - report.initialTotal) / energyScale;
+  // Runaway energy is numerical trouble even while every number stays finite.
+  if (report.ok() && report.energyDrift > kRunawayEnergyGrowth) {
+    report.status = "diverged";
+    report.failure = fmt::format(
+        "the energy grew to {:.3g} times its initial value (E + dissipated, from {:.6g} J to "
+        "{:.6g} J): the step is too large for the model's stiffness (estimate 2/omega_max = "
+        "{:.3g} s)",
+        report.energyDrift, report.initialTotal, report.finalTotal, report.stability.criticalStep);
+    report.warnings.push_back(report.failure);
+  }
   report.stateHash = stateHash(last);
   if (finalState) *finalState = last;
 
