@@ -43,6 +43,15 @@ void World::refresh() {
   state_.energy.kinetic = kineticEnergy(model_, state_);
 }
 
+double World::bookExternalWork() {
+  if (state_.forcesValid) return 0.0;
+  const double before = state_.energy.total();
+  refresh();
+  const double work = state_.energy.total() - before;
+  state_.energy.external += work;
+  return work;
+}
+
 StepStatus World::step(double dt) {
   // 1. Forces at t (cached from the previous step when nothing changed).
   refresh();

@@ -52,12 +52,14 @@ struct RunReport {
   std::int64_t steps = 0;
   double simulatedTime = 0.0;
   double wallSeconds = 0.0;
-  /// E + dissipated at the start and end (J), and their drift relative to the
-  /// initial mechanical energy.
+  /// E + dissipated - external work at the start and end (J), and their drift
+  /// relative to the initial mechanical energy.
   double initialTotal = 0.0;
   double finalTotal = 0.0;
   double energyDrift = 0.0;
   double dissipated = 0.0;
+  /// Work done between steps by robotics tasks and hooks (J, EnergyTally::external).
+  double externalWork = 0.0;
   StabilityEstimate stability;
   /// Accepted and rejected steps, step sizes (adaptive mode).
   AdaptiveStepStats adaptive;

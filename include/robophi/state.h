@@ -25,14 +25,18 @@ struct EnergyTally {
   /// Work removed so far by damping, friction and viscosity (>= 0 when the
   /// account is right; it only grows).
   double dissipated = 0.0;
+  /// Work done on the system between steps (J): robotics tasks that move
+  /// virtual robots, add virtual obstacles, change joint targets or disturb an
+  /// object (World::bookExternalWork). 0 for a closed system.
+  double external = 0.0;
 
   double potential() const {
     return linearSpring + torsionSpring + jointSpring + gravity + contact;
   }
   /// Mechanical energy E = kinetic + potential.
   double mechanical() const { return kinetic + potential(); }
-  /// E + dissipated: constant for an exact integration.
-  double total() const { return mechanical() + dissipated; }
+  /// E + dissipated - external work: constant for an exact integration.
+  double total() const { return mechanical() + dissipated - external; }
 };
 
 /// The mutable state of a model.

@@ -78,6 +78,11 @@ class World {
     state_.forcesValid = false;
     return model_;
   }
+  /// After changes made between steps (mutableModel, mutableState): brings the
+  /// energy account up to date and books the jump in E + dissipated as work done
+  /// from outside, so that total() stays the conserved quantity. Returns the
+  /// work (J); 0 when nothing was changed.
+  double bookExternalWork();
   /// Puts back a state saved earlier (a snapshot copy): undoes steps exactly.
   void restore(const State& saved) { state_ = saved; }
   Integrator integrator() const { return integrator_; }

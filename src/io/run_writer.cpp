@@ -178,7 +178,8 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   s["energy"] = {{"initial_total_J", report.initialTotal},
                  {"final_total_J", report.finalTotal},
                  {"drift", report.energyDrift},
-                 {"dissipated_J", report.dissipated}};
+                 {"dissipated_J", report.dissipated},
+                 {"external_work_J", report.externalWork}};
   s["state_hash"] = fmt::format("{:016x}", report.stateHash);
   s["warnings"] = report.warnings;
   if (!report.events.empty()) s["events"] = report.events;

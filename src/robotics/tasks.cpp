@@ -28,6 +28,8 @@ LocalMinimumEscape::LocalMinimumEscape(EscapeSpec spec, GoalSpec goal)
     : spec_(spec), goal_(std::move(goal)) {}
 
 std::optional<std::string> LocalMinimumEscape::update(World& world) {
+  if (start_.empty())
+    for (ParticleIndex i : goal_.particles) start_.push_back(world.state().position[i]);
   const GoalStatus status = goalStatus(world, goal_);
   const double t = world.state().time;
   const bool stuck = status.meanSpeed < spec_.speedThreshold && !status.reached &&
@@ -39,9 +41,11 @@ std::optional<std::string> LocalMinimumEscape::update(World& world) {
   if (stoppedSince_ < 0.0) stoppedSince_ = t;
   if (t - stoppedSince_ < spec_.window || static_cast<int>(added_.size()) >= spec_.maxObstacles)
     return std::nullopt;
-  // MODEL §5.2: a virtual obstacle at the local minimum. It touches the particle
-  // farthest from its goal on the goal's side (no initial overlap, so nothing
-  // jumps): the stuck particle then sits on a convex bump and slides off it.
+  // MODEL §5.2: a virtual obstacle at the local minimum, overlapping the stuck
+  // particle (the one farthest from its goal) from one side so that it pushes
+  // it sideways, across its pull towards the goal. The side is chosen once: the
+  // way the particle has drifted sideways since the start (else a fixed
+  // perpendicular), so that successive obstacles push the same way.
   std::size_t worst = 0;
   double worstDistance = -1.0;
   const State& s = world.state();
@@ -54,8 +58,20 @@ std::optional<std::string> LocalMinimumEscape::update(World& world) {
   }
   const ParticleIndex i = goal_.particles[worst];
   const Vec3 toGoal = (s.position[goal_.targets[worst]] - s.position[i]) / worstDistance;
+  if (!side_) {
+    const Vec3 drift = s.position[i] - start_[worst];
+    Vec3 sideways = drift - toGoal * dot(drift, toGoal);
+    if (norm(sideways) < 1e-3 * std::max(norm(drift), 1e-9)) {
+      sideways = cross(toGoal, Vec3{0.0, 0.0, 1.0});
+      if (norm(sideways) < 1e-6) sideways = cross(toGoal, Vec3{1.0, 0.0, 0.0});
+    }
+    side_ = sideways / norm(sideways);
+  }
+  Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
+  push = norm(push) > 1e-9 ? push / norm(push) : *side_;
+  const double r = world.model().radius[i];
   SphereObstacle sphere;
-  sphere.center = s.position[i] + toGoal * (world.model().radius[i] + spec_.obstacleRadius);
+  sphere.center = s.position[i] - push * (spec_.obstacleRadius + r * (1.0 - kOverlap));
   sphere.radius = spec_.obstacleRadius;
   world.mutableModel().environment.spheres.push_back(sphere);
   added_.push_back(sphere);

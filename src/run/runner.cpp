@@ -129,8 +129,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
     sample(dtUsed, false);
     // Robotics tasks between steps (docs/robotics.md); either may end the run.
-    if (robotTasks && !robotTasks(world, report)) break;
-    if (options.betweenSteps && !options.betweenSteps(world, report)) break;
+    const bool stop = (robotTasks && !robotTasks(world, report)) ||
+                      (options.betweenSteps && !options.betweenSteps(world, report));
+    world.bookExternalWork();  // what the tasks changed is work from outside
+    if (stop) break;
     if (options.progress && (world.state().stepCount & 255) == 0) {
       const auto now = Clock::now();
       if (now - lastProgress > std::chrono::milliseconds(100)) {
@@ -149,6 +151,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.simulatedTime = last.time;
   report.finalTotal = last.energy.total();
   report.dissipated = last.energy.dissipated;
+  report.externalWork = last.energy.external;
   report.energyDrift = (report.finalTotal - report.initialTotal) / energyScale;
   // Runaway energy is numerical trouble even while every number stays finite.
   if (report.ok() && report.energyDrift > kRunawayEnergyGrowth) {

@@ -44,6 +44,12 @@ class LocalMinimumEscape {
   /// Time (s) since when the robot is stopped away from the goal; < 0: moving.
   double stoppedSince_ = -1.0;
   std::vector<SphereObstacle> added_;
+  /// Where the attracted particles started (m), taken at the first update.
+  std::vector<Vec3> start_;
+  /// The side (unit) the virtual obstacles push towards, chosen at the first one.
+  std::optional<Vec3> side_;
+  /// How deep a new virtual obstacle overlaps the stuck particle, as a fraction of its radius.
+  static constexpr double kOverlap = 0.5;
 };
 
 /// MODEL §5.3: watches a grasped object: rest position after settling, drift

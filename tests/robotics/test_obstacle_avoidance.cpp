@@ -1,0 +1,173 @@
+// MODEL §5.2 obstacle avoidance: an object attracted into an obstacle slides
+// along it; a security distance keeps it away; a manipulator stuck in a local
+// minimum escapes through virtual obstacles and reaches its goal (paper exp. 5).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "robophi/robotics/tasks.h"
+#include "robophi/runner.h"
+#include "robophi/scene.h"
+
+namespace robophi {
+namespace {
+
+int countEvents(const RunReport& report, const std::string& part) {
+  return static_cast<int>(
+      std::count_if(report.events.begin(), report.events.end(),
+                    [&](const std::string& e) { return e.find(part) != std::string::npos; }));
+}
+
+// One ball (radius 0.05 m) attracted from the origin to (1, 0, 0) through a
+// sphere obstacle of radius 0.1 m at (0.5, offset, 0): the ball meets it
+// off-centre, at an angle α from head-on with sin α = offset / (0.15 m +
+// security). It slides round it when tan α exceeds the friction coefficient
+// μ_s = 0.5 (default material), and sticks otherwise (a friction local minimum).
+Scene ballBehindObstacle(double offset, double securityDistance, bool escape) {
+  const std::string text =
+      fmt::format(R"({{
+  "run": {{"duration": 6.0, "dt": 1e-4, "fps": 200}}, "gravity": [0, 0, 0],
+  "objects": [{{"name": "ball", "type": "particles",
+                "particles": [{{"position": [0, 0, 0], "mass": 1, "radius": 0.05}}],
+                "linearDamping": 4}}],
+  "robotics": {{
+    "obstacles": [{{"type": "sphere", "center": [0.5, {}, 0], "radius": 0.1,
+                    "securityDistance": {}}}],
+    "goals": [{{"name": "goal", "particles": ["ball:0"], "targets": [[1, 0, 0]],
+               "stiffness": 10, "damping": 6, "tolerance": 0.01, "stopWhenReached": true{}}}]}}}})",
+                  offset, securityDistance,
+                  escape ? R"(, "escape": {"speedThreshold": 0.01, "window": 0.3,
+                                                  "obstacleRadius": 0.05})"
+                         : "");
+  SceneLoadResult result = loadSceneText(text, "ball");
+  for (const auto& e : result.errors) ADD_FAILURE() << e.format();
+  EXPECT_TRUE(result.ok());
+  return std::move(*result.scene);
+}
+
+struct Passage {
+  RunReport report;
+  /// Smallest gap (m) between the ball's surface and the real obstacle's surface.
+  double smallestGap = 1e9;
+  /// Largest sideways excursion |y| (m) of the ball.
+  double largestSideways = 0.0;
+};
+
+Passage pass(double offset, double securityDistance, bool escape = false) {
+  const Scene scene = ballBehindObstacle(offset, securityDistance, escape);
+  RunOptions options;
+  options.settings = scene.run;
+  Passage p;
+  options.betweenSteps = [&p, offset](World& world, RunReport&) {
+    const Vec3 c = world.state().position[0];
+    p.smallestGap = std::min(p.smallestGap, norm(c - Vec3{0.5, offset, 0.0}) - 0.1 - 0.05);
+    p.largestSideways = std::max(p.largestSideways, std::abs(c.y));
+    return true;
+  };
+  p.report = runScene(scene, options);
+  return p;
+}
+
+TEST(ObstacleAvoidance, AttractedBallSlidesAlongTheObstacleToItsGoal) {
+  const Passage p = pass(0.1, 0.0);  // tan α = 0.89 > μ_s
+  ASSERT_TRUE(p.report.ok()) << p.report.failure;
+  EXPECT_EQ(countEvents(p.report, "reached at"), 1);
+  // It touched the obstacle (contact, a few mm of penetration at most) and went
+  // round it: to pass, the centre must clear 0.15 m from the obstacle's centre,
+  // i.e. reach y <= 0.1 - 0.15 = -0.05 m.
+  EXPECT_LT(p.smallestGap, 0.0);
+  EXPECT_GT(p.smallestGap, -0.01);
+  EXPECT_GT(p.largestSideways, 0.045);
+}
+
+TEST(ObstacleAvoidance, NearlyHeadOnTheBallSticksInsideTheFrictionCone) {
+  const Passage p = pass(0.03, 0.0);  // tan α = 0.2 < μ_s: a local minimum
+  ASSERT_TRUE(p.report.ok()) << p.report.failure;
+  EXPECT_EQ(countEvents(p.report, "reached at"), 0);
+  EXPECT_LT(p.smallestGap, 0.0);
+  EXPECT_LT(p.largestSideways, 0.02);
+}
+
+TEST(ObstacleAvoidance, AVirtualObstacleGetsTheBallOutOfTheFrictionLocalMinimum) {
+  const Passage p = pass(0.03, 0.0, true);
+  ASSERT_TRUE(p.report.ok()) << p.report.failure;
+  EXPECT_EQ(countEvents(p.report, "local minimum at"), 1);
+  EXPECT_EQ(countEvents(p.report, "reached at"), 1);
+  // Round the obstacle: y <= 0.03 - 0.15 at some point.
+  EXPECT_GT(p.largestSideways, 0.115);
+  EXPECT_GT(p.smallestGap, -0.01);
+}
+
+TEST(ObstacleAvoidance, SecurityDistanceKeepsTheBallAway) {
+  const double security = 0.05;
+  const Passage p = pass(0.1, security);  // tan α = 0.58 > μ_s
+  ASSERT_TRUE(p.report.ok()) << p.report.failure;
+  EXPECT_EQ(countEvents(p.report, "reached at"), 1);
+  // Never nearer the real surface than the security distance, less a little
+  // contact penetration into the grown obstacle.
+  EXPECT_GT(p.smallestGap, security - 0.01);
+  EXPECT_LT(p.smallestGap, security + 0.005);  // it did slide along the grown one
+  EXPECT_GT(p.largestSideways, 0.045 + security);
+}
+
+// Paper experiment 5 (scenes/arm_obstacle.json): the passive arm's forearm leans
+// on the obstacle on the way, a local minimum; a virtual obstacle pushes the tool
+// sideways out of it and the tool then reaches the goal behind the obstacle.
+TEST(ObstacleAvoidance, ArmEscapesItsLocalMinimumAndReachesTheGoal) {
+  SceneLoadResult loaded =
+      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/arm_obstacle.json");
+  ASSERT_TRUE(loaded.ok());
+  const Scene& scene = *loaded.scene;
+  const Vec3 obstacle{0.65, 0.375, 0.0};
+  const double obstacleRadius = 0.08, security = 0.02;
+  const ObjectInfo& arm = scene.model.objects[0];
+  double smallestGap = 1e9;
+  RunOptions options;
+  options.settings = scene.run;
+  options.betweenSteps = [&](World& world, RunReport&) {
+    for (ParticleIndex i = arm.firstParticle; i < arm.firstParticle + arm.particleCount; ++i)
+      smallestGap = std::min(smallestGap, norm(world.state().position[i] - obstacle) -
+                                              obstacleRadius - scene.model.radius[i]);
+    return true;
+  };
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  // Stuck at least once; each virtual obstacle is reported; the goal is reached.
+  const int minima = countEvents(report, "local minimum at");
+  EXPECT_GE(minima, 1);
+  EXPECT_LE(minima, 3);
+  EXPECT_EQ(countEvents(report, "virtual obstacle"), minima);
+  EXPECT_EQ(countEvents(report, "reached at"), 1);
+  EXPECT_LT(report.simulatedTime, 9.0);
+  const ParticleIndex tool = arm.firstParticle + arm.particleCount - 1;
+  EXPECT_LT(norm(last.position[tool] - Vec3{0.45, 0.6, 0.0}), 0.011);
+  // The arm never touched the real obstacle: the security distance held.
+  EXPECT_GT(smallestGap, security - 0.005);
+  // The energy account holds with the virtual obstacles' work booked.
+  EXPECT_GT(report.externalWork, 0.0);
+  EXPECT_LT(std::abs(report.energyDrift), 0.01);
+}
+
+// Without escape the same arm stays in its local minimum: the virtual obstacles
+// are what gets it out.
+TEST(ObstacleAvoidance, WithoutEscapeTheArmStaysStuck) {
+  SceneLoadResult loaded =
+      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/arm_obstacle.json");
+  ASSERT_TRUE(loaded.ok());
+  Scene scene = std::move(*loaded.scene);
+  scene.robotics.escapes.clear();
+  scene.run.duration = 6.0;
+  RunOptions options;
+  options.settings = scene.run;
+  const RunReport report = runScene(scene, options);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  EXPECT_EQ(countEvents(report, "reached at"), 0);
+  EXPECT_EQ(countEvents(report, "not reached"), 1);
+}
+
+}  // namespace
+}  // namespace robophi
