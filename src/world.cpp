@@ -34,6 +34,13 @@ void computeForces(const Model& model, State& state) {
                            torsion.dissipativePower + joint.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, state);
+  // Work of the fixed particles that move (kinematic drivers): -Σ F·v.
+  double driving = 0.0;
+  const auto n = model.particleCount();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    if (model.inverseMass[i] == 0.0) driving -= dot(state.force[i], state.velocity[i]);
+  }
+  state.drivingPower = driving;
   state.forcesValid = true;
 }
 
@@ -56,6 +63,7 @@ StepStatus World::step(double dt) {
   // 1. Forces at t (cached from the previous step when nothing changed).
   refresh();
   const double powerAtStart = state_.dissipativePower;
+  const double drivingAtStart = state_.drivingPower;
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.
   switch (integrator_) {
@@ -74,9 +82,11 @@ StepStatus World::step(double dt) {
       break;
   }
 
-  // 4. Energy account: kinetic at t + δ, dissipated work by the trapezoid rule.
+  // 4. Energy account: kinetic at t + δ; dissipated work and the work of moving
+  // fixed particles by the trapezoid rule.
   state_.energy.kinetic = kineticEnergy(model_, state_);
   state_.energy.dissipated -= 0.5 * (powerAtStart + state_.dissipativePower) * dt;
+  state_.energy.external += 0.5 * (drivingAtStart + state_.drivingPower) * dt;
   state_.time += dt;
   ++state_.stepCount;
 

@@ -50,6 +50,12 @@ struct Heightfield {
   /// h(x, y) (m) and its gradient (dh/dx, dh/dy) by bilinear interpolation;
   /// (x, y) is clamped onto the grid.
   double heightAt(double x, double y, double* dhdx = nullptr, double* dhdy = nullptr) const;
+  /// The terrain's unit normal at (x, y), continuous across cell edges: the
+  /// samples' gradients (central differences, one-sided at the border)
+  /// interpolated bilinearly, then normalised. (The bilinear surface's own
+  /// gradient jumps across cell edges; a contact depth measured along it would
+  /// make the contact energy jump there.)
+  Vec3 normalAt(double x, double y) const;
 };
 
 /// A fixed oriented box.

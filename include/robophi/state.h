@@ -25,8 +25,9 @@ struct EnergyTally {
   /// Work removed so far by damping, friction and viscosity (>= 0 when the
   /// account is right; it only grows).
   double dissipated = 0.0;
-  /// Work done on the system between steps (J): robotics tasks that move
-  /// virtual robots, add virtual obstacles, change joint targets or disturb an
+  /// Work done on the system from outside (J): by fixed particles moving
+  /// kinematically (a moving virtual robot), and between steps by robotics
+  /// tasks that add virtual obstacles, change joint targets or disturb an
   /// object (World::bookExternalWork). 0 for a closed system.
   double external = 0.0;
 
@@ -55,6 +56,9 @@ struct State {
   bool forcesValid = false;
   /// Power of the dissipative forces (W, <= 0) at the last force evaluation.
   double dissipativePower = 0.0;
+  /// Power (W) put into the system by fixed particles that move kinematically
+  /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them, at `force`.
+  double drivingPower = 0.0;
   EnergyTally energy;
   /// Touching pairs and environment contacts with their friction anchors, sorted
   /// by Contact::key(), as of the last force evaluation (MODEL §3).

@@ -64,12 +64,29 @@ bool Heightfield::covers(double x, double y) const {
          y <= originY + (rows - 1) * cellSizeY;
 }
 
+namespace {
+
+// The cell holding (x, y) (clamped onto the grid): its corner sample (i, j) and
+// the fractions (tx, ty) across it.
+struct CellPoint {
+  int i, j;
+  double tx, ty;
+};
+
+CellPoint cellPoint(const Heightfield& field, double x, double y) {
+  const double fx = std::clamp((x - field.originX) / field.cellSizeX, 0.0,
+                               static_cast<double>(field.columns - 1));
+  const double fy =
+      std::clamp((y - field.originY) / field.cellSizeY, 0.0, static_cast<double>(field.rows - 1));
+  const int i = std::min(static_cast<int>(fx), field.columns - 2);
+  const int j = std::min(static_cast<int>(fy), field.rows - 2);
+  return {i, j, fx - i, fy - j};
+}
+
+}  // namespace
+
 double Heightfield::heightAt(double x, double y, double* dhdx, double* dhdy) const {
-  const double fx = std::clamp((x - originX) / cellSizeX, 0.0, static_cast<double>(columns - 1));
-  const double fy = std::clamp((y - originY) / cellSizeY, 0.0, static_cast<double>(rows - 1));
-  const int i = std::min(static_cast<int>(fx), columns - 2);
-  const int j = std::min(static_cast<int>(fy), rows - 2);
-  const double tx = fx - i, ty = fy - j;
+  const auto [i, j, tx, ty] = cellPoint(*this, x, y);
   const auto at = [&](int ii, int jj) {
     return heights[static_cast<std::size_t>(jj) * columns + ii];
   };
@@ -77,6 +94,24 @@ double Heightfield::heightAt(double x, double y, double* dhdx, double* dhdy) con
   if (dhdx != nullptr) *dhdx = ((h10 - h00) * (1.0 - ty) + (h11 - h01) * ty) / cellSizeX;
   if (dhdy != nullptr) *dhdy = ((h01 - h00) * (1.0 - tx) + (h11 - h10) * tx) / cellSizeY;
   return (h00 * (1.0 - tx) + h10 * tx) * (1.0 - ty) + (h01 * (1.0 - tx) + h11 * tx) * ty;
+}
+
+Vec3 Heightfield::normalAt(double x, double y) const {
+  const auto [i, j, tx, ty] = cellPoint(*this, x, y);
+  const auto at = [&](int ii, int jj) {
+    return heights[static_cast<std::size_t>(jj) * columns + ii];
+  };
+  // The gradient at sample (ii, jj) by central differences (one-sided at the border).
+  const auto gradient = [&](int ii, int jj) {
+    const int i0 = std::max(ii - 1, 0), i1 = std::min(ii + 1, columns - 1);
+    const int j0 = std::max(jj - 1, 0), j1 = std::min(jj + 1, rows - 1);
+    return Vec3{(at(i1, jj) - at(i0, jj)) / ((i1 - i0) * cellSizeX),
+                (at(ii, j1) - at(ii, j0)) / ((j1 - j0) * cellSizeY), 0.0};
+  };
+  const Vec3 g = (gradient(i, j) * (1.0 - tx) + gradient(i + 1, j) * tx) * (1.0 - ty) +
+                 (gradient(i, j + 1) * (1.0 - tx) + gradient(i + 1, j + 1) * tx) * ty;
+  const Vec3 n{-g.x, -g.y, 1.0};
+  return n / norm(n);
 }
 
 bool environmentDistance(const Environment& environment, std::int32_t item, const Vec3& p,
@@ -89,15 +124,14 @@ bool environmentDistance(const Environment& environment, std::int32_t item, cons
       return true;
     }
     case ItemKind::kHeightfield: {
-      // The vertical gap projected on the normal n = (-h_x, -h_y, 1)/|...|: the
-      // distance to the tangent plane, exact on a plane, close on gentle terrain.
+      // The vertical gap projected on the normal n: the distance to the tangent
+      // plane, exact on a plane, close on gentle terrain. Both the height and
+      // the (smoothed) normal are continuous, so the contact energy is too.
       const Heightfield& field = environment.heightfields[item];
       if (!field.covers(p.x, p.y)) return false;
-      double hx = 0.0, hy = 0.0;
-      const double h = field.heightAt(p.x, p.y, &hx, &hy);
-      const double inverseLength = 1.0 / std::sqrt(1.0 + hx * hx + hy * hy);
-      normal = Vec3{-hx, -hy, 1.0} * inverseLength;
-      signedDistance = (p.z - h) * inverseLength;
+      const double h = field.heightAt(p.x, p.y);
+      normal = field.normalAt(p.x, p.y);
+      signedDistance = (p.z - h) * normal.z;
       return true;
     }
     case ItemKind::kBox:

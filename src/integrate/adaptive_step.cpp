@@ -52,9 +52,11 @@ double AdaptiveStepper::proposal(double error) const {
 
 double AdaptiveStepper::energyError(const State& before, const State& after) const {
   // MODEL §4: error = (E(t+δ) - E(t) - W_dissipative) / max(|E|, E_floor), where
-  // W_dissipative (<= 0) is the work of damping, friction and viscosity.
+  // W_dissipative (<= 0) is the work of damping, friction and viscosity (and
+  // the work of fixed particles moved kinematically is taken off as well).
   const double created = (after.energy.mechanical() - before.energy.mechanical()) +
-                         (after.energy.dissipated - before.energy.dissipated);
+                         (after.energy.dissipated - before.energy.dissipated) -
+                         (after.energy.external - before.energy.external);
   const double scale = std::max({activeEnergy(before.energy), activeEnergy(after.energy),
                                  gravityScale_, settings_.energyFloor});
   return created / scale;

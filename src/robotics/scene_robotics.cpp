@@ -76,6 +76,7 @@ void readGoal(io::DiagnosticSink& sink, const nlohmann::json& entry, const std::
   goal.tolerance = r.numberOr("tolerance", goal.tolerance, Bound::kPositive, "m");
   goal.speedTolerance = r.numberOr("speedTolerance", goal.speedTolerance, Bound::kPositive, "m/s");
   goal.stopWhenReached = r.boolean("stopWhenReached").value_or(false);
+  const auto speed = r.number("speed", Bound::kPositive, "m/s");
   const nlohmann::json* escape = r.member("escape");
   r.finish();
   if (!ok || !stiffness) return;
@@ -114,9 +115,19 @@ void readGoal(io::DiagnosticSink& sink, const nlohmann::json& entry, const std::
   }
   // MODEL §5.1: the virtual robot (fixed particles at the goal pose), tied to the
   // real one by LS attractors.
+  // With a speed, the virtual robot starts on the robot and moves to the goal.
+  if (speed) {
+    double farthest = 0.0;
+    for (std::size_t k = 0; k < particles.size(); ++k)
+      farthest = std::max(farthest, norm(where[k] - x[particles[k]]));
+    goal.travelTime = farthest / *speed;
+  }
   const std::int32_t object = addVirtualObject(scene, name);
   for (std::size_t k = 0; k < particles.size(); ++k) {
-    const ParticleIndex target = addVirtual(scene, object, where[k]);
+    const bool moving = goal.travelTime > 0.0;
+    const ParticleIndex target = addVirtual(scene, object, moving ? x[particles[k]] : where[k]);
+    if (moving) scene.initial.velocity[target] = (where[k] - x[particles[k]]) / goal.travelTime;
+    goal.goalPositions.push_back(where[k]);
     goal.particles.push_back(particles[k]);
     goal.targets.push_back(target);
     scene.model.linearSprings.push_back(

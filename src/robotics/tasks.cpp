@@ -19,8 +19,8 @@ GoalStatus goalStatus(const World& world, const GoalSpec& goal) {
     status.meanSpeed += norm(s.velocity[i]);
   }
   if (!goal.particles.empty()) status.meanSpeed /= static_cast<double>(goal.particles.size());
-  status.reached =
-      status.worstDistance <= goal.tolerance && status.meanSpeed <= goal.speedTolerance;
+  status.reached = goal.travelTime == 0.0 && status.worstDistance <= goal.tolerance &&
+                   status.meanSpeed <= goal.speedTolerance;
   return status;
 }
 
@@ -81,6 +81,20 @@ std::optional<std::string> LocalMinimumEscape::update(World& world) {
       "virtual obstacle {} added at [{:.4g}, {:.4g}, {:.4g}], radius {:.3g} m",
       goal_.name, t, worstDistance, status.meanSpeed, added_.size(), sphere.center.x,
       sphere.center.y, sphere.center.z, sphere.radius);
+}
+
+std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal) {
+  if (!(goal.travelTime > 0.0) || world.state().time < goal.travelTime) return std::nullopt;
+  // Within a step of the goal pose: put it there exactly, and stop.
+  State& s = world.mutableState();
+  for (std::size_t k = 0; k < goal.targets.size(); ++k) {
+    s.position[goal.targets[k]] = goal.goalPositions[k];
+    s.velocity[goal.targets[k]] = Vec3{};
+  }
+  const double arrival = goal.travelTime;
+  goal.travelTime = 0.0;
+  return fmt::format("goal '{}': the virtual robot is at the goal pose at t = {:.4g} s", goal.name,
+                     arrival);
 }
 
 Vec3 objectCenterOfMass(const World& world, std::int32_t object) {
@@ -153,6 +167,7 @@ std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
       if (auto event = grasp.update(world)) report.events.push_back(*event);
     bool keepGoing = true;
     for (std::size_t g = 0; g < run->goals.size(); ++g) {
+      if (auto event = arriveVirtualRobot(world, run->goals[g])) report.events.push_back(*event);
       const GoalStatus status = goalStatus(world, run->goals[g]);
       if (status.reached && !run->reached[g]) {
         run->reached[g] = true;

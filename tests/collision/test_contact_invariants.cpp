@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "collision/contact_stage.h"
+#include "collision/environment.h"
 #include "collision/contact_test_util.h"
 
 namespace robophi {
@@ -142,6 +143,33 @@ TEST(ContactInvariants, HeightfieldLoadsFromPgm) {
   EXPECT_DOUBLE_EQ(field.heightAt(1.5, 0.0), 2.0);
   EXPECT_DOUBLE_EQ(field.heightAt(0.5, 0.0), 1.0);
   EXPECT_NE(loadHeightfieldPgm(path + ".missing", 0, 0, 1, 1, 0, 1, field), "");
+}
+
+// A particle below the terrain surface has a contact depth (hence energy ½κd²)
+// that is continuous as it crosses a cell edge, where the bilinear surface's
+// slope jumps: the depth is measured along the smoothed normal (normalAt).
+TEST(ContactInvariants, HeightfieldDepthIsContinuousAcrossCellEdges) {
+  Environment environment;
+  Heightfield field;
+  field.columns = 4;
+  field.rows = 3;
+  field.heights = {0.0, 0.0, 0.3, 0.0, 0.0, 0.1, 0.4, 0.1, 0.0, 0.0, 0.2, 0.0};
+  environment.heightfields.push_back(field);
+  for (double edge : {1.0, 2.0}) {  // x of the inner cell edges (cell size 1 m)
+    for (double y : {0.3, 1.0, 1.7}) {
+      double before = 0.0, after = 0.0;
+      Vec3 normalBefore, normalAfter;
+      const double h = environment.heightfields[0].heightAt(edge, y);
+      ASSERT_TRUE(
+          environmentDistance(environment, 0, {edge - 1e-9, y, h - 0.05}, before, normalBefore));
+      ASSERT_TRUE(
+          environmentDistance(environment, 0, {edge + 1e-9, y, h - 0.05}, after, normalAfter));
+      EXPECT_LT(before, -0.03);
+      EXPECT_NEAR(before, after, 1e-8) << "x " << edge << " y " << y;
+      EXPECT_NEAR(norm(normalBefore - normalAfter), 0.0, 1e-8);
+      EXPECT_NEAR(norm(normalBefore), 1.0, 1e-12);
+    }
+  }
 }
 
 TEST(ContactInvariants, ViscosityGivesTheTerminalSpeed) {

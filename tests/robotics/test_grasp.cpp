@@ -7,15 +7,13 @@
 
 #include "robophi/runner.h"
 #include "robophi/scene.h"
+#include "robotics/scene_files.h"
 
 namespace robophi {
 namespace {
 
 TEST(Grasp, ThreeFingeredHandHoldsTheBallThroughADisturbance) {
-  SceneLoadResult loaded =
-      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/hand_grasp.json");
-  ASSERT_TRUE(loaded.ok());
-  const Scene& scene = *loaded.scene;
+  const Scene scene = testing::loadSceneFromScenes("hand_grasp.json");
   ASSERT_EQ(scene.model.joints.size(), 9u);  // three fingers, three joints each
   RunOptions options;
   options.settings = scene.run;

@@ -10,16 +10,10 @@
 #include "robophi/robotics/tasks.h"
 #include "robophi/runner.h"
 #include "robophi/scene.h"
+#include "robotics/scene_files.h"
 
 namespace robophi {
 namespace {
-
-Scene loadScene(const std::string& name) {
-  SceneLoadResult result = loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/" + name);
-  for (const auto& e : result.errors) ADD_FAILURE() << e.format();
-  EXPECT_TRUE(result.ok());
-  return std::move(*result.scene);
-}
 
 bool reached(const RunReport& report) {
   for (const auto& e : report.events)
@@ -28,7 +22,7 @@ bool reached(const RunReport& report) {
 }
 
 TEST(MotionGeneration, PassiveArmToolReachesVirtualToolAndJointsGiveTheTrajectory) {
-  const Scene scene = loadScene("arm_reach.json");
+  const Scene scene = testing::loadSceneFromScenes("arm_reach.json");
   ASSERT_EQ(scene.model.joints.size(), 2u);
   EXPECT_EQ(scene.model.joints[0].name, "arm.j1");
   EXPECT_EQ(scene.model.joints[1].name, "arm.j2");
@@ -58,7 +52,7 @@ TEST(MotionGeneration, PassiveArmToolReachesVirtualToolAndJointsGiveTheTrajector
 }
 
 TEST(MotionGeneration, MobileRobotStaysOnItsStraightLine) {
-  const Scene scene = loadScene("mobile_line.json");
+  const Scene scene = testing::loadSceneFromScenes("mobile_line.json");
   RunOptions options;
   options.settings = scene.run;
   double largestOffLine = 0.0;
@@ -77,7 +71,7 @@ TEST(MotionGeneration, MobileRobotStaysOnItsStraightLine) {
 }
 
 TEST(MotionGeneration, MobileRobotFollowsAnArcOfCircle) {
-  const Scene scene = loadScene("mobile_arc.json");
+  const Scene scene = testing::loadSceneFromScenes("mobile_arc.json");
   RunOptions options;
   options.settings = scene.run;
   double largestRadiusError = 0.0;
@@ -99,7 +93,7 @@ TEST(MotionGeneration, MobileRobotFollowsAnArcOfCircle) {
 
 // Joint control API: servo target, limits, passive switch (MODEL §1).
 TEST(JointControl, ServoLimitAndSwitchOff) {
-  Scene scene = loadScene("revolute_arm.json");
+  Scene scene = testing::loadSceneFromScenes("revolute_arm.json");
   World world(scene.model, scene.initial, scene.run.integrator);
   const auto elbow = robotics::findJoint(world.model(), "elbow");
   ASSERT_TRUE(elbow.has_value());

@@ -11,6 +11,7 @@
 #include "robophi/robotics/tasks.h"
 #include "robophi/runner.h"
 #include "robophi/scene.h"
+#include "robotics/scene_files.h"
 
 namespace robophi {
 namespace {
@@ -117,10 +118,7 @@ TEST(ObstacleAvoidance, SecurityDistanceKeepsTheBallAway) {
 // on the obstacle on the way, a local minimum; a virtual obstacle pushes the tool
 // sideways out of it and the tool then reaches the goal behind the obstacle.
 TEST(ObstacleAvoidance, ArmEscapesItsLocalMinimumAndReachesTheGoal) {
-  SceneLoadResult loaded =
-      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/arm_obstacle.json");
-  ASSERT_TRUE(loaded.ok());
-  const Scene& scene = *loaded.scene;
+  const Scene scene = testing::loadSceneFromScenes("arm_obstacle.json");
   const Vec3 obstacle{0.65, 0.375, 0.0};
   const double obstacleRadius = 0.08, security = 0.02;
   const ObjectInfo& arm = scene.model.objects[0];
@@ -155,10 +153,7 @@ TEST(ObstacleAvoidance, ArmEscapesItsLocalMinimumAndReachesTheGoal) {
 // Without escape the same arm stays in its local minimum: the virtual obstacles
 // are what gets it out.
 TEST(ObstacleAvoidance, WithoutEscapeTheArmStaysStuck) {
-  SceneLoadResult loaded =
-      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/arm_obstacle.json");
-  ASSERT_TRUE(loaded.ok());
-  Scene scene = std::move(*loaded.scene);
+  Scene scene = testing::loadSceneFromScenes("arm_obstacle.json");
   scene.robotics.escapes.clear();
   scene.run.duration = 6.0;
   RunOptions options;

@@ -35,6 +35,13 @@ struct GoalSpec {
   double tolerance = 0.01, speedTolerance = 0.05;
   /// End the run when the goal is reached.
   bool stopWhenReached = false;
+  /// A moving virtual robot: its particles start on the robot's and travel in
+  /// straight lines at constant velocity (fixed particles move kinematically)
+  /// to the goal pose, all arriving after `travelTime` (s), where they stop.
+  /// 0: the virtual robot stands at the goal from the start.
+  double travelTime = 0.0;
+  /// The goal pose (m), one position per target.
+  std::vector<Vec3> goalPositions;
 };
 
 /// Local-minimum escape (MODEL §5.2) for a goal: when the attracted particles are

@@ -28,6 +28,11 @@ struct GoalStatus {
 };
 GoalStatus goalStatus(const World& world, const GoalSpec& goal);
 
+/// A moving virtual robot (GoalSpec::travelTime > 0) that has come to the end
+/// of its travel is put exactly at the goal pose and stopped (travelTime
+/// becomes 0); returns a description then.
+std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal);
+
 /// MODEL §5.2: detects a local minimum (slow, away from the goal, for a while)
 /// and adds virtual sphere obstacles there, one after another, until it escapes.
 class LocalMinimumEscape {
