@@ -55,8 +55,8 @@ void moveToEnd(io::GeneratedObject& object, const std::vector<int>& particles,
 
 /// Sets a box lattice's LS from elastic moduli E (Pa) and G (Pa, default 0.4 E)
 /// so that its traction, flexion and torsion stiffness match E·A/L, 3·E·I/L³ and
-/// G·J/L (docs/bar-calibration.md). Needs cubic cells. Returns false (reported)
-/// when the lattice cannot be calibrated.
+/// G·J/L (docs/robotics.md#bar-calibration-experiment-1). Needs cubic cells. Returns false
+/// (reported) when the lattice cannot be calibrated.
 bool calibrateLattice(io::ObjectReader& r, io::GeneratedObject& box, const Vec3& size,
                       const std::array<int, 3>& cells, double youngModulus,
                       std::optional<double> shearModulus);
