@@ -136,6 +136,9 @@ struct Contact {
   double anchorEnergy = 0.0;
   /// k̂: unit normal from the other body to a (-).
   Vec3 normal;
+  /// Tangential relative velocity (m/s) at the last evaluation: a sliding
+  /// contact whose slip reverses from one evaluation to the next sticks again.
+  Vec3 slip;
   /// Friction anchor (m): p_a - p_other (pair) or p_a (environment) where the
   /// contact stuck; δ_t is the tangential part of the displacement from it.
   Vec3 anchor;

@@ -4,6 +4,7 @@
 /// and restoring the copy undoes a step (used by the adaptive step).
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "robophi/contact.h"
@@ -59,6 +60,12 @@ struct State {
   /// Power (W) put into the system by fixed particles that move kinematically
   /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them, at `force`.
   double drivingPower = 0.0;
+  /// The largest stable explicit step (s) of the touching contacts at the last
+  /// force evaluation, each as a damped two-body oscillator (normal or
+  /// tangential stiffness, damping, reduced mass); infinite without contacts.
+  /// The adaptive step keeps below it (contacts are not in the model's
+  /// stability estimate: they come and go).
+  double contactCriticalStep = std::numeric_limits<double>::infinity();
   EnergyTally energy;
   /// Touching pairs and environment contacts with their friction anchors, sorted
   /// by Contact::key(), as of the last force evaluation (MODEL §3).

@@ -7,6 +7,7 @@
 //   that "V ≠ 0" needs in floating point).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "collision/contact_stage.h"
 #include "robophi/adaptive_step.h"
@@ -69,8 +70,15 @@ inline Vec3 contactForce(const Model& model, const PairParameters& k, double red
   const double elasticSquared = squaredNorm(elastic);
   const double slipSquared = squaredNorm(slip);
   const double stickVelocity = model.contact.stickVelocity;
-  const bool stick = elasticSquared <= limit * limit && squaredNorm(damper) <= limit * limit &&
-                     (c.sliding == 0 || slipSquared <= stickVelocity * stickVelocity);
+  // A sliding contact sticks again when its slip has fallen below the stick
+  // velocity, or has reversed since the last evaluation: kinetic friction would
+  // have stopped it within the step (without this, μ_k F_n flips the slip back
+  // and forth every step, a chatter that never comes to rest).
+  c.slip = slip;
+  const bool reversed = previous != nullptr && dot(slip, previous->slip) < 0.0;
+  const bool stick = elasticSquared <= limit * limit &&
+                     (squaredNorm(damper) <= limit * limit || (c.sliding != 0 && reversed)) &&
+                     (c.sliding == 0 || slipSquared <= stickVelocity * stickVelocity || reversed);
   if (stick) {
     // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
     c.sliding = 0;
@@ -97,10 +105,29 @@ inline Vec3 contactForce(const Model& model, const PairParameters& k, double red
   return force - direction * friction;
 }
 
+// The largest stable explicit step (s) of one contact as a damped oscillator of
+// the pair's reduced mass: ω² = k (1/m_a + 1/m_b), 2ζω = c (1/m_a + 1/m_b),
+// δ < 2/ω (√(1+ζ²) - ζ), with k and c the larger of the normal and tangential ones.
+double contactCriticalStep(const Model& model, const PairParameters& k, const Contact& c) {
+  const double inverseMass =
+      model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
+  if (inverseMass == 0.0) return std::numeric_limits<double>::infinity();
+  const double stiffness = std::max(k.stiffness, k.tangentialStiffness);
+  const double tangentialDamping =
+      k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / inverseMass);
+  const double omega = std::sqrt(stiffness * inverseMass);
+  const double dampingRate = std::max(k.damping, tangentialDamping) * inverseMass;  // 2ζω
+  if (!(omega > 0.0))
+    return dampingRate > 0.0 ? 2.0 / dampingRate : std::numeric_limits<double>::infinity();
+  const double zeta = dampingRate / (2.0 * omega);
+  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
 }  // namespace
 
 void accumulateContacts(const Model& model, State& state) {
   if (!model.contact.enabled || model.particleCount() == 0) {
+    state.contactCriticalStep = std::numeric_limits<double>::infinity();
     state.contacts.clear();
     state.energy.contact = 0.0;
     return;
@@ -109,6 +136,7 @@ void accumulateContacts(const Model& model, State& state) {
   detectContacts(model, state, cache);
 
   StageTally tally;
+  double criticalStep = std::numeric_limits<double>::infinity();
   const std::vector<Contact>& previous = state.contacts;
   std::size_t old = 0;
   const std::vector<Vec3>& p = state.position;
@@ -151,6 +179,7 @@ void accumulateContacts(const Model& model, State& state) {
       ++stats.environmentContacts;
     }
     tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+    criticalStep = std::min(criticalStep, contactCriticalStep(model, k, c));
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
   }
@@ -159,6 +188,7 @@ void accumulateContacts(const Model& model, State& state) {
 
   const double viscousPower = accumulateViscosity(model, state, cache);
   state.energy.contact = tally.potential;
+  state.contactCriticalStep = criticalStep;
   state.dissipativePower += tally.dissipativePower + viscousPower;
   state.energy.dissipated += tally.releasedEnergy;
 }

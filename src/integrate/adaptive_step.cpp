@@ -91,8 +91,10 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   const double penetrationBefore = settings_.maxPenetrationFraction > 0.0
                                        ? deepestPenetrationFraction(world.model(), saved_)
                                        : 0.0;
+  // The touching contacts' own stability limit (they are not in the model's).
+  const double contactLimit = settings_.stabilitySafety * saved_.contactCriticalStep;
   for (;;) {
-    const double dt = std::min(step_, maxDt);
+    const double dt = std::min({step_, maxDt, contactLimit});
     const StepStatus status = world.step(dt);
     const double error = status == StepStatus::kOk ? energyError(saved_, world.state())
                                                    : std::numeric_limits<double>::infinity();

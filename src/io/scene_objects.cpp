@@ -132,7 +132,7 @@ bool readBox(ObjectReader& r, GeneratedObject& out, double dt, bool cube) {
   const auto mass = r.number("mass", Bound::kPositive, kMass, true);
   const auto radius = r.number("radius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
-  // Elastic moduli instead of spring stiffness (docs/bar-calibration.md).
+  // Elastic moduli instead of spring stiffness (docs/robotics.md#bar-calibration-experiment-1).
   const auto young = r.number("youngModulus", Bound::kPositive, "Pa");
   const auto shear = r.number("shearModulus", Bound::kPositive, "Pa");
   if (!center || !size || !cells || !mass) return false;
@@ -320,6 +320,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
                            *type, didYouMean(*type, objectTypeNames())));
   }
   const auto velocity = reader.vec3("velocity", "m/s");
+  const auto angularVelocity = reader.vec3("angularVelocity", "rad/s");
   object.linearDamping = reader.numberOr("linearDamping", 0.0, Bound::kNonNegative, "N·s/m");
 
   bool generated = false;
@@ -350,6 +351,19 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
       const auto& list = entry.at("particles");
       for (std::size_t i = 0; i < n; ++i)
         if (!list[i].contains("velocity")) object.velocity[i] = *velocity;
+    }
+    if (angularVelocity) {
+      // Spin about the centre of mass: v += ω × (p - c).
+      const GeneratedObject& g = object.geometry;
+      Vec3 center;
+      double mass = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        center += g.position[i] * g.mass[i];
+        mass += g.mass[i];
+      }
+      center = center / mass;
+      for (std::size_t i = 0; i < n; ++i)
+        object.velocity[i] += cross(*angularVelocity, g.position[i] - center);
     }
   }
   readFixed(reader, object);

@@ -5,8 +5,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "collision/contact_test_util.h"
+#include "robophi/runner.h"
+#include "robophi/scene.h"
 
 namespace robophi {
 namespace {
@@ -116,6 +119,37 @@ TEST(Rolling, WheelRollsFarWhileTheCubeComesToRest) {
   EXPECT_LT(cubeDistance, 0.3);
   EXPECT_LT(speed(world.state(), cube), 1e-2);
   EXPECT_GT(wheelDistance, 5.0 * cubeDistance);
+}
+
+// The same experiment from its scene file (scenes/wheel_cube.json, generated
+// wheel and cube, adaptive step) as `robophi run` plays it.
+TEST(Rolling, WheelCubeSceneFile) {
+  SceneLoadResult loaded =
+      loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/wheel_cube.json");
+  for (const auto& e : loaded.errors) ADD_FAILURE() << e.format();
+  ASSERT_TRUE(loaded.ok());
+  const Scene& scene = *loaded.scene;
+  const ObjectInfo& w = scene.model.objects[0];
+  const ObjectInfo& c = scene.model.objects[1];
+  const std::pair<int, int> wheel{w.firstParticle, w.firstParticle + w.particleCount};
+  const std::pair<int, int> cube{c.firstParticle, c.firstParticle + c.particleCount};
+  RunOptions options;
+  options.settings = scene.run;
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  const double wheelDistance = centroid(last, wheel).x - centroid(scene.initial, wheel).x;
+  const double cubeDistance = centroid(last, cube).x - centroid(scene.initial, cube).x;
+  std::printf("scene, after 2 s: wheel %.3f m (speed %.3f m/s), cube %.3f m (speed %.2e m/s)\n",
+              wheelDistance, speed(last, wheel), cubeDistance, speed(last, cube));
+  // The wheel rolls on and speeds up down the slope (1 m/s at the start); the
+  // cube stops within a few of its sizes.
+  EXPECT_GT(wheelDistance, 1.5);
+  EXPECT_GT(speed(last, wheel), 1.0);
+  EXPECT_GT(cubeDistance, 0.0);
+  EXPECT_LT(cubeDistance, 0.3);
+  EXPECT_LT(speed(last, cube), 1e-2);
+  EXPECT_LT(std::abs(report.energyDrift), 0.02);
 }
 
 }  // namespace
