@@ -143,9 +143,24 @@ int benchCommand(const BenchArguments& args) {
   doc["quick"] = args.quick;
   doc["results"] = all;
   if (args.json) std::printf("%s\n", doc.dump(2).c_str());
+  // A filtered run replaces only its own scenes' results in the record.
   if (!args.record.empty() && !args.quick) {
     std::filesystem::create_directories(args.record);
     const auto path = std::filesystem::path(args.record) / "latest.json";
+    if (!args.filter.empty()) {
+      std::ifstream in(path);
+      const nlohmann::ordered_json previous = nlohmann::ordered_json::parse(in, nullptr, false);
+      if (!previous.is_discarded() && previous.contains("results")) {
+        nlohmann::ordered_json merged = nlohmann::ordered_json::array();
+        for (const auto& r : previous["results"]) {
+          bool replaced = false;
+          for (const auto& n : all) replaced = replaced || n["scene"] == r["scene"];
+          if (!replaced) merged.push_back(r);
+        }
+        for (const auto& n : all) merged.push_back(n);
+        doc["results"] = merged;
+      }
+    }
     std::ofstream(path) << doc.dump(2) << '\n';
     if (!args.json) std::printf("recorded in %s\n", path.string().c_str());
   }

@@ -61,8 +61,9 @@ struct State {
   /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them, at `force`.
   double drivingPower = 0.0;
   /// The largest stable explicit step (s) of the touching contacts at the last
-  /// force evaluation, each as a damped two-body oscillator (normal or
-  /// tangential stiffness, damping, reduced mass); infinite without contacts.
+  /// force evaluation: per particle, Gershgorin on the sum of its contacts'
+  /// stiffness and damping (the larger of normal and tangential), as
+  /// estimateStability does for connectors; infinite without contacts.
   /// The adaptive step keeps below it (contacts are not in the model's
   /// stability estimate: they come and go).
   double contactCriticalStep = std::numeric_limits<double>::infinity();

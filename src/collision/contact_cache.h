@@ -55,6 +55,10 @@ struct ContactScratch {
   std::vector<std::int32_t> particleMaterial;
   /// Object of each particle, or -1, (particleCount).
   std::vector<std::int32_t> particleObject;
+  /// Per particle, the stiffness (N/m) and damping (N·s/m) of its touching
+  /// contacts, summed during the contact stage for its stability limit and
+  /// zeroed again after it, (particleCount).
+  std::vector<double> contactStiffnessSum, contactDampingSum;
   /// Material-pair table, (materials × materials); environment uses the item's material.
   std::vector<PairParameters> materialPairs;
   std::int32_t materialCount = 0;

@@ -105,22 +105,44 @@ inline Vec3 contactForce(const Model& model, const PairParameters& k, double red
   return force - direction * friction;
 }
 
-// The largest stable explicit step (s) of one contact as a damped oscillator of
-// the pair's reduced mass: ω² = k (1/m_a + 1/m_b), 2ζω = c (1/m_a + 1/m_b),
-// δ < 2/ω (√(1+ζ²) - ζ), with k and c the larger of the normal and tangential ones.
-double contactCriticalStep(const Model& model, const PairParameters& k, const Contact& c) {
+// Adds one contact's stiffness and damping (the larger of the normal and the
+// tangential ones) to its particles' sums.
+void addContactRates(const Model& model, const PairParameters& k, const Contact& c,
+                     ContactScratch& cache) {
   const double inverseMass =
       model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
-  if (inverseMass == 0.0) return std::numeric_limits<double>::infinity();
+  if (inverseMass == 0.0) return;
   const double stiffness = std::max(k.stiffness, k.tangentialStiffness);
   const double tangentialDamping =
       k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / inverseMass);
-  const double omega = std::sqrt(stiffness * inverseMass);
-  const double dampingRate = std::max(k.damping, tangentialDamping) * inverseMass;  // 2ζω
-  if (!(omega > 0.0))
-    return dampingRate > 0.0 ? 2.0 / dampingRate : std::numeric_limits<double>::infinity();
-  const double zeta = dampingRate / (2.0 * omega);
-  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  const double damping = std::max(k.damping, tangentialDamping);
+  cache.contactStiffnessSum[c.a] += stiffness;
+  cache.contactDampingSum[c.a] += damping;
+  if (c.other >= 0) {
+    cache.contactStiffnessSum[c.other] += stiffness;
+    cache.contactDampingSum[c.other] += damping;
+  }
+}
+
+// The largest stable explicit step (s) of the contacts, by Gershgorin per
+// particle as for the connectors (estimateStability): ω² <= 2 Σk / m,
+// 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). Zeroes the sums again.
+double contactsCriticalStep(const Model& model, const std::vector<Contact>& contacts,
+                            ContactScratch& cache) {
+  double step = std::numeric_limits<double>::infinity();
+  for (const Contact& c : contacts) {
+    for (const std::int32_t i : {c.a, c.other}) {
+      if (i < 0 || cache.contactStiffnessSum[i] == 0.0) continue;
+      const double omega = std::sqrt(2.0 * cache.contactStiffnessSum[i] * model.inverseMass[i]);
+      const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
+      cache.contactStiffnessSum[i] = 0.0;
+      cache.contactDampingSum[i] = 0.0;
+      if (!(omega > 0.0)) continue;  // a fixed particle
+      const double zeta = dampingRate / (2.0 * omega);
+      step = std::min(step, 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta));
+    }
+  }
+  return step;
 }
 
 }  // namespace
@@ -136,7 +158,11 @@ void accumulateContacts(const Model& model, State& state) {
   detectContacts(model, state, cache);
 
   StageTally tally;
-  double criticalStep = std::numeric_limits<double>::infinity();
+  const auto particles = static_cast<std::size_t>(model.particleCount());
+  if (cache.contactStiffnessSum.size() != particles) {
+    cache.contactStiffnessSum.assign(particles, 0.0);
+    cache.contactDampingSum.assign(particles, 0.0);
+  }
   const std::vector<Contact>& previous = state.contacts;
   std::size_t old = 0;
   const std::vector<Vec3>& p = state.position;
@@ -179,7 +205,7 @@ void accumulateContacts(const Model& model, State& state) {
       ++stats.environmentContacts;
     }
     tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
-    criticalStep = std::min(criticalStep, contactCriticalStep(model, k, c));
+    addContactRates(model, k, c, cache);
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
   }
@@ -188,7 +214,7 @@ void accumulateContacts(const Model& model, State& state) {
 
   const double viscousPower = accumulateViscosity(model, state, cache);
   state.energy.contact = tally.potential;
-  state.contactCriticalStep = criticalStep;
+  state.contactCriticalStep = contactsCriticalStep(model, state.contacts, cache);
   state.dissipativePower += tally.dissipativePower + viscousPower;
   state.energy.dissipated += tally.releasedEnergy;
 }
