@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <set>
 #include <string>
 
 #include "robophi/runner.h"
@@ -45,6 +48,32 @@ TEST(Grasp, ThreeFingeredHandHoldsTheBallThroughADisturbance) {
   }
   EXPECT_GT(centre.z, 0.0);
   EXPECT_LT(std::hypot(centre.x, centre.y), 0.06);
+  // A power grasp: the palm and the fingers' links hold the ball through many
+  // contacts at once, and it is at rest in them.
+  const ObjectInfo& hand = scene.model.objects.front();
+  const auto inBall = [&](std::int32_t i) {
+    return i >= ball.firstParticle && i < ball.firstParticle + ball.particleCount;
+  };
+  const auto inHand = [&](std::int32_t i) {
+    return i >= hand.firstParticle && i < hand.firstParticle + hand.particleCount;
+  };
+  int holding = 0;
+  std::set<std::int32_t> touchingHandParticles;
+  for (const Contact& c : last.contacts) {
+    if (c.other < 0) continue;
+    if ((inBall(c.a) && inHand(c.other)) || (inHand(c.a) && inBall(c.other))) {
+      ++holding;
+      touchingHandParticles.insert(inHand(c.a) ? c.a : c.other);
+    }
+  }
+  std::printf("hand grasp at 50 s: %d ball-hand contacts, %zu hand particles touching\n", holding,
+              touchingHandParticles.size());
+  EXPECT_GE(holding, 10);
+  EXPECT_GE(touchingHandParticles.size(), 8u);
+  double fastest = 0.0;
+  for (ParticleIndex i = ball.firstParticle; i < ball.firstParticle + ball.particleCount; ++i)
+    fastest = std::max(fastest, norm(last.velocity[i]));
+  EXPECT_LT(fastest, 1e-3);
 }
 
 }  // namespace
