@@ -111,5 +111,29 @@ TEST(JointControl, ServoLimitAndSwitchOff) {
   EXPECT_EQ(robotics::jointServo(world.model(), *elbow).stiffness, 0.0);
 }
 
+// Every step, a joint's value and rate are readable: the rate is the time
+// derivative of the value (central difference over two steps), for a revolute
+// joint driven by its servo and for the passive prismatic slider.
+TEST(JointControl, RateIsTheDerivativeOfTheValue) {
+  for (const char* name : {"revolute_arm.json", "prismatic_slider.json"}) {
+    Scene scene = testing::loadSceneFromScenes(name);
+    ASSERT_FALSE(scene.model.joints.empty()) << name;
+    World world(scene.model, scene.initial, Integrator::kVelocityVerlet);
+    const double dt = 1e-5;
+    double largestRate = 0.0, largestError = 0.0;
+    for (int i = 0; i < 2000; ++i) {
+      const double before = jointValue(world.model(), world.state(), 0);
+      world.step(dt);
+      const double rate = jointRate(world.model(), world.state(), 0);
+      world.step(dt);
+      const double after = jointValue(world.model(), world.state(), 0);
+      largestRate = std::max(largestRate, std::abs(rate));
+      largestError = std::max(largestError, std::abs((after - before) / (2.0 * dt) - rate));
+    }
+    EXPECT_GT(largestRate, 1e-3) << name << ": the joint should move";
+    EXPECT_LT(largestError, 1e-3 * largestRate + 1e-9) << name;
+  }
+}
+
 }  // namespace
 }  // namespace robophi
