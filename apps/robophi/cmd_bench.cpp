@@ -12,6 +12,7 @@
 #include "bench_pile.h"
 #include "bench_scenes.h"
 #include "commands.h"
+#include "record.h"
 #include "robophi/adaptive_step.h"
 #include "robophi/version.h"
 
@@ -134,12 +135,7 @@ int benchCommand(const BenchArguments& args) {
       }
     }
   }
-  nlohmann::ordered_json doc;
-  const std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  doc["robophi"] = kVersion;
-  doc["date"] = date;
+  nlohmann::ordered_json doc = recordHeader();
   doc["quick"] = args.quick;
   doc["results"] = all;
   if (args.json) std::printf("%s\n", doc.dump(2).c_str());

@@ -1,12 +1,18 @@
 // robophi study ats: the paper's ATS-against-CTS comparison, as a table.
+// robophi study experiments: the paper's experiments played from their scene files.
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "record.h"
+#include "robophi/version.h"
 #include "study_ats.h"
+#include "study_experiments.h"
 
 namespace robophi::cli {
 
@@ -75,6 +81,71 @@ int studyCommand(const StudyArguments& args) {
   return kExitOk;
 }
 
+struct ExperimentsArguments {
+  std::string out = "docs";
+  std::string filter;
+  std::string record = "bench/results";
+};
+
+int experimentsCommand(const ExperimentsArguments& args) {
+  const std::vector<Experiment> experiments = paperExperiments();
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  bool allOk = true, allLoaded = true;
+  for (const Experiment& e : experiments) {
+    if (!args.filter.empty() && e.id.find(args.filter) == std::string::npos &&
+        e.title.find(args.filter) == std::string::npos)
+      continue;
+    if (!e.scene.empty())
+      std::fprintf(stderr, "robophi study experiments: %s ...\n", e.scene.c_str());
+    const ExperimentResult r = runExperiment(e);
+    allOk = allOk && r.ok();
+    allLoaded = allLoaded && r.status != "load error";
+    results.push_back(toJson(r));
+    std::printf("%s\n", summaryLine(r).c_str());
+    std::fflush(stdout);
+  }
+  if (results.empty()) {
+    std::fprintf(stderr, "robophi study experiments: no experiment matches '%s'\n",
+                 args.filter.c_str());
+    return kExitBadInput;
+  }
+
+  nlohmann::ordered_json record = recordHeader();
+  record["experiments"] = results;
+  const auto jsonPath = std::filesystem::path(args.record) / "experiments.json";
+  // A filtered run replaces only its own experiments in the record (and the table).
+  if (!args.filter.empty() && !args.record.empty()) {
+    std::ifstream in(jsonPath);
+    const nlohmann::ordered_json previous = nlohmann::ordered_json::parse(in, nullptr, false);
+    if (!previous.is_discarded() && previous.contains("experiments")) {
+      nlohmann::ordered_json merged = nlohmann::ordered_json::array();
+      for (const Experiment& e : experiments) {  // the table's order
+        const nlohmann::ordered_json* found = nullptr;
+        for (const auto& r : results)
+          if (r["id"] == e.id) found = &r;
+        for (const auto& r : previous["experiments"])
+          if (!found && r.value("id", std::string()) == e.id) found = &r;
+        if (found) merged.push_back(*found);
+      }
+      record["experiments"] = merged;
+    }
+  }
+  if (!args.record.empty()) {
+    std::filesystem::create_directories(args.record);
+    std::ofstream(jsonPath) << record.dump(2) << '\n';
+    std::printf("recorded in %s\n", jsonPath.string().c_str());
+  }
+  if (!args.out.empty()) {
+    std::filesystem::create_directories(args.out);
+    const auto mdPath = std::filesystem::path(args.out) / "experiments.md";
+    std::ofstream(mdPath) << experimentsMarkdown(record);
+    std::printf("wrote %s\n", mdPath.string().c_str());
+  }
+  // Scene files are found from the working folder: run from the repository root.
+  if (!allLoaded) return kExitBadInput;
+  return allOk ? kExitOk : kExitDiverged;
+}
+
 }  // namespace
 
 void addStudyCommand(CLI::App& app, int& exitCode) {
@@ -86,6 +157,16 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   ats->add_option("--max-cts-steps", args->maxCtsSteps, "Step budget of one CTS run");
   ats->add_option("--filter", args->filter, "Only cases whose name contains this");
   ats->callback([args, &exitCode] { exitCode = studyCommand(*args); });
+
+  auto eargs = std::make_shared<ExperimentsArguments>();
+  auto* experiments = cmd->add_subcommand(
+      "experiments", "The paper's experiments from their scene files: outcomes and wall times");
+  experiments->add_option("--out", eargs->out, "Folder for experiments.md (empty: do not write)");
+  experiments->add_option("--filter", eargs->filter,
+                          "Only experiments whose id or title contains this");
+  experiments->add_option("--record", eargs->record,
+                          "Folder for experiments.json (empty: do not record)");
+  experiments->callback([eargs, &exitCode] { exitCode = experimentsCommand(*eargs); });
 }
 
 }  // namespace robophi::cli
