@@ -5,12 +5,15 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#include "robophi/runner.h"
 #include "robophi/scene.h"
 #include "robophi/world.h"
+#include "robotics/scene_files.h"
 
 namespace robophi {
 namespace {
@@ -288,6 +291,35 @@ TEST(BarCalibration, ReportsAShearModulusTooLarge) {
   EXPECT_EQ(result.errors[0].pointer, "/objects/0/shearModulus");
   EXPECT_NE(result.errors[0].message.find("G < 0.75 E"), std::string::npos)
       << result.errors[0].message;
+}
+
+// The experiment as a scene file (scenes/bar_flexion.json), played as `robophi
+// run` plays it: the tip stiffness, from the anchor springs' actual pull and the
+// loaded layer's mean deflection, is 3 E I / L³ within 5 %.
+TEST(BarCalibration, FlexionSceneFile) {
+  const Scene scene = testing::loadSceneFromScenes("bar_flexion.json");
+  RunOptions options;
+  options.settings = scene.run;
+  State last;
+  const RunReport report = runScene(scene, options, &last);
+  ASSERT_TRUE(report.ok()) << report.failure;
+  double maxSpeed = 0.0;
+  for (const Vec3& v : last.velocity) maxSpeed = std::max(maxSpeed, norm(v));
+  EXPECT_LT(maxSpeed, 1e-5) << "not at rest";
+  double load = 0.0, deflection = 0.0;
+  for (const LinearSpring& s : scene.model.linearSprings) {
+    if (scene.model.objectOf[s.b] != 1) continue;  // the anchor springs
+    const Vec3 d = last.position[s.b] - last.position[s.a];
+    load += -d.z / norm(d) * s.stiffness * (norm(d) - s.restLength);
+    deflection += (scene.initial.position[s.a].z - last.position[s.a].z) / 9.0;
+  }
+  const double h = 0.03, length = 0.15;
+  const double theory = 3.0 * 1e6 * (h * h * h * h / 12.0) / (length * length * length);
+  std::printf(
+      "bar_flexion.json: load %.4f N, deflection %.3f mm, stiffness %.2f N/m (theory %.2f)\n", load,
+      deflection * 1e3, load / deflection, theory);
+  EXPECT_GT(load, 0.35);  // 0.45 N less the springs' relaxation as the tip comes down
+  EXPECT_NEAR(load / deflection / theory, 1.0, 0.05);
 }
 
 }  // namespace
