@@ -149,6 +149,31 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   // top: ω² <= λ_max(LS) + max_i 2 Σκ_angular / m_i. The same for damping gives ζ.
   const double lsStiffness = largestLinearSpringEigenvalue(model, *position, false);
   const double lsDamping = largestLinearSpringEigenvalue(model, *position, true);
+  // With positions, a TS's own arms u = |p_a - p_c|, w = |p_b - p_c| (never below
+  // the particles' diameters) replace the shortest-LS guess: the rows of
+  // κ g gᵀ, g = (1/u, -(1/u + 1/w), 1/w), sum to 2κ/u (1/u + 1/w) at a,
+  // 2κ (1/u + 1/w)² at c and 2κ/w (1/u + 1/w) at b. (A path TS between far fixed
+  // points was estimated 25× too stiff.)
+  std::fill(angularK.begin(), angularK.end(), 0.0);
+  std::fill(angularC.begin(), angularC.end(), 0.0);
+  for (const TorsionSpring& s : model.torsionSprings) {
+    const double u = std::max(norm((*position)[s.a] - (*position)[s.c]), 2.0 * model.radius[s.a]);
+    const double w = std::max(norm((*position)[s.b] - (*position)[s.c]), 2.0 * model.radius[s.b]);
+    if (!(u > 0.0 && w > 0.0)) {  // no size to go by: keep the guess
+      for (ParticleIndex p : {s.a, s.b, s.c}) addAngular(p, s.stiffness, s.damping);
+      continue;
+    }
+    const double sum = 1.0 / u + 1.0 / w;
+    const double factor[3] = {sum / u, sum * sum, sum / w};
+    const ParticleIndex particles[3] = {s.a, s.c, s.b};
+    for (int k = 0; k < 3; ++k) {
+      angularK[particles[k]] += s.stiffness * factor[k];
+      angularC[particles[k]] += s.damping * factor[k];
+    }
+  }
+  for (const JointSpring& s : model.jointSprings) {
+    for (ParticleIndex p : {s.a, s.b, s.c}) addAngular(p, s.stiffness, s.damping);
+  }
   double angularStiffness = 0.0, angularDamping = 0.0, particleDamping = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (model.inverseMass[i] == 0.0) continue;
@@ -162,7 +187,10 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   if (!(omega > 0.0)) return estimate;
   const double zeta = dampingRate / (2.0 * omega);
   const double step = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
-  if (step > estimate.criticalStep && std::isfinite(step)) {
+  // The estimate with positions stands on its own (it may be tighter or looser
+  // than the model-only one: a TS's true arms can be longer or shorter than
+  // the particle's shortest LS).
+  if (std::isfinite(step)) {
     estimate.omegaMax = omega;
     estimate.criticalStep = step;
   }
