@@ -34,20 +34,13 @@ void computeForces(const Model& model, State& state) {
                            torsion.dissipativePower + joint.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, state);
-  // Work of the fixed particles that move (kinematic drivers): -Σ F·v.
-  double driving = 0.0;
-  const auto n = model.particleCount();
-  for (ParticleIndex i = 0; i < n; ++i) {
-    if (model.inverseMass[i] == 0.0) driving -= dot(state.force[i], state.velocity[i]);
-  }
-  state.drivingPower = driving;
   state.forcesValid = true;
 }
 
 void World::refresh() {
   if (state_.forcesValid) return;
   computeForces(model_, state_);
-  state_.energy.kinetic = kineticEnergy(model_, state_);
+  measureKineticAndDriving(model_, state_);
 }
 
 double World::bookExternalWork() {
@@ -84,7 +77,7 @@ StepStatus World::step(double dt) {
 
   // 4. Energy account: kinetic at t + δ; dissipated work and the work of moving
   // fixed particles by the trapezoid rule.
-  state_.energy.kinetic = kineticEnergy(model_, state_);
+  measureKineticAndDriving(model_, state_);
   state_.energy.dissipated -= 0.5 * (powerAtStart + state_.dissipativePower) * dt;
   state_.energy.external += 0.5 * (drivingAtStart + state_.drivingPower) * dt;
   state_.time += dt;

@@ -47,6 +47,11 @@ struct StabilityEstimate {
 StabilityEstimate estimateStability(const Model& model,
                                     const std::vector<Vec3>* position = nullptr);
 
+/// The largest stable explicit step (s) of a damped oscillator of angular
+/// frequency ω (rad/s) and damping rate 2ζω (1/s): 2/ω (√(1+ζ²) - ζ); 2/(2ζω)
+/// without stiffness; infinite with neither.
+double dampedCriticalStep(double omega, double dampingRate);
+
 /// Evaluates the net force on every particle at the state's positions and
 /// velocities and the potentials of the energy account (not `dissipated`).
 void computeForces(const Model& model, State& state);

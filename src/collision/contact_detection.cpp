@@ -188,17 +188,8 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
       continue;
     }
     ++cache.stats.environmentTests;
-    double signedDistance = 0.0;
-    Vec3 normal;
-    if (!environmentDistance(model.environment, e, p, signedDistance, normal)) continue;
-    const double depth = signedDistance - r;
-    if (depth >= 0.0) continue;
     Contact c;
-    c.a = i;
-    c.other = -1 - e;
-    c.depth = depth;
-    c.normal = normal;
-    out.push_back(c);
+    if (touchesEnvironment(model.environment, i, p, r, e, c)) out.push_back(c);
   }
 }
 

@@ -137,9 +137,7 @@ double contactsCriticalStep(const Model& model, const std::vector<Contact>& cont
       const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
       cache.contactStiffnessSum[i] = 0.0;
       cache.contactDampingSum[i] = 0.0;
-      if (!(omega > 0.0)) continue;  // a fixed particle
-      const double zeta = dampingRate / (2.0 * omega);
-      step = std::min(step, 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta));
+      step = std::min(step, dampedCriticalStep(omega, dampingRate));
     }
   }
   return step;

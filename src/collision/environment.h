@@ -15,6 +15,23 @@ namespace robophi {
 bool environmentDistance(const Environment& environment, std::int32_t item, const Vec3& p,
                          double& signedDistance, Vec3& normal);
 
+/// Particle i of radius r at p against environment item `item`: true, with the
+/// contact's depth and normal in `contact`, when it touches (depth < 0).
+inline bool touchesEnvironment(const Environment& environment, std::int32_t i, const Vec3& p,
+                               double r, std::int32_t item, Contact& contact) {
+  double signedDistance = 0.0;
+  Vec3 normal;
+  if (!environmentDistance(environment, item, p, signedDistance, normal)) return false;
+  const double depth = signedDistance - r;
+  if (depth >= 0.0) return false;
+  contact = Contact{};
+  contact.a = i;
+  contact.other = -1 - item;
+  contact.depth = depth;
+  contact.normal = normal;
+  return true;
+}
+
 /// The highest point of a heightfield item (m); 0 for other items.
 double environmentTop(const Environment& environment, std::int32_t item);
 

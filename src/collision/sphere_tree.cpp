@@ -216,19 +216,9 @@ void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       const std::int32_t i = cache.treeParticles[p];
       if (model.inverseMass[i] == 0.0) continue;
       ++cache.stats.environmentTests;
-      double signedDistance = 0.0;
-      Vec3 normal;
-      if (!environmentDistance(model.environment, item, position[i], signedDistance, normal)) {
-        continue;
-      }
-      const double depth = signedDistance - model.radius[i];
-      if (depth >= 0.0) continue;
       Contact c;
-      c.a = i;
-      c.other = -1 - item;
-      c.depth = depth;
-      c.normal = normal;
-      cache.treeContacts.push_back(c);
+      if (touchesEnvironment(model.environment, i, position[i], model.radius[i], item, c))
+        cache.treeContacts.push_back(c);
     }
     return;
   }

@@ -38,14 +38,18 @@ void integrateVerletKick(const Model& model, double dt, State& state) {
   }
 }
 
-double kineticEnergy(const Model& model, const State& state) {
-  double energy = 0.0;
+void measureKineticAndDriving(const Model& model, State& state) {
+  double energy = 0.0, driving = 0.0;
   const auto n = model.particleCount();
   for (ParticleIndex i = 0; i < n; ++i) {
-    if (model.inverseMass[i] == 0.0) continue;
-    energy += 0.5 * model.mass[i] * squaredNorm(state.velocity[i]);
+    if (model.inverseMass[i] == 0.0) {
+      driving -= dot(state.force[i], state.velocity[i]);
+    } else {
+      energy += 0.5 * model.mass[i] * squaredNorm(state.velocity[i]);
+    }
   }
-  return energy;
+  state.energy.kinetic = energy;
+  state.drivingPower = driving;
 }
 
 }  // namespace robophi

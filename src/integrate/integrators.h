@@ -17,7 +17,10 @@ void integrateVerletDrift(const Model& model, double dt, State& state);
 /// Velocity Verlet, second part: v += ½ a(t+δ) δ.
 void integrateVerletKick(const Model& model, double dt, State& state);
 
-/// ½ Σ m_i |v_i|² over the free particles (J).
-double kineticEnergy(const Model& model, const State& state);
+/// In one pass over the particles, at the state's velocities and forces: the
+/// kinetic energy ½ Σ m_i |v_i|² of the free particles (J, into
+/// state.energy.kinetic) and the power -Σ F_i·v_i put in by the fixed ones that
+/// move kinematically (W, into state.drivingPower).
+void measureKineticAndDriving(const Model& model, State& state);
 
 }  // namespace robophi

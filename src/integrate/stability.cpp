@@ -84,6 +84,14 @@ double largestLinearSpringEigenvalue(const Model& model, const std::vector<Vec3>
 
 }  // namespace
 
+double dampedCriticalStep(double omega, double dampingRate) {
+  if (omega > 0.0) {
+    const double zeta = dampingRate / (2.0 * omega);
+    return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  }
+  return dampingRate > 0.0 ? 2.0 / dampingRate : std::numeric_limits<double>::infinity();
+}
+
 StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>* position) {
   // Per particle, the sum of the linear stiffness (N/m) and damping (N·s/m) of
   // the connectors that touch it. A TS or JS of stiffness κ (N·m/rad) acts on an
@@ -128,13 +136,7 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
     const double omegaSquared = 2.0 * stiffness[i] * model.inverseMass[i];
     const double omega = std::sqrt(omegaSquared);
     const double dampingRate = 2.0 * damping[i] * model.inverseMass[i];  // 2ζω
-    double step = std::numeric_limits<double>::infinity();
-    if (omega > 0.0) {
-      const double zeta = dampingRate / (2.0 * omega);
-      step = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
-    } else if (dampingRate > 0.0) {
-      step = 2.0 / dampingRate;
-    }
+    const double step = dampedCriticalStep(omega, dampingRate);
     estimate.omegaMax = std::max(estimate.omegaMax, omega);
     if (step < estimate.criticalStep) {
       estimate.criticalStep = step;
@@ -185,8 +187,7 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   const double omega = std::sqrt(1.1 * lsStiffness + angularStiffness);
   const double dampingRate = 1.1 * lsDamping + angularDamping + particleDamping;  // 2ζω
   if (!(omega > 0.0)) return estimate;
-  const double zeta = dampingRate / (2.0 * omega);
-  const double step = 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  const double step = dampedCriticalStep(omega, dampingRate);
   // The estimate with positions stands on its own (it may be tighter or looser
   // than the model-only one: a TS's true arms can be longer or shorter than
   // the particle's shortest LS).

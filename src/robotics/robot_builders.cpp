@@ -21,17 +21,6 @@ using io::ObjectReader;
 
 Vec3 unit(const Vec3& v) { return v / norm(v); }
 
-int addParticle(GeneratedObject& o, const Vec3& p, double mass, double radius) {
-  o.position.push_back(p);
-  o.mass.push_back(mass);
-  o.radius.push_back(radius);
-  return static_cast<int>(o.position.size()) - 1;
-}
-
-void addLink(GeneratedObject& o, int a, int b) {
-  o.linearSprings.push_back({a, b, norm(o.position[a] - o.position[b]), 0.0, 0.0});
-}
-
 // A rigid body: LS between every pair of `members`, except pairs both in `skip`.
 void rigidBody(GeneratedObject& o, const std::vector<int>& members, const std::vector<int>& skip) {
   const auto in = [](const std::vector<int>& v, int x) {
@@ -147,6 +136,18 @@ bool readArm(ObjectReader& r, io::SceneObject& object, double dt) {
 }
 
 }  // namespace
+
+int addParticle(GeneratedObject& o, const Vec3& p, double mass, double radius) {
+  o.position.push_back(p);
+  o.mass.push_back(mass);
+  o.radius.push_back(radius);
+  return static_cast<int>(o.position.size()) - 1;
+}
+
+int addLink(GeneratedObject& o, int a, int b) {
+  o.linearSprings.push_back({a, b, norm(o.position[a] - o.position[b]), 0.0, 0.0});
+  return static_cast<int>(o.linearSprings.size()) - 1;
+}
 
 ChainParts appendChain(GeneratedObject& o, const ChainSpec& spec) {
   ChainParts parts;

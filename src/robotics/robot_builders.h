@@ -48,6 +48,12 @@ struct ChainParts {
 /// be resolved, JS and joints); joint values start at π (straight).
 ChainParts appendChain(io::GeneratedObject& object, const ChainSpec& spec);
 
+/// Appends a particle to `object`; returns its local index.
+int addParticle(io::GeneratedObject& object, const Vec3& position, double mass, double radius);
+/// Appends an LS between local particles a and b at rest at their distance, its
+/// stiffness and damping (0) to be resolved; returns its index.
+int addLink(io::GeneratedObject& object, int a, int b);
+
 /// Moves the listed particles to the end of the object, in that order, and
 /// renumbers every connector (tools and tips become "object:-k").
 void moveToEnd(io::GeneratedObject& object, const std::vector<int>& particles,

@@ -24,16 +24,13 @@ GoalStatus goalStatus(const World& world, const GoalSpec& goal) {
   return status;
 }
 
-LocalMinimumEscape::LocalMinimumEscape(EscapeSpec spec, GoalSpec goal)
-    : spec_(spec), goal_(std::move(goal)) {}
-
-std::optional<std::string> LocalMinimumEscape::update(World& world) {
+std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSpec& goal) {
   if (start_.empty())
-    for (ParticleIndex i : goal_.particles) start_.push_back(world.state().position[i]);
-  const GoalStatus status = goalStatus(world, goal_);
+    for (ParticleIndex i : goal.particles) start_.push_back(world.state().position[i]);
+  const GoalStatus status = goalStatus(world, goal);
   const double t = world.state().time;
-  const bool stuck = status.meanSpeed < spec_.speedThreshold && !status.reached &&
-                     status.worstDistance > goal_.tolerance;
+  const bool stuck =
+      status.meanSpeed < spec_.speedThreshold && status.worstDistance > goal.tolerance;
   if (!stuck) {
     stoppedSince_ = -1.0;
     return std::nullopt;
@@ -49,15 +46,15 @@ std::optional<std::string> LocalMinimumEscape::update(World& world) {
   std::size_t worst = 0;
   double worstDistance = -1.0;
   const State& s = world.state();
-  for (std::size_t k = 0; k < goal_.particles.size(); ++k) {
-    const double d = norm(s.position[goal_.particles[k]] - s.position[goal_.targets[k]]);
+  for (std::size_t k = 0; k < goal.particles.size(); ++k) {
+    const double d = norm(s.position[goal.particles[k]] - s.position[goal.targets[k]]);
     if (d > worstDistance) {
       worstDistance = d;
       worst = k;
     }
   }
-  const ParticleIndex i = goal_.particles[worst];
-  const Vec3 toGoal = (s.position[goal_.targets[worst]] - s.position[i]) / worstDistance;
+  const ParticleIndex i = goal.particles[worst];
+  const Vec3 toGoal = (s.position[goal.targets[worst]] - s.position[i]) / worstDistance;
   if (!side_) {
     const Vec3 drift = s.position[i] - start_[worst];
     Vec3 sideways = drift - toGoal * dot(drift, toGoal);
@@ -79,7 +76,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world) {
   return fmt::format(
       "goal '{}': local minimum at t = {:.4g} s ({:.3g} m from the goal, speed {:.3g} m/s); "
       "virtual obstacle {} added at [{:.4g}, {:.4g}, {:.4g}], radius {:.3g} m",
-      goal_.name, t, worstDistance, status.meanSpeed, added_.size(), sphere.center.x,
+      goal.name, t, worstDistance, status.meanSpeed, added_.size(), sphere.center.x,
       sphere.center.y, sphere.center.z, sphere.radius);
 }
 
@@ -157,12 +154,13 @@ std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
                                                {},
                                                scene.run.duration,
                                                false});
-  for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e, tasks.goals[e.goal]);
+  for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e);
   for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g);
   return [run](World& world, RunReport& report) {
     run->limiter.update(world);
     for (auto& escape : run->escapes)
-      if (auto event = escape.update(world)) report.events.push_back(*event);
+      if (auto event = escape.update(world, run->goals[escape.goal()]))
+        report.events.push_back(*event);
     for (auto& grasp : run->grasps)
       if (auto event = grasp.update(world)) report.events.push_back(*event);
     bool keepGoing = true;

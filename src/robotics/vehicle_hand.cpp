@@ -16,18 +16,6 @@ using io::Bound;
 using io::GeneratedObject;
 using io::ObjectReader;
 
-int addParticle(GeneratedObject& o, const Vec3& p, double mass, double radius) {
-  o.position.push_back(p);
-  o.mass.push_back(mass);
-  o.radius.push_back(radius);
-  return static_cast<int>(o.position.size()) - 1;
-}
-
-int addLink(GeneratedObject& o, int a, int b) {
-  o.linearSprings.push_back({a, b, norm(o.position[a] - o.position[b]), 0.0, 0.0});
-  return static_cast<int>(o.linearSprings.size()) - 1;
-}
-
 // Appends `part` (local indices) to `o`; returns the offset of its particles.
 int append(GeneratedObject& o, const GeneratedObject& part) {
   const auto offset = static_cast<int>(o.size());

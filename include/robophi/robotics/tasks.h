@@ -37,15 +37,18 @@ std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal);
 /// and adds virtual sphere obstacles there, one after another, until it escapes.
 class LocalMinimumEscape {
  public:
-  LocalMinimumEscape(EscapeSpec spec, GoalSpec goal);
-  /// Call after each step; returns a description when it added an obstacle.
-  std::optional<std::string> update(World& world);
+  explicit LocalMinimumEscape(EscapeSpec spec) : spec_(spec) {}
+  /// Call after each step with the goal it watches (SceneTasks::goals[spec.goal],
+  /// as the run holds it: a moving virtual robot changes); returns a
+  /// description when it added an obstacle.
+  std::optional<std::string> update(World& world, const GoalSpec& goal);
+  /// Index of the goal it watches (SceneTasks::goals).
+  std::size_t goal() const { return spec_.goal; }
   /// The virtual obstacles added so far, in order.
   const std::vector<SphereObstacle>& added() const { return added_; }
 
  private:
   EscapeSpec spec_;
-  GoalSpec goal_;
   /// Time (s) since when the robot is stopped away from the goal; < 0: moving.
   double stoppedSince_ = -1.0;
   std::vector<SphereObstacle> added_;
