@@ -2,95 +2,140 @@
 #include "robophi/world.h"
 
 #include <cmath>
+#include <stdexcept>
 
-#include "collision/contact_stage.h"
-#include "forces/forces.h"
+#include "core/text.h"
+#include "evaluate.h"
 #include "integrate/integrators.h"
 
 namespace robophi {
 
 World::World(Model model, State initial, Integrator integrator)
-    : model_(std::move(model)), state_(std::move(initial)), integrator_(integrator) {
-  state_.force.assign(state_.position.size(), Vec3{});
-  state_.forcesValid = false;
+    : World(CompiledModel(std::move(model)), std::move(initial), integrator) {}
+
+World::World(CompiledModel model, State initial, Integrator integrator)
+    : model_(std::move(model)), integrator_(integrator) {
+  const auto n = static_cast<std::size_t>(model_.model().particleCount());
+  if (initial.position.size() != n || initial.velocity.size() != n) {
+    throw std::invalid_argument(detail::text(
+        "World: the initial state has {} positions and {} velocities; the model has {} particles",
+        initial.position.size(), initial.velocity.size(), n));
+  }
+  if (const ParticleIndex bad =
+          [&] {
+            for (std::size_t i = 0; i < n; ++i) {
+              if (!isFinite(initial.position[i]) || !isFinite(initial.velocity[i]))
+                return static_cast<ParticleIndex>(i);
+            }
+            return kNoParticle;
+          }();
+      bad != kNoParticle) {
+    throw std::invalid_argument(
+        detail::text("World: particle {} of the initial state is not finite", bad));
+  }
+  current_.state_ = std::move(initial);
 }
 
-void computeForces(const Model& model, State& state) {
-  for (Vec3& f : state.force) f = Vec3{};
-  EnergyTally& e = state.energy;
-  const ForceTally gravity = accumulateGravity(model, state.position, state.force);
-  const ForceTally damping = accumulateLinearDamping(model, state.velocity, state.force);
-  const ForceTally linear =
-      accumulateLinearSprings(model, state.position, state.velocity, state.force);
-  const ForceTally torsion =
-      accumulateTorsionSprings(model, state.position, state.velocity, state.force);
-  const ForceTally joint =
-      accumulateJointSprings(model, state.position, state.velocity, state.force);
-  e.gravity = gravity.potential;
-  e.linearSpring = linear.potential;
-  e.torsionSpring = torsion.potential;
-  e.jointSpring = joint.potential;
-  state.dissipativePower = damping.dissipativePower + linear.dissipativePower +
-                           torsion.dissipativePower + joint.dissipativePower;
-  // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
-  accumulateContacts(model, state);
-  state.forcesValid = true;
+void World::evaluateCurrent() const {
+  State& state = current_.state_;
+  Evaluation& evaluation = current_.evaluation_;
+  evaluateForces(model_, state.position, state.velocity, state.frictionHistory,
+                 workspace_.contactScratch(), evaluation);
+  measureKineticAndDriving(model_.model(), state.velocity, evaluation);
 }
 
-void World::refresh() {
-  if (state_.forcesValid) return;
-  computeForces(model_, state_);
-  measureKineticAndDriving(model_, state_);
+void World::refresh() const {
+  Snapshot& s = current_;
+  if (s.evaluated_) return;
+  evaluateCurrent();
+  s.evaluated_ = true;
+  // The anchors' released energy is dissipated: book this evaluation's in place
+  // of the one State::dissipated holds (equal, and 0 added, at an unchanged state).
+  s.state_.dissipated += s.evaluation_.releasedAnchorEnergy - s.bookedRelease_;
+  s.bookedRelease_ = s.evaluation_.releasedAnchorEnergy;
+  if (s.edited_) {
+    // What the edits changed in E + dissipated is work done from outside.
+    s.edited_ = false;
+    const double work = s.energy().total() - s.totalBeforeEdits_;
+    s.state_.external += work;
+    unreportedWork_ += work;
+  }
+}
+
+EnergyTally World::Snapshot::energy() const {
+  EnergyTally e = evaluation_.energy;
+  e.dissipated = state_.dissipated;
+  e.external = state_.external;
+  return e;
+}
+
+EnergyTally World::energy() const {
+  refresh();
+  return current_.energy();
 }
 
 double World::bookExternalWork() {
-  if (state_.forcesValid) return 0.0;
-  const double before = state_.energy.total();
   refresh();
-  const double work = state_.energy.total() - before;
-  state_.energy.external += work;
+  const double work = unreportedWork_;
+  unreportedWork_ = 0.0;
   return work;
 }
 
 StepStatus World::step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    throw std::invalid_argument(detail::text("World::step: dt = {} s must be > 0 and finite", dt));
+  }
   // 1. Forces at t (cached from the previous step when nothing changed).
   refresh();
-  const double powerAtStart = state_.dissipativePower;
-  const double drivingAtStart = state_.drivingPower;
+  const Model& model = model_.model();
+  State& state = current_.state_;
+  Evaluation& evaluation = current_.evaluation_;
+  const double powerAtStart = evaluation.dissipativePower;
+  const double drivingAtStart = evaluation.drivingPower;
+  // The contacts found at t become the friction history the step starts from
+  // (MODEL §3.3); the evaluation at t + δ reads it.
+  state.frictionHistory.swap(evaluation.contacts);
+  ContactScratch& scratch = workspace_.contactScratch();
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.
   switch (integrator_) {
     case Integrator::kTaylor:
-      integrateTaylor(model_, dt, state_);
-      computeForces(model_, state_);
+      integrateTaylor(model, dt, evaluation.force, state);
+      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
+                     evaluation);
       break;
     case Integrator::kSymplecticEuler:
-      integrateSymplecticEuler(model_, dt, state_);
-      computeForces(model_, state_);
+      integrateSymplecticEuler(model, dt, evaluation.force, state);
+      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
+                     evaluation);
       break;
     case Integrator::kVelocityVerlet:
-      integrateVerletDrift(model_, dt, state_);
-      computeForces(model_, state_);
-      integrateVerletKick(model_, dt, state_);
+      integrateVerletDrift(model, dt, evaluation.force, state);
+      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
+                     evaluation);
+      integrateVerletKick(model, dt, evaluation.force, state);
       break;
   }
 
-  // 4. Energy account: kinetic at t + δ; dissipated work and the work of moving
-  // fixed particles by the trapezoid rule.
-  measureKineticAndDriving(model_, state_);
-  state_.energy.dissipated -= 0.5 * (powerAtStart + state_.dissipativePower) * dt;
-  state_.energy.external += 0.5 * (drivingAtStart + state_.drivingPower) * dt;
-  state_.time += dt;
-  ++state_.stepCount;
+  // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
+  // dissipated work and the work of moving fixed particles by the trapezoid rule.
+  measureKineticAndDriving(model, state.velocity, evaluation);
+  state.dissipated += evaluation.releasedAnchorEnergy;
+  current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
+  state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;
+  state.external += 0.5 * (drivingAtStart + evaluation.drivingPower) * dt;
+  state.time += dt;
+  ++state.stepCount;
 
   // 5. Numerical trouble shows in the energy: one check covers every particle.
-  return std::isfinite(state_.energy.total()) ? StepStatus::kOk : StepStatus::kNonFinite;
+  return std::isfinite(current_.energy().total()) ? StepStatus::kOk : StepStatus::kNonFinite;
 }
 
 ParticleIndex World::firstNonFiniteParticle() const {
-  const auto n = model_.particleCount();
+  const auto n = model().particleCount();
+  const State& state = current_.state_;
   for (ParticleIndex i = 0; i < n; ++i) {
-    if (!isFinite(state_.position[i]) || !isFinite(state_.velocity[i])) return i;
+    if (!isFinite(state.position[i]) || !isFinite(state.velocity[i])) return i;
   }
   return kNoParticle;
 }

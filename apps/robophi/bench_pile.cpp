@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "collision/contact_stage.h"
+#include "robophi/evaluation.h"
 
 namespace robophi::cli {
 
@@ -100,7 +100,6 @@ Scene makePileScene(int n) {
     environment.boxes.push_back(wall);
   }
   scene.initial.velocity.assign(count, Vec3{});
-  scene.initial.force.assign(count, Vec3{});
   scene.run.integrator = Integrator::kSymplecticEuler;
   scene.run.stepMode = StepMode::kConstant;
   scene.run.dt = kPileStep;
@@ -131,7 +130,6 @@ Scene makeScalingScene(std::int64_t count, bool oneObject) {
     scene.initial.position.push_back(Vec3{i, j, k} * 0.02 + jitter * 0.002);
   }
   scene.initial.velocity.assign(static_cast<std::size_t>(count), Vec3{});
-  scene.initial.force.assign(static_cast<std::size_t>(count), Vec3{});
   return scene;
 }
 
@@ -144,22 +142,18 @@ int runContactScaling(bool json) {
     std::vector<double> logN, logT;
     for (const std::int64_t count : {1000LL, 10000LL, 100000LL, 1000000LL}) {
       Scene scene = makeScalingScene(count, oneObject);
-      State state = scene.initial;
-      // The first passes build the cache (trees, exclusions) and grow the
-      // contact buffers (two: the list is double-buffered); then time.
-      for (int warm = 0; warm < 2; ++warm) {
-        for (Vec3& f : state.force) f = Vec3{};
-        accumulateContacts(scene.model, state);
-      }
+      const CompiledModel model(scene.model);
+      // A whole force evaluation (gravity is off and there are no connectors,
+      // so it is the contact pass and three O(n) sweeps). The first passes
+      // build the sphere trees and grow the buffers; then time.
+      Workspace workspace;
+      for (int warm = 0; warm < 2; ++warm) evaluate(model, scene.initial, workspace);
       const int repeats = count >= 1000000 ? 2 : (count >= 100000 ? 5 : 20);
       const auto start = std::chrono::steady_clock::now();
-      for (int r = 0; r < repeats; ++r) {
-        for (Vec3& f : state.force) f = Vec3{};
-        accumulateContacts(scene.model, state);
-      }
+      for (int r = 0; r < repeats; ++r) evaluate(model, scene.initial, workspace);
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / repeats;
-      const ContactStats stats = lastContactStats(state);
+      const ContactStats stats = workspace.result().contactStats;
       const double allPairs = 0.5 * static_cast<double>(count) * static_cast<double>(count - 1);
       logN.push_back(std::log(static_cast<double>(count)));
       logT.push_back(std::log(seconds));

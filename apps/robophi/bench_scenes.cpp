@@ -46,7 +46,6 @@ Scene makeClothScene(int n) {
     }
   }
   scene.initial.velocity.assign(scene.initial.position.size(), Vec3{});
-  scene.initial.force.assign(scene.initial.position.size(), Vec3{});
   scene.run.integrator = Integrator::kSymplecticEuler;
   scene.run.dt = 1.0e-4 * 32.0 / n;
   scene.run.duration = 1.0;

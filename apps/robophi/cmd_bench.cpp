@@ -68,7 +68,7 @@ BenchResult runBench(const BenchScene& bench) {
       r.status = "diverged";
       break;
     }
-    const ContactStats contacts = lastContactStats(world.state());
+    const ContactStats contacts = world.evaluation().contactStats;
     contactSum += static_cast<double>(contacts.particleContacts + contacts.environmentContacts);
     r.maxPenetration = std::max(r.maxPenetration, contacts.maxPenetration);
     r.maxPenetrationFraction = std::max(r.maxPenetrationFraction, contacts.maxPenetrationFraction);

@@ -114,7 +114,7 @@ ExperimentProbe vehicleProbe(const Scene&) {
     const Vec3 up = s.position[1] - s.position[0];
     watch->largestTilt =
         std::max(watch->largestTilt, std::acos(std::clamp(up.z / norm(up), -1.0, 1.0)));
-    for (const Contact& c : s.contacts)
+    for (const Contact& c : world.contacts())
       if (c.withEnvironment() && c.a < kChassis) watch->chassisTouched = true;
     return true;
   };

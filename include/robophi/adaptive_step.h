@@ -96,27 +96,23 @@ class AdaptiveStepper {
   double nextStep() const { return step_; }
 
  private:
-  /// Relative energy error of a trial from `before` to `after`.
-  double energyError(const State& before, const State& after) const;
+  /// Relative energy error of a trial from the energy account `before` to `after`.
+  double energyError(const EnergyTally& before, const EnergyTally& after) const;
   /// The step factor δ_next/δ that an error calls for (unclamped).
   double proposal(double error) const;
   std::string diagnose(const World& world) const;
 
   AdaptiveStepSettings settings_;
   double stabilityLimit_;
-  /// Whether stabilityLimit_ has been refined with the first state's positions.
-  bool refinedLimit_;
   double step_;
   /// The error order in use (set at the first step from the integrator).
   double errorOrder_ = 0.0;
   /// Σ m |g| × scene size (J), measured at the first step; -1 until then.
   double gravityScale_ = -1.0;
   AdaptiveStepStats stats_;
-  State saved_;
+  World::Snapshot saved_;
+  /// The model revision the stability cap was computed for.
+  std::int64_t modelRevision_ = -1;
 };
-
-/// The deepest penetration of the state's contacts as a fraction of the smaller
-/// radius involved (0 when nothing touches). Provided by the contact stage.
-double deepestPenetrationFraction(const Model& model, const State& state);
 
 }  // namespace robophi

@@ -10,7 +10,6 @@
 /// tangential anchor spring, and the medium's viscosity (§3.4).
 
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -124,7 +123,8 @@ struct ContactSettings {
 };
 
 /// A contact between particle `a` and either particle `other` (> a) or the
-/// environment item -1 - other. Kept in State, sorted by key().
+/// environment item -1 - other. An Evaluation lists the contacts at its state,
+/// sorted by key(); the step commits them as the State's friction history.
 struct Contact {
   std::int32_t a = -1;
   std::int32_t other = -1;
@@ -169,30 +169,9 @@ struct ContactStats {
   double maxPenetrationFraction = 0.0;
 };
 
-struct ContactScratch;
-
-/// The contact stage's derived data and scratch buffers (sphere trees, grid,
-/// exclusion lists), built from the Model on first use. It is a cache, not part
-/// of the state's value: copying a State gives the copy an empty cache (rebuilt
-/// when needed), and assigning a State keeps the target's own cache.
-class ContactCacheHolder {
- public:
-  ContactCacheHolder();
-  ~ContactCacheHolder();
-  ContactCacheHolder(const ContactCacheHolder&);
-  ContactCacheHolder& operator=(const ContactCacheHolder&);
-  ContactCacheHolder(ContactCacheHolder&&) noexcept;
-  ContactCacheHolder& operator=(ContactCacheHolder&&) noexcept;
-
-  ContactScratch* get() const { return scratch_.get(); }
-  void reset(std::unique_ptr<ContactScratch> scratch);
-
- private:
-  std::unique_ptr<ContactScratch> scratch_;
-};
-
-/// Counters of the contact evaluation that produced `state` (zeros before the first).
-ContactStats lastContactStats(const State& state);
+/// The deepest penetration of `contacts` as a fraction of the smaller radius
+/// involved (0 when nothing touches).
+double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts);
 
 /// Reads a binary (P5) or text (P2) PGM image as a heightfield: pixel value v maps
 /// to minHeight + (maxHeight - minHeight) v / maxval; image column i is x index i,

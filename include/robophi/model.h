@@ -150,4 +150,11 @@ struct Model {
 /// it holds, otherwise the first problem found, naming the item and the value.
 std::string checkModel(const Model& model);
 
+/// Checks connector number k against a model of `particleCount` particles
+/// (indices in range and distinct, rest value and stiffness valid). Returns an
+/// empty string if it holds, otherwise the problem.
+std::string checkConnector(const LinearSpring& spring, std::size_t k, ParticleIndex particleCount);
+std::string checkConnector(const TorsionSpring& spring, std::size_t k, ParticleIndex particleCount);
+std::string checkConnector(const JointSpring& spring, std::size_t k, ParticleIndex particleCount);
+
 }  // namespace robophi

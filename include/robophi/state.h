@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// State: what changes during a step. A plain value: copying it is a snapshot,
-/// and restoring the copy undoes a step (used by the adaptive step).
+/// State: what a step advances (MODEL.md §2). A plain value: copying it is a
+/// snapshot. Everything computed *from* a state (forces, potentials, the contacts
+/// at its positions) is an Evaluation (evaluation.h), never part of the state.
 
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "robophi/contact.h"
@@ -13,23 +13,24 @@
 
 namespace robophi {
 
-/// The energy account of a state (J). Potentials are measured at the state's
-/// positions; `dissipated` is the work removed by dissipative forces since t = 0.
+/// The energy account at a state (J). Kinetic energy and potentials are measured
+/// at the state (an Evaluation); `dissipated` and `external` are accumulated by
+/// the steps (State).
 struct EnergyTally {
   double kinetic = 0.0;
   double linearSpring = 0.0;
   double torsionSpring = 0.0;
   double jointSpring = 0.0;
   double gravity = 0.0;
-  /// Potential of contacts and of the environment (filled by the contact stage).
+  /// Potential of contacts and of the environment, friction anchors included.
   double contact = 0.0;
   /// Work removed so far by damping, friction and viscosity (>= 0 when the
   /// account is right; it only grows).
   double dissipated = 0.0;
   /// Work done on the system from outside (J): by fixed particles moving
-  /// kinematically (a moving virtual robot), and between steps by robotics
-  /// tasks that add virtual obstacles, change joint targets or disturb an
-  /// object (World::bookExternalWork). 0 for a closed system.
+  /// kinematically (a moving virtual robot), and by edits made between steps
+  /// (World's edit API: joint targets, virtual obstacles, a disturbance).
+  /// 0 for a closed system.
   double external = 0.0;
 
   double potential() const {
@@ -52,34 +53,23 @@ struct State {
   std::vector<Vec3> position;
   /// v_i (m/s).
   std::vector<Vec3> velocity;
-  /// Net force F_i (N) at (position, velocity); valid when forcesValid.
-  std::vector<Vec3> force;
-  bool forcesValid = false;
-  /// Power of the dissipative forces (W, <= 0) at the last force evaluation.
-  double dissipativePower = 0.0;
-  /// Power (W) put into the system by fixed particles that move kinematically
-  /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them, at `force`.
-  double drivingPower = 0.0;
-  /// The largest stable explicit step (s) of the touching contacts at the last
-  /// force evaluation: per particle, Gershgorin on the sum of its contacts'
-  /// stiffness and damping (the larger of normal and tangential), as
-  /// estimateStability does for connectors; infinite without contacts.
-  /// The adaptive step keeps below it (contacts are not in the model's
-  /// stability estimate: they come and go).
-  double contactCriticalStep = std::numeric_limits<double>::infinity();
-  EnergyTally energy;
-  /// Touching pairs and environment contacts with their friction anchors, sorted
-  /// by Contact::key(), as of the last force evaluation (MODEL §3).
-  std::vector<Contact> contacts;
-  /// The contact stage's cache (not part of the value: see ContactCacheHolder).
-  ContactCacheHolder contactCache;
+  /// Friction history (MODEL §3.3): the contacts, with their anchors and
+  /// sliding flags, that the force evaluation at this state starts from — the
+  /// contacts of the evaluation that ended the previous step, committed by the
+  /// step. Sorted by Contact::key(). Empty at the start.
+  std::vector<Contact> frictionHistory;
+  /// Work removed by dissipative forces since t = 0 (J), EnergyTally::dissipated.
+  double dissipated = 0.0;
+  /// Work done from outside since t = 0 (J), EnergyTally::external.
+  double external = 0.0;
 
   /// A state at rest with every particle at the origin, sized for `model`.
   static State sizedFor(const Model& model);
 };
 
-/// A 64-bit FNV-1a hash of the bits of time, positions and velocities:
-/// equal hashes mean bit-identical states.
+/// A 64-bit FNV-1a hash of the bits of the whole state: time, step count,
+/// positions, velocities, the friction history and the energy accumulators.
+/// Equal hashes mean bit-identical states.
 std::uint64_t stateHash(const State& state);
 
 }  // namespace robophi

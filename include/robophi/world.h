@@ -1,10 +1,19 @@
 #pragma once
 /// \file
-/// World: a model, its state, and the step that advances it (MODEL.md §2).
+/// World: a compiled model, its state, the last evaluation, and the step that
+/// advances them (MODEL.md §2). Between steps the model and the state change
+/// only through the edit functions below; each invalidates what it must (the
+/// evaluation always, the contact tables when contact data change) and the
+/// work an edit does is booked as external work at the next evaluation, so
+/// that EnergyTally::total() stays the conserved quantity.
 
+#include <cstdint>
 #include <string>
 
+#include "robophi/compiled_model.h"
+#include "robophi/evaluation.h"
 #include "robophi/model.h"
+#include "robophi/stability.h"
 #include "robophi/state.h"
 
 namespace robophi {
@@ -30,76 +39,132 @@ enum class StepStatus : std::uint8_t {
   kNonFinite,
 };
 
-/// The stability estimate of a model (MODEL §2): δ must stay below 2/ω_max.
-struct StabilityEstimate {
-  /// Upper bound of the fastest angular frequency ω_max (rad/s), from the
-  /// connectors' stiffness and the particles' masses (Gershgorin bound).
-  double omegaMax = 0.0;
-  /// Critical step (s) for the symplectic schemes, reduced for damping; infinite
-  /// when nothing is stiff.
-  double criticalStep = 0.0;
-  /// The particle that sets it, or kNoParticle.
-  ParticleIndex limitingParticle = kNoParticle;
-};
-/// From the model alone: a Gershgorin bound, conservative. Given positions, the
-/// linear springs' part is found by power iteration on the stiffness linearised
-/// there, which is much tighter on braced lattices.
-StabilityEstimate estimateStability(const Model& model,
-                                    const std::vector<Vec3>* position = nullptr);
-
-/// The largest stable explicit step (s) of a damped oscillator of angular
-/// frequency ω (rad/s) and damping rate 2ζω (1/s): 2/ω (√(1+ζ²) - ζ); 2/(2ζω)
-/// without stiffness; infinite with neither.
-double dampedCriticalStep(double omega, double dampingRate);
-
-/// Evaluates the net force on every particle at the state's positions and
-/// velocities and the potentials of the energy account (not `dissipated`).
-void computeForces(const Model& model, State& state);
-
-/// The simulation: owns an immutable model and its state.
+/// The simulation: owns a compiled model, its state and its last evaluation.
 class World {
  public:
+  /// Compiles `model`; `initial` must be sized for it (positions and velocities
+  /// of particleCount entries, finite). Throws std::invalid_argument otherwise.
   World(Model model, State initial, Integrator integrator = Integrator::kSymplecticEuler);
+  World(CompiledModel model, State initial, Integrator integrator = Integrator::kSymplecticEuler);
 
-  /// Advances the state by one step of `dt` seconds.
+  /// Advances the state by one step of `dt` seconds (> 0, finite).
   StepStatus step(double dt);
 
-  /// Brings the cached forces and the energy account up to date with the
-  /// current positions and velocities (done by step() when needed).
-  void refresh();
+  /// Brings the evaluation up to date with the state (done by every accessor
+  /// and by step() when needed); books the work of edits made since the last
+  /// evaluation as external work.
+  void refresh() const;
 
-  const Model& model() const { return model_; }
-  const State& state() const { return state_; }
-  /// For tools that move particles by hand (tests, robotics targets).
-  /// Changing positions or velocities invalidates the cached forces.
-  State& mutableState() {
-    state_.forcesValid = false;
-    return state_;
+  const CompiledModel& compiled() const { return model_; }
+  const Model& model() const { return model_.model(); }
+  const State& state() const { return current_.state_; }
+  /// Forces, energies and contacts at the current state.
+  const Evaluation& evaluation() const {
+    refresh();
+    return current_.evaluation_;
   }
-  /// Between steps only (robotics tasks, docs/robotics.md): joint targets and
-  /// stiffness, attractors, virtual obstacles. Invalidates the cached forces; a
-  /// change of the model's size or topology also rebuilds the contact cache.
-  Model& mutableModel() {
-    state_.forcesValid = false;
-    return model_;
-  }
-  /// After changes made between steps (mutableModel, mutableState): brings the
-  /// energy account up to date and books the jump in E + dissipated as work done
-  /// from outside, so that total() stays the conserved quantity. Returns the
-  /// work (J); 0 when nothing was changed.
-  double bookExternalWork();
-  /// Puts back a state saved earlier (a snapshot copy): undoes steps exactly.
-  void restore(const State& saved) { state_ = saved; }
+  /// The energy account at the current state.
+  EnergyTally energy() const;
+  /// The contacts at the current state (sorted by Contact::key()).
+  const std::vector<Contact>& contacts() const { return evaluation().contacts; }
+  /// Net force on each particle at the current state (N).
+  const std::vector<Vec3>& forces() const { return evaluation().force; }
+
   Integrator integrator() const { return integrator_; }
   void setIntegrator(Integrator integrator) { integrator_ = integrator; }
+
+  // ---- Edits of the state (between steps). Indices are checked
+  // (std::out_of_range), values must be finite (std::invalid_argument).
+  void setPosition(ParticleIndex particle, const Vec3& position);
+  void setVelocity(ParticleIndex particle, const Vec3& velocity);
+
+  // ---- Edits of the model (between steps).
+  /// Joint servo (MODEL §1): the target (rad, wrapped into [0, 2π), for a
+  /// revolute joint; m > 0 for a prismatic one with a drive). Throws
+  /// std::invalid_argument for a prismatic joint without a drive.
+  void setJointTarget(std::size_t joint, double target);
+  /// The servo's stiffness (N·m/rad or N/m) and damping (N·m·s/rad or N·s/m), >= 0.
+  void setJointServo(std::size_t joint, double stiffness, double damping);
+  /// Replaces a connector (its ends are checked; new ends rebuild the
+  /// contact exclusion lists).
+  void setLinearSpring(std::size_t index, const LinearSpring& spring);
+  void setTorsionSpring(std::size_t index, const TorsionSpring& spring);
+  void setJointSpring(std::size_t index, const JointSpring& spring);
+  /// Replaces material `index` (contact stiffness, damping, friction).
+  void setMaterial(std::int32_t index, const Material& material);
+  /// Adds a material; returns its index.
+  std::int32_t addMaterial(const Material& material);
+  /// Gives object `object` material `material`.
+  void setObjectMaterial(std::int32_t object, std::int32_t material);
+  /// Sets the contact parameters of a pair of objects (objectB = -1: the
+  /// environment), replacing an override of the same pair.
+  void setContactPair(const ContactPairOverride& pair);
+  /// Replaces the contact settings; their pair overrides are replaced too.
+  void setContactSettings(const ContactSettings& settings);
+  /// Fixes a particle (inverse mass 0: it keeps its velocity) or frees it.
+  void setParticleFixed(ParticleIndex particle, bool fixed);
+  /// Gravity g (m/s²).
+  void setGravity(const Vec3& gravity);
+  /// Adds a fixed sphere to the environment; returns its environment item index.
+  std::int32_t addSphereObstacle(const SphereObstacle& sphere);
+  /// The viscosity of the medium k (N·s/m), >= 0.
+  void setViscosity(double viscosity);
+
+  /// Brings the evaluation up to date and returns the work (J) booked as
+  /// external for the edits made since the last evaluation (0 when none).
+  double bookExternalWork();
+
+  /// Everything needed to undo steps exactly: the state, its evaluation and
+  /// the edit bookkeeping. A plain value.
+  class Snapshot {
+   public:
+    const State& state() const { return state_; }
+    /// The evaluation at the state (valid when evaluated()).
+    const Evaluation& evaluation() const { return evaluation_; }
+    bool evaluated() const { return evaluated_; }
+    /// The energy account of the saved state (valid when evaluated()).
+    EnergyTally energy() const;
+
+   private:
+    friend class World;
+    State state_;
+    Evaluation evaluation_;
+    bool evaluated_ = false;
+    /// Edits made since the evaluation; their work is booked at the next one
+    /// against `totalBeforeEdits_`.
+    bool edited_ = false;
+    double totalBeforeEdits_ = 0.0;
+    /// The released anchor energy (J) of the evaluation that State::dissipated
+    /// already holds.
+    double bookedRelease_ = 0.0;
+  };
+  /// The state and its evaluation, brought up to date.
+  const Snapshot& snapshot() const {
+    refresh();
+    return current_;
+  }
+  /// Puts back a snapshot taken earlier: undoes steps exactly.
+  void restore(const Snapshot& saved) { current_ = saved; }
 
   /// The first particle whose state is not finite, or kNoParticle.
   ParticleIndex firstNonFiniteParticle() const;
 
  private:
-  Model model_;
-  State state_;
+  /// Marks the evaluation stale after an edit of the state or the model,
+  /// remembering the energy total that the edit's work is booked against.
+  void edited();
+  /// Evaluates the current state into current_.evaluation_ (forces, contacts,
+  /// kinetic energy, driving power).
+  void evaluateCurrent() const;
+
+  CompiledModel model_;
   Integrator integrator_;
+  /// The state, its evaluation and the edit bookkeeping (mutable: evaluation
+  /// is brought up to date lazily by const accessors).
+  mutable Snapshot current_;
+  mutable Workspace workspace_;
+  /// Work booked as external for edits since the last bookExternalWork() (J).
+  mutable double unreportedWork_ = 0.0;
 };
 
 }  // namespace robophi

@@ -46,16 +46,16 @@ inline std::uint64_t hashCell(std::int64_t key) {
   return h;
 }
 
-// Builds the grid of cache.gridParticles: counting sort into cells.
+// Builds the grid of cache.tables->gridParticles: counting sort into cells.
 GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
   GridFrame g;
-  const auto count = static_cast<std::int32_t>(cache.gridParticles.size());
-  if (count == 0 || !(cache.cellSize > 0.0)) return g;
-  g.inverseCell = 1.0 / cache.cellSize;
-  Vec3 low = position[cache.gridParticles[0]], high = low;
+  const auto count = static_cast<std::int32_t>(cache.tables->gridParticles.size());
+  if (count == 0 || !(cache.tables->cellSize > 0.0)) return g;
+  g.inverseCell = 1.0 / cache.tables->cellSize;
+  Vec3 low = position[cache.tables->gridParticles[0]], high = low;
   bool finite = true;
   for (std::int32_t k = 0; k < count; ++k) {
-    const Vec3& p = position[cache.gridParticles[k]];
+    const Vec3& p = position[cache.tables->gridParticles[k]];
     finite = finite && isFinite(p);
     low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
@@ -82,7 +82,7 @@ GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, Conta
   cache.sortedCell.resize(static_cast<std::size_t>(count));
   cache.cellStart.assign(tableSize + 1, 0);
   for (std::int32_t k = 0; k < count; ++k) {
-    const Vec3& p = position[cache.gridParticles[k]];
+    const Vec3& p = position[cache.tables->gridParticles[k]];
     const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
     const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
     const std::int64_t iz = cellCoordinate(p.z, g.origin.z, g.inverseCell);
@@ -107,7 +107,7 @@ GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, Conta
   cache.sortedItem.assign(cache.cellStart.begin(), cache.cellStart.end() - 1);  // fill pointers
   for (std::int32_t k = 0; k < count; ++k) {
     const std::int32_t slot = cache.sortedItem[static_cast<std::size_t>(cache.cellOfItem[k])]++;
-    const std::int32_t i = cache.gridParticles[k];
+    const std::int32_t i = cache.tables->gridParticles[k];
     cache.sortedParticle[slot] = i;
     keyOfSlot[slot] = cache.sortedCell[k];
     double* data = cache.sortedData.data() + 4 * static_cast<std::size_t>(slot);
@@ -135,7 +135,7 @@ inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i,
     const double reach = r + q[3];
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
     if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
-    if (excluded(cache, i, j)) continue;
+    if (excluded(*cache.tables, i, j)) continue;
     Contact c;
     c.a = i;
     c.other = j;
@@ -181,8 +181,8 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
   const double r = model.radius[i];
   for (std::int32_t e = 0; e < items; ++e) {
     // Cheap cull: the particle's sphere must reach the item's bounding box.
-    const Vec3& low = cache.environmentLow[e];
-    const Vec3& high = cache.environmentHigh[e];
+    const Vec3& low = cache.tables->environmentLow[e];
+    const Vec3& high = cache.tables->environmentHigh[e];
     if (p.x + r < low.x || p.x - r > high.x || p.y + r < low.y || p.y - r > high.y ||
         p.z + r < low.z || p.z - r > high.z) {
       continue;
@@ -196,8 +196,8 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
 // Tree objects against the grid particles near their root sphere.
 void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, const GridFrame& g,
                      ContactScratch& cache) {
-  if (cache.gridParticles.empty()) return;
-  const double h = cache.cellSize;
+  if (cache.tables->gridParticles.empty()) return;
+  const double h = cache.tables->cellSize;
   for (const TreeObject& tree : cache.trees) {
     const TreeNode& root = cache.nodes[tree.rootNode];
     const double reach = root.radius + 0.5 * h;
@@ -231,7 +231,7 @@ void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, cons
     }
     const double cells = static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1) *
                          static_cast<double>(z1 - z0 + 1);
-    if (cells > static_cast<double>(cache.gridParticles.size())) {
+    if (cells > static_cast<double>(cache.tables->gridParticles.size())) {
       visit(0, static_cast<std::int32_t>(cache.sortedParticle.size()), false, 0);
       continue;
     }
@@ -277,8 +277,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
 
 }  // namespace
 
-void detectContacts(const Model& model, const State& state, ContactScratch& cache) {
-  const std::vector<Vec3>& position = state.position;
+void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
   cache.stats = ContactStats{};
   cache.freshContacts.clear();
   cache.treeContacts.clear();
@@ -286,7 +285,7 @@ void detectContacts(const Model& model, const State& state, ContactScratch& cach
   const GridFrame grid = buildGrid(model, position, cache);
 
   // Grid particles in ascending order: their partners sorted, then the environment.
-  for (const std::int32_t i : cache.gridParticles) {
+  for (const std::int32_t i : cache.tables->gridParticles) {
     const Vec3& p = position[i];
     cache.rowContacts.clear();
     gridNeighbours(model, grid, cache, i, p);

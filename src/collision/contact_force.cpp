@@ -10,7 +10,7 @@
 #include <limits>
 
 #include "collision/contact_stage.h"
-#include "robophi/adaptive_step.h"
+#include "robophi/stability.h"
 
 namespace robophi {
 
@@ -145,15 +145,20 @@ double contactsCriticalStep(const Model& model, const std::vector<Contact>& cont
 
 }  // namespace
 
-void accumulateContacts(const Model& model, State& state) {
+void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
+                        const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                        const std::vector<Contact>& previous, ContactScratch& scratch,
+                        Evaluation& out) {
   if (!model.contact.enabled || model.particleCount() == 0) {
-    state.contactCriticalStep = std::numeric_limits<double>::infinity();
-    state.contacts.clear();
-    state.energy.contact = 0.0;
+    out.contactCriticalStep = std::numeric_limits<double>::infinity();
+    out.contacts.clear();
+    out.energy.contact = 0.0;
+    out.releasedAnchorEnergy = 0.0;
+    out.contactStats = ContactStats{};
     return;
   }
-  ContactScratch& cache = prepareContactCache(model, state);
-  detectContacts(model, state, cache);
+  ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
+  detectContacts(model, p, cache);
 
   StageTally tally;
   const auto particles = static_cast<std::size_t>(model.particleCount());
@@ -161,11 +166,8 @@ void accumulateContacts(const Model& model, State& state) {
     cache.contactStiffnessSum.assign(particles, 0.0);
     cache.contactDampingSum.assign(particles, 0.0);
   }
-  const std::vector<Contact>& previous = state.contacts;
   std::size_t old = 0;
-  const std::vector<Vec3>& p = state.position;
-  const std::vector<Vec3>& v = state.velocity;
-  std::vector<Vec3>& f = state.force;
+  std::vector<Vec3>& f = out.force;
   ContactStats& stats = cache.stats;
   PairParameters overrideParameters;
   for (Contact& c : cache.freshContacts) {
@@ -178,7 +180,7 @@ void accumulateContacts(const Model& model, State& state) {
     const Contact* before =
         old < previous.size() && previous[old].key() == key ? &previous[old] : nullptr;
     if (before != nullptr) ++old;
-    const PairParameters& k = pairParameters(model, cache, c.a, c.other, overrideParameters);
+    const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
     const std::int32_t a = c.a;
     double smallerRadius = model.radius[a];
     if (c.other >= 0) {
@@ -208,18 +210,19 @@ void accumulateContacts(const Model& model, State& state) {
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
   }
   for (; old < previous.size(); ++old) tally.releasedEnergy += previous[old].anchorEnergy;
-  std::swap(state.contacts, cache.freshContacts);
+  std::swap(out.contacts, cache.freshContacts);
 
-  const double viscousPower = accumulateViscosity(model, state, cache);
-  state.energy.contact = tally.potential;
-  state.contactCriticalStep = contactsCriticalStep(model, state.contacts, cache);
-  state.dissipativePower += tally.dissipativePower + viscousPower;
-  state.energy.dissipated += tally.releasedEnergy;
+  const double viscousPower = accumulateViscosity(model, p, v, f, cache);
+  out.energy.contact = tally.potential;
+  out.contactCriticalStep = contactsCriticalStep(model, out.contacts, cache);
+  out.dissipativePower += tally.dissipativePower + viscousPower;
+  out.releasedAnchorEnergy = tally.releasedEnergy;
+  out.contactStats = cache.stats;
 }
 
-double deepestPenetrationFraction(const Model& model, const State& state) {
+double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts) {
   double deepest = 0.0;
-  for (const Contact& c : state.contacts) {
+  for (const Contact& c : contacts) {
     double r = model.radius[c.a];
     if (c.other >= 0) r = std::min(r, model.radius[c.other]);
     deepest = std::max(deepest, -c.depth / r);

@@ -1,26 +1,35 @@
 #pragma once
-// The contact stage of computeForces (MODEL §3): find contacts, then apply the
-// normal force, friction and viscosity.
+// The contact stage of a force evaluation (MODEL §3): find contacts, then apply
+// the normal force, friction and viscosity.
 
-#include "collision/contact_cache.h"
+#include <cstdint>
+#include <vector>
+
+#include "collision/contact_tables.h"
+#include "robophi/evaluation.h"
 #include "robophi/model.h"
-#include "robophi/state.h"
 
 namespace robophi {
 
-/// Finds every contact at the state's positions into cache.freshContacts,
-/// sorted by Contact::key(): particle pairs (a < other) and particle-environment
-/// contacts (with depth and normal). Counts its work in cache.stats.
-void detectContacts(const Model& model, const State& state, ContactScratch& cache);
+/// Finds every contact at `position` into scratch.freshContacts, sorted by
+/// Contact::key(): particle pairs (a < other) and particle-environment contacts
+/// (with depth and normal). Counts its work in scratch.stats.
+void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& scratch);
 
-/// The contact stage: detects contacts, adds contact, friction and viscosity
-/// forces to state.force, sets state.energy.contact, adds the dissipative power
-/// to state.dissipativePower and replaces state.contacts (carrying each
-/// persisting contact's friction anchor). Energy released by a friction anchor
-/// when it slips or opens is added to state.energy.dissipated.
-void accumulateContacts(const Model& model, State& state);
+/// The contact stage: detects contacts at (position, velocity), adds contact,
+/// friction and viscosity forces to out.force, sets out.energy.contact, adds the
+/// dissipative power to out.dissipativePower and sets out.contacts (each
+/// persisting contact starting from its friction anchor in `history`, which is
+/// only read), out.releasedAnchorEnergy (the anchor energy of `history` given up
+/// by slipping or opening), out.contactCriticalStep and out.contactStats.
+void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
+                        const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                        const std::vector<Contact>& history, ContactScratch& scratch,
+                        Evaluation& out);
 
 /// MODEL §3.4 viscosity: -k (V·n) V̂ where V·n >= 0. Returns its power (W, <= 0).
-double accumulateViscosity(const Model& model, State& state, ContactScratch& cache);
+double accumulateViscosity(const Model& model, const std::vector<Vec3>& position,
+                           const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                           ContactScratch& scratch);
 
 }  // namespace robophi

@@ -67,12 +67,13 @@ void buildNode(const std::vector<Vec3>& position, ContactScratch& cache, std::in
 
 void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
                       ContactScratch& cache) {
+  cache.trees = cache.tables->trees;
   cache.nodes.clear();
   cache.treeParticles.clear();
   const std::int32_t leafSize = std::max(1, model.contact.leafSize);
   for (std::size_t t = 0; t < cache.trees.size(); ++t) {
     TreeObject& tree = cache.trees[t];
-    const auto& members = cache.treeMembers[t];
+    const auto& members = cache.tables->treeMembers[t];
     TreeNode root;
     root.first = static_cast<std::int32_t>(cache.treeParticles.size());
     root.count = static_cast<std::int32_t>(members.size());
@@ -208,7 +209,7 @@ void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position
                            ContactScratch& cache, std::int32_t node, std::int32_t item) {
   const TreeNode& n = cache.nodes[node];
   if (environmentFarFrom(model.environment, item, n.center, n.radius,
-                         cache.environmentTops[item])) {
+                         cache.tables->environmentTops[item])) {
     return;
   }
   if (n.isLeaf()) {

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "collision/contact_cache.h"
+#include "collision/contact_tables.h"
 
 namespace robophi {
 
@@ -39,7 +39,7 @@ inline void testParticlePair(const Model& model, const std::vector<Vec3>& positi
   const double reach = model.radius[a] + model.radius[b];
   if (squaredNorm(r) >= reach * reach) return;
   if (model.inverseMass[a] == 0.0 && model.inverseMass[b] == 0.0) return;
-  if (excluded(cache, a, b)) return;
+  if (excluded(*cache.tables, a, b)) return;
   Contact c;
   c.a = a;
   c.other = b;

@@ -8,7 +8,9 @@
 
 namespace robophi {
 
-double accumulateViscosity(const Model& model, State& state, ContactScratch& cache) {
+double accumulateViscosity(const Model& model, const std::vector<Vec3>& position,
+                           const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                           ContactScratch& cache) {
   const double k = model.environment.viscosity;
   if (!(k > 0.0)) return 0.0;
   const ParticleIndex n = model.particleCount();
@@ -16,9 +18,9 @@ double accumulateViscosity(const Model& model, State& state, ContactScratch& cac
   cache.objectCentroid.assign(objects, Vec3{});
   cache.objectMass.assign(objects, 0.0);
   for (ParticleIndex i = 0; i < n; ++i) {
-    const std::int32_t o = cache.particleObject[i];
+    const std::int32_t o = cache.tables->particleObject[i];
     if (o < 0) continue;
-    cache.objectCentroid[o] += state.position[i] * model.mass[i];
+    cache.objectCentroid[o] += position[i] * model.mass[i];
     cache.objectMass[o] += model.mass[i];
   }
   for (std::size_t o = 0; o < objects; ++o) {
@@ -28,19 +30,19 @@ double accumulateViscosity(const Model& model, State& state, ContactScratch& cac
   double power = 0.0;
   for (ParticleIndex i = 0; i < n; ++i) {
     if (model.inverseMass[i] == 0.0) continue;
-    const Vec3& velocity = state.velocity[i];
-    const double speed = norm(velocity);
+    const Vec3& v = velocity[i];
+    const double speed = norm(v);
     if (!(speed > 0.0)) continue;
-    const Vec3 direction = velocity / speed;
+    const Vec3 direction = v / speed;
     double facing = speed;  // V·n with n = V̂
-    const std::int32_t o = cache.particleObject[i];
+    const std::int32_t o = cache.tables->particleObject[i];
     if (o >= 0 && model.objects[o].particleCount > 1) {
-      const Vec3 offset = state.position[i] - cache.objectCentroid[o];
+      const Vec3 offset = position[i] - cache.objectCentroid[o];
       const double length = norm(offset);
-      if (length > 0.0) facing = dot(velocity, offset) / length;
+      if (length > 0.0) facing = dot(v, offset) / length;
     }
     if (facing <= 0.0) continue;
-    state.force[i] -= direction * (k * facing);
+    force[i] -= direction * (k * facing);
     power -= k * facing * speed;
   }
   return power;

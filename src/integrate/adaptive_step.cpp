@@ -1,12 +1,11 @@
 // The energy-based adaptive time step (MODEL §4, docs/adaptive-step.md).
 #include "robophi/adaptive_step.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "core/text.h"
 #include "forces/connector_forces.h"
 
 namespace robophi {
@@ -40,7 +39,6 @@ double gravityEnergyScale(const Model& model, const State& state) {
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
     : settings_(settings),
       stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
-      refinedLimit_(false),
       step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
@@ -50,28 +48,33 @@ double AdaptiveStepper::proposal(double error) const {
   return settings_.safety * std::pow(ratio, 1.0 / errorOrder_);
 }
 
-double AdaptiveStepper::energyError(const State& before, const State& after) const {
+double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after) const {
   // MODEL §4: error = (E(t+δ) - E(t) - W_dissipative) / max(|E|, E_floor), where
   // W_dissipative (<= 0) is the work of damping, friction and viscosity (and
   // the work of fixed particles moved kinematically is taken off as well).
-  const double created = (after.energy.mechanical() - before.energy.mechanical()) +
-                         (after.energy.dissipated - before.energy.dissipated) -
-                         (after.energy.external - before.energy.external);
-  const double scale = std::max({activeEnergy(before.energy), activeEnergy(after.energy),
-                                 gravityScale_, settings_.energyFloor});
+  const double created = (after.mechanical() - before.mechanical()) +
+                         (after.dissipated - before.dissipated) -
+                         (after.external - before.external);
+  const double scale =
+      std::max({activeEnergy(before), activeEnergy(after), gravityScale_, settings_.energyFloor});
   return created / scale;
 }
 
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
-  if (!refinedLimit_) {
-    // The tighter estimate needs positions: refine at the first step.
-    refinedLimit_ = true;
-    stabilityLimit_ =
-        std::max(stabilityLimit_,
-                 settings_.stabilitySafety *
-                     estimateStability(world.model(), &world.state().position).criticalStep);
+  if (modelRevision_ != world.compiled().stiffnessRevision()) {
+    // The cap from the model alone, refined with the positions (tighter on
+    // braced lattices): at the first step, and again after an edit of a
+    // stiffness or a mass.
+    const double modelOnly = modelRevision_ < 0 ? stabilityLimit_
+                                                : settings_.stabilitySafety *
+                                                      estimateStability(world.model()).criticalStep;
+    modelRevision_ = world.compiled().stiffnessRevision();
+    stabilityLimit_ = std::max(
+        modelOnly, settings_.stabilitySafety *
+                       estimateStability(world.model(), &world.state().position).criticalStep);
+    step_ = std::min(step_, stabilityLimit_);
   }
   if (errorOrder_ <= 0.0) {
     errorOrder_ = settings_.errorOrder > 0.0                          ? settings_.errorOrder
@@ -81,29 +84,31 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
   if (!(step_ >= settings_.minStep)) {
     result.ok = false;
-    result.failure = fmt::format(
+    result.failure = detail::text(
         "the adaptive step {:.3g} s is below its floor {:.3g} s before any trial (the "
         "stability estimate allows {:.3g} s): {}",
         step_, settings_.minStep, stabilityLimit_, diagnose(world));
     return result;
   }
-  saved_ = world.state();
-  const double penetrationBefore = settings_.maxPenetrationFraction > 0.0
-                                       ? deepestPenetrationFraction(world.model(), saved_)
-                                       : 0.0;
+  saved_ = world.snapshot();
+  const EnergyTally energyBefore = saved_.energy();
+  const double penetrationBefore =
+      settings_.maxPenetrationFraction > 0.0
+          ? deepestPenetrationFraction(world.model(), saved_.evaluation().contacts)
+          : 0.0;
   // The touching contacts' own stability limit (they are not in the model's).
-  const double contactLimit = settings_.stabilitySafety * saved_.contactCriticalStep;
+  const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit});
     const StepStatus status = world.step(dt);
-    const double error = status == StepStatus::kOk ? energyError(saved_, world.state())
+    const double error = status == StepStatus::kOk ? energyError(energyBefore, world.energy())
                                                    : std::numeric_limits<double>::infinity();
     // Geometric control (MODEL §4): one step may not push the deepest contact
     // further in by more than the set fraction of a radius. (The depth a soft
     // contact reaches at rest is physics, set by κ_c, and is not capped.)
     const bool tooDeep =
         status == StepStatus::kOk && settings_.maxPenetrationFraction > 0.0 &&
-        deepestPenetrationFraction(world.model(), world.state()) - penetrationBefore >
+        deepestPenetrationFraction(world.model(), world.contacts()) - penetrationBefore >
             settings_.maxPenetrationFraction;
     const bool accepted = !tooDeep && error <= settings_.energyTolerance &&
                           error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
@@ -132,10 +137,10 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     world.restore(saved_);
     if (stalled) {
       result.ok = false;
-      result.failure = fmt::format(
+      result.failure = detail::text(
           "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "
           "s: {}",
-          step_, settings_.minStep, result.rejections, saved_.time, why);
+          step_, settings_.minStep, result.rejections, saved_.state().time, why);
       return result;
     }
   }
@@ -146,10 +151,11 @@ std::string AdaptiveStepper::diagnose(const World& world) const {
   // the connector holding the most energy.
   const Model& model = world.model();
   const State& state = world.state();
+  const Evaluation& evaluation = world.evaluation();
   ParticleIndex worst = kNoParticle;
   double worstAcceleration = -1.0;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
-    const double a = norm(state.force[i]) * model.inverseMass[i];
+    const double a = norm(evaluation.force[i]) * model.inverseMass[i];
     if (!(a <= worstAcceleration)) {
       worstAcceleration = a;
       worst = i;
@@ -162,8 +168,8 @@ std::string AdaptiveStepper::diagnose(const World& world) const {
         object >= 0 && object < static_cast<std::int32_t>(model.objects.size())
             ? model.objects[object].name
             : std::string("?");
-    where = fmt::format("particle {} (object '{}') has the largest acceleration, {:.3g} m/s²",
-                        worst, objectName, worstAcceleration);
+    where = detail::text("particle {} (object '{}') has the largest acceleration, {:.3g} m/s²",
+                         worst, objectName, worstAcceleration);
   }
   double worstEnergy = 0.0;
   std::string connector;
@@ -172,12 +178,12 @@ std::string AdaptiveStepper::diagnose(const World& world) const {
     const double e = linearSpringForce(s, state.position[s.a], state.position[s.b], {}, {}).energy;
     if (e > worstEnergy) {
       worstEnergy = e;
-      connector = fmt::format("LS {} (particles {}, {}) holds {:.3g} J", k, s.a, s.b, e);
+      connector = detail::text("LS {} (particles {}, {}) holds {:.3g} J", k, s.a, s.b, e);
     }
   }
   if (!connector.empty()) where += "; " + connector;
-  if (state.energy.contact > 0.0)
-    where += fmt::format("; contacts hold {:.3g} J", state.energy.contact);
+  if (evaluation.energy.contact > 0.0)
+    where += detail::text("; contacts hold {:.3g} J", evaluation.energy.contact);
   return where;
 }
 

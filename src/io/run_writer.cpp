@@ -49,9 +49,10 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir) {
   }
 }
 
-void RunWriter::writeEnergyRow(const State& state, double dt) {
+void RunWriter::writeEnergyRow(const World& world, double dt) {
   line_.clear();
-  const EnergyTally& e = state.energy;
+  const State& state = world.state();
+  const EnergyTally e = world.energy();
   for (double value : {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.total()}) {
     if (!line_.empty()) line_ += ',';
     appendNumber(line_, value);
@@ -59,7 +60,9 @@ void RunWriter::writeEnergyRow(const State& state, double dt) {
   energy_ << line_ << '\n';
 }
 
-void RunWriter::writeFrame(const Model& model, const State& state) {
+void RunWriter::writeFrame(const World& world) {
+  const Model& model = world.model();
+  const State& state = world.state();
   line_.clear();
   appendNumber(line_, state.time);
   for (const Vec3& p : state.position) {
@@ -72,7 +75,7 @@ void RunWriter::writeFrame(const Model& model, const State& state) {
   if (contacts_.is_open()) {
     // The normal force on a (N); b is the other particle, or particleCount + the
     // environment item.
-    for (const Contact& c : state.contacts) {
+    for (const Contact& c : world.contacts()) {
       if (c.normalForce <= 0.0) continue;
       line_.clear();
       appendNumber(line_, state.time);

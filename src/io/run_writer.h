@@ -15,8 +15,10 @@ class RunWriter {
   /// Creates `dir` (which must not exist) and opens the series files.
   RunWriter(const std::string& dir, const Scene& scene);
 
-  void writeEnergyRow(const State& state, double dt);
-  void writeFrame(const Model& model, const State& state);
+  /// The energy row of the world's current state, reached with a step of `dt` (s).
+  void writeEnergyRow(const World& world, double dt);
+  /// The frame of the world's current state: positions, joints, contacts.
+  void writeFrame(const World& world);
   /// Writes model.json and summary.json and closes every file.
   void finish(const Scene& scene, const RunSettings& settings, const RunReport& report);
 

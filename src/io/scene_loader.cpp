@@ -122,7 +122,6 @@ void placeObjects(std::vector<SceneObject>& objects, Model& model, State& state)
       model.joints.push_back(std::move(joint));
     }
   }
-  state.force.assign(state.position.size(), Vec3{});
 }
 
 void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::string& sceneDirectory,

@@ -1,8 +1,9 @@
 #include "robophi/model.h"
 
-#include <fmt/format.h>
-
 #include <cmath>
+#include <numbers>
+
+#include "core/text.h"
 
 namespace robophi {
 
@@ -33,66 +34,107 @@ bool inRange(ParticleIndex i, ParticleIndex n) { return i >= 0 && i < n; }
 
 }  // namespace
 
+std::string checkConnector(const LinearSpring& s, std::size_t k, ParticleIndex n) {
+  if (!inRange(s.a, n) || !inRange(s.b, n) || s.a == s.b)
+    return detail::text("LS {}: particles ({}, {}) must be two different particles of {}", k, s.a,
+                        s.b, n);
+  if (!(s.restLength > 0.0) || !std::isfinite(s.restLength))
+    return detail::text("LS {}: rest length {} must be > 0", k, s.restLength);
+  if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0) || !std::isfinite(s.stiffness) ||
+      !std::isfinite(s.damping))
+    return detail::text("LS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
+                        s.damping);
+  return {};
+}
+
+std::string checkConnector(const TorsionSpring& s, std::size_t k, ParticleIndex n) {
+  if (!inRange(s.a, n) || !inRange(s.b, n) || !inRange(s.c, n) || s.a == s.c || s.b == s.c ||
+      s.a == s.b)
+    return detail::text("TS {}: particles ({}, {}, {}) must be three different particles of {}", k,
+                        s.a, s.c, s.b, n);
+  if (!(s.restAngle >= 0.0 && s.restAngle <= std::numbers::pi))
+    return detail::text("TS {}: rest angle {} must be in [0, π]", k, s.restAngle);
+  if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0) || !std::isfinite(s.stiffness) ||
+      !std::isfinite(s.damping))
+    return detail::text("TS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
+                        s.damping);
+  return {};
+}
+
+std::string checkConnector(const JointSpring& s, std::size_t k, ParticleIndex n) {
+  if (!inRange(s.a, n) || !inRange(s.b, n) || !inRange(s.c, n) || !inRange(s.d, n) || s.a == s.c ||
+      s.b == s.c || s.a == s.b || s.d == s.c)
+    return detail::text("JS {}: particles ({}, {}, {}, {}) must be different particles of {}", k,
+                        s.a, s.c, s.b, s.d, n);
+  if (!(s.restAngle >= 0.0 && s.restAngle < 2.0 * std::numbers::pi))
+    return detail::text("JS {}: rest angle {} must be in [0, 2π)", k, s.restAngle);
+  if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0) || !std::isfinite(s.stiffness) ||
+      !std::isfinite(s.damping))
+    return detail::text("JS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
+                        s.damping);
+  return {};
+}
+
 std::string checkModel(const Model& model) {
   const auto n = model.particleCount();
   const auto size = static_cast<std::size_t>(n);
-  if (model.inverseMass.size() != size || model.radius.size() != size ||
-      model.linearDamping.size() != size || model.objectOf.size() != size) {
+  if (model.mass.size() != size || model.inverseMass.size() != size ||
+      model.radius.size() != size || model.linearDamping.size() != size ||
+      model.objectOf.size() != size) {
     return "particle arrays have different sizes";
   }
   for (ParticleIndex i = 0; i < n; ++i) {
     if (!(model.mass[i] > 0.0) || !std::isfinite(model.mass[i]))
-      return fmt::format("particle {}: mass {} must be a positive number (kg)", i, model.mass[i]);
+      return detail::text("particle {}: mass {} must be a positive number (kg)", i, model.mass[i]);
     if (!(model.radius[i] > 0.0) || !std::isfinite(model.radius[i]))
-      return fmt::format("particle {}: radius {} must be a positive number (m)", i,
-                         model.radius[i]);
+      return detail::text("particle {}: radius {} must be a positive number (m)", i,
+                          model.radius[i]);
     if (!(model.linearDamping[i] >= 0.0))
-      return fmt::format("particle {}: damping {} must be >= 0 (N·s/m)", i, model.linearDamping[i]);
+      return detail::text("particle {}: damping {} must be >= 0 (N·s/m)", i,
+                          model.linearDamping[i]);
   }
   for (std::size_t k = 0; k < model.linearSprings.size(); ++k) {
-    const auto& s = model.linearSprings[k];
-    if (!inRange(s.a, n) || !inRange(s.b, n) || s.a == s.b)
-      return fmt::format("LS {}: particles ({}, {}) must be two different particles of {}", k, s.a,
-                         s.b, n);
-    if (!(s.restLength > 0.0))
-      return fmt::format("LS {}: rest length {} must be > 0", k, s.restLength);
-    if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0))
-      return fmt::format("LS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
-                         s.damping);
+    if (std::string problem = checkConnector(model.linearSprings[k], k, n); !problem.empty())
+      return problem;
   }
   for (std::size_t k = 0; k < model.torsionSprings.size(); ++k) {
-    const auto& s = model.torsionSprings[k];
-    if (!inRange(s.a, n) || !inRange(s.b, n) || !inRange(s.c, n) || s.a == s.c || s.b == s.c ||
-        s.a == s.b)
-      return fmt::format("TS {}: particles ({}, {}, {}) must be three different particles of {}", k,
-                         s.a, s.c, s.b, n);
-    if (!(s.restAngle >= 0.0 && s.restAngle <= M_PI))
-      return fmt::format("TS {}: rest angle {} must be in [0, π]", k, s.restAngle);
-    if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0))
-      return fmt::format("TS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
-                         s.damping);
+    if (std::string problem = checkConnector(model.torsionSprings[k], k, n); !problem.empty())
+      return problem;
   }
   for (std::size_t k = 0; k < model.jointSprings.size(); ++k) {
-    const auto& s = model.jointSprings[k];
-    if (!inRange(s.a, n) || !inRange(s.b, n) || !inRange(s.c, n) || !inRange(s.d, n) ||
-        s.a == s.c || s.b == s.c || s.a == s.b || s.d == s.c)
-      return fmt::format("JS {}: particles ({}, {}, {}, {}) must be different particles of {}", k,
-                         s.a, s.c, s.b, s.d, n);
-    if (!(s.restAngle >= 0.0 && s.restAngle < 2.0 * M_PI))
-      return fmt::format("JS {}: rest angle {} must be in [0, 2π)", k, s.restAngle);
-    if (!(s.stiffness >= 0.0) || !(s.damping >= 0.0))
-      return fmt::format("JS {}: stiffness {} and damping {} must be >= 0", k, s.stiffness,
-                         s.damping);
+    if (std::string problem = checkConnector(model.jointSprings[k], k, n); !problem.empty())
+      return problem;
   }
+  const auto objects = static_cast<std::int32_t>(model.objects.size());
+  const auto materials = static_cast<std::int32_t>(model.materials.size());
+  if (materials == 0) return "the model needs at least one material (the default)";
+  for (ParticleIndex i = 0; i < n; ++i) {
+    if (model.objectOf[i] < -1 || model.objectOf[i] >= objects)
+      return detail::text("particle {}: object {} does not exist (there are {})", i,
+                          model.objectOf[i], objects);
+  }
+  for (std::int32_t o = 0; o < objects; ++o) {
+    const ObjectInfo& info = model.objects[static_cast<std::size_t>(o)];
+    if (info.material < 0 || info.material >= materials)
+      return detail::text("object '{}': material {} does not exist (there are {})", info.name,
+                          info.material, materials);
+  }
+  for (const ContactPairOverride& pair : model.contact.pairOverrides) {
+    if (pair.objectA < 0 || pair.objectA >= objects || pair.objectB < -1 || pair.objectB >= objects)
+      return detail::text("contact pair ({}, {}): object does not exist (there are {})",
+                          pair.objectA, pair.objectB, objects);
+  }
+  if (model.contact.leafSize < 1)
+    return detail::text("contact leafSize {} must be >= 1", model.contact.leafSize);
   for (const auto& joint : model.joints) {
     const auto count = joint.kind == JointKind::kRevolute ? model.jointSprings.size()
                                                           : model.torsionSprings.size();
     if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= count)
-      return fmt::format("joint '{}': connector {} does not exist", joint.name, joint.connector);
+      return detail::text("joint '{}': connector {} does not exist", joint.name, joint.connector);
     if (joint.driveSpring >= 0 &&
         static_cast<std::size_t>(joint.driveSpring) >= model.linearSprings.size())
-      return fmt::format("joint '{}': drive spring {} does not exist", joint.name,
-                         joint.driveSpring);
+      return detail::text("joint '{}': drive spring {} does not exist", joint.name,
+                          joint.driveSpring);
   }
   return {};
 }

@@ -9,7 +9,6 @@ State State::sizedFor(const Model& model) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   state.position.assign(n, Vec3{});
   state.velocity.assign(n, Vec3{});
-  state.force.assign(n, Vec3{});
   return state;
 }
 
@@ -26,13 +25,33 @@ void hashBytes(std::uint64_t& h, const void* data, std::size_t size) {
   }
 }
 
+template <class T>
+void hashValue(std::uint64_t& h, const T& value) {
+  hashBytes(h, &value, sizeof(value));
+}
+
 }  // namespace
 
 std::uint64_t stateHash(const State& state) {
   std::uint64_t h = kFnvOffset;
-  hashBytes(h, &state.time, sizeof(state.time));
+  hashValue(h, state.time);
   hashBytes(h, state.position.data(), state.position.size() * sizeof(Vec3));
   hashBytes(h, state.velocity.data(), state.velocity.size() * sizeof(Vec3));
+  hashValue(h, state.stepCount);
+  hashValue(h, state.dissipated);
+  hashValue(h, state.external);
+  // The friction history field by field (Contact has padding bytes).
+  for (const Contact& c : state.frictionHistory) {
+    hashValue(h, c.a);
+    hashValue(h, c.other);
+    hashValue(h, c.depth);
+    hashValue(h, c.normalForce);
+    hashValue(h, c.anchorEnergy);
+    hashValue(h, c.normal);
+    hashValue(h, c.slip);
+    hashValue(h, c.anchor);
+    hashValue(h, c.sliding);
+  }
   return h;
 }
 

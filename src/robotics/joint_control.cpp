@@ -1,5 +1,5 @@
 // Joint control between steps: servo targets, stiffness, passive joints, limits
-// (MODEL §1). Uses the public API only: World::mutableModel and jointValue.
+// (MODEL §1). Uses the public API only: World's edits and jointValue.
 #include "robophi/robotics/joint_control.h"
 
 #include <cmath>
@@ -9,12 +9,6 @@ namespace robophi::robotics {
 namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
-
-double wrapTwoPi(double angle) {
-  double wrapped = std::fmod(angle, kTwoPi);
-  if (wrapped < 0.0) wrapped += kTwoPi;
-  return wrapped >= kTwoPi ? 0.0 : wrapped;
-}
 
 // Signed distance from `from` to `to` the short way round, in (-π, π].
 double angleBetween(double from, double to) {
@@ -32,42 +26,17 @@ std::optional<std::size_t> findJoint(const Model& model, const std::string& name
   return std::nullopt;
 }
 
-JointServo jointServo(const Model& model, std::size_t joint) {
-  const Joint& j = model.joints[joint];
-  if (j.kind == JointKind::kRevolute) {
-    const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
-    return {true, s.restAngle, s.stiffness, s.damping};
-  }
-  if (j.driveSpring < 0) return {false, 0.0, 0.0, 0.0};
-  const LinearSpring& s = model.linearSprings[static_cast<std::size_t>(j.driveSpring)];
-  return {true, s.restLength, s.stiffness, s.damping};
-}
-
 bool setJointTarget(World& world, std::size_t joint, double target) {
-  Model& model = world.mutableModel();
-  const Joint& j = model.joints[joint];
-  if (j.kind == JointKind::kRevolute) {
-    model.jointSprings[static_cast<std::size_t>(j.connector)].restAngle = wrapTwoPi(target);
-    return true;
-  }
-  if (j.driveSpring < 0 || !(target > 0.0)) return false;
-  model.linearSprings[static_cast<std::size_t>(j.driveSpring)].restLength = target;
+  const Joint& j = world.model().joints.at(joint);
+  if (j.kind == JointKind::kPrismatic && (j.driveSpring < 0 || !(target > 0.0))) return false;
+  world.setJointTarget(joint, target);
   return true;
 }
 
 bool setJointStiffness(World& world, std::size_t joint, double stiffness, double damping) {
-  Model& model = world.mutableModel();
-  const Joint& j = model.joints[joint];
-  if (j.kind == JointKind::kRevolute) {
-    JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
-    s.stiffness = stiffness;
-    s.damping = damping;
-    return true;
-  }
-  if (j.driveSpring < 0) return false;
-  LinearSpring& s = model.linearSprings[static_cast<std::size_t>(j.driveSpring)];
-  s.stiffness = stiffness;
-  s.damping = damping;
+  const Joint& j = world.model().joints.at(joint);
+  if (j.kind == JointKind::kPrismatic && j.driveSpring < 0) return false;
+  world.setJointServo(joint, stiffness, damping);
   return true;
 }
 

@@ -19,7 +19,6 @@ ParticleIndex addVirtual(Scene& scene, std::int32_t object, const Vec3& p) {
   const ParticleIndex i = scene.model.addParticle(1.0, kVirtualRadius, true, object);
   scene.initial.position.push_back(p);
   scene.initial.velocity.push_back(Vec3{});
-  scene.initial.force.push_back(Vec3{});
   return i;
 }
 

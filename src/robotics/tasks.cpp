@@ -70,7 +70,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   SphereObstacle sphere;
   sphere.center = s.position[i] - push * (spec_.obstacleRadius + r * (1.0 - kOverlap));
   sphere.radius = spec_.obstacleRadius;
-  world.mutableModel().environment.spheres.push_back(sphere);
+  world.addSphereObstacle(sphere);
   added_.push_back(sphere);
   stoppedSince_ = -1.0;
   return fmt::format(
@@ -83,10 +83,9 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
 std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal) {
   if (!(goal.travelTime > 0.0) || world.state().time < goal.travelTime) return std::nullopt;
   // Within a step of the goal pose: put it there exactly, and stop.
-  State& s = world.mutableState();
   for (std::size_t k = 0; k < goal.targets.size(); ++k) {
-    s.position[goal.targets[k]] = goal.goalPositions[k];
-    s.velocity[goal.targets[k]] = Vec3{};
+    world.setPosition(goal.targets[k], goal.goalPositions[k]);
+    world.setVelocity(goal.targets[k], Vec3{});
   }
   const double arrival = goal.travelTime;
   goal.travelTime = 0.0;
@@ -120,9 +119,9 @@ std::optional<std::string> GraspCheck::update(World& world) {
   if (!disturbed_ && spec_.disturbanceTime >= 0.0 && t >= spec_.disturbanceTime) {
     disturbed_ = true;
     const ObjectInfo& info = world.model().objects[static_cast<std::size_t>(spec_.object)];
-    State& s = world.mutableState();
     for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i)
-      if (!world.model().isFixed(i)) s.velocity[i] += spec_.disturbance;
+      if (!world.model().isFixed(i))
+        world.setVelocity(i, world.state().velocity[i] + spec_.disturbance);
     return fmt::format("grasp: disturbance of [{:.3g}, {:.3g}, {:.3g}] m/s at t = {:.4g} s",
                        spec_.disturbance.x, spec_.disturbance.y, spec_.disturbance.z, t);
   }

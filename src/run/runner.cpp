@@ -54,8 +54,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
 
   World world(scene.model, scene.initial, settings.integrator);
   world.refresh();  // the energy account of the initial state
-  report.initialTotal = world.state().energy.total();
-  const double energyScale = std::max(std::abs(world.state().energy.mechanical()), 1e-12);
+  report.initialTotal = world.energy().total();
+  const double energyScale = std::max(std::abs(world.energy().mechanical()), 1e-12);
 
   std::optional<RunWriter> writer;
   std::string staging;
@@ -77,14 +77,14 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     const double slack = 1e-9 * settings.dt;
     if ((last && lastFrameStep != state.stepCount) ||
         state.time >= sampleTime(nextFrame, settings.fps) - slack) {
-      writer->writeFrame(world.model(), state);
+      writer->writeFrame(world);
       lastFrameStep = state.stepCount;
       nextFrame = static_cast<std::int64_t>(std::floor(state.time * settings.fps + 1e-6)) + 1;
     }
     if ((last && lastEnergyStep != state.stepCount) ||
         state.time >= sampleTime(nextEnergyRow, options.energyRate) - slack) {
       lastEnergyStep = state.stepCount;
-      writer->writeEnergyRow(state, dtUsed);
+      writer->writeEnergyRow(world, dtUsed);
       nextEnergyRow =
           static_cast<std::int64_t>(std::floor(state.time * options.energyRate + 1e-6)) + 1;
     }
@@ -149,9 +149,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
   report.steps = last.stepCount;
   report.simulatedTime = last.time;
-  report.finalTotal = last.energy.total();
-  report.dissipated = last.energy.dissipated;
-  report.externalWork = last.energy.external;
+  const EnergyTally finalEnergy = world.energy();
+  report.finalTotal = finalEnergy.total();
+  report.dissipated = finalEnergy.dissipated;
+  report.externalWork = finalEnergy.external;
   report.energyDrift = (report.finalTotal - report.initialTotal) / energyScale;
   // Runaway energy is numerical trouble even while every number stays finite.
   if (report.ok() && report.energyDrift > kRunawayEnergyGrowth) {

@@ -80,7 +80,7 @@ TEST_P(OscillatorTest, EnergyDriftBounded) {
   const int steps = 1000 * 200;
   for (int i = 0; i < steps; ++i) {
     ASSERT_EQ(world.step(dt), StepStatus::kOk);
-    const double error = std::abs(world.state().energy.mechanical() - e0) / e0;
+    const double error = std::abs(world.energy().mechanical() - e0) / e0;
     if (i < steps / 10) earlyMax = std::max(earlyMax, error);
     if (i >= steps - steps / 10) lateMax = std::max(lateMax, error);
   }
@@ -104,7 +104,7 @@ TEST(EnergyAccount, DampedOscillatorBalances) {
   const double dt = 1e-4;
   const double e0 = 0.5 * stiffness * 0.01;
   for (int i = 0; i < 50000; ++i) ASSERT_EQ(world.step(dt), StepStatus::kOk);
-  const EnergyTally& e = world.state().energy;
+  const EnergyTally& e = world.energy();
   EXPECT_LT(e.mechanical(), 0.1 * e0);  // most of it is gone (ζ = 0.025, 5 s)
   EXPECT_NEAR(e.total(), e0, 1e-4 * e0);
   // Analytic decay of the envelope: E(t) ≈ E0 exp(-c t / m).
@@ -127,8 +127,8 @@ TEST(PaperSchemeVersusSymplectic, StabilityDifference) {
     taylor.step(dt);
     symplectic.step(dt);
   }
-  const double taylorGain = taylor.state().energy.mechanical() / e0;
-  const double symplecticGain = symplectic.state().energy.mechanical() / e0;
+  const double taylorGain = taylor.energy().mechanical() / e0;
+  const double symplecticGain = symplectic.energy().mechanical() / e0;
   const double predicted = std::pow(1.0 + std::pow(omega * dt, 2) / 2.0, steps);
   EXPECT_GT(taylorGain, 20.0);
   EXPECT_NEAR(taylorGain / predicted, 1.0, 0.05);
@@ -137,7 +137,7 @@ TEST(PaperSchemeVersusSymplectic, StabilityDifference) {
   for (double omegaDt : {1.9, 2.1}) {
     World w = makeOscillator(stiffness, mass, 0.1, Integrator::kSymplecticEuler);
     for (int i = 0; i < 200; ++i) w.step(omegaDt / omega);
-    const double gain = w.state().energy.mechanical() / e0;
+    const double gain = w.energy().mechanical() / e0;
     if (omegaDt < 2.0) {
       EXPECT_LT(gain, 100.0) << "ωδ = " << omegaDt;
     } else {

@@ -4,11 +4,22 @@
 #include <cmath>
 #include <cstdint>
 
+#include "robophi/compiled_model.h"
+#include "robophi/evaluation.h"
 #include "robophi/model.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
 
 namespace robophi::test {
+
+/// Evaluates states of one model with one workspace (its sphere trees are built
+/// at the first evaluation and refitted after): forces and contacts.
+struct Evaluator {
+  explicit Evaluator(const Model& model) : compiled(model) {}
+  const Evaluation& operator()(const State& state) { return evaluate(compiled, state, workspace); }
+  CompiledModel compiled;
+  Workspace workspace;
+};
 
 /// Adds a single-particle object at p; returns the particle index.
 inline ParticleIndex addBall(Model& model, State& state, const Vec3& p, double mass, double radius,
@@ -17,7 +28,6 @@ inline ParticleIndex addBall(Model& model, State& state, const Vec3& p, double m
   const ParticleIndex i = model.addParticle(mass, radius, fixed, object);
   state.position.push_back(p);
   state.velocity.push_back(Vec3{});
-  state.force.push_back(Vec3{});
   return i;
 }
 

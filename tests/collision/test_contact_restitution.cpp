@@ -46,7 +46,7 @@ double measuredRestitution(double zeta) {
   for (int step = 0; step < 400'000; ++step) {
     const double before = world.state().velocity[ball].z;
     world.step(kStep);
-    const bool touching = !world.state().contacts.empty();
+    const bool touching = !world.contacts().empty();
     if (touching && !touched) {
       incoming = before;
       touched = true;

@@ -58,8 +58,8 @@ TEST(Friction, SticksJustBelowTheFrictionAngleWithoutCreep) {
   EXPECT_LT(std::abs(x10 - x0), 1e-3);
   EXPECT_LE(secondHalf, firstHalf);
   EXPECT_LT(secondHalf, 1e-6);
-  EXPECT_EQ(world.state().contacts.size(), 1u);
-  EXPECT_EQ(world.state().contacts[0].sliding, 0);
+  EXPECT_EQ(world.contacts().size(), 1u);
+  EXPECT_EQ(world.contacts()[0].sliding, 0);
 }
 
 TEST(Friction, SlidesJustAboveTheFrictionAngleAtTheKineticAcceleration) {
@@ -75,18 +75,18 @@ TEST(Friction, SlidesJustAboveTheFrictionAngleAtTheKineticAcceleration) {
   std::printf("slide at %.3f°: a = %.6f m/s², g (sin α - μk cos α) = %.6f m/s²\n",
               angle * 180.0 / M_PI, acceleration, expected);
   EXPECT_NEAR(acceleration / expected, 1.0, 1e-3);
-  EXPECT_EQ(world.state().contacts[0].sliding, 1);
+  EXPECT_EQ(world.contacts()[0].sliding, 1);
 }
 
 TEST(Friction, EnergyAccountCloses) {
   // A sliding block: kinetic energy goes into the dissipated account.
   World world = restingParticle(0.0, {1.0, 0.5, 0.0});
   world.step(1.0e-5);
-  const double initial = world.state().energy.total();
+  const double initial = world.energy().total();
   for (int step = 0; step < 50'000; ++step) world.step(1.0e-5);
-  const double final = world.state().energy.total();
+  const double final = world.energy().total();
   std::printf("sliding energy: total %.9f -> %.9f J (dissipated %.6f J)\n", initial, final,
-              world.state().energy.dissipated);
+              world.energy().dissipated);
   EXPECT_NEAR(final, initial, 1e-3 * 0.5 * 1.25);
 }
 

@@ -44,7 +44,6 @@ std::pair<int, int> addWheel(Model& model, State& state, const Vec3& hub, double
         {rim, next, norm(state.position[rim] - state.position[next]), kSpringStiffness, damping});
     model.linearSprings.push_back({first, rim, rimRadius, kSpringStiffness, damping});
   }
-  state.force.resize(state.position.size());
   return {first, model.particleCount()};
 }
 
@@ -68,7 +67,6 @@ std::pair<int, int> addCube(Model& model, State& state, const Vec3& center, doub
           {a, b, norm(state.position[a] - state.position[b]), kSpringStiffness, damping});
     }
   }
-  state.force.resize(state.position.size());
   return {first, model.particleCount()};
 }
 

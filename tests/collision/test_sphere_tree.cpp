@@ -7,8 +7,8 @@
 #include <set>
 #include <utility>
 
-#include "collision/contact_stage.h"
 #include "collision/contact_test_util.h"
+#include "robophi/evaluation.h"
 
 namespace robophi {
 namespace {
@@ -34,9 +34,9 @@ PairSet bruteForce(const Model& model, const State& state) {
   return pairs;
 }
 
-PairSet found(const State& state) {
+PairSet found(const Evaluation& evaluation) {
   PairSet pairs;
-  for (const Contact& c : state.contacts) {
+  for (const Contact& c : evaluation.contacts) {
     if (c.other >= 0) pairs.insert({c.a, c.other});
   }
   return pairs;
@@ -67,7 +67,6 @@ void buildRandomScene(std::uint64_t seed, Model& model, State& state) {
   }
   test::addBall(model, state, {0.1, 0.0, 0.0}, 1.0, 0.25);  // large: gets its own tree
   state.velocity.assign(state.position.size(), Vec3{});
-  state.force.assign(state.position.size(), Vec3{});
 }
 
 TEST(SphereTree, FindsExactlyTheBruteForceContactsOnDeformedObjects) {
@@ -75,21 +74,20 @@ TEST(SphereTree, FindsExactlyTheBruteForceContactsOnDeformedObjects) {
     Model model;
     State state;
     buildRandomScene(seed, model, state);
-    accumulateContacts(model, state);
-    EXPECT_EQ(found(state), bruteForce(model, state)) << "seed " << seed;
+    test::Evaluator evaluator(model);
+    EXPECT_EQ(found(evaluator(state)), bruteForce(model, state)) << "seed " << seed;
     // Deform every object a lot: the trees built on the first positions are
     // refitted, not rebuilt, and must still find everything.
     test::TestRandom random{seed * 7919};
     for (Vec3& p : state.position) {
       p += Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * 0.15;
     }
-    for (Vec3& f : state.force) f = Vec3{};
-    accumulateContacts(model, state);
+    const Evaluation& deformed = evaluator(state);
     const PairSet expected = bruteForce(model, state);
-    EXPECT_EQ(found(state), expected) << "seed " << seed << " after deformation";
+    EXPECT_EQ(found(deformed), expected) << "seed " << seed << " after deformation";
     EXPECT_GT(expected.size(), 100u);
     EXPECT_TRUE(
-        std::is_sorted(state.contacts.begin(), state.contacts.end(),
+        std::is_sorted(deformed.contacts.begin(), deformed.contacts.end(),
                        [](const Contact& x, const Contact& y) { return x.key() < y.key(); }));
   }
 }
@@ -105,9 +103,9 @@ TEST(SphereTree, HashedGridMatchesBruteForceWhenParticlesSpreadFar) {
                   Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * scale, 0.01,
                   0.02);
   }
-  accumulateContacts(model, state);
+  test::Evaluator evaluator(model);
   const PairSet expected = bruteForce(model, state);
-  EXPECT_EQ(found(state), expected);
+  EXPECT_EQ(found(evaluator(state)), expected);
   EXPECT_GT(expected.size(), 50u);
 }
 
@@ -124,13 +122,11 @@ TEST(SphereTree, SelfCollisionSkipsConnectedPairsAndCanBeTurnedOff) {
   model.linearSprings.push_back({0, 1, 0.03, 100.0, 0.0});
   model.linearSprings.push_back({1, 2, 0.03, 100.0, 0.0});
   state.velocity.assign(3, Vec3{});
-  state.force.assign(3, Vec3{});
-  accumulateContacts(model, state);
-  EXPECT_EQ(found(state), (PairSet{{0, 2}}));
+  test::Evaluator evaluator(model);
+  EXPECT_EQ(found(evaluator(state)), (PairSet{{0, 2}}));
   model.contact.selfCollision = false;
-  State other = state;  // fresh cache
-  accumulateContacts(model, other);
-  EXPECT_TRUE(found(other).empty());
+  test::Evaluator without(model);
+  EXPECT_TRUE(found(without(state)).empty());
 }
 
 TEST(SphereTree, PileOfTenThousandTestsFarFewerPairsThanAll) {
@@ -147,8 +143,9 @@ TEST(SphereTree, PileOfTenThousandTestsFarFewerPairsThanAll) {
         lattice * 0.02 + Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * 0.002,
         0.004, 0.01);
   }
-  accumulateContacts(model, state);
-  const ContactStats stats = lastContactStats(state);
+  test::Evaluator evaluator(model);
+  const Evaluation& evaluation = evaluator(state);
+  const ContactStats stats = evaluation.contactStats;
   const double n = model.particleCount();
   const double allPairs = 0.5 * n * (n - 1.0);
   std::printf("pile of %.0f: %lld pair tests, %lld contacts, all pairs / tests = %.0f\n", n,
@@ -173,16 +170,16 @@ TEST(SphereTree, OneObjectOfManyParticlesUsesItsTreeEfficiently) {
         lattice * 0.02 + Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * 0.002);
   }
   state.velocity.assign(state.position.size(), Vec3{});
-  state.force.assign(state.position.size(), Vec3{});
-  accumulateContacts(model, state);
-  const ContactStats stats = lastContactStats(state);
+  test::Evaluator evaluator(model);
+  const Evaluation& evaluation = evaluator(state);
+  const ContactStats stats = evaluation.contactStats;
   const double n = model.particleCount();
   const double allPairs = 0.5 * n * (n - 1.0);
   std::printf("one object of %.0f: %lld pair tests, %lld node tests, all pairs / tests = %.0f\n", n,
               static_cast<long long>(stats.pairTests), static_cast<long long>(stats.nodeTests),
               allPairs / static_cast<double>(stats.pairTests));
   EXPECT_GE(allPairs / static_cast<double>(stats.pairTests), 10.0);
-  EXPECT_EQ(found(state), bruteForce(model, state));
+  EXPECT_EQ(found(evaluation), bruteForce(model, state));
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ TEST(AdaptiveStep, KeepsEnergyWithinTolerance) {
     AdaptiveStepSettings settings;
     AdaptiveStepper stepper(world.model(), settings);
     world.refresh();
-    const double e0 = world.state().energy.total();
+    const double e0 = world.energy().total();
     double t = 0.0;
     while (t < 1.0) {
       const AdaptiveStepResult r = stepper.advance(world, 1.0 - t);
@@ -62,7 +62,7 @@ TEST(AdaptiveStep, KeepsEnergyWithinTolerance) {
       EXPECT_LE(r.energyError, settings.energyTolerance);
       t = world.state().time;
     }
-    const double drift = std::abs(world.state().energy.total() - e0) / e0;
+    const double drift = std::abs(world.energy().total() - e0) / e0;
     // ATS bounds each step's energy error, so the drift stays below (accepted
     // steps) × tolerance; with velocity Verlet, the default, it is far smaller.
     EXPECT_LT(drift, static_cast<double>(stepper.stats().accepted) * settings.energyTolerance)
@@ -91,13 +91,13 @@ TEST(AdaptiveStep, SurvivesWhereConstantStepDiverges) {
   settings.stabilitySafety = 1e9;  // no help from the stability estimate
   AdaptiveStepper stepper(adaptive.model(), settings);
   adaptive.refresh();
-  const double e0 = adaptive.state().energy.total();
+  const double e0 = adaptive.energy().total();
   while (adaptive.state().time < 0.2) {
     const AdaptiveStepResult r = stepper.advance(adaptive, 0.2 - adaptive.state().time);
     ASSERT_TRUE(r.ok) << r.failure;
   }
-  EXPECT_TRUE(std::isfinite(adaptive.state().energy.total()));
-  EXPECT_LT(adaptive.state().energy.total(), 1.05 * e0);
+  EXPECT_TRUE(std::isfinite(adaptive.energy().total()));
+  EXPECT_LT(adaptive.energy().total(), 1.05 * e0);
 }
 
 // Growth: a free particle in gravity with Verlet (exact) reaches the largest step.

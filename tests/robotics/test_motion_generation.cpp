@@ -98,7 +98,7 @@ TEST(JointControl, ServoLimitAndSwitchOff) {
   const auto elbow = robotics::findJoint(world.model(), "elbow");
   ASSERT_TRUE(elbow.has_value());
   ASSERT_TRUE(robotics::setJointTarget(world, *elbow, 2.6));
-  EXPECT_DOUBLE_EQ(robotics::jointServo(world.model(), *elbow).target, 2.6);
+  EXPECT_DOUBLE_EQ(jointServo(world.model(), *elbow).target, 2.6);
   // A limit at [2.8, 3.5] holds the elbow at 2.8 while its own servo wants 2.6.
   robotics::JointLimiter limiter({{*elbow, 2.8, 3.5, 400.0, 5.0}});
   for (int i = 0; i < 20000; ++i) {
@@ -108,7 +108,7 @@ TEST(JointControl, ServoLimitAndSwitchOff) {
   EXPECT_GT(limiter.engagements(), 0);
   EXPECT_NEAR(jointValue(world.model(), world.state(), *elbow), 2.8, 0.03);
   ASSERT_TRUE(robotics::switchOffJoint(world, *elbow, 0.01));
-  EXPECT_EQ(robotics::jointServo(world.model(), *elbow).stiffness, 0.0);
+  EXPECT_EQ(jointServo(world.model(), *elbow).stiffness, 0.0);
 }
 
 // Every step, a joint's value and rate are readable: the rate is the time

@@ -43,7 +43,7 @@ TEST(Vehicle, CrossesTheHillsAndReachesItsGoalUpright) {
     highestChassis = std::max(highestChassis, centroid.z);
     // Ground contacts by part: chassis particles, and each wheel's rim.
     bool wheelDown[4] = {false, false, false, false};
-    for (const Contact& c : s.contacts) {
+    for (const Contact& c : world.contacts()) {
       if (c.other >= 0) continue;
       if (c.a < kChassis) ++chassisContacts;
       // Each wheel: 2×12 rim particles, 2 hubs, then 5 mounts (31 particles).

@@ -2,8 +2,7 @@
 /// \file
 /// Joint control between steps (MODEL §1 "Joint drive and passive joints"):
 /// servo targets, stiffness and damping, switching a joint off, limits. These
-/// change the World's model through World::mutableModel: call them between
-/// steps only, never from inside a force stage.
+/// change the World's model through its edit API: call them between steps.
 
 #include <cstddef>
 #include <optional>
@@ -18,15 +17,6 @@ namespace robophi::robotics {
 
 /// The index of the joint named `name` in Model::joints, or nullopt.
 std::optional<std::size_t> findJoint(const Model& model, const std::string& name);
-
-/// The servo parameters of a joint: target (rad or m), stiffness, damping. For a
-/// revolute joint they are its JS's; for a prismatic joint its drive LS's (a
-/// prismatic joint without a drive has none: `hasDrive` false).
-struct JointServo {
-  bool hasDrive = true;
-  double target = 0.0, stiffness = 0.0, damping = 0.0;
-};
-JointServo jointServo(const Model& model, std::size_t joint);
 
 /// Drives the joint to `target` (rad, wrapped into [0, 2π), or m > 0): sets the
 /// JS rest angle or the drive LS rest length. Returns false for a prismatic

@@ -1,7 +1,7 @@
-// The contact cache: what the contact stage derives once from the Model
+// The contact tables: what the contact stage derives once from the Model
 // (exclusion lists, material table, which particles go to the grid and which
-// objects get a sphere tree) and keeps between steps.
-#include "collision/contact_cache.h"
+// objects get a sphere tree), and the scratch that one evaluation works in.
+#include "collision/contact_tables.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,42 +13,7 @@
 
 namespace robophi {
 
-ContactCacheHolder::ContactCacheHolder() = default;
-ContactCacheHolder::~ContactCacheHolder() = default;
-// A copy starts with an empty cache; an assignment keeps the target's own.
-ContactCacheHolder::ContactCacheHolder(const ContactCacheHolder&) {}
-ContactCacheHolder& ContactCacheHolder::operator=(const ContactCacheHolder&) { return *this; }
-ContactCacheHolder::ContactCacheHolder(ContactCacheHolder&&) noexcept = default;
-ContactCacheHolder& ContactCacheHolder::operator=(ContactCacheHolder&&) noexcept = default;
-void ContactCacheHolder::reset(std::unique_ptr<ContactScratch> scratch) {
-  scratch_ = std::move(scratch);
-}
-
-ContactStats lastContactStats(const State& state) {
-  const ContactScratch* cache = state.contactCache.get();
-  return cache != nullptr ? cache->stats : ContactStats{};
-}
-
 namespace {
-
-// What the cache depends on, folded into one number.
-std::int64_t modelSignature(const Model& model) {
-  std::uint64_t h = 1469598103934665603ULL;
-  const auto mix = [&h](std::uint64_t v) {
-    h ^= v;
-    h *= 1099511628211ULL;
-  };
-  mix(static_cast<std::uint64_t>(model.particleCount()));
-  mix(model.objects.size());
-  mix(model.linearSprings.size());
-  mix(model.torsionSprings.size());
-  mix(model.jointSprings.size());
-  mix(model.materials.size());
-  mix(static_cast<std::uint64_t>(model.environment.itemCount()));
-  mix(model.contact.pairOverrides.size());
-  mix(static_cast<std::uint64_t>(model.contact.leafSize));
-  return static_cast<std::int64_t>(h);
-}
 
 // Series springs (and dashpots): each material is half of the contact.
 double series(double a, double b) { return a + b > 0.0 ? a * b / (a + b) : 0.0; }
@@ -65,7 +30,7 @@ PairParameters combine(const ContactSettings& settings, double stiffness, double
   return p;
 }
 
-void buildExclusions(const Model& model, ContactScratch& cache) {
+void buildExclusions(const Model& model, ContactTables& cache) {
   std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
   const auto add = [&pairs](std::int32_t i, std::int32_t j) {
     if (i == j || i < 0 || j < 0) return;
@@ -97,7 +62,7 @@ void buildExclusions(const Model& model, ContactScratch& cache) {
   }
 }
 
-void classifyParticles(const Model& model, ContactScratch& cache) {
+void classifyParticles(const Model& model, ContactTables& cache) {
   const ParticleIndex n = model.particleCount();
   const auto objectCount = static_cast<std::int32_t>(model.objects.size());
   cache.particleObject.assign(static_cast<std::size_t>(n), -1);
@@ -151,8 +116,6 @@ void classifyParticles(const Model& model, ContactScratch& cache) {
     if (object >= 0 && objectSize[object] >= 2 && !isVirtual(i)) members[object].push_back(i);
   }
   cache.trees.clear();
-  cache.treeParticles.clear();
-  cache.nodes.clear();
   cache.treeMembers.clear();
   for (std::int32_t object = 0; object < objectCount; ++object) {
     if (members[object].empty()) continue;
@@ -168,18 +131,14 @@ void classifyParticles(const Model& model, ContactScratch& cache) {
     for (std::int32_t i : cache.treeMembers[t]) allFixed = allFixed && model.inverseMass[i] == 0.0;
     cache.trees[t].allFixed = allFixed;
   }
-  cache.treesBuilt = false;
 }
 
 }  // namespace
 
-ContactScratch& prepareContactCache(const Model& model, State& state) {
-  ContactScratch* cache = state.contactCache.get();
-  const std::int64_t signature = modelSignature(model);
-  if (cache == nullptr || cache->signature != signature) {
-    state.contactCache.reset(std::make_unique<ContactScratch>());
-    cache = state.contactCache.get();
-    cache->signature = signature;
+ContactTables compileContactTables(const Model& model) {
+  ContactTables tables;
+  ContactTables* cache = &tables;
+  {
     const ContactSettings& settings = model.contact;
     // Material-pair table (docs/contact.md: series κ_c and μ_c, geometric-mean friction).
     cache->materialCount = static_cast<std::int32_t>(model.materials.size());
@@ -225,16 +184,22 @@ ContactScratch& prepareContactCache(const Model& model, State& state) {
     buildExclusions(model, *cache);
     classifyParticles(model, *cache);
   }
-  if (!cache->treesBuilt) {
-    buildSphereTrees(model, state.position, *cache);
-    cache->treesBuilt = true;
-  }
-  return *cache;
+  return tables;
 }
 
-const PairParameters& pairParameters(const Model& model, const ContactScratch& cache,
-                                     std::int32_t a, std::int32_t other,
-                                     PairParameters& overrideOut) {
+ContactScratch& prepareContactScratch(const Model& model, const ContactTables& tables,
+                                      std::int64_t revision, const std::vector<Vec3>& position,
+                                      ContactScratch& scratch) {
+  scratch.tables = &tables;
+  if (scratch.revision != revision) {
+    scratch.revision = revision;
+    buildSphereTrees(model, position, scratch);
+  }
+  return scratch;
+}
+
+const PairParameters& pairParameters(const Model& model, const ContactTables& cache, std::int32_t a,
+                                     std::int32_t other, PairParameters& overrideOut) {
   const std::int32_t materialA = cache.particleMaterial[a];
   const std::int32_t materialB =
       other >= 0 ? cache.particleMaterial[other] : cache.environmentMaterials[-1 - other];

@@ -1,15 +1,17 @@
 #pragma once
-// The contact stage's derived data (built once from the Model: exclusion lists,
-// material table, sphere-tree topology) and its per-step scratch buffers (grid,
-// refitted spheres, the next contact list). Nothing here allocates in a step
-// once the buffers have grown to the scene's size.
+// The contact stage's data (MODEL §3): the tables derived once from the model
+// (ContactTables: exclusion lists, material-pair table, which particles go to
+// the grid and which objects get a sphere tree), owned by the CompiledModel and
+// rebuilt by the edits that change them; and the per-evaluation scratch
+// (ContactScratch: sphere-tree topology and spheres, grid, the next contact
+// list), owned by a Workspace. Nothing here allocates in a step once the
+// buffers have grown to the scene's size.
 
 #include <cstdint>
 #include <vector>
 
 #include "robophi/contact.h"
 #include "robophi/model.h"
-#include "robophi/state.h"
 
 namespace robophi {
 
@@ -37,16 +39,15 @@ struct TreeNode {
 /// An object with a sphere tree (two or more particles, or one large particle).
 struct TreeObject {
   std::int32_t object = -1;
+  /// Set when the tree is built (ContactScratch::trees): its root node and the
+  /// range [nodeBegin, nodeEnd) of its nodes in ContactScratch::nodes.
   std::int32_t rootNode = 0;
-  /// [begin, end) of its nodes in ContactScratch::nodes (pre-order: parents first).
   std::int32_t nodeBegin = 0, nodeEnd = 0;
   bool allFixed = false;
 };
 
-struct ContactScratch {
-  // ---- Built once from the Model (prepareContactCache).
-  /// What the cache was built for; rebuilt when the model no longer matches.
-  std::int64_t signature = 0;
+/// What the contact stage derives from the model alone.
+struct ContactTables {
   /// Exclusion lists (CSR): partners j > i sharing an LS/TS/JS with i, sorted,
   /// in exclusionPartner[exclusionStart[i], exclusionStart[i + 1]).
   std::vector<std::int32_t> exclusionStart;    // (particleCount + 1)
@@ -55,10 +56,6 @@ struct ContactScratch {
   std::vector<std::int32_t> particleMaterial;
   /// Object of each particle, or -1, (particleCount).
   std::vector<std::int32_t> particleObject;
-  /// Per particle, the stiffness (N/m) and damping (N·s/m) of its touching
-  /// contacts, summed during the contact stage for its stability limit and
-  /// zeroed again after it, (particleCount).
-  std::vector<double> contactStiffnessSum, contactDampingSum;
   /// Material-pair table, (materials × materials); environment uses the item's material.
   std::vector<PairParameters> materialPairs;
   std::int32_t materialCount = 0;
@@ -72,15 +69,32 @@ struct ContactScratch {
   std::vector<std::int32_t> gridParticles;
   /// Grid cell size h (m) = the largest grid particle's diameter.
   double cellSize = 0.0;
-  /// Objects with a sphere tree.
+  /// Objects with a sphere tree (their nodes are built in the scratch).
   std::vector<TreeObject> trees;
   /// Particles of each tree object, ascending, (trees).
   std::vector<std::vector<std::int32_t>> treeMembers;
   /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
   std::vector<ContactPairOverride> overrides;
+};
+
+/// Builds the tables of `model`.
+ContactTables compileContactTables(const Model& model);
+
+/// What one contact evaluation works in: derived from positions, reused from
+/// evaluation to evaluation.
+struct ContactScratch {
+  /// The tables in use (set by prepareContactScratch for each evaluation).
+  const ContactTables* tables = nullptr;
+  /// The CompiledModel::contactRevision the trees were built for; -1: none yet.
+  std::int64_t revision = -1;
+  /// Per particle, the stiffness (N/m) and damping (N·s/m) of its touching
+  /// contacts, summed during the contact stage for its stability limit and
+  /// zeroed again after it, (particleCount).
+  std::vector<double> contactStiffnessSum, contactDampingSum;
+  /// The tree objects with their node ranges, their nodes and permuted particles.
+  std::vector<TreeObject> trees;
   std::vector<TreeNode> nodes;
   std::vector<std::int32_t> treeParticles;
-  bool treesBuilt = false;
 
   // ---- Per-step scratch.
   std::vector<std::int64_t> cellOfItem;      // (gridParticles) cell id
@@ -91,7 +105,7 @@ struct ContactScratch {
   std::vector<std::int32_t> sortedParticle;  // (gridParticles)
   std::vector<std::int64_t> sortedKey;       // (gridParticles) cell key of each slot
   std::vector<std::int32_t> sweepOrder;      // (trees) sort-and-sweep order
-  std::vector<Contact> freshContacts;        // the new list, swapped into State
+  std::vector<Contact> freshContacts;        // the new list, swapped into the evaluation
   std::vector<Contact> mergedContacts;       // merge buffer
   std::vector<Contact> treeContacts;         // unsorted finds of the tree search
   std::vector<Contact> rowContacts;          // one particle's finds (sorted per row)
@@ -100,18 +114,23 @@ struct ContactScratch {
   ContactStats stats;
 };
 
-/// Builds (or rebuilds when stale) the derived data of the cache for `model`.
-ContactScratch& prepareContactCache(const Model& model, State& state);
+/// Points the scratch at `tables` and (re)builds its sphere trees from
+/// `position` when they were built for another revision of the tables.
+/// (The contacts found do not depend on the trees' topology: every candidate
+/// pair is tested exactly and the list is sorted.)
+ContactScratch& prepareContactScratch(const Model& model, const ContactTables& tables,
+                                      std::int64_t revision, const std::vector<Vec3>& position,
+                                      ContactScratch& scratch);
 
 /// The combined parameters of particles a and b (or b = -1 - item for the environment).
-const PairParameters& pairParameters(const Model& model, const ContactScratch& cache,
+const PairParameters& pairParameters(const Model& model, const ContactTables& tables,
                                      std::int32_t a, std::int32_t other,
                                      PairParameters& overrideOut);
 
 /// Whether a connector ties particles a < b.
-inline bool excluded(const ContactScratch& cache, std::int32_t a, std::int32_t b) {
-  const std::int32_t* begin = cache.exclusionPartner.data() + cache.exclusionStart[a];
-  const std::int32_t* end = cache.exclusionPartner.data() + cache.exclusionStart[a + 1];
+inline bool excluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {
+  const std::int32_t* begin = tables.exclusionPartner.data() + tables.exclusionStart[a];
+  const std::int32_t* end = tables.exclusionPartner.data() + tables.exclusionStart[a + 1];
   for (const std::int32_t* p = begin; p != end; ++p) {
     if (*p == b) return true;
     if (*p > b) return false;

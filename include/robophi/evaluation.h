@@ -1,0 +1,74 @@
+#pragma once
+/// \file
+/// Force evaluation as a pure function (MODEL §1–§3): evaluate(model, state,
+/// workspace) computes the net force on every particle, the energy account and
+/// the contacts at a state. It reads the state's friction history and never
+/// writes the state: calling it any number of times changes nothing. The step
+/// (World::step) commits the contacts it finds as the next friction history.
+
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "robophi/compiled_model.h"
+#include "robophi/contact.h"
+#include "robophi/state.h"
+
+namespace robophi {
+
+/// What one evaluation computes at a state.
+struct Evaluation {
+  /// Net force F_i (N), (particleCount).
+  std::vector<Vec3> force;
+  /// Kinetic energy and potentials at the state; dissipated and external as the
+  /// state holds them.
+  EnergyTally energy;
+  /// Power of the dissipative forces (W, <= 0).
+  double dissipativePower = 0.0;
+  /// Power (W) put into the system by fixed particles that move kinematically
+  /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them.
+  double drivingPower = 0.0;
+  /// Elastic energy (J) the friction anchors of the history gave up in this
+  /// evaluation, by slipping or opening: dissipated once the step commits it.
+  double releasedAnchorEnergy = 0.0;
+  /// The largest stable explicit step (s) of the touching contacts: per
+  /// particle, Gershgorin on the sum of its contacts' stiffness and damping;
+  /// infinite without contacts. The adaptive step keeps below it.
+  double contactCriticalStep = std::numeric_limits<double>::infinity();
+  /// The contacts at the state, sorted by Contact::key(), with their friction
+  /// anchors advanced from the history: the next step's friction history.
+  std::vector<Contact> contacts;
+  /// Counters of the contact search.
+  ContactStats contactStats;
+};
+
+struct ContactScratch;
+
+/// Scratch memory of evaluations (sphere trees, grid, buffers) and the last
+/// evaluation. Reusing one workspace keeps evaluations allocation-free; any
+/// workspace gives the same results. Not shared between threads.
+class Workspace {
+ public:
+  Workspace();
+  ~Workspace();
+  /// A copy starts with empty scratch (rebuilt when used) and the same result.
+  Workspace(const Workspace& other);
+  Workspace& operator=(const Workspace& other);
+  Workspace(Workspace&&) noexcept;
+  Workspace& operator=(Workspace&&) noexcept;
+
+  /// The last evaluation made in this workspace.
+  const Evaluation& result() const { return result_; }
+  Evaluation& result() { return result_; }
+  ContactScratch& contactScratch() { return *scratch_; }
+
+ private:
+  std::unique_ptr<ContactScratch> scratch_;
+  Evaluation result_;
+};
+
+/// Evaluates forces, energies and contacts of `state` (sized for the model;
+/// throws std::invalid_argument otherwise) into workspace.result().
+const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace);
+
+}  // namespace robophi

@@ -1,0 +1,64 @@
+// evaluate(): the force evaluation as a pure function of (model, state).
+#include "evaluate.h"
+
+#include <stdexcept>
+
+#include "collision/contact_stage.h"
+#include "core/text.h"
+#include "forces/forces.h"
+#include "integrate/integrators.h"
+#include "robophi/evaluation.h"
+
+namespace robophi {
+
+Workspace::Workspace() : scratch_(std::make_unique<ContactScratch>()) {}
+Workspace::~Workspace() = default;
+Workspace::Workspace(const Workspace& other)
+    : scratch_(std::make_unique<ContactScratch>()), result_(other.result_) {}
+Workspace& Workspace::operator=(const Workspace& other) {
+  if (this != &other) result_ = other.result_;  // the scratch stays this workspace's own
+  return *this;
+}
+Workspace::Workspace(Workspace&&) noexcept = default;
+Workspace& Workspace::operator=(Workspace&&) noexcept = default;
+
+void evaluateForces(const CompiledModel& compiled, const std::vector<Vec3>& position,
+                    const std::vector<Vec3>& velocity, const std::vector<Contact>& history,
+                    ContactScratch& scratch, Evaluation& out) {
+  const Model& model = compiled.model();
+  out.force.resize(position.size());
+  for (Vec3& f : out.force) f = Vec3{};
+  EnergyTally& e = out.energy;
+  const ForceTally gravity = accumulateGravity(model, position, out.force);
+  const ForceTally damping = accumulateLinearDamping(model, velocity, out.force);
+  const ForceTally linear = accumulateLinearSprings(model, position, velocity, out.force);
+  const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
+  const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
+  e.gravity = gravity.potential;
+  e.linearSpring = linear.potential;
+  e.torsionSpring = torsion.potential;
+  e.jointSpring = joint.potential;
+  out.dissipativePower = damping.dissipativePower + linear.dissipativePower +
+                         torsion.dissipativePower + joint.dissipativePower;
+  // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
+  accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
+                     velocity, history, scratch, out);
+}
+
+const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace) {
+  const auto n = static_cast<std::size_t>(model.model().particleCount());
+  if (state.position.size() != n || state.velocity.size() != n) {
+    throw std::invalid_argument(detail::text(
+        "evaluate: the state has {} positions and {} velocities; the model has {} particles",
+        state.position.size(), state.velocity.size(), n));
+  }
+  Evaluation& out = workspace.result();
+  evaluateForces(model, state.position, state.velocity, state.frictionHistory,
+                 workspace.contactScratch(), out);
+  measureKineticAndDriving(model.model(), state.velocity, out);
+  out.energy.dissipated = state.dissipated;
+  out.energy.external = state.external;
+  return out;
+}
+
+}  // namespace robophi

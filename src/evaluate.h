@@ -1,0 +1,22 @@
+#pragma once
+// The force evaluation's stages (MODEL §1–§3), shared by evaluate() and
+// World::step, which evaluates at the intermediate states of an integrator.
+
+#include <cstdint>
+#include <vector>
+
+#include "robophi/compiled_model.h"
+#include "robophi/evaluation.h"
+
+namespace robophi {
+
+/// Net forces and potentials at (position, velocity) with the friction history
+/// `history` (only read) into `out`: clear → gravity → linear damping → LS → TS
+/// → JS → contacts (which set out.contacts, out.releasedAnchorEnergy,
+/// out.contactCriticalStep, out.contactStats). Not the kinetic energy or the
+/// driving power (measureKineticAndDriving), which need the final velocities.
+void evaluateForces(const CompiledModel& model, const std::vector<Vec3>& position,
+                    const std::vector<Vec3>& velocity, const std::vector<Contact>& history,
+                    ContactScratch& scratch, Evaluation& out);
+
+}  // namespace robophi

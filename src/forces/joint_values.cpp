@@ -1,0 +1,77 @@
+#include <cmath>
+#include <stdexcept>
+
+#include "core/text.h"
+#include "forces/connector_forces.h"
+#include "robophi/joints.h"
+
+namespace robophi {
+
+namespace {
+
+// Prismatic: the TS keeps origin (a), slider (c) and end (b) collinear; the
+// value is the slider's distance from the origin along the origin→end line.
+double prismaticValue(const TorsionSpring& s, const std::vector<Vec3>& p) {
+  const Vec3 line = p[s.b] - p[s.a];
+  const double length = norm(line);
+  if (!(length > 0.0)) return norm(p[s.c] - p[s.a]);
+  return dot(p[s.c] - p[s.a], line / length);
+}
+
+// Throws unless `joint` exists and `state` is sized for `model`.
+const Joint& checkedJoint(const char* function, const Model& model, const State* state,
+                          std::size_t joint) {
+  if (joint >= model.joints.size())
+    throw std::out_of_range(detail::text("{}: joint {} does not exist (the model has {})", function,
+                                         joint, model.joints.size()));
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  if (state != nullptr && (state->position.size() != n || state->velocity.size() != n))
+    throw std::invalid_argument(
+        detail::text("{}: the state has {} positions; the model has {} particles", function,
+                     state->position.size(), n));
+  return model.joints[joint];
+}
+
+}  // namespace
+
+double jointValue(const Model& model, const State& state, std::size_t joint) {
+  const Joint& j = checkedJoint("jointValue", model, &state, joint);
+  const auto& p = state.position;
+  if (j.kind == JointKind::kRevolute) {
+    const JointSpring& s = model.jointSprings[j.connector];
+    return jointAngle(p[s.a], p[s.c], p[s.b], p[s.d]);
+  }
+  return prismaticValue(model.torsionSprings[j.connector], p);
+}
+
+double jointRate(const Model& model, const State& state, std::size_t joint) {
+  const Joint& j = checkedJoint("jointRate", model, &state, joint);
+  const auto& p = state.position;
+  const auto& v = state.velocity;
+  if (j.kind == JointKind::kRevolute) {
+    const JointSpring& s = model.jointSprings[j.connector];
+    return jointAngleRate(p[s.a], p[s.c], p[s.b], p[s.d], v[s.a], v[s.c], v[s.b], v[s.d]);
+  }
+  const TorsionSpring& s = model.torsionSprings[j.connector];
+  const Vec3 line = p[s.b] - p[s.a];
+  const double length = norm(line);
+  if (!(length > 0.0)) return 0.0;
+  return dot(v[s.c] - v[s.a], line / length);
+}
+
+}  // namespace robophi
+
+namespace robophi {
+
+JointServo jointServo(const Model& model, std::size_t joint) {
+  const Joint& j = checkedJoint("jointServo", model, nullptr, joint);
+  if (j.kind == JointKind::kRevolute) {
+    const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
+    return {true, s.restAngle, s.stiffness, s.damping};
+  }
+  if (j.driveSpring < 0) return {false, 0.0, 0.0, 0.0};
+  const LinearSpring& s = model.linearSprings[static_cast<std::size_t>(j.driveSpring)];
+  return {true, s.restLength, s.stiffness, s.damping};
+}
+
+}  // namespace robophi

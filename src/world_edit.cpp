@@ -1,0 +1,291 @@
+// World's edit API: the only way to change the model or the state between
+// steps. Each edit checks its arguments, makes the evaluation stale (its work is
+// booked as external at the next evaluation) and tells the compiled model what
+// it changed, so that the derived tables are rebuilt exactly when they must be.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <tuple>
+
+#include "core/text.h"
+#include "robophi/joints.h"
+#include "robophi/world.h"
+
+namespace robophi {
+
+namespace {
+
+void requireFinite(const char* function, const char* argument, double value) {
+  if (!std::isfinite(value))
+    throw std::invalid_argument(
+        detail::text("{}: {} = {} must be finite", function, argument, value));
+}
+
+void requireFinite(const char* function, const char* argument, const Vec3& value) {
+  if (!isFinite(value))
+    throw std::invalid_argument(detail::text("{}: {} = ({}, {}, {}) must be finite", function,
+                                             argument, value.x, value.y, value.z));
+}
+
+void requireNonNegative(const char* function, const char* argument, double value) {
+  if (!(value >= 0.0) || !std::isfinite(value))
+    throw std::invalid_argument(
+        detail::text("{}: {} = {} must be a finite number >= 0", function, argument, value));
+}
+
+template <class Index>
+void requireIndex(const char* function, const char* what, Index index, std::size_t count) {
+  if (index < 0 || static_cast<std::size_t>(index) >= count)
+    throw std::out_of_range(
+        detail::text("{}: {} {} does not exist (there are {})", function, what, index, count));
+}
+
+void requireIndex(const char* function, const char* what, std::size_t index, std::size_t count) {
+  if (index >= count)
+    throw std::out_of_range(
+        detail::text("{}: {} {} does not exist (there are {})", function, what, index, count));
+}
+
+void requireMaterial(const char* function, const Material& m) {
+  requireNonNegative(function, "material.contactStiffness", m.contactStiffness);
+  requireNonNegative(function, "material.contactDamping", m.contactDamping);
+  requireNonNegative(function, "material.staticFriction", m.staticFriction);
+  requireNonNegative(function, "material.kineticFriction", m.kineticFriction);
+}
+
+}  // namespace
+
+void World::edited() {
+  Snapshot& s = current_;
+  if (s.evaluated_ && !s.edited_) {
+    s.edited_ = true;
+    s.totalBeforeEdits_ = s.energy().total();
+  }
+  s.evaluated_ = false;
+}
+
+void World::setPosition(ParticleIndex particle, const Vec3& position) {
+  requireIndex("World::setPosition", "particle", particle,
+               static_cast<std::size_t>(model().particleCount()));
+  requireFinite("World::setPosition", "position", position);
+  edited();
+  current_.state_.position[particle] = position;
+}
+
+void World::setVelocity(ParticleIndex particle, const Vec3& velocity) {
+  requireIndex("World::setVelocity", "particle", particle,
+               static_cast<std::size_t>(model().particleCount()));
+  requireFinite("World::setVelocity", "velocity", velocity);
+  edited();
+  current_.state_.velocity[particle] = velocity;
+}
+
+void World::setJointTarget(std::size_t joint, double target) {
+  const Model& m = model();
+  requireIndex("World::setJointTarget", "joint", joint, m.joints.size());
+  requireFinite("World::setJointTarget", "target", target);
+  const Joint& j = m.joints[joint];
+  if (j.kind == JointKind::kRevolute) {
+    const double twoPi = 2.0 * std::numbers::pi;
+    double wrapped = std::fmod(target, twoPi);
+    if (wrapped < 0.0) wrapped += twoPi;
+    if (wrapped >= twoPi) wrapped = 0.0;
+    double& rest = model_.model_.jointSprings[static_cast<std::size_t>(j.connector)].restAngle;
+    if (rest == wrapped) return;
+    edited();
+    rest = wrapped;
+  } else {
+    if (j.driveSpring < 0)
+      throw std::invalid_argument(
+          detail::text("World::setJointTarget: prismatic joint '{}' has no drive spring", j.name));
+    if (!(target > 0.0))
+      throw std::invalid_argument(
+          detail::text("World::setJointTarget: target {} m of prismatic joint '{}' must be > 0",
+                       target, j.name));
+    double& rest = model_.model_.linearSprings[static_cast<std::size_t>(j.driveSpring)].restLength;
+    if (rest == target) return;
+    edited();
+    rest = target;
+  }
+  model_.changed(CompiledModel::kValues);
+}
+
+void World::setJointServo(std::size_t joint, double stiffness, double damping) {
+  const Model& m = model();
+  requireIndex("World::setJointServo", "joint", joint, m.joints.size());
+  requireNonNegative("World::setJointServo", "stiffness", stiffness);
+  requireNonNegative("World::setJointServo", "damping", damping);
+  const Joint& j = m.joints[joint];
+  double* k = nullptr;
+  double* c = nullptr;
+  if (j.kind == JointKind::kRevolute) {
+    JointSpring& s = model_.model_.jointSprings[static_cast<std::size_t>(j.connector)];
+    k = &s.stiffness;
+    c = &s.damping;
+  } else {
+    if (j.driveSpring < 0)
+      throw std::invalid_argument(
+          detail::text("World::setJointServo: prismatic joint '{}' has no drive spring", j.name));
+    LinearSpring& s = model_.model_.linearSprings[static_cast<std::size_t>(j.driveSpring)];
+    k = &s.stiffness;
+    c = &s.damping;
+  }
+  if (*k == stiffness && *c == damping) return;
+  edited();
+  *k = stiffness;
+  *c = damping;
+  model_.changed(CompiledModel::kStiffness);
+}
+
+namespace {
+
+bool sameEnds(const LinearSpring& a, const LinearSpring& b) { return a.a == b.a && a.b == b.b; }
+bool sameEnds(const TorsionSpring& a, const TorsionSpring& b) {
+  return a.a == b.a && a.b == b.b && a.c == b.c;
+}
+bool sameEnds(const JointSpring& a, const JointSpring& b) {
+  return a.a == b.a && a.b == b.b && a.c == b.c && a.d == b.d;
+}
+
+// Checks connector `index` of `list` and its replacement; returns what the
+// replacement changes (new ends change the contact exclusion lists).
+template <class Connector>
+unsigned checkReplacement(const char* function, const std::vector<Connector>& list,
+                          std::size_t index, const Connector& connector, ParticleIndex particles) {
+  requireIndex(function, "connector", index, list.size());
+  if (const std::string problem = checkConnector(connector, index, particles); !problem.empty())
+    throw std::invalid_argument(std::string(function) + ": " + problem);
+  return CompiledModel::kStiffness |
+         (sameEnds(list[index], connector) ? CompiledModel::kValues
+                                           : CompiledModel::kContactTables);
+}
+
+}  // namespace
+
+void World::setLinearSpring(std::size_t index, const LinearSpring& spring) {
+  const unsigned change = checkReplacement("World::setLinearSpring", model().linearSprings, index,
+                                           spring, model().particleCount());
+  edited();
+  model_.model_.linearSprings[index] = spring;
+  model_.changed(change);
+}
+
+void World::setTorsionSpring(std::size_t index, const TorsionSpring& spring) {
+  const unsigned change = checkReplacement("World::setTorsionSpring", model().torsionSprings, index,
+                                           spring, model().particleCount());
+  edited();
+  model_.model_.torsionSprings[index] = spring;
+  model_.changed(change);
+}
+
+void World::setJointSpring(std::size_t index, const JointSpring& spring) {
+  const unsigned change = checkReplacement("World::setJointSpring", model().jointSprings, index,
+                                           spring, model().particleCount());
+  edited();
+  model_.model_.jointSprings[index] = spring;
+  model_.changed(change);
+}
+
+void World::setMaterial(std::int32_t index, const Material& material) {
+  requireIndex("World::setMaterial", "material", index, model().materials.size());
+  requireMaterial("World::setMaterial", material);
+  edited();
+  model_.model_.materials[static_cast<std::size_t>(index)] = material;
+  model_.changed(CompiledModel::kContactTables);
+}
+
+std::int32_t World::addMaterial(const Material& material) {
+  requireMaterial("World::addMaterial", material);
+  edited();
+  model_.model_.materials.push_back(material);
+  model_.changed(CompiledModel::kContactTables);
+  return static_cast<std::int32_t>(model().materials.size()) - 1;
+}
+
+void World::setObjectMaterial(std::int32_t object, std::int32_t material) {
+  requireIndex("World::setObjectMaterial", "object", object, model().objects.size());
+  requireIndex("World::setObjectMaterial", "material", material, model().materials.size());
+  edited();
+  model_.model_.objects[static_cast<std::size_t>(object)].material = material;
+  model_.changed(CompiledModel::kContactTables);
+}
+
+void World::setContactPair(const ContactPairOverride& pair) {
+  const char* function = "World::setContactPair";
+  requireIndex(function, "object", pair.objectA, model().objects.size());
+  if (pair.objectB != -1) requireIndex(function, "object", pair.objectB, model().objects.size());
+  requireNonNegative(function, "stiffness", pair.stiffness);
+  requireNonNegative(function, "damping", pair.damping);
+  requireNonNegative(function, "staticFriction", pair.staticFriction);
+  requireNonNegative(function, "kineticFriction", pair.kineticFriction);
+  edited();
+  const auto samePair = [&](const ContactPairOverride& o) {
+    const auto ordered = [](std::int32_t a, std::int32_t b) {
+      return b >= 0 && b < a ? std::make_pair(b, a) : std::make_pair(a, b);
+    };
+    return ordered(o.objectA, o.objectB) == ordered(pair.objectA, pair.objectB);
+  };
+  auto& overrides = model_.model_.contact.pairOverrides;
+  overrides.erase(std::remove_if(overrides.begin(), overrides.end(), samePair), overrides.end());
+  overrides.push_back(pair);
+  model_.changed(CompiledModel::kContactTables);
+}
+
+void World::setContactSettings(const ContactSettings& settings) {
+  const char* function = "World::setContactSettings";
+  requireNonNegative(function, "tangentialStiffnessRatio", settings.tangentialStiffnessRatio);
+  requireNonNegative(function, "tangentialDampingRatio", settings.tangentialDampingRatio);
+  requireNonNegative(function, "stickVelocity", settings.stickVelocity);
+  if (settings.leafSize < 1)
+    throw std::invalid_argument(
+        detail::text("{}: leafSize = {} must be >= 1", function, settings.leafSize));
+  for (const ContactPairOverride& o : settings.pairOverrides) {
+    requireIndex(function, "object", o.objectA, model().objects.size());
+    if (o.objectB != -1) requireIndex(function, "object", o.objectB, model().objects.size());
+  }
+  edited();
+  model_.model_.contact = settings;
+  model_.changed(CompiledModel::kContactTables);
+}
+
+void World::setParticleFixed(ParticleIndex particle, bool fixed) {
+  requireIndex("World::setParticleFixed", "particle", particle,
+               static_cast<std::size_t>(model().particleCount()));
+  Model& m = model_.model_;
+  const double inverseMass = fixed ? 0.0 : 1.0 / m.mass[particle];
+  if (m.inverseMass[particle] == inverseMass) return;
+  edited();
+  m.inverseMass[particle] = inverseMass;
+  model_.changed(CompiledModel::kStiffness | CompiledModel::kContactTables);
+}
+
+void World::setGravity(const Vec3& gravity) {
+  requireFinite("World::setGravity", "gravity", gravity);
+  edited();
+  model_.model_.gravity = gravity;
+  model_.changed(CompiledModel::kValues);
+}
+
+std::int32_t World::addSphereObstacle(const SphereObstacle& sphere) {
+  const char* function = "World::addSphereObstacle";
+  requireFinite(function, "center", sphere.center);
+  if (!(sphere.radius > 0.0) || !std::isfinite(sphere.radius))
+    throw std::invalid_argument(
+        detail::text("{}: radius = {} m must be a finite number > 0", function, sphere.radius));
+  requireIndex(function, "material", sphere.material, model().materials.size());
+  edited();
+  Environment& environment = model_.model_.environment;
+  environment.spheres.push_back(sphere);
+  model_.changed(CompiledModel::kContactTables);
+  return environment.itemCount() - 1;
+}
+
+void World::setViscosity(double viscosity) {
+  requireNonNegative("World::setViscosity", "viscosity", viscosity);
+  edited();
+  model_.model_.environment.viscosity = viscosity;
+  model_.changed(CompiledModel::kValues);
+}
+
+}  // namespace robophi
