@@ -69,16 +69,20 @@ void World::setPosition(ParticleIndex particle, const Vec3& position) {
   requireIndex("World::setPosition", "particle", particle,
                static_cast<std::size_t>(model().particleCount()));
   requireFinite("World::setPosition", "position", position);
+  Vec3& p = current_.state_.position[particle];
+  if (p.x == position.x && p.y == position.y && p.z == position.z) return;
   edited();
-  current_.state_.position[particle] = position;
+  p = position;
 }
 
 void World::setVelocity(ParticleIndex particle, const Vec3& velocity) {
   requireIndex("World::setVelocity", "particle", particle,
                static_cast<std::size_t>(model().particleCount()));
   requireFinite("World::setVelocity", "velocity", velocity);
+  Vec3& v = current_.state_.velocity[particle];
+  if (v.x == velocity.x && v.y == velocity.y && v.z == velocity.z) return;
   edited();
-  current_.state_.velocity[particle] = velocity;
+  v = velocity;
 }
 
 void World::setJointTarget(std::size_t joint, double target) {
