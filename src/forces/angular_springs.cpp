@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 #include "forces/forces.h"
 
 namespace robophi {

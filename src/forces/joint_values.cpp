@@ -2,7 +2,7 @@
 #include <stdexcept>
 
 #include "core/text.h"
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 
 namespace robophi {

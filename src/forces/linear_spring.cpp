@@ -1,5 +1,5 @@
 // LS: linear spring/damper (MODEL §1).
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 #include "forces/forces.h"
 
 namespace robophi {

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "core/text.h"
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi::io {
 

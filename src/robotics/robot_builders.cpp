@@ -9,7 +9,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi::robotics {
 

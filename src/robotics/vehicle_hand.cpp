@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 #include "robotics/robot_builders.h"
 
 namespace robophi::robotics {

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi {
 namespace {

@@ -8,7 +8,7 @@
 #include <iterator>
 #include <string>
 
-#include "forces/connector_forces.h"
+#include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 #include "robophi/scene.h"
 

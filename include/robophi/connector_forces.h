@@ -1,5 +1,6 @@
 #pragma once
-// The force laws of the three connectors (MODEL §1), one connector at a time.
+/// \file
+/// The force laws of the three connectors (MODEL §1), one connector at a time.
 // The accumulate* loops of forces.h call these; tests call them directly to
 // check action/reaction and force = -grad(energy).
 
