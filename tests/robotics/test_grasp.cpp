@@ -3,14 +3,14 @@
 // ball under gravity and after a sideways kick, for the paper's 50 s.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
 
 namespace robophi {
