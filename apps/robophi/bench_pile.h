@@ -2,7 +2,7 @@
 // The contact benchmarks: PILE (many spheres falling into a box) and the
 // scaling of contact detection with the number of particles.
 
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::cli {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::cli {
 

@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::cli {
 

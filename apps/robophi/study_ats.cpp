@@ -9,7 +9,7 @@
 
 #include "robophi/adaptive_step.h"
 #include "robophi/contact.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::cli {
 

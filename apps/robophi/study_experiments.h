@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::cli {
 

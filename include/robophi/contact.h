@@ -173,12 +173,4 @@ struct ContactStats {
 /// involved (0 when nothing touches).
 double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts);
 
-/// Reads a binary (P5) or text (P2) PGM image as a heightfield: pixel value v maps
-/// to minHeight + (maxHeight - minHeight) v / maxval; image column i is x index i,
-/// image row r is y index rows-1-r (the image seen from above, +y up). Returns an
-/// empty string on success, otherwise what is wrong with the file.
-std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
-                               double cellSizeX, double cellSizeY, double minHeight,
-                               double maxHeight, Heightfield& out);
-
 }  // namespace robophi

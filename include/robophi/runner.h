@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "robophi/adaptive_step.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robophi/world.h"
 
 namespace robophi {

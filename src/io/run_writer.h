@@ -6,7 +6,7 @@
 #include <string>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io/generators.h"
-#include "io/scene_fields.h"
+#include "scene/scene_fields.h"
 
 namespace robophi::io {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "io/generators.h"
-#include "io/scene_fields.h"
 #include "io/scene_objects.h"
+#include "scene/scene_fields.h"
 
 namespace robophi::robotics {
 

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include "collision/contact_stage.h"
 #include "collision/contact_test_util.h"
@@ -124,25 +123,6 @@ TEST(ContactInvariants, EnvironmentItemsGiveDistanceAndNormal) {
   EXPECT_NEAR(contacts[1].normal.x, 1.0, 1e-12);
   EXPECT_NEAR(contacts[2].depth, 0.004 - r, 1e-12);
   EXPECT_NEAR(contacts[2].normal.z, 1.0, 1e-12);
-}
-
-TEST(ContactInvariants, HeightfieldLoadsFromPgm) {
-  const std::string path = testing::TempDir() + "/terrain.pgm";
-  {
-    std::ofstream out(path);
-    out << "P2\n# a ramp\n3 2\n255\n0 0 0\n0 255 255\n";
-  }
-  Heightfield field;
-  const std::string error = loadHeightfieldPgm(path, 0.0, 0.0, 1.0, 1.0, 0.0, 2.0, field);
-  ASSERT_EQ(error, "");
-  EXPECT_EQ(field.columns, 3);
-  EXPECT_EQ(field.rows, 2);
-  // Image row 0 is the top (y index 1).
-  EXPECT_DOUBLE_EQ(field.heightAt(0.0, 1.0), 0.0);
-  EXPECT_DOUBLE_EQ(field.heightAt(2.0, 0.0), 2.0);
-  EXPECT_DOUBLE_EQ(field.heightAt(1.5, 0.0), 2.0);
-  EXPECT_DOUBLE_EQ(field.heightAt(0.5, 0.0), 1.0);
-  EXPECT_NE(loadHeightfieldPgm(path + ".missing", 0, 0, 1, 1, 0, 1, field), "");
 }
 
 // A particle below the terrain surface has a contact depth (hence energy ½κd²)

@@ -9,7 +9,7 @@
 
 #include "collision/contact_test_util.h"
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::testing {
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi {
 namespace {

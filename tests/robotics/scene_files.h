@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 
 namespace robophi::testing {
 

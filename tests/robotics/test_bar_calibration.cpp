@@ -11,7 +11,7 @@
 #include <string>
 
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robophi/world.h"
 #include "robotics/scene_files.h"
 

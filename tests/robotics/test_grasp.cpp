@@ -11,7 +11,7 @@
 
 #include "robophi/evaluation.h"
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
 
 namespace robophi {

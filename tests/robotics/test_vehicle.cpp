@@ -10,7 +10,7 @@
 
 #include "robophi/robotics/tasks.h"
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
 
 namespace robophi {

@@ -9,11 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "robophi/build/tasks.h"
 #include "robophi/joints.h"
-#include "robophi/robotics/task_spec.h"
 #include "robophi/world.h"
 
 namespace robophi::robotics {
+
+// The limit spec is plain data of the build layer (robophi/build/tasks.h).
+using build::JointLimitSpec;
 
 /// The index of the joint named `name` in Model::joints, or nullopt.
 std::optional<std::size_t> findJoint(const Model& model, const std::string& name);

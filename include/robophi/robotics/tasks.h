@@ -9,14 +9,20 @@
 #include <string>
 #include <vector>
 
+#include "robophi/build/tasks.h"
 #include "robophi/contact.h"
 #include "robophi/robotics/joint_control.h"
-#include "robophi/robotics/task_spec.h"
 #include "robophi/runner.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
 #include "robophi/world.h"
 
 namespace robophi::robotics {
+
+// The task specs are plain data of the build layer (robophi/build/tasks.h).
+using build::EscapeSpec;
+using build::GoalSpec;
+using build::GraspSpec;
+using build::SceneTasks;
 
 /// Where the robot stands with respect to a goal.
 struct GoalStatus {

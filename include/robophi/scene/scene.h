@@ -1,15 +1,16 @@
 #pragma once
 /// \file
 /// Scene files (JSON with // comments, SI units): docs/scene-format.md,
-/// schema docs/scene.schema.json. Loading reports every error, never only the first.
+/// schema docs/scene.schema.json. Loading reports every error, never only the first,
+/// each with its file:line:column, JSON pointer and, for a misspelt name, a suggestion.
 
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "robophi/adaptive_step.h"
+#include "robophi/build/tasks.h"
 #include "robophi/model.h"
-#include "robophi/robotics/task_spec.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
 
@@ -30,7 +31,8 @@ struct RunSettings {
   /// Constant step δ (s), > 0; the first trial step in adaptive mode.
   double dt = 1.0e-4;
   StepMode stepMode = StepMode::kAdaptive;
-  /// The adaptive controller's settings (used in adaptive mode).
+  /// The adaptive controller's settings (used in adaptive mode): the scene's
+  /// `run.adaptive` keys, one per field except initialStep (which is `dt`).
   AdaptiveStepSettings adaptive;
   Integrator integrator = Integrator::kVelocityVerlet;
   /// Frames per second written to particles.csv, > 0.
@@ -47,7 +49,7 @@ struct Scene {
   State initial;
   RunSettings run;
   /// Robotics tasks run between steps (docs/robotics.md); empty for most scenes.
-  robotics::SceneTasks robotics;
+  build::SceneTasks robotics;
 };
 
 /// One problem found in a scene file.

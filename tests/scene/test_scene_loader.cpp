@@ -10,16 +10,11 @@
 
 #include "robophi/connector_forces.h"
 #include "robophi/joints.h"
-#include "robophi/scene.h"
+#include "robophi/scene/scene.h"
+#include "scene/scene_test_util.h"
 
 namespace robophi {
 namespace {
-
-std::string allErrors(const SceneLoadResult& result) {
-  std::string text;
-  for (const auto& e : result.errors) text += e.format() + "\n";
-  return text;
-}
 
 // The source line `line` of `text` with a caret under `column`, for failure messages.
 std::string showPlace(const std::string& text, int line, int column) {
@@ -189,11 +184,9 @@ TEST_P(SceneBrokenTable, IsRejectedWithTheRightMessageAndPlace) {
   const SceneLoadResult result = loadSceneText(c.text, "broken.json");
   EXPECT_FALSE(result.ok());
   EXPECT_FALSE(result.scene.has_value());
-  const Diagnostic* match = nullptr;
-  for (const auto& e : result.errors)
-    if (e.message.find(c.fragment) != std::string::npos) match = &e;
+  const Diagnostic* match = test::findError(result, c.fragment);
   ASSERT_NE(match, nullptr) << "no error contains \"" << c.fragment << "\"; got:\n"
-                            << allErrors(result);
+                            << test::allErrors(result);
   EXPECT_EQ(match->file, "broken.json");
   if (c.line > 0) {
     EXPECT_EQ(match->line, c.line)
@@ -206,13 +199,7 @@ TEST_P(SceneBrokenTable, IsRejectedWithTheRightMessageAndPlace) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, SceneBrokenTable, testing::ValuesIn(kBroken),
-                         [](const testing::TestParamInfo<BrokenScene>& param) {
-                           std::string name = param.param.label;
-                           for (char& ch : name)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Scene, SceneBrokenTable, testing::ValuesIn(kBroken), test::LabelName());
 
 TEST(SceneLoader, ReportsEveryErrorNotOnlyTheFirst) {
   const char* text = R"({
@@ -236,9 +223,9 @@ TEST(SceneLoader, ReportsEveryErrorNotOnlyTheFirst) {
     bool found = false;
     for (const auto& e : result.errors)
       found = found || e.message.find(fragment) != std::string::npos;
-    EXPECT_TRUE(found) << fragment << " missing from:\n" << allErrors(result);
+    EXPECT_TRUE(found) << fragment << " missing from:\n" << test::allErrors(result);
   }
-  EXPECT_EQ(result.errors.size(), expected.size()) << allErrors(result);
+  EXPECT_EQ(result.errors.size(), expected.size()) << test::allErrors(result);
   // Sorted by position in the text.
   for (std::size_t i = 1; i < result.errors.size(); ++i)
     EXPECT_LE(result.errors[i - 1].line, result.errors[i].line);
@@ -260,7 +247,7 @@ TEST(SceneLoader, CommentsAndHugeNumbersAreAccepted) {
                "velocity": [1, 0, 0]}]
 })";
   const SceneLoadResult result = loadSceneText(text, "ok.json");
-  ASSERT_TRUE(result.ok()) << allErrors(result);
+  ASSERT_TRUE(result.ok()) << test::allErrors(result);
   const Scene& scene = *result.scene;
   EXPECT_EQ(scene.name, "ok");
   EXPECT_DOUBLE_EQ(scene.model.gravity.z, -1e300);
@@ -287,7 +274,7 @@ TEST(SceneLoader, FixedAndLocalConnectors) {
      "connectors": [{"type": "LS", "particles": [0, -1], "stiffness": 7, "damping": 0.5}]}
   ]})";
   const SceneLoadResult result = loadSceneText(text, "fixed.json");
-  ASSERT_TRUE(result.ok()) << allErrors(result);
+  ASSERT_TRUE(result.ok()) << test::allErrors(result);
   const Model& m = result.scene->model;
   ASSERT_EQ(m.particleCount(), 7);
   EXPECT_TRUE(m.isFixed(0));
@@ -322,7 +309,7 @@ TEST(SceneJoints, RevoluteValueIsTheGeometricAngle) {
               {"name": "servo", "type": "revolute", "a": "l1:0", "center": "l1:1", "b": "l2:0",
                "axis": "l1:2", "stiffness": 3, "target": -1.5707963267948966}]})";
   const SceneLoadResult result = loadSceneText(text, "rev.json");
-  ASSERT_TRUE(result.ok()) << allErrors(result);
+  ASSERT_TRUE(result.ok()) << test::allErrors(result);
   const Scene& scene = *result.scene;
   ASSERT_EQ(scene.model.joints.size(), 2u);
   EXPECT_EQ(scene.model.joints[0].name, "elbow");
@@ -351,7 +338,7 @@ TEST(SceneJoints, PrismaticHasATorsionSpringAndADriveSpring) {
               {"name": "free", "type": "prismatic", "origin": "rail:0", "slider": "cart:0",
                "end": "rail:1", "stiffness": 50}]})";
   const SceneLoadResult result = loadSceneText(text, "prism.json");
-  ASSERT_TRUE(result.ok()) << allErrors(result);
+  ASSERT_TRUE(result.ok()) << test::allErrors(result);
   const Model& m = result.scene->model;
   ASSERT_EQ(m.joints.size(), 2u);
   const Joint& j = m.joints[0];
@@ -382,8 +369,8 @@ TEST(SceneJoints, PrismaticSliderOffTheSegmentIsAnError) {
                "end": "rail:-1", "stiffness": 50}]})";
   const SceneLoadResult result = loadSceneText(text, "prism.json");
   ASSERT_FALSE(result.ok());
-  EXPECT_NE(allErrors(result).find("the slider must start on the segment"), std::string::npos)
-      << allErrors(result);
+  EXPECT_NE(test::allErrors(result).find("the slider must start on the segment"), std::string::npos)
+      << test::allErrors(result);
 }
 
 TEST(SceneFiles, EverySceneInScenesLoadsWithoutError) {
@@ -393,7 +380,7 @@ TEST(SceneFiles, EverySceneInScenesLoadsWithoutError) {
     if (entry.path().extension() != ".json") continue;
     ++count;
     const SceneLoadResult result = loadSceneFile(entry.path().string());
-    EXPECT_TRUE(result.ok()) << entry.path() << ":\n" << allErrors(result);
+    EXPECT_TRUE(result.ok()) << entry.path() << ":\n" << test::allErrors(result);
     for (const auto& w : result.warnings) ADD_FAILURE() << w.format("warning");
     if (!result.ok()) continue;
     const Scene& scene = *result.scene;
@@ -424,7 +411,7 @@ TEST(SceneLoader, EveryTruncationIsRejectedCleanly) {
 TEST(SceneFiles, DefaultSceneHasAChainABarAndAJoint) {
   const SceneLoadResult result =
       loadSceneFile(std::string(ROBOPHI_SOURCE_DIR) + "/scenes/default.json");
-  ASSERT_TRUE(result.ok()) << allErrors(result);
+  ASSERT_TRUE(result.ok()) << test::allErrors(result);
   const Model& m = result.scene->model;
   EXPECT_GE(m.objects.size(), 3u);
   EXPECT_EQ(m.objects[0].name, "bar");

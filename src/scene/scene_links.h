@@ -9,21 +9,21 @@
 #include <string>
 #include <vector>
 
-#include "io/scene_fields.h"
 #include "io/scene_objects.h"
 #include "robophi/model.h"
+#include "scene/scene_fields.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 /// What particle references resolve against.
 struct ParticleLookup {
-  const std::vector<SceneObject>* objects = nullptr;
+  const std::vector<io::SceneObject>* objects = nullptr;
   /// Object index by name (the first object of each name).
   const std::map<std::string, std::size_t>* byName = nullptr;
   /// Initial positions of every particle of the model (m).
   const std::vector<Vec3>* position = nullptr;
   /// Inside a "particles" object: plain integers are indices into it.
-  const SceneObject* local = nullptr;
+  const io::SceneObject* local = nullptr;
 };
 
 /// Resolves "object:index" (negative counts from the end), or a plain integer
@@ -42,4 +42,4 @@ void readConnectors(DiagnosticSink& sink, const nlohmann::json& list, const std:
 void readJoints(DiagnosticSink& sink, const nlohmann::json& list, const std::string& pointer,
                 const ParticleLookup& lookup, Model& model);
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

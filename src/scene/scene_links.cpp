@@ -1,4 +1,4 @@
-#include "io/scene_links.h"
+#include "scene/scene_links.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "robophi/connector_forces.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 namespace {
 
@@ -240,7 +240,7 @@ void readPrismatic(ObjectReader& r, const std::string& name, const ParticleLooku
 std::optional<ParticleIndex> resolveParticle(DiagnosticSink& sink, const nlohmann::json& ref,
                                              const std::string& pointer,
                                              const ParticleLookup& lookup) {
-  const auto inRange = [&](const SceneObject& object, std::int64_t index,
+  const auto inRange = [&](const io::SceneObject& object, std::int64_t index,
                            const std::string& text) -> std::optional<ParticleIndex> {
     if (!object.valid) return std::nullopt;  // its own errors are already reported
     const auto n = static_cast<std::int64_t>(object.geometry.size());
@@ -331,4 +331,4 @@ void readJoints(DiagnosticSink& sink, const nlohmann::json& list, const std::str
   }
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

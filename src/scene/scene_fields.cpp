@@ -1,4 +1,5 @@
-#include "io/scene_fields.h"
+// Typed reading of scene-file values with diagnostics (scene_fields.h).
+#include "scene/scene_fields.h"
 
 #include <fmt/format.h>
 
@@ -18,7 +19,7 @@ std::string Diagnostic::format(const char* severity) const {
 
 }  // namespace robophi
 
-namespace robophi::io {
+namespace robophi::scene {
 
 // ---------------------------------------------------------------------------
 // DiagnosticSink
@@ -130,10 +131,36 @@ std::string didYouMean(std::string_view word, const std::vector<std::string>& ca
   return fmt::format("; did you mean '{}'?", *best);
 }
 
+Interval Interval::of(Bound bound) {
+  switch (bound) {
+    case Bound::kPositive:
+      return above(0.0);
+    case Bound::kNonNegative:
+      return atLeast(0.0);
+    case Bound::kAny:
+      break;
+  }
+  return {};
+}
+
+bool Interval::contains(double x) const {
+  const bool aboveLow = lowOpen ? x > low : x >= low;
+  const bool belowHigh = highOpen ? x < high : x <= high;
+  return aboveLow && belowHigh;
+}
+
+std::string Interval::text() const {
+  const bool lowFinite = std::isfinite(low), highFinite = std::isfinite(high);
+  if (lowFinite && highFinite)
+    return fmt::format("in {}{}, {}{}", lowOpen ? '(' : '[', low, high, highOpen ? ')' : ']');
+  if (lowFinite) return fmt::format("{} {}", lowOpen ? ">" : ">=", low);
+  if (highFinite) return fmt::format("{} {}", highOpen ? "<" : "<=", high);
+  return {};
+}
+
 std::optional<double> checkNumber(DiagnosticSink& sink, const nlohmann::json& value,
-                                  const std::string& pointer, std::string_view name, Bound bound,
-                                  std::string_view unit) {
-  const std::string unitText = unit.empty() ? "" : fmt::format(" {}", unit);
+                                  const std::string& pointer, std::string_view name,
+                                  const Interval& range, std::string_view unit) {
   if (!value.is_number()) {
     sink.error(pointer,
                fmt::format("'{}': expected a number{}, got {}", name,
@@ -145,15 +172,18 @@ std::optional<double> checkNumber(DiagnosticSink& sink, const nlohmann::json& va
     sink.error(pointer, fmt::format("'{}' must be finite, got {}", name, value.dump()));
     return std::nullopt;
   }
-  if (bound == Bound::kPositive && !(x > 0.0)) {
-    sink.error(pointer, fmt::format("'{}' must be > 0{}, got {}", name, unitText, value.dump()));
-    return std::nullopt;
-  }
-  if (bound == Bound::kNonNegative && !(x >= 0.0)) {
-    sink.error(pointer, fmt::format("'{}' must be >= 0{}, got {}", name, unitText, value.dump()));
+  if (!range.contains(x)) {
+    sink.error(pointer, fmt::format("'{}' must be {}{}, got {}", name, range.text(),
+                                    unit.empty() ? "" : fmt::format(" {}", unit), value.dump()));
     return std::nullopt;
   }
   return x;
+}
+
+std::optional<double> checkNumber(DiagnosticSink& sink, const nlohmann::json& value,
+                                  const std::string& pointer, std::string_view name, Bound bound,
+                                  std::string_view unit) {
+  return checkNumber(sink, value, pointer, name, Interval::of(bound), unit);
 }
 
 // ---------------------------------------------------------------------------
@@ -196,6 +226,13 @@ std::optional<double> ObjectReader::number(std::string_view key, Bound bound, st
     return std::nullopt;
   }
   return checkNumber(sink_, *value, memberPointer(key), key, bound, unit);
+}
+
+std::optional<double> ObjectReader::number(std::string_view key, const Interval& range,
+                                           std::string_view unit) {
+  const nlohmann::json* value = member(key);
+  if (value == nullptr) return std::nullopt;
+  return checkNumber(sink_, *value, memberPointer(key), key, range, unit);
 }
 
 double ObjectReader::numberOr(std::string_view key, double fallback, Bound bound,
@@ -289,4 +326,4 @@ void ObjectReader::finish() {
   }
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

@@ -1,4 +1,4 @@
-#include "io/json_locator.h"
+#include "scene/json_locator.h"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-namespace robophi::io {
+namespace robophi::scene {
 
 namespace {
 
@@ -416,4 +416,4 @@ std::string pointerToken(std::string_view key) {
   return token;
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

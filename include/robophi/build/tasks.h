@@ -1,9 +1,10 @@
 #pragma once
 /// \file
-/// What a scene asks its robots to do between steps (docs/robotics.md): joint
-/// limits, goals to reach, local-minimum escape, grasp checks. Plain data, read
-/// from the scene's "robotics" section; robotics::makeSceneTasks (tasks.h)
-/// turns it into the runner's between-steps hook. Nothing here runs in the step.
+/// What a model asks its robots to do between steps (docs/robotics.md): joint
+/// limits, goals to reach, local-minimum escape, grasp checks. Plain data: the
+/// goal builders (build/goals.h) and the scene's "robotics" section fill it, and
+/// the application's robotics::makeSceneTasks (robophi/robotics/tasks.h) turns it
+/// into the runner's between-steps hook. Nothing here runs in the step.
 
 #include <cstdint>
 #include <string>
@@ -12,7 +13,7 @@
 #include "robophi/model.h"
 #include "robophi/vec3.h"
 
-namespace robophi::robotics {
+namespace robophi::build {
 
 /// A joint limit (MODEL §1 joints): outside [min, max] the joint becomes a stiff
 /// servo to the violated bound; back inside, its own settings return.
@@ -86,4 +87,4 @@ struct SceneTasks {
   }
 };
 
-}  // namespace robophi::robotics
+}  // namespace robophi::build

@@ -9,54 +9,25 @@
 #include <map>
 #include <sstream>
 
-#include "collision/contact_scene.h"
 #include "io/generators.h"
-#include "io/json_locator.h"
-#include "io/scene_fields.h"
-#include "io/scene_links.h"
 #include "io/scene_objects.h"
-#include "robophi/scene.h"
-#include "robotics/scene_robotics.h"
+#include "robophi/scene/scene.h"
+#include "scene/json_locator.h"
+#include "scene/scene_contact.h"
+#include "scene/scene_fields.h"
+#include "scene/scene_links.h"
+#include "scene/scene_robotics.h"
+#include "scene/scene_run.h"
 
 namespace robophi {
 
 namespace {
 
-using io::Bound;
-using io::DiagnosticSink;
-using io::ObjectReader;
 using io::SceneObject;
+using scene::DiagnosticSink;
+using scene::ObjectReader;
 
 constexpr int kFormatVersion = 1;
-
-RunSettings readRun(DiagnosticSink& sink, const nlohmann::json* value) {
-  RunSettings run;
-  if (value == nullptr) return run;
-  ObjectReader r(sink, *value, "/run", "'run'");
-  run.duration = r.numberOr("duration", run.duration, Bound::kPositive, "s");
-  run.dt = r.numberOr("dt", run.dt, Bound::kPositive, "s");
-  run.fps = r.numberOr("fps", run.fps, Bound::kPositive, "frames/s");
-  if (const auto name = r.string("integrator")) {
-    if (!parseIntegrator(*name, run.integrator)) {
-      sink.error("/run/integrator",
-                 fmt::format("unknown integrator \"{}\"{} (expected symplectic, taylor or verlet)",
-                             *name, io::didYouMean(*name, {"symplectic", "taylor", "verlet"})));
-    }
-  }
-  if (const auto mode = r.string("step")) {
-    if (*mode == "adaptive") {
-      run.stepMode = StepMode::kAdaptive;
-    } else if (*mode == "constant") {
-      run.stepMode = StepMode::kConstant;
-    } else {
-      sink.error("/run/step",
-                 fmt::format("unknown step mode \"{}\"{} (expected adaptive or constant)", *mode,
-                             io::didYouMean(*mode, {"adaptive", "constant"})));
-    }
-  }
-  r.finish();
-  return run;
-}
 
 // Reads every object entry; names must be unique.
 std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list, double dt,
@@ -68,7 +39,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   }
   if (!list->is_array()) {
     sink.error("/objects", fmt::format("'objects': expected an array of objects, got {}",
-                                       io::describeJson(*list)));
+                                       scene::describeJson(*list)));
     return objects;
   }
   for (std::size_t i = 0; i < list->size(); ++i) {
@@ -128,8 +99,7 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
                Scene& scene) {
   ObjectReader r(sink, root, "", "the scene");
   if (!r.valid()) return;
-  // The contact keys are read by parseContactScene (docs/contact.md).
-  r.allow({"$schema", "materials", "contactPairs", "environment", "medium", "contact"});
+  r.allow({"$schema"});
   if (const auto version = r.integer("robophi", 0)) {
     if (*version != kFormatVersion)
       sink.error("/robophi", fmt::format("'robophi': format version {} is not supported "
@@ -138,7 +108,7 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
   }
   scene.name = r.string("name").value_or("");
   scene.description = r.string("description").value_or("");
-  scene.run = readRun(sink, r.member("run"));
+  scene.run = scene::readRunSettings(sink, r.member("run"));
   if (const auto g = r.vec3("gravity", "m/s²")) scene.model.gravity = *g;
 
   // Objects first (a bad dt falls back to the default for the stiffness defaults).
@@ -146,28 +116,27 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
   std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), scene.run.dt, byName);
   placeObjects(objects, scene.model, scene.initial);
 
-  io::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};
+  scene::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};
   // Connectors inside "particles" objects use local indices.
   // (objects[i] was read from the entry objects[i].)
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const SceneObject& object = objects[i];
     const nlohmann::json& entry = (*r.member("objects"))[i];
     if (object.kind != "particles" || !entry.is_object() || !entry.contains("connectors")) continue;
-    io::ParticleLookup local = lookup;
+    scene::ParticleLookup local = lookup;
     local.local = &object;
-    io::readConnectors(sink, entry["connectors"], object.pointer + "/connectors", local,
-                       scene.model);
+    scene::readConnectors(sink, entry["connectors"], object.pointer + "/connectors", local,
+                          scene.model);
   }
   if (const auto* list = r.member("connectors"))
-    io::readConnectors(sink, *list, "/connectors", lookup, scene.model);
+    scene::readConnectors(sink, *list, "/connectors", lookup, scene.model);
   if (const auto* list = r.member("joints"))
-    io::readJoints(sink, *list, "/joints", lookup, scene.model);
+    scene::readJoints(sink, *list, "/joints", lookup, scene.model);
+  // Robotics before the contact keys: its obstacles are the first environment items.
   if (const auto* section = r.member("robotics"))  // goals, paths, limits (docs/robotics.md)
-    robotics::readRoboticsSection(sink, *section, "/robotics", lookup, scene);
-  parseContactScene(root, sceneDirectory, scene.model,
-                    [&sink](const std::string& pointer, const std::string& message) {
-                      sink.error(pointer, message);
-                    });
+    scene::readRoboticsSection(sink, *section, "/robotics", lookup, scene);
+  // Materials, environment, medium, contact settings, pairs (docs/contact.md).
+  scene::readContactKeys(r, sceneDirectory, scene.model);
   r.finish();
 }
 
@@ -175,7 +144,7 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
 
 SceneLoadResult loadSceneText(const std::string& text, const std::string& fileName) {
   SceneLoadResult result;
-  io::JsonReadResult json = io::readLocatedJson(text);
+  scene::JsonReadResult json = scene::readLocatedJson(text);
   DiagnosticSink sink(fileName, json.json ? &*json.json : nullptr);
   for (const auto& problem : json.errors)
     sink.errorAt(problem.where, problem.pointer, problem.message);

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace robophi::io {
+namespace robophi::scene {
 
 /// 1-based line and column (column counts characters, not bytes); 0 when unknown.
 struct SourcePosition {
@@ -59,4 +59,4 @@ JsonReadResult readLocatedJson(std::string_view text);
 /// Escapes a key for use as a JSON pointer token (RFC 6901: ~ → ~0, / → ~1).
 std::string pointerToken(std::string_view key);
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

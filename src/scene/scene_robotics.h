@@ -1,0 +1,21 @@
+#pragma once
+// The scene's "robotics" section (docs/robotics.md): goals (virtual copies and
+// LS attractors, MODEL §5.1) with their local-minimum escape, path constraints,
+// joint limits, obstacles with a security distance and grasp checks. Reads the
+// JSON into the build layer's specs (robophi/build/goals.h), builds the model's
+// part with them and fills Scene::robotics for the application's tasks.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "robophi/scene/scene.h"
+#include "scene/scene_fields.h"
+#include "scene/scene_links.h"
+
+namespace robophi::scene {
+
+/// Reads the section at `pointer`; particle references resolve through `lookup`.
+void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,
+                         const std::string& pointer, const ParticleLookup& lookup, Scene& scene);
+
+}  // namespace robophi::scene

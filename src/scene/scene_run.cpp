@@ -1,0 +1,91 @@
+// The "run" section of a scene, with the adaptive step's settings (MODEL §4,
+// docs/adaptive-step.md).
+#include "scene/scene_run.h"
+
+#include <fmt/format.h>
+
+namespace robophi::scene {
+
+namespace {
+
+// One run.adaptive key: an AdaptiveStepSettings field, its range and unit.
+struct AdaptiveKey {
+  const char* name;
+  double AdaptiveStepSettings::*field;
+  Interval range;
+  const char* unit;
+};
+
+// The ranges keep the controller well defined: its factors are clamped into
+// [0.1, shrinkFactor] and [1, growFactor], and it divides by the energy floor.
+const AdaptiveKey kAdaptiveKeys[] = {
+    {"energyTolerance", &AdaptiveStepSettings::energyTolerance, Interval::above(0.0), ""},
+    {"minStep", &AdaptiveStepSettings::minStep, Interval::above(0.0), "s"},
+    {"maxStep", &AdaptiveStepSettings::maxStep, Interval::above(0.0), "s"},
+    {"lossToleranceFactor", &AdaptiveStepSettings::lossToleranceFactor, Interval::above(0.0), ""},
+    {"energyFloor", &AdaptiveStepSettings::energyFloor, Interval::above(0.0), "J"},
+    {"shrinkFactor", &AdaptiveStepSettings::shrinkFactor, Interval::closedOpen(0.1, 1.0), ""},
+    {"growFactor", &AdaptiveStepSettings::growFactor, Interval::above(1.0), ""},
+    {"safety", &AdaptiveStepSettings::safety, Interval::open(0.0, 1.0), ""},
+    {"errorOrder", &AdaptiveStepSettings::errorOrder, Interval::atLeast(0.0), ""},
+    {"maxPenetrationFraction", &AdaptiveStepSettings::maxPenetrationFraction,
+     Interval::atLeast(0.0), ""},
+    {"stabilitySafety", &AdaptiveStepSettings::stabilitySafety, Interval::openClosed(0.0, 1.0), ""},
+};
+
+}  // namespace
+
+void readAdaptiveSettings(DiagnosticSink& sink, const nlohmann::json& value,
+                          const std::string& pointer, AdaptiveStepSettings& settings) {
+  ObjectReader r(sink, value, pointer, "'run.adaptive'");
+  if (!r.valid()) return;
+  for (const AdaptiveKey& key : kAdaptiveKeys) {
+    if (const auto x = r.number(key.name, key.range, key.unit)) settings.*key.field = *x;
+  }
+  settings.maxRejectionsInARow =
+      r.integer("maxRejectionsInARow", 1).value_or(settings.maxRejectionsInARow);
+  if (r.member("initialStep") != nullptr) {
+    sink.errorAtKey(r.memberPointer("initialStep"),
+                    "'initialStep' is not a key of 'run.adaptive': the first trial step is "
+                    "'run.dt' (s)");
+  }
+  r.finish();
+  if (settings.maxStep < settings.minStep) {
+    sink.error(r.memberPointer(r.member("maxStep") ? "maxStep" : "minStep"),
+               fmt::format("'maxStep' {} s must not be below 'minStep' {} s", settings.maxStep,
+                           settings.minStep));
+  }
+}
+
+RunSettings readRunSettings(DiagnosticSink& sink, const nlohmann::json* value) {
+  RunSettings run;
+  if (value == nullptr) return run;
+  ObjectReader r(sink, *value, "/run", "'run'");
+  run.duration = r.numberOr("duration", run.duration, Bound::kPositive, "s");
+  run.dt = r.numberOr("dt", run.dt, Bound::kPositive, "s");
+  run.fps = r.numberOr("fps", run.fps, Bound::kPositive, "frames/s");
+  if (const auto name = r.string("integrator")) {
+    if (!parseIntegrator(*name, run.integrator)) {
+      sink.error("/run/integrator",
+                 fmt::format("unknown integrator \"{}\"{} (expected symplectic, taylor or verlet)",
+                             *name, didYouMean(*name, {"symplectic", "taylor", "verlet"})));
+    }
+  }
+  if (const auto mode = r.string("step")) {
+    if (*mode == "adaptive") {
+      run.stepMode = StepMode::kAdaptive;
+    } else if (*mode == "constant") {
+      run.stepMode = StepMode::kConstant;
+    } else {
+      sink.error("/run/step",
+                 fmt::format("unknown step mode \"{}\"{} (expected adaptive or constant)", *mode,
+                             didYouMean(*mode, {"adaptive", "constant"})));
+    }
+  }
+  if (const auto* adaptive = r.member("adaptive"))
+    readAdaptiveSettings(sink, *adaptive, r.memberPointer("adaptive"), run.adaptive);
+  r.finish();
+  return run;
+}
+
+}  // namespace robophi::scene
