@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scene_objects.h"
+#include "scene/scene_objects.h"
 #include "robophi/model.h"
 #include "scene/scene_fields.h"
 

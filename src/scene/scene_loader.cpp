@@ -9,8 +9,7 @@
 #include <map>
 #include <sstream>
 
-#include "io/generators.h"
-#include "io/scene_objects.h"
+#include "scene/scene_objects.h"
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
@@ -30,7 +29,7 @@ using scene::ObjectReader;
 constexpr int kFormatVersion = 1;
 
 // Reads every object entry; names must be unique.
-std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list, double dt,
+std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list,
                                      std::map<std::string, std::size_t>& byName) {
   std::vector<SceneObject> objects;
   if (list == nullptr) {
@@ -43,7 +42,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
     return objects;
   }
   for (std::size_t i = 0; i < list->size(); ++i) {
-    SceneObject object = io::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i), dt);
+    SceneObject object = io::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i));
     if (!object.name.empty()) {
       const auto [it, fresh] = byName.emplace(object.name, objects.size());
       if (!fresh) {
@@ -57,42 +56,22 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   return objects;
 }
 
-// Appends the valid objects' particles and connectors to the model.
-void placeObjects(std::vector<SceneObject>& objects, Model& model, State& state) {
+// Places the valid objects in the model (build::ModelBuilder, the one road to a Model).
+void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene& scene) {
+  build::ModelBuilder builder;
+  builder.setGravity(scene.model.gravity);
   for (auto& object : objects) {
     if (!object.valid) continue;
-    const std::int32_t id = model.addObject(object.name, object.kind);
-    const auto& g = object.geometry;
-    object.firstParticle = model.particleCount();
-    for (std::size_t i = 0; i < g.size(); ++i) {
-      model.addParticle(g.mass[i], g.radius[i], object.fixed[i], id, object.linearDamping);
-      state.position.push_back(g.position[i]);
-      state.velocity.push_back(object.fixed[i] ? Vec3{} : object.velocity[i]);
-    }
-    const ParticleIndex offset = object.firstParticle;
-    for (LinearSpring s : g.linearSprings) {
-      s.a += offset;
-      s.b += offset;
-      model.linearSprings.push_back(s);
-    }
-    for (TorsionSpring s : g.torsionSprings) {
-      s.a += offset;
-      s.c += offset;
-      s.b += offset;
-      model.torsionSprings.push_back(s);
-    }
-    // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).
-    const auto jointBase = static_cast<std::int32_t>(model.jointSprings.size());
-    for (JointSpring s : g.jointSprings) {
-      for (ParticleIndex* p : {&s.a, &s.b, &s.c, &s.d}) *p += offset;
-      model.jointSprings.push_back(s);
-    }
-    for (Joint joint : g.joints) {
-      joint.name = object.name + "." + joint.name;
-      joint.connector += jointBase;
-      model.joints.push_back(std::move(joint));
+    try {
+      object.firstParticle = builder.addObject(object).firstParticle;
+    } catch (const build::SpecError& e) {  // a duplicate name, already reported
+      if (e.field() != "name") sink.error(object.pointer, e.message());
+      object.valid = false;
     }
   }
+  build::BuiltModel built = std::move(builder).build();
+  scene.model = std::move(built.model);
+  scene.initial = std::move(built.initial);
 }
 
 void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::string& sceneDirectory,
@@ -111,10 +90,10 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
   scene.run = scene::readRunSettings(sink, r.member("run"));
   if (const auto g = r.vec3("gravity", "m/s²")) scene.model.gravity = *g;
 
-  // Objects first (a bad dt falls back to the default for the stiffness defaults).
+  // Objects first: connectors and joints refer to their particles.
   std::map<std::string, std::size_t> byName;
-  std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), scene.run.dt, byName);
-  placeObjects(objects, scene.model, scene.initial);
+  std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), byName);
+  placeObjects(sink, objects, scene);
 
   scene::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};
   // Connectors inside "particles" objects use local indices.

@@ -18,19 +18,21 @@
 //     the wide side ↔ the ratio of the two flexions.
 // Each Newton step is one band Cholesky factorisation of the stiffness matrix
 // and four solves; the derivatives are exact (d log S / dκ = uᵀ ∂K u / fᵀu).
-#include <fmt/format.h>
+#include "robophi/build/calibration.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include "robotics/robot_builders.h"
+#include "build/checks.h"
 
-namespace robophi::robotics {
+namespace robophi::build {
 
 namespace {
 
@@ -83,8 +85,8 @@ struct BeamLattice {
 };
 
 // False if the particles are not the full lattice of makeBox.
-bool describeBeam(const io::GeneratedObject& box, const std::array<int, 3>& cells, double a,
-                  int axis, BeamLattice& beam) {
+bool describeBeam(const GeneratedObject& box, const std::array<int, 3>& cells, double a, int axis,
+                  BeamLattice& beam) {
   beam.axis = axis;
   beam.across = {(axis + 1) % 3, (axis + 2) % 3};
   beam.count = {cells[axis], cells[beam.across[0]], cells[beam.across[1]]};
@@ -222,7 +224,7 @@ class BandCholesky {
 // t normal to its fibre, c = (1, −2, 1)/a) and its response to the four loads.
 class BeamStatics {
  public:
-  BeamStatics(const io::GeneratedObject& box, const BeamLattice& beam, std::vector<double> base,
+  BeamStatics(const GeneratedObject& box, const BeamLattice& beam, std::vector<double> base,
               double bendUnit)
       : box_(box), beam_(beam), base_(std::move(base)), bendUnit_(bendUnit) {
     const std::size_t n = box.size();
@@ -371,7 +373,7 @@ class BeamStatics {
     return Vec3{U(d, load), U(d + 1, load), U(d + 2, load)};
   }
 
-  const io::GeneratedObject& box_;
+  const GeneratedObject& box_;
   const BeamLattice& beam_;
   std::vector<double> base_;  // per LS: bulk stiffness (N/m)
   double bendUnit_;           // E a³ / 12 (N·m/rad)
@@ -390,43 +392,42 @@ std::array<double, kLoads> beamTargets(const BeamLattice& beam, double E, double
           3.0 * E * (hy * hz * hz * hz / 12.0) / (L * L * L), G * torsionConstant(hy, hz) / L};
 }
 
-// 0.2·sqrt(κ m_min / 2) per LS, the generators' rule (io::resolveSprings).
-void setLinearDamping(io::GeneratedObject& box) {
+// 0.2·sqrt(κ m_min / 2) per LS, the generators' rule (resolveSprings).
+void setLinearDamping(GeneratedObject& box) {
   const double minMass = *std::min_element(box.mass.begin(), box.mass.end());
   for (LinearSpring& s : box.linearSprings)
     s.damping = 0.2 * std::sqrt(s.stiffness * minMass / 2.0);
 }
 
-bool calibrateBeam(io::ObjectReader& r, io::GeneratedObject& box, const std::array<int, 3>& cells,
-                   double a, int axis, double E, double G, double k1, double k2) {
+constexpr const char* kSpec = "calibrateLattice";
+
+// "a×b×c".
+std::string cellText(const std::array<int, 3>& cells) {
+  return std::to_string(cells[0]) + "×" + std::to_string(cells[1]) + "×" + std::to_string(cells[2]);
+}
+
+void calibrateBeam(GeneratedObject& box, const std::array<int, 3>& cells, double a, int axis,
+                   double E, double G, double k1, double k2) {
   BeamLattice beam;
-  if (!describeBeam(box, cells, a, axis, beam)) {
-    r.sink().error(r.memberPointer("youngModulus"),
-                   "'youngModulus': the particles are not a full box lattice");
-    return false;
-  }
-  if (beam.count[1] < 2 || beam.count[2] < 2) {
-    r.sink().error(r.memberPointer("cells"),
-                   fmt::format("'youngModulus' on a bar needs at least 2 cells across it, got "
-                               "[{}, {}, {}]: a single row or layer of particles has no torsional "
-                               "stiffness",
-                               cells[0], cells[1], cells[2]));
-    return false;
-  }
+  if (!describeBeam(box, cells, a, axis, beam))
+    check::fail(kSpec, "youngModulus", "'youngModulus': the particles are not a full box lattice");
+  if (beam.count[1] < 2 || beam.count[2] < 2)
+    check::fail(kSpec, "cells",
+                "'youngModulus' on a bar needs at least 2 cells across it, got [" +
+                    std::to_string(cells[0]) + ", " + std::to_string(cells[1]) + ", " +
+                    std::to_string(cells[2]) +
+                    "]: a single row or layer of particles has no torsional stiffness");
   std::vector<double> base;
   for (Family f : beam.family)
     base.push_back(f == kAxial || f == kTransverse ? k1 : (f == kBodyDiagonal ? 0.0 : k2));
   const double bendUnit = E * a * a * a / 12.0;
   const BeamStatics statics(box, beam, base, bendUnit);
-  if (statics.work() > kMaxWork || statics.memory() > kMaxBand) {
-    r.sink().error(
-        r.memberPointer("cells"),
-        fmt::format("'youngModulus': a {}×{}×{} bar is too large to calibrate (the "
-                    "cost grows as its length times the cube of its section, {} cells); use "
-                    "fewer cells",
-                    cells[0], cells[1], cells[2], beam.count[1] * beam.count[2]));
-    return false;
-  }
+  if (statics.work() > kMaxWork || statics.memory() > kMaxBand)
+    check::fail(kSpec, "cells",
+                "'youngModulus': a " + cellText(cells) +
+                    " bar is too large to calibrate (the cost grows as its length times the cube "
+                    "of its section, " +
+                    std::to_string(beam.count[1] * beam.count[2]) + " cells); use fewer cells");
   const std::array<double, kLoads> target = beamTargets(beam, E, G);
 
   // Residuals: log(measured / target) of traction, flexion (mean of the two
@@ -475,14 +476,14 @@ bool calibrateBeam(io::ObjectReader& r, io::GeneratedObject& box, const std::arr
   if (!converged || !(minAxial > 0.0)) {
     std::array<double, kLoads> ratio{};
     for (std::size_t l = 0; l < kLoads; ++l) ratio[l] = response.stiffness[l] / target[l];
-    r.sink().error(
-        r.memberPointer("youngModulus"),
-        fmt::format("cannot calibrate the {}×{}×{} bar to E = {} Pa, G = {} Pa: its lattice "
-                    "reaches traction {:.3f}, flexion {:.3f} and {:.3f}, torsion {:.3f} of "
-                    "E·A/L, 3·E·I/L³, G·J/L{}",
-                    cells[0], cells[1], cells[2], E, G, ratio[0], ratio[1], ratio[2], ratio[3],
-                    minAxial > 0.0 ? "" : " only with negative axial springs"));
-    return false;
+    char reached[160];
+    std::snprintf(reached, sizeof reached, "traction %.3f, flexion %.3f and %.3f, torsion %.3f",
+                  ratio[0], ratio[1], ratio[2], ratio[3]);
+    check::fail(kSpec, "youngModulus",
+                "cannot calibrate the " + cellText(cells) + " bar to E = " + check::number(E) +
+                    " Pa, G = " + check::number(G) + " Pa: its lattice reaches " + reached +
+                    " of E·A/L, 3·E·I/L³, G·J/L" +
+                    (minAxial > 0.0 ? "" : " only with negative axial springs"));
   }
   for (std::size_t s = 0; s < box.linearSprings.size(); ++s)
     box.linearSprings[s].stiffness = statics.stiffness(s, knobs);
@@ -497,20 +498,27 @@ bool calibrateBeam(io::ObjectReader& r, io::GeneratedObject& box, const std::arr
       box.torsionSprings.push_back(
           TorsionSpring{t[0], t[1], t[2], std::numbers::pi, stiffness, damping});
   }
-  return true;
 }
 
 }  // namespace
 
-bool calibrateLattice(io::ObjectReader& r, io::GeneratedObject& box, const Vec3& size,
-                      const std::array<int, 3>& cells, double youngModulus,
+void calibrateLattice(GeneratedObject& box, const BoxSpec& spec, double youngModulus,
                       std::optional<double> shearModulus) {
+  check::positive(kSpec, "youngModulus", youngModulus, "Pa");
+  if (shearModulus) check::positive(kSpec, "shearModulus", *shearModulus, "Pa");
+  const Vec3& size = spec.size;
+  const std::array<int, 3>& cells = spec.cells;
+  for (int c : cells) check::atLeast(kSpec, "cells", c, 1);
+  if (box.size() != static_cast<std::size_t>(cells[0]) * cells[1] * cells[2] ||
+      box.linearSprings.empty())
+    check::fail(kSpec, "youngModulus",
+                "'youngModulus': the particles are not a full box lattice of " + cellText(cells) +
+                    " cells");
   const double a = size.x / cells[0];
-  if (std::abs(size.y / cells[1] - a) > 1e-9 * a || std::abs(size.z / cells[2] - a) > 1e-9 * a) {
-    r.sink().error(r.memberPointer("youngModulus"),
-                   "'youngModulus' needs cubic cells (size / cells equal in x, y and z)");
-    return false;
-  }
+  if (!(a > 0.0) || std::abs(size.y / cells[1] - a) > 1e-9 * a ||
+      std::abs(size.z / cells[2] - a) > 1e-9 * a)
+    check::fail(kSpec, "youngModulus",
+                "'youngModulus' needs cubic cells (size / cells equal in x, y and z)");
   const double E = youngModulus;
   const double G = shearModulus.value_or(0.4 * E);
   // Bulk: k2 = G a, and k1 the positive root of (k1 + k2)(k1 + 4 k2) = E a (k1 + 3 k2),
@@ -518,24 +526,22 @@ bool calibrateLattice(io::ObjectReader& r, io::GeneratedObject& box, const Vec3&
   const double k2 = G * a;
   const double b = 5.0 * k2 - E * a, c = 4.0 * k2 * k2 - 3.0 * E * a * k2;
   const double k1 = 0.5 * (-b + std::sqrt(b * b - 4.0 * c));
-  if (!(k1 > 0.0)) {
-    r.sink().error(r.memberPointer("shearModulus"),
-                   fmt::format("'shearModulus' {} Pa is too large for 'youngModulus' {} Pa: a "
-                               "cubic lattice of central springs needs G < 0.75 E",
-                               G, E));
-    return false;
-  }
+  if (!(k1 > 0.0))
+    check::fail(kSpec, "shearModulus",
+                "'shearModulus' " + check::number(G) + " Pa is too large for 'youngModulus' " +
+                    check::number(E) + " Pa: a cubic lattice of central springs needs G < 0.75 E");
   // A slender box is a beam along its longest side.
   const int axis = static_cast<int>(std::max_element(cells.begin(), cells.end()) - cells.begin());
   const int width = std::max(cells[(axis + 1) % 3], cells[(axis + 2) % 3]);
-  if (cells[axis] - 1 >= kMinSlenderness * width)
-    return calibrateBeam(r, box, cells, a, axis, E, G, k1, k2);
+  if (cells[axis] - 1 >= kMinSlenderness * width) {
+    calibrateBeam(box, cells, a, axis, E, G, k1, k2);
+    return;
+  }
   for (LinearSpring& s : box.linearSprings) {
     const double ratio = s.restLength / a;
     s.stiffness = ratio < 1.2 ? k1 : (ratio < 1.6 ? k2 : 0.0);
   }
   setLinearDamping(box);
-  return true;
 }
 
-}  // namespace robophi::robotics
+}  // namespace robophi::build

@@ -1,10 +1,13 @@
-#include "io/generators.h"
+#include "robophi/build/objects.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
-namespace robophi::io {
+#include "build/checks.h"
+
+namespace robophi::build {
 
 namespace {
 
@@ -12,11 +15,6 @@ namespace {
 double angleAt(const Vec3& pA, const Vec3& pC, const Vec3& pB) {
   const Vec3 u = pA - pC, w = pB - pC;
   return std::atan2(norm(cross(u, w)), dot(u, w));
-}
-
-void addLink(GeneratedObject& object, int a, int b) {
-  const double restLength = norm(object.position[a] - object.position[b]);
-  object.linearSprings.push_back(LinearSpring{a, b, restLength, 0.0, 0.0});
 }
 
 void addBend(GeneratedObject& object, int a, int c, int b) {
@@ -112,9 +110,48 @@ void basisAround(const Vec3& n, Vec3& e1, Vec3& e2) {
   e2 = cross(n, e1);
 }
 
+// A lattice's cells: each count >= 1, and no more particles than an object may have.
+template <std::size_t N>
+void checkCells(const char* spec, const std::array<int, N>& cells) {
+  double count = 1.0;
+  std::string text;
+  for (std::size_t i = 0; i < N; ++i) {
+    check::atLeast(spec, "cells", cells[i], 1);
+    count *= cells[i];
+    text += (i == 0 ? "" : "×") + std::to_string(cells[i]);
+  }
+  if (count > kMaxParticlesPerObject)
+    check::fail(
+        spec, "cells",
+        "'cells': " + text + " particles is more than " + std::to_string(kMaxParticlesPerObject));
+}
+
 }  // namespace
 
+int addParticle(GeneratedObject& object, const Vec3& position, double mass, double radius) {
+  object.position.push_back(position);
+  object.mass.push_back(mass);
+  object.radius.push_back(radius);
+  if (!object.fixed.empty()) object.fixed.push_back(false);
+  return static_cast<int>(object.position.size()) - 1;
+}
+
+int addLink(GeneratedObject& object, int a, int b) {
+  const double restLength = norm(object.position[a] - object.position[b]);
+  object.linearSprings.push_back(LinearSpring{a, b, restLength, 0.0, 0.0});
+  return static_cast<int>(object.linearSprings.size()) - 1;
+}
+
 GeneratedObject makeRope(const RopeSpec& spec) {
+  constexpr const char* kSpec = "RopeSpec";
+  check::finite(kSpec, "start", spec.start, "m");
+  check::finite(kSpec, "end", spec.end, "m");
+  if (!(norm(spec.end - spec.start) > 0.0))
+    check::fail(kSpec, "end", "'end' equals 'start': the rope's links would have rest length 0");
+  check::atLeast(kSpec, "particles", spec.particles, 2);
+  check::atMost(kSpec, "particles", spec.particles, kMaxParticlesPerObject);
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  check::nonNegative(kSpec, "radius", spec.radius, "m");
   GeneratedObject rope;
   const int n = spec.particles;
   std::vector<Vec3> positions;
@@ -131,6 +168,12 @@ GeneratedObject makeRope(const RopeSpec& spec) {
 }
 
 GeneratedObject makeBox(const BoxSpec& spec) {
+  constexpr const char* kSpec = "BoxSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  check::positiveEach(kSpec, "size", spec.size, "m");
+  checkCells(kSpec, spec.cells);
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  check::nonNegative(kSpec, "radius", spec.radius, "m");
   GeneratedObject box;
   std::vector<Vec3> positions;
   const Lattice lattice =
@@ -145,6 +188,16 @@ GeneratedObject makeBox(const BoxSpec& spec) {
 }
 
 GeneratedObject makePlate(const PlateSpec& spec) {
+  constexpr const char* kSpec = "PlateSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  if (!(spec.sizeX > 0.0 && spec.sizeY > 0.0) || !std::isfinite(spec.sizeX + spec.sizeY))
+    check::fail(kSpec, "size",
+                "'size' must be > 0 m in each direction, got [" + check::number(spec.sizeX) + ", " +
+                    check::number(spec.sizeY) + "]");
+  check::nonNegative(kSpec, "thickness", spec.thickness, "m");
+  checkCells(kSpec, spec.cells);
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  check::nonNegative(kSpec, "radius", spec.radius, "m");
   GeneratedObject plate;
   std::vector<Vec3> positions;
   const Vec3 size{spec.sizeX, spec.sizeY, 0.0};
@@ -160,6 +213,13 @@ GeneratedObject makePlate(const PlateSpec& spec) {
 }
 
 GeneratedObject makeBall(const BallSpec& spec) {
+  constexpr const char* kSpec = "BallSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  check::positive(kSpec, "radius", spec.radius, "m");
+  check::atLeast(kSpec, "cells", spec.cells, 1);
+  check::atMost(kSpec, "cells", spec.cells, 400);
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  check::nonNegative(kSpec, "particleRadius", spec.particleRadius, "m");
   GeneratedObject ball;
   const int n = spec.cells;
   const double diameter = 2.0 * spec.radius;
@@ -179,6 +239,14 @@ GeneratedObject makeBall(const BallSpec& spec) {
 }
 
 GeneratedObject makeWheel(const WheelSpec& spec) {
+  constexpr const char* kSpec = "WheelSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  check::positive(kSpec, "radius", spec.radius, "m");
+  check::positive(kSpec, "width", spec.width, "m");
+  check::nonZero(kSpec, "axis", spec.axis);
+  check::atLeast(kSpec, "rimParticles", spec.rimParticles, 3);
+  check::atMost(kSpec, "rimParticles", spec.rimParticles, kMaxParticlesPerObject / 2);
+  check::positive(kSpec, "mass", spec.mass, "kg");
   GeneratedObject wheel;
   const int n = spec.rimParticles;
   const Vec3 axis = spec.axis / norm(spec.axis);
@@ -221,20 +289,24 @@ GeneratedObject makeWheel(const WheelSpec& spec) {
 }
 
 void rotateObject(GeneratedObject& object, const Vec3& pivot, const Vec3& axis, double angle) {
-  const double length = norm(axis);
-  if (!(length > 0.0) || angle == 0.0) return;
-  const Vec3 unitAxis = axis / length;
+  check::finite("rotateObject", "pivot", pivot, "m");
+  check::nonZero("rotateObject", "axis", axis);
+  check::finite("rotateObject", "angle", angle, "rad");
+  if (angle == 0.0) return;
+  const Vec3 unitAxis = axis / norm(axis);
   for (auto& p : object.position) p = pivot + rotate(p - pivot, unitAxis, angle);
 }
 
 void rotateObjectRpy(GeneratedObject& object, const Vec3& pivot, const Vec3& rollPitchYaw) {
+  check::finite("rotateObjectRpy", "rpy", rollPitchYaw, "rad");
   // R = Rz(yaw) Ry(pitch) Rx(roll): roll first, about the fixed axes.
   rotateObject(object, pivot, {1, 0, 0}, rollPitchYaw.x);
   rotateObject(object, pivot, {0, 1, 0}, rollPitchYaw.y);
   rotateObject(object, pivot, {0, 0, 1}, rollPitchYaw.z);
 }
 
-double defaultStiffness(const GeneratedObject& object, double dt) {
+double defaultStiffness(const GeneratedObject& object, double naturalFrequency) {
+  check::positive("defaultStiffness", "naturalFrequency", naturalFrequency, "rad/s");
   // Σ over the springs at particle i of (1/m_i + 1/m_j), per unit stiffness.
   std::vector<double> rowSum(object.size(), 0.0);
   for (const auto& s : object.linearSprings) {
@@ -244,15 +316,22 @@ double defaultStiffness(const GeneratedObject& object, double dt) {
   }
   const double worst = rowSum.empty() ? 0.0 : *std::max_element(rowSum.begin(), rowSum.end());
   if (!(worst > 0.0)) return 0.0;
-  const double omega = 0.25 / dt;
-  return omega * omega / worst;
+  // MODEL §2: ω² = κ · max_i Σ (1/m_i + 1/m_j) at the bound.
+  return naturalFrequency * naturalFrequency / worst;
 }
 
-void resolveSprings(GeneratedObject& object, const SpringSettings& settings, double dt,
-                    double bendFactor) {
+void resolveSprings(GeneratedObject& object, const SpringSettings& settings, double bendFactor) {
+  constexpr const char* kSpec = "SpringSettings";
+  check::nonNegative(kSpec, "stiffness", settings.stiffness, "N/m");
+  check::nonNegative(kSpec, "damping", settings.damping, "N·s/m");
+  check::nonNegative(kSpec, "bendStiffness", settings.bendStiffness, "N·m/rad");
+  check::nonNegative(kSpec, "bendDamping", settings.bendDamping, "N·m·s/rad");
+  check::positive(kSpec, "naturalFrequency", settings.naturalFrequency, "rad/s");
+  check::nonNegative("resolveSprings", "bendFactor", bendFactor, "");
   const double minMass =
       object.mass.empty() ? 0.0 : *std::min_element(object.mass.begin(), object.mass.end());
-  const double stiffness = settings.stiffness.value_or(defaultStiffness(object, dt));
+  const double stiffness =
+      settings.stiffness.value_or(defaultStiffness(object, settings.naturalFrequency));
   const double damping = settings.damping.value_or(0.2 * std::sqrt(stiffness * minMass / 2.0));
   for (auto& s : object.linearSprings) {
     s.stiffness = stiffness;
@@ -272,4 +351,4 @@ void resolveSprings(GeneratedObject& object, const SpringSettings& settings, dou
   }
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::build

@@ -8,9 +8,9 @@
 #include <numeric>
 #include <vector>
 
-#include "io/generators.h"
+#include "robophi/build/objects.h"
 
-namespace robophi::io {
+namespace robophi::build {
 namespace {
 
 double totalMass(const GeneratedObject& o) {
@@ -105,7 +105,7 @@ int rigidityRank(const GeneratedObject& o) {
 
 TEST(GeneratorRope, MassCentreLengthAndLinks) {
   GeneratedObject rope = makeRope({{0, 0, 1}, {2, 0, 1}, 21, 0.5, 0.0});
-  resolveSprings(rope, {}, 1e-4, 0.0);
+  resolveSprings(rope, {});
   ASSERT_EQ(rope.size(), 21u);
   EXPECT_NEAR(totalMass(rope), 0.5, 1e-12);
   expectEqualMasses(rope);
@@ -127,7 +127,7 @@ TEST(GeneratorRope, BendStiffnessAddsStraightTorsionSprings) {
   springs.stiffness = 100.0;
   springs.damping = 0.5;
   springs.bendStiffness = 2.0;
-  resolveSprings(rope, springs, 1e-4, 0.0);
+  resolveSprings(rope, springs);
   ASSERT_EQ(rope.torsionSprings.size(), 3u);
   for (const auto& s : rope.torsionSprings) {
     EXPECT_NEAR(s.restAngle, M_PI, 1e-12);
@@ -142,7 +142,7 @@ TEST(GeneratorRope, BendStiffnessAddsStraightTorsionSprings) {
 TEST(GeneratorBox, MassCentreSizeAndRigidity) {
   const BoxSpec spec{{1, 2, 3}, {0.4, 0.2, 0.2}, {4, 2, 2}, 3.0, 0.0};
   GeneratedObject box = makeBox(spec);
-  resolveSprings(box, {}, 1e-4, 0.0);
+  resolveSprings(box, {});
   ASSERT_EQ(box.size(), 16u);
   EXPECT_NEAR(totalMass(box), 3.0, 1e-12);
   expectEqualMasses(box);
@@ -158,7 +158,7 @@ TEST(GeneratorBox, OneCellThickBarIsRigidWithBendSprings) {
   GeneratedObject bar = makeBox({{0, 0, 0}, {1.0, 0.1, 0.1}, {10, 1, 1}, 1.0, 0.0});
   SpringSettings springs;
   springs.bendStiffness = 5.0;
-  resolveSprings(bar, springs, 1e-4, 0.0);
+  resolveSprings(bar, springs);
   EXPECT_EQ(bar.linearSprings.size(), 9u);
   EXPECT_EQ(bar.torsionSprings.size(), 8u);  // a line: TS hold it straight
   expectNear(sphereExtent(bar), {1.0, 0.1, 0.1}, 1e-12);
@@ -180,7 +180,7 @@ TEST(GeneratorBox, RotationKeepsCentreAndRestState) {
 TEST(GeneratorPlate, MassCentreSizeAndBending) {
   const PlateSpec spec{{0, 0, 1}, 1.0, 0.5, 0.0, {10, 5}, 0.2, 0.0};
   GeneratedObject plate = makePlate(spec);
-  resolveSprings(plate, {}, 1e-4, 0.1);
+  resolveSprings(plate, {}, 0.1);
   ASSERT_EQ(plate.size(), 50u);
   EXPECT_NEAR(totalMass(plate), 0.2, 1e-12);
   expectEqualMasses(plate);
@@ -208,7 +208,7 @@ TEST(GeneratorBall, SingleParticleHasTheBallsRadius) {
 
 TEST(GeneratorBall, LatticeBallMassCentreAndSize) {
   GeneratedObject ball = makeBall({{1, 0, 0}, 0.5, 6, 2.0, 0.0});
-  resolveSprings(ball, {}, 1e-4, 0.0);
+  resolveSprings(ball, {});
   EXPECT_NEAR(totalMass(ball), 2.0, 1e-12);
   expectEqualMasses(ball);
   expectNear(centreOfMass(ball), {1, 0, 0}, 1e-12);
@@ -224,7 +224,7 @@ TEST(GeneratorBall, LatticeBallMassCentreAndSize) {
 TEST(GeneratorWheel, MassCentreSizeAndRigidity) {
   const WheelSpec spec{{0, 0, 0.3}, 0.3, 0.08, {0, 1, 0}, 12, 1.5};
   GeneratedObject wheel = makeWheel(spec);
-  resolveSprings(wheel, {}, 1e-4, 0.0);
+  resolveSprings(wheel, {});
   ASSERT_EQ(wheel.size(), 26u);
   EXPECT_NEAR(totalMass(wheel), 1.5, 1e-12);
   expectEqualMasses(wheel);
@@ -242,18 +242,25 @@ TEST(GeneratorWheel, MassCentreSizeAndRigidity) {
   EXPECT_EQ(rigidityRank(wheel), 3 * 26 - 6);
 }
 
-TEST(GeneratorDefaults, StiffnessKeepsTheObjectStableAtTheStep) {
+TEST(GeneratorDefaults, StiffnessGivesTheFastestModeItsNaturalFrequency) {
   GeneratedObject box = makeBox({{0, 0, 0}, {0.3, 0.3, 0.3}, {3, 3, 3}, 1.0, 0.0});
-  const double dt = 1e-4;
-  const double k = defaultStiffness(box, dt);
+  const double omega = kDefaultNaturalFrequency;
+  const double k = defaultStiffness(box, omega);
   EXPECT_GT(k, 0.0);
   // Gershgorin bound at the centre particle (26 neighbours, equal masses).
   const double m = box.mass[0];
   const double omegaBound = std::sqrt(26.0 * k * 2.0 / m);
-  EXPECT_NEAR(omegaBound * dt, 0.25, 1e-9);
-  // Smaller steps allow stiffer defaults.
-  EXPECT_GT(defaultStiffness(box, dt / 10), k);
+  EXPECT_NEAR(omegaBound / omega, 1.0, 1e-12);
+  // The old rule ω·δ = 0.25 at the default step δ = 1e-4 s, bit for bit.
+  EXPECT_EQ(kDefaultNaturalFrequency, 0.25 / 1e-4);
+  // A higher frequency is a stiffer object: κ ∝ ω².
+  EXPECT_NEAR(defaultStiffness(box, 2.0 * omega) / k, 4.0, 1e-12);
+  // resolveSprings uses the settings' frequency when no stiffness is given.
+  SpringSettings settings;
+  settings.naturalFrequency = 2.0 * omega;
+  resolveSprings(box, settings);
+  EXPECT_DOUBLE_EQ(box.linearSprings[0].stiffness, defaultStiffness(box, 2.0 * omega));
 }
 
 }  // namespace
-}  // namespace robophi::io
+}  // namespace robophi::build

@@ -1,16 +1,20 @@
-#include "io/scene_objects.h"
+#include "scene/scene_objects.h"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
-#include "robotics/robot_builders.h"
+#include "scene/scene_robots.h"
+#include "robophi/build/calibration.h"
+#include "robophi/build/objects.h"
 
 namespace robophi::io {
 
 namespace {
 
-constexpr int kMaxParticlesPerObject = 10'000'000;
+using build::GeneratedObject;
+using build::kMaxParticlesPerObject;
+using build::SpringSettings;
 
 const char* kMass = "kg";
 const char* kMetres = "m";
@@ -24,17 +28,8 @@ constexpr TypeName kTypes[] = {
     {"rope", "rope"},   {"chain", "rope"},          {"bar", "bar"},     {"box", "box"},
     {"cube", "box"},    {"plate", "plate"},         {"cloth", "plate"}, {"ball", "ball"},
     {"wheel", "wheel"}, {"particles", "particles"}, {"arm", "arm"},     {"vehicle", "vehicle"},
-    {"hand", "hand"},  // robotics/robot_builders.h
+    {"hand", "hand"},  // io/scene_robots.cpp
 };
-
-SpringSettings readSprings(ObjectReader& r) {
-  SpringSettings s;
-  s.stiffness = r.number("stiffness", Bound::kNonNegative, "N/m");
-  s.damping = r.number("damping", Bound::kNonNegative, "N·s/m");
-  s.bendStiffness = r.number("bendStiffness", Bound::kNonNegative, "N·m/rad");
-  s.bendDamping = r.number("bendDamping", Bound::kNonNegative, "N·m·s/rad");
-  return s;
-}
 
 // `cells`: an integer n (n in every direction) or an array of `count` integers >= 1.
 std::optional<std::array<int, 3>> readCells(ObjectReader& r, std::size_t count, bool required) {
@@ -87,15 +82,15 @@ bool applyRotation(ObjectReader& r, GeneratedObject& object, const Vec3& pivot) 
       r.sink().error(r.memberPointer("rotation"), "'rotation': the axis [ax, ay, az] is zero");
       ok = false;
     } else {
-      rotateObject(object, pivot, axis, (*axisAngle)[3]);
+      build::rotateObject(object, pivot, axis, (*axisAngle)[3]);
     }
   }
-  if (rpy) rotateObjectRpy(object, pivot, *rpy);
+  if (rpy) build::rotateObjectRpy(object, pivot, *rpy);
   return ok;
 }
 
 // Each generator: reads its parameters; returns false if any is missing or bad.
-bool readRope(ObjectReader& r, GeneratedObject& out, double dt) {
+bool readRope(ObjectReader& r, GeneratedObject& out) {
   const auto start = r.vec3("start", kMetres, true);
   const auto end = r.vec3("end", kMetres, true);
   const auto count = r.integer("particles", 2, true);
@@ -103,17 +98,12 @@ bool readRope(ObjectReader& r, GeneratedObject& out, double dt) {
   const auto radius = r.number("radius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
   if (!start || !end || !count || !mass) return false;
-  if (!(norm(*end - *start) > 0.0)) {
-    r.sink().error(r.memberPointer("end"),
-                   "'end' equals 'start': the rope's links would have rest length 0");
-    return false;
-  }
-  out = makeRope({*start, *end, *count, *mass, radius.value_or(0.0)});
-  resolveSprings(out, springs, dt, 0.0);
+  out = build::makeRope({*start, *end, *count, *mass, radius.value_or(0.0)});
+  build::resolveSprings(out, springs);
   return true;
 }
 
-bool readBox(ObjectReader& r, GeneratedObject& out, double dt, bool cube) {
+bool readBox(ObjectReader& r, GeneratedObject& out, bool cube) {
   const auto center = r.vec3("center", kMetres, true);
   std::optional<Vec3> size;
   if (cube) {
@@ -136,13 +126,14 @@ bool readBox(ObjectReader& r, GeneratedObject& out, double dt, bool cube) {
   const auto young = r.number("youngModulus", Bound::kPositive, "Pa");
   const auto shear = r.number("shearModulus", Bound::kPositive, "Pa");
   if (!center || !size || !cells || !mass) return false;
-  out = makeBox({*center, *size, *cells, *mass, radius.value_or(0.0)});
-  resolveSprings(out, springs, dt, 0.0);
-  if (young && !robotics::calibrateLattice(r, out, *size, *cells, *young, shear)) return false;
+  const build::BoxSpec spec{*center, *size, *cells, *mass, radius.value_or(0.0)};
+  out = build::makeBox(spec);
+  build::resolveSprings(out, springs);
+  if (young) build::calibrateLattice(out, spec, *young, shear);
   return applyRotation(r, out, *center);
 }
 
-bool readPlate(ObjectReader& r, GeneratedObject& out, double dt) {
+bool readPlate(ObjectReader& r, GeneratedObject& out) {
   const auto center = r.vec3("center", kMetres, true);
   auto size = r.numbers("size", 2, "[Lx, Ly] (m)", true);
   if (size && !((*size)[0] > 0.0 && (*size)[1] > 0.0)) {
@@ -157,19 +148,19 @@ bool readPlate(ObjectReader& r, GeneratedObject& out, double dt) {
   const auto radius = r.number("radius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
   if (!center || !size || !cells || !mass) return false;
-  out = makePlate({*center,
-                   (*size)[0],
-                   (*size)[1],
-                   thickness.value_or(0.0),
-                   {(*cells)[0], (*cells)[1]},
-                   *mass,
-                   radius.value_or(0.0)});
+  out = build::makePlate({*center,
+                          (*size)[0],
+                          (*size)[1],
+                          thickness.value_or(0.0),
+                          {(*cells)[0], (*cells)[1]},
+                          *mass,
+                          radius.value_or(0.0)});
   // A single layer bends only through its TS: default κ_b = 0.1 κ h².
-  resolveSprings(out, springs, dt, 0.1);
+  build::resolveSprings(out, springs, 0.1);
   return applyRotation(r, out, *center);
 }
 
-bool readBall(ObjectReader& r, GeneratedObject& out, double dt) {
+bool readBall(ObjectReader& r, GeneratedObject& out) {
   const auto center = r.vec3("center", kMetres, true);
   const auto radius = r.number("radius", Bound::kPositive, kMetres, true);
   const auto cells = r.integer("cells", 1);
@@ -181,27 +172,23 @@ bool readBall(ObjectReader& r, GeneratedObject& out, double dt) {
     return false;
   }
   if (!center || !radius || !mass || (r.member("cells") && !cells)) return false;
-  out = makeBall({*center, *radius, cells.value_or(1), *mass, particleRadius.value_or(0.0)});
-  resolveSprings(out, springs, dt, 0.0);
+  out = build::makeBall({*center, *radius, cells.value_or(1), *mass, particleRadius.value_or(0.0)});
+  build::resolveSprings(out, springs);
   return applyRotation(r, out, *center);
 }
 
-bool readWheel(ObjectReader& r, GeneratedObject& out, double dt) {
+bool readWheel(ObjectReader& r, GeneratedObject& out) {
   const auto center = r.vec3("center", kMetres, true);
   const auto radius = r.number("radius", Bound::kPositive, kMetres, true);
   const auto width = r.number("width", Bound::kPositive, kMetres, true);
-  auto axis = r.vec3("axis", "-");
-  if (axis && !(norm(*axis) > 0.0)) {
-    r.sink().error(r.memberPointer("axis"), "'axis' must be a non-zero vector");
-    return false;
-  }
+  const auto axis = r.vec3("axis", "-");
   const auto rim = r.integer("rimParticles", 3);
   const auto mass = r.number("mass", Bound::kPositive, kMass, true);
   const SpringSettings springs = readSprings(r);
   if (!center || !radius || !width || !mass || (r.member("rimParticles") && !rim)) return false;
-  out =
-      makeWheel({*center, *radius, *width, axis.value_or(Vec3{0, 1, 0}), rim.value_or(16), *mass});
-  resolveSprings(out, springs, dt, 0.0);
+  out = build::makeWheel(
+      {*center, *radius, *width, axis.value_or(Vec3{0, 1, 0}), rim.value_or(16), *mass});
+  build::resolveSprings(out, springs);
   return true;
 }
 
@@ -235,7 +222,7 @@ bool readParticles(ObjectReader& r, SceneObject& object) {
     g.mass.push_back(mass.value_or(1.0));
     g.radius.push_back(radius.value_or(1.0));
     object.velocity.push_back(velocity.value_or(Vec3{}));
-    object.fixed.push_back(fixed.value_or(false));
+    g.fixed.push_back(fixed.value_or(false));
   }
   return ok;
 }
@@ -247,7 +234,7 @@ bool readFixed(ObjectReader& r, SceneObject& object) {
   const auto n = static_cast<std::int64_t>(object.geometry.size());
   const std::string at = r.memberPointer("fixed");
   if (value->is_boolean()) {
-    if (value->get<bool>()) object.fixed.assign(object.fixed.size(), true);
+    if (value->get<bool>()) object.geometry.fixed.assign(object.geometry.size(), true);
     return true;
   }
   if (!value->is_array()) {
@@ -274,12 +261,34 @@ bool readFixed(ObjectReader& r, SceneObject& object) {
       ok = false;
       continue;
     }
-    object.fixed[static_cast<std::size_t>(index < 0 ? index + n : index)] = true;
+    object.geometry.fixed[static_cast<std::size_t>(index < 0 ? index + n : index)] = true;
   }
   return ok;
 }
 
 }  // namespace
+
+SpringSettings readSprings(ObjectReader& r, bool bend) {
+  SpringSettings s;
+  s.stiffness = r.number("stiffness", Bound::kNonNegative, "N/m");
+  s.damping = r.number("damping", Bound::kNonNegative, "N·s/m");
+  if (bend) {
+    s.bendStiffness = r.number("bendStiffness", Bound::kNonNegative, "N·m/rad");
+    s.bendDamping = r.number("bendDamping", Bound::kNonNegative, "N·m·s/rad");
+  } else {
+    s.bendStiffness = 0.0;
+    s.bendDamping = 0.0;
+  }
+  // The default stiffness comes from a natural frequency, never from the step.
+  if (const auto omega = r.number("naturalFrequency", Bound::kPositive, "rad/s")) {
+    if (s.stiffness)
+      r.sink().error(r.memberPointer("naturalFrequency"),
+                     "'naturalFrequency' sets the default of 'stiffness': give one of them, not "
+                     "both");
+    s.naturalFrequency = *omega;
+  }
+  return s;
+}
 
 const std::vector<std::string>& objectTypeNames() {
   static const std::vector<std::string> names = [] {
@@ -291,7 +300,7 @@ const std::vector<std::string>& objectTypeNames() {
 }
 
 SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
-                            const std::string& pointer, double dt) {
+                            const std::string& pointer) {
   SceneObject object;
   object.pointer = pointer;
   const std::size_t errorsBefore = sink.errorCount();
@@ -325,14 +334,20 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
 
   bool generated = false;
   const std::string& kind = object.kind;
-  if (kind == "rope") generated = readRope(reader, object.geometry, dt);
-  if (kind == "bar" || kind == "box")
-    generated = readBox(reader, object.geometry, dt, *type == "cube");
-  if (kind == "plate") generated = readPlate(reader, object.geometry, dt);
-  if (kind == "ball") generated = readBall(reader, object.geometry, dt);
-  if (kind == "wheel") generated = readWheel(reader, object.geometry, dt);
-  if (kind == "particles") generated = readParticles(reader, object);
-  if (robotics::isRobotKind(kind)) generated = robotics::readRobot(reader, object, dt);
+  try {
+    if (kind == "rope") generated = readRope(reader, object.geometry);
+    if (kind == "bar" || kind == "box")
+      generated = readBox(reader, object.geometry, *type == "cube");
+    if (kind == "plate") generated = readPlate(reader, object.geometry);
+    if (kind == "ball") generated = readBall(reader, object.geometry);
+    if (kind == "wheel") generated = readWheel(reader, object.geometry);
+    if (kind == "particles") generated = readParticles(reader, object);
+    if (isRobotKind(kind)) generated = readRobot(reader, object);
+  } catch (const build::SpecError& e) {
+    // The builders name the spec field, which is the scene key of the same name.
+    sink.error(reader.memberPointer(e.field()), e.message());
+    generated = false;
+  }
   // Unknown keys are reported only when the type is known (else every key would be).
   if (!kind.empty()) reader.finish();
 
@@ -344,7 +359,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   object.valid = generated;
   if (generated) {
     const std::size_t n = object.geometry.size();
-    object.fixed.resize(n, false);
+    object.geometry.fixed.resize(n, false);
     object.velocity.resize(n, velocity.value_or(Vec3{}));
     if (velocity && kind == "particles") {
       // The object's velocity is the default of each particle's own.
@@ -352,19 +367,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
       for (std::size_t i = 0; i < n; ++i)
         if (!list[i].contains("velocity")) object.velocity[i] = *velocity;
     }
-    if (angularVelocity) {
-      // Spin about the centre of mass: v += ω × (p - c).
-      const GeneratedObject& g = object.geometry;
-      Vec3 center;
-      double mass = 0.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        center += g.position[i] * g.mass[i];
-        mass += g.mass[i];
-      }
-      center = center / mass;
-      for (std::size_t i = 0; i < n; ++i)
-        object.velocity[i] += cross(*angularVelocity, g.position[i] - center);
-    }
+    if (angularVelocity) build::addSpin(object.geometry, *angularVelocity, object.velocity);
   }
   readFixed(reader, object);
   object.valid = generated && sink.errorCount() == errorsBefore;

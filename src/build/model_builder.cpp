@@ -1,0 +1,360 @@
+// ModelBuilder: generated objects, materials, environment items and connectors
+// into a Model and its initial State, every argument checked first.
+#include "robophi/build/model_builder.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "build/checks.h"
+
+namespace robophi::build {
+
+namespace {
+
+constexpr const char* kPlacement = "ObjectPlacement";
+
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Connector values: a rest value > 0 (rest angles may be 0) and stiffness,
+// damping >= 0, each finite.
+void checkSpringValues(const char* spec, double stiffness, double damping) {
+  check::nonNegative(spec, "stiffness", stiffness, "");
+  check::nonNegative(spec, "damping", damping, "");
+}
+
+// Particle indices `ends` of a connector are in [0, count) and distinct.
+template <std::size_t N>
+void checkEnds(const char* spec, const char* field, const std::array<ParticleIndex, N>& ends,
+               ParticleIndex count) {
+  for (std::size_t i = 0; i < N; ++i) {
+    if (ends[i] < 0 || ends[i] >= count)
+      check::fail(spec, field,
+                  "'" + std::string(field) + "': particle " + std::to_string(ends[i]) +
+                      " is out of range (" + std::to_string(count) + " particles)");
+    for (std::size_t j = 0; j < i; ++j)
+      if (ends[i] == ends[j])
+        check::fail(
+            spec, field,
+            "'" + std::string(field) + "': particle " + std::to_string(ends[i]) + " appears twice");
+  }
+}
+
+void checkLinear(const char* spec, const LinearSpring& s, ParticleIndex count) {
+  checkEnds<2>(spec, "linearSprings", {s.a, s.b}, count);
+  check::positive(spec, "restLength", s.restLength, "m");
+  checkSpringValues(spec, s.stiffness, s.damping);
+}
+
+void checkTorsion(const char* spec, const TorsionSpring& s, ParticleIndex count) {
+  checkEnds<3>(spec, "torsionSprings", {s.a, s.c, s.b}, count);
+  if (!(s.restAngle >= 0.0 && s.restAngle <= std::numbers::pi))
+    check::fail(spec, "restAngle",
+                "'restAngle' must be in [0, π] rad, got " + check::number(s.restAngle));
+  checkSpringValues(spec, s.stiffness, s.damping);
+}
+
+void checkJoint(const char* spec, const JointSpring& s, ParticleIndex count) {
+  checkEnds<4>(spec, "jointSprings", {s.a, s.c, s.b, s.d}, count);
+  if (!(s.restAngle >= 0.0 && s.restAngle < 2.0 * std::numbers::pi))
+    check::fail(spec, "restAngle",
+                "'restAngle' must be in [0, 2π) rad, got " + check::number(s.restAngle));
+  checkSpringValues(spec, s.stiffness, s.damping);
+}
+
+// Everything of an object before it is placed: sizes, values, local indices.
+void checkGeometry(const GeneratedObject& g, const std::vector<Vec3>& velocity) {
+  const std::size_t n = g.size();
+  if (n == 0) check::fail(kPlacement, "geometry", "'geometry' has no particle");
+  if (n > static_cast<std::size_t>(kMaxParticlesPerObject))
+    check::fail(kPlacement, "geometry",
+                "'geometry' has " + std::to_string(n) + " particles, more than " +
+                    std::to_string(kMaxParticlesPerObject));
+  const auto sized = [n](std::size_t size, bool optional) {
+    return size == n || (optional && size == 0);
+  };
+  if (!sized(g.mass.size(), false) || !sized(g.radius.size(), false) ||
+      !sized(g.fixed.size(), true) || !sized(velocity.size(), true))
+    check::fail(kPlacement, "geometry",
+                "'geometry': " + std::to_string(n) + " positions but " +
+                    std::to_string(g.mass.size()) + " masses, " + std::to_string(g.radius.size()) +
+                    " radii, " + std::to_string(g.fixed.size()) + " fixed flags and " +
+                    std::to_string(velocity.size()) + " velocities");
+  for (std::size_t i = 0; i < n; ++i) {
+    check::finite(kPlacement, "position", g.position[i], "m");
+    check::positive(kPlacement, "mass", g.mass[i], "kg");
+    check::positive(kPlacement, "radius", g.radius[i], "m");
+    if (!velocity.empty()) check::finite(kPlacement, "velocity", velocity[i], "m/s");
+  }
+  const auto count = static_cast<ParticleIndex>(n);
+  for (const LinearSpring& s : g.linearSprings) checkLinear(kPlacement, s, count);
+  for (const TorsionSpring& s : g.torsionSprings) checkTorsion(kPlacement, s, count);
+  for (const JointSpring& s : g.jointSprings) checkJoint(kPlacement, s, count);
+  for (const Joint& joint : g.joints) {
+    const std::size_t connectors =
+        joint.kind == JointKind::kRevolute ? g.jointSprings.size() : g.torsionSprings.size();
+    const bool driveOk = joint.driveSpring == -1 ||
+                         (joint.driveSpring >= 0 &&
+                          static_cast<std::size_t>(joint.driveSpring) < g.linearSprings.size());
+    if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= connectors ||
+        !driveOk || joint.name.empty())
+      check::fail(kPlacement, "joints",
+                  "'joints': joint '" + joint.name + "' names connector " +
+                      std::to_string(joint.connector) + " (drive " +
+                      std::to_string(joint.driveSpring) + ") that the object does not have");
+  }
+}
+
+}  // namespace
+
+void addSpin(const GeneratedObject& object, const Vec3& angularVelocity,
+             std::vector<Vec3>& velocity) {
+  check::finite("addSpin", "angularVelocity", angularVelocity, "rad/s");
+  const std::size_t n = object.size();
+  if (velocity.size() != n)
+    check::fail("addSpin", "velocity",
+                "'velocity' has " + std::to_string(velocity.size()) + " entries for " +
+                    std::to_string(n) + " particles");
+  // Spin about the centre of mass: v += ω × (p - c).
+  Vec3 center;
+  double mass = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    center += object.position[i] * object.mass[i];
+    mass += object.mass[i];
+  }
+  center = center / mass;
+  for (std::size_t i = 0; i < n; ++i)
+    velocity[i] += cross(angularVelocity, object.position[i] - center);
+}
+
+std::vector<Vec3> rigidVelocity(const GeneratedObject& object, const Vec3& velocity,
+                                const Vec3& angularVelocity) {
+  check::finite("rigidVelocity", "velocity", velocity, "m/s");
+  std::vector<Vec3> result(object.size(), velocity);
+  addSpin(object, angularVelocity, result);
+  return result;
+}
+
+ParticleIndex PlacedObject::particle(std::int64_t local) const {
+  const std::int64_t n = particleCount;
+  if (local < -n || local >= n)
+    check::fail("PlacedObject", "local",
+                "'local': index " + std::to_string(local) + " is out of range: the object has " +
+                    std::to_string(n) + " particles");
+  return static_cast<ParticleIndex>(firstParticle + (local < 0 ? local + n : local));
+}
+
+void ModelBuilder::setGravity(const Vec3& gravity) {
+  check::finite("setGravity", "gravity", gravity, "m/s²");
+  model_.gravity = gravity;
+}
+
+std::int32_t ModelBuilder::findMaterial(std::string_view name) const {
+  for (std::size_t m = 0; m < model_.materials.size(); ++m)
+    if (model_.materials[m].name == name) return static_cast<std::int32_t>(m);
+  return -1;
+}
+
+std::int32_t ModelBuilder::addMaterial(const Material& material) {
+  constexpr const char* kSpec = "Material";
+  if (material.name.empty()) check::fail(kSpec, "name", "a material needs a non-empty 'name'");
+  const std::int32_t existing = findMaterial(material.name);
+  const bool replacesDefault = material.name == "default" && !defaultReplaced_;
+  if (existing >= 0 && !replacesDefault)
+    check::fail(kSpec, "name", "'name': material '" + material.name + "' is defined twice");
+  check::positive(kSpec, "contactStiffness", material.contactStiffness, "N/m");
+  check::nonNegative(kSpec, "contactDamping", material.contactDamping, "N·s/m");
+  check::nonNegative(kSpec, "staticFriction", material.staticFriction, "-");
+  check::nonNegative(kSpec, "kineticFriction", material.kineticFriction, "-");
+  if (material.kineticFriction > material.staticFriction)
+    check::fail(kSpec, "kineticFriction",
+                "'kineticFriction' " + check::number(material.kineticFriction) +
+                    " must not exceed 'staticFriction' " + check::number(material.staticFriction));
+  if (replacesDefault) {
+    defaultReplaced_ = true;
+    model_.materials[0] = material;
+    return 0;
+  }
+  model_.materials.push_back(material);
+  return static_cast<std::int32_t>(model_.materials.size()) - 1;
+}
+
+void ModelBuilder::checkMaterialIndex(const char* spec, std::int32_t material) const {
+  if (material < 0 || static_cast<std::size_t>(material) >= model_.materials.size())
+    check::fail(spec, "material",
+                "'material' " + std::to_string(material) + " is not a material (" +
+                    std::to_string(model_.materials.size()) + " defined)");
+}
+
+void ModelBuilder::addPlane(const GroundPlane& plane) {
+  check::finite("GroundPlane", "point", plane.point, "m");
+  check::nonZero("GroundPlane", "normal", plane.normal);
+  checkMaterialIndex("GroundPlane", plane.material);
+  GroundPlane unitPlane = plane;
+  unitPlane.normal = plane.normal / norm(plane.normal);
+  model_.environment.planes.push_back(unitPlane);
+}
+
+void ModelBuilder::addHeightfield(Heightfield field) {
+  constexpr const char* kSpec = "Heightfield";
+  check::finite(kSpec, "originX", field.originX, "m");
+  check::finite(kSpec, "originY", field.originY, "m");
+  check::positive(kSpec, "cellSizeX", field.cellSizeX, "m");
+  check::positive(kSpec, "cellSizeY", field.cellSizeY, "m");
+  check::atLeast(kSpec, "columns", field.columns, 2);
+  check::atLeast(kSpec, "rows", field.rows, 2);
+  if (field.heights.size() != static_cast<std::size_t>(field.columns) * field.rows)
+    check::fail(kSpec, "heights",
+                "'heights' has " + std::to_string(field.heights.size()) + " samples for " +
+                    std::to_string(field.rows) + " rows × " + std::to_string(field.columns) +
+                    " columns");
+  for (double h : field.heights) check::finite(kSpec, "heights", h, "m");
+  checkMaterialIndex(kSpec, field.material);
+  model_.environment.heightfields.push_back(std::move(field));
+}
+
+void ModelBuilder::addBox(const BoxObstacle& box) {
+  constexpr const char* kSpec = "BoxObstacle";
+  check::finite(kSpec, "center", box.center, "m");
+  check::positiveEach(kSpec, "halfExtents", box.halfExtents, "m");
+  const Vec3* axes[3] = {&box.axisX, &box.axisY, &box.axisZ};
+  constexpr double kTolerance = 1e-9;
+  bool orthonormal = std::abs(dot(cross(box.axisX, box.axisY), box.axisZ) - 1.0) < kTolerance;
+  for (int i = 0; i < 3; ++i) {
+    orthonormal = orthonormal && finite(*axes[i]) && std::abs(norm(*axes[i]) - 1.0) < kTolerance;
+    for (int j = 0; j < i; ++j)
+      orthonormal = orthonormal && std::abs(dot(*axes[i], *axes[j])) < kTolerance;
+  }
+  if (!orthonormal)
+    check::fail(kSpec, "axisX",
+                "'axisX', 'axisY' and 'axisZ' must be orthonormal and right-handed, got " +
+                    check::vector(box.axisX) + ", " + check::vector(box.axisY) + ", " +
+                    check::vector(box.axisZ));
+  checkMaterialIndex(kSpec, box.material);
+  model_.environment.boxes.push_back(box);
+}
+
+void ModelBuilder::addSphere(const SphereObstacle& sphere) {
+  check::finite("SphereObstacle", "center", sphere.center, "m");
+  check::positive("SphereObstacle", "radius", sphere.radius, "m");
+  checkMaterialIndex("SphereObstacle", sphere.material);
+  model_.environment.spheres.push_back(sphere);
+}
+
+void ModelBuilder::setViscosity(double viscosity) {
+  check::nonNegative("setViscosity", "viscosity", viscosity, "N·s/m");
+  model_.environment.viscosity = viscosity;
+}
+
+void ModelBuilder::setContactSettings(const ContactSettings& settings) {
+  constexpr const char* kSpec = "ContactSettings";
+  check::nonNegative(kSpec, "tangentialStiffnessRatio", settings.tangentialStiffnessRatio, "-");
+  check::nonNegative(kSpec, "tangentialDampingRatio", settings.tangentialDampingRatio, "-");
+  check::nonNegative(kSpec, "stickVelocity", settings.stickVelocity, "m/s");
+  check::atLeast(kSpec, "leafSize", settings.leafSize, 1);
+  const auto objects = static_cast<std::int32_t>(model_.objects.size());
+  for (const ContactPairOverride& pair : settings.pairOverrides) {
+    if (pair.objectA < 0 || pair.objectA >= objects || pair.objectB < -1 || pair.objectB >= objects)
+      check::fail(kSpec, "pairOverrides",
+                  "'pairOverrides': objects " + std::to_string(pair.objectA) + " and " +
+                      std::to_string(pair.objectB) + " are not both placed objects (" +
+                      std::to_string(objects) + " placed; -1 is the environment)");
+    check::positive(kSpec, "stiffness", pair.stiffness, "N/m");
+    check::nonNegative(kSpec, "damping", pair.damping, "N·s/m");
+    check::nonNegative(kSpec, "staticFriction", pair.staticFriction, "-");
+    check::nonNegative(kSpec, "kineticFriction", pair.kineticFriction, "-");
+  }
+  model_.contact = settings;
+}
+
+PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
+  if (object.name.empty()) check::fail(kPlacement, "name", "'name' must not be empty");
+  if (object.name.find(':') != std::string::npos)
+    check::fail(kPlacement, "name",
+                "'name' \"" + object.name + "\" must not contain ':' (used in \"object:index\")");
+  for (const ObjectInfo& placed : model_.objects)
+    if (placed.name == object.name)
+      check::fail(kPlacement, "name", "duplicate object name '" + object.name + "'");
+  const GeneratedObject& g = object.geometry;
+  checkGeometry(g, object.velocity);
+  check::nonNegative(kPlacement, "linearDamping", object.linearDamping, "N·s/m");
+  checkMaterialIndex(kPlacement, object.material);
+  if (static_cast<double>(model_.particleCount()) + static_cast<double>(g.size()) >
+      std::numeric_limits<ParticleIndex>::max())
+    check::fail(kPlacement, "geometry", "the model would have more particles than an index holds");
+
+  const std::int32_t id = model_.addObject(object.name, object.kind, object.material);
+  PlacedObject placed{id, model_.particleCount(), static_cast<ParticleIndex>(g.size())};
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const bool fixed = !g.fixed.empty() && g.fixed[i];
+    model_.addParticle(g.mass[i], g.radius[i], fixed, id, object.linearDamping);
+    position_.push_back(g.position[i]);
+    velocity_.push_back(fixed || object.velocity.empty() ? Vec3{} : object.velocity[i]);
+  }
+  const ParticleIndex offset = placed.firstParticle;
+  for (LinearSpring s : g.linearSprings) {
+    s.a += offset;
+    s.b += offset;
+    model_.linearSprings.push_back(s);
+  }
+  for (TorsionSpring s : g.torsionSprings) {
+    s.a += offset;
+    s.c += offset;
+    s.b += offset;
+    model_.torsionSprings.push_back(s);
+  }
+  // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).
+  const auto jointBase = static_cast<std::int32_t>(model_.jointSprings.size());
+  const auto torsionBase =
+      static_cast<std::int32_t>(model_.torsionSprings.size() - g.torsionSprings.size());
+  const auto linearBase =
+      static_cast<std::int32_t>(model_.linearSprings.size() - g.linearSprings.size());
+  for (JointSpring s : g.jointSprings) {
+    for (ParticleIndex* p : {&s.a, &s.b, &s.c, &s.d}) *p += offset;
+    model_.jointSprings.push_back(s);
+  }
+  for (Joint joint : g.joints) {
+    joint.name = object.name + "." + joint.name;
+    joint.connector += joint.kind == JointKind::kRevolute ? jointBase : torsionBase;
+    if (joint.driveSpring >= 0) joint.driveSpring += linearBase;
+    model_.joints.push_back(std::move(joint));
+  }
+  return placed;
+}
+
+std::int32_t ModelBuilder::addConnector(const LinearSpring& spring) {
+  checkLinear("LinearSpring", spring, model_.particleCount());
+  model_.linearSprings.push_back(spring);
+  return static_cast<std::int32_t>(model_.linearSprings.size()) - 1;
+}
+
+std::int32_t ModelBuilder::addConnector(const TorsionSpring& spring) {
+  checkTorsion("TorsionSpring", spring, model_.particleCount());
+  model_.torsionSprings.push_back(spring);
+  return static_cast<std::int32_t>(model_.torsionSprings.size()) - 1;
+}
+
+std::int32_t ModelBuilder::addConnector(const JointSpring& spring) {
+  checkJoint("JointSpring", spring, model_.particleCount());
+  model_.jointSprings.push_back(spring);
+  return static_cast<std::int32_t>(model_.jointSprings.size()) - 1;
+}
+
+BuiltModel ModelBuilder::build() && {
+  // Internal check: every method checked its arguments, so the model is consistent.
+  if (const std::string problem = checkModel(model_); !problem.empty())
+    throw std::logic_error("ModelBuilder: internal error, the model is inconsistent: " + problem);
+  BuiltModel built{std::move(model_), {}};
+  built.initial = State::sizedFor(built.model);
+  built.initial.position = std::move(position_);
+  built.initial.velocity = std::move(velocity_);
+  *this = ModelBuilder{};
+  return built;
+}
+
+}  // namespace robophi::build

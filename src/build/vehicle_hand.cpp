@@ -1,0 +1,177 @@
+// The vehicle (chassis, suspension, wheels on revolute axles) and the
+// three-fingered hand (docs/robotics.md).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "build/checks.h"
+#include "build/robot_parts.h"
+#include "robophi/connector_forces.h"
+#include "robophi/build/robots.h"
+
+namespace robophi::build {
+
+namespace {
+
+// Appends `part` (local indices) to `o`; returns the offset of its particles.
+int append(GeneratedObject& o, const GeneratedObject& part) {
+  const auto offset = static_cast<int>(o.size());
+  o.position.insert(o.position.end(), part.position.begin(), part.position.end());
+  o.mass.insert(o.mass.end(), part.mass.begin(), part.mass.end());
+  o.radius.insert(o.radius.end(), part.radius.begin(), part.radius.end());
+  for (LinearSpring s : part.linearSprings) {
+    s.a += offset;
+    s.b += offset;
+    o.linearSprings.push_back(s);
+  }
+  return offset;
+}
+
+void checkVehicle(const VehicleSpec& spec) {
+  constexpr const char* kSpec = "VehicleSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  check::positiveEach(kSpec, "size", spec.size, "m");
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  check::positive(kSpec, "wheelRadius", spec.wheelRadius, "m");
+  check::positive(kSpec, "wheelWidth", spec.wheelWidth, "m");
+  check::positive(kSpec, "wheelMass", spec.wheelMass, "kg");
+  check::atLeast(kSpec, "rimParticles", spec.rimParticles, 6);
+  check::atMost(kSpec, "rimParticles", spec.rimParticles, kMaxParticlesPerObject / 10);
+  if (spec.wheelbase) check::positive(kSpec, "wheelbase", *spec.wheelbase, "m");
+  if (spec.track) check::positive(kSpec, "track", *spec.track, "m");
+  check::positive(kSpec, "suspensionStiffness", spec.suspensionStiffness, "N/m");
+  check::nonNegative(kSpec, "suspensionDamping", spec.suspensionDamping, "N·s/m");
+  check::nonNegative(kSpec, "axleDamping", spec.axleDamping, "N·m·s/rad");
+  detail::checkRobotLinks(kSpec, spec.structure);
+}
+
+void checkHand(const HandSpec& spec) {
+  constexpr const char* kSpec = "HandSpec";
+  check::finite(kSpec, "center", spec.center, "m");
+  check::positive(kSpec, "palmRadius", spec.palmRadius, "m");
+  for (double length : spec.links) check::positive(kSpec, "links", length, "m");
+  check::positive(kSpec, "mass", spec.mass, "kg");
+  if (spec.width) check::positive(kSpec, "width", *spec.width, "m");
+  check::nonNegative(kSpec, "jointStiffness", spec.jointStiffness, "N·m/rad");
+  check::nonNegative(kSpec, "jointDamping", spec.jointDamping, "N·m·s/rad");
+  check::finite(kSpec, "spread", spec.spread, "rad");
+  detail::checkRobotLinks(kSpec, spec.structure);
+}
+
+}  // namespace
+
+GeneratedObject makeVehicle(const VehicleSpec& spec) {
+  checkVehicle(spec);
+  const double R = spec.wheelRadius, W = spec.wheelWidth;
+  const double base = spec.wheelbase.value_or(0.8 * spec.size.x);
+  const double trackWidth = spec.track.value_or(spec.size.y + W + 0.5 * R);
+  GeneratedObject g;
+  // Chassis: a rigid 3×2×2 lattice.
+  const GeneratedObject chassis = makeBox({spec.center, spec.size, {3, 2, 2}, spec.mass, 0.0});
+  append(g, chassis);
+  const int chassisCount = static_cast<int>(g.size());
+  std::vector<int> suspensionSprings;
+  // Wheels: front left, front right, rear left, rear right.
+  const double xs[2] = {0.5 * base, -0.5 * base};
+  const double ys[2] = {0.5 * trackWidth, -0.5 * trackWidth};
+  const int n = spec.rimParticles;
+  const double mountMass = 0.02 * spec.mass;
+  const double mountRadius = 0.1 * R;
+  int wheelIndex = 0;
+  for (double x : xs) {
+    for (double y : ys) {
+      ++wheelIndex;
+      const Vec3 wheelCenter = spec.center + Vec3{x, y, 0.0};
+      const int offset = append(g, makeWheel({wheelCenter, R, W, {0, 1, 0}, n, spec.wheelMass}));
+      const double side = y > 0.0 ? 1.0 : -1.0;
+      int hubs[2] = {offset + 2 * n, offset + 2 * n + 1};
+      if (side * (g.position[hubs[0]].y - g.position[hubs[1]].y) > 0.0) std::swap(hubs[0], hubs[1]);
+      // Mounts, rigid with the chassis: ahead/behind (toward the middle), inward on
+      // the axle line, and above each hub. Two stiff links fix a hub in x and y;
+      // the soft link above is the suspension spring (MODEL §5: the vehicle adapts).
+      const double towardMiddle = x > 0.0 ? -1.0 : 1.0;
+      const int inward = addParticle(g, g.position[hubs[0]] - Vec3{0.0, side * 0.6 * W, 0.0},
+                                     mountMass, mountRadius);
+      std::vector<int> mounts = {inward};
+      for (int hub : hubs) {
+        const int ahead = addParticle(g, g.position[hub] + Vec3{towardMiddle * 1.5 * R, 0.0, 0.0},
+                                      mountMass, mountRadius);
+        const int above =
+            addParticle(g, g.position[hub] + Vec3{0.0, 0.0, 1.5 * R}, mountMass, mountRadius);
+        mounts.push_back(ahead);
+        mounts.push_back(above);
+        addLink(g, hub, ahead);
+        addLink(g, hub, inward);
+        suspensionSprings.push_back(addLink(g, hub, above));
+      }
+      for (int mount : mounts)
+        for (int c = 0; c < chassisCount; ++c) addLink(g, mount, c);
+      // MODEL §1 JS: the axle, a passive revolute joint (a: a mount, b: a rim particle).
+      const int a = mounts[1];
+      const auto& p = g.position;
+      g.jointSprings.push_back({a, hubs[0], offset, hubs[1],
+                                jointAngle(p[a], p[hubs[0]], p[offset], p[hubs[1]]), 0.0,
+                                spec.axleDamping});
+      g.joints.push_back({"axle" + std::to_string(wheelIndex), JointKind::kRevolute,
+                          static_cast<std::int32_t>(g.jointSprings.size()) - 1, -1});
+    }
+  }
+  g.spacing = spec.size.x / 3.0;
+  detail::resolveRobotLinks(g, spec.structure);
+  const double damping = spec.suspensionDamping.value_or(
+      0.5 * std::sqrt(spec.suspensionStiffness * (spec.mass / 8.0)));
+  for (int s : suspensionSprings) {
+    g.linearSprings[static_cast<std::size_t>(s)].stiffness = spec.suspensionStiffness;
+    g.linearSprings[static_cast<std::size_t>(s)].damping = damping;
+  }
+  g.fixed.assign(g.size(), false);
+  return g;
+}
+
+GeneratedObject makeHand(const HandSpec& spec) {
+  checkHand(spec);
+  GeneratedObject g;
+  const double rho = spec.palmRadius;
+  const double fingerLength = spec.links[0] + spec.links[1] + spec.links[2];
+  const double w = spec.width.value_or(0.15 * fingerLength / 3.0);
+  // Palm: a fixed disc of particles in the plane z = center.z, facing up.
+  const double pitch = 0.5 * rho;
+  const double palmParticleRadius = 0.5 * pitch;
+  std::vector<int> base;
+  for (int i = -2; i <= 2; ++i)
+    for (int j = -2; j <= 2; ++j) {
+      const Vec3 offset{i * pitch, j * pitch, 0.0};
+      if (norm(offset) <= rho + 1e-9)
+        base.push_back(addParticle(g, spec.center + offset, spec.mass / 10.0, palmParticleRadius));
+    }
+  // Fingers: joint 1 swings the finger sideways (axis radial), joints 2 and 3 flex
+  // it toward the middle (axis tangential): three revolute joints per finger.
+  std::vector<int> tips;
+  for (int f = 0; f < 3; ++f) {
+    const double phi = M_PI / 2.0 + 2.0 * M_PI * f / 3.0;
+    const Vec3 radial{std::cos(phi), std::sin(phi), 0.0};
+    const Vec3 tangential{-std::sin(phi), std::cos(phi), 0.0};
+    ChainSpec finger;
+    finger.base = spec.center + radial * (rho + w) + Vec3{0.0, 0.0, palmParticleRadius};
+    // Fingers lean inward by `spread` (rad) from the vertical.
+    finger.direction = Vec3{0, 0, 1} * std::cos(spec.spread) - radial * std::sin(spec.spread);
+    finger.links = {spec.links[0], spec.links[1], spec.links[2]};
+    finger.axes = {radial, tangential, tangential};
+    finger.mass = spec.mass / 3.0;
+    finger.width = w;
+    finger.particlesPerLink = 2;
+    finger.jointStiffness = spec.jointStiffness;
+    finger.jointPrefix = "f" + std::to_string(f + 1) + ".j";
+    const ChainParts parts = appendChain(g, finger);
+    base.insert(base.end(), parts.base.begin(), parts.base.end());
+    tips.push_back(parts.tool);
+  }
+  g.fixed.assign(g.size(), false);
+  for (int b : base) g.fixed[static_cast<std::size_t>(b)] = true;
+  moveToEnd(g, tips);
+  detail::resolveRobotLinks(g, spec.structure);
+  detail::setJointDamping(g, spec.jointDamping, w);
+  return g;
+}
+
+}  // namespace robophi::build

@@ -1,0 +1,38 @@
+#pragma once
+// Reading the "objects" of a scene: one entry → its builder's spec
+// (robophi/build/) → a GeneratedObject plus what the entry says about its
+// particles (fixed, initial velocity, linear damping).
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "robophi/build/model_builder.h"
+#include "scene/scene_fields.h"
+
+namespace robophi::io {
+
+/// One scene object, read and generated (local indices), before placement:
+/// what build::ModelBuilder places, and where the entry is in the file.
+struct SceneObject : build::ObjectPlacement {
+  /// JSON pointer of the entry, e.g. "/objects/2".
+  std::string pointer;
+  /// False when the entry had an error: its particles are unknown.
+  bool valid = false;
+  /// Index of its first particle in the model, once placed.
+  ParticleIndex firstParticle = 0;
+};
+
+/// The generator names a scene may use (aliases included), for suggestions.
+const std::vector<std::string>& objectTypeNames();
+
+/// Reads the object entry at `pointer`. Errors go to `sink`; the result is
+/// valid only if this entry added none.
+SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
+                            const std::string& pointer);
+
+/// Reads the keys every generated object shares (stiffness, damping,
+/// naturalFrequency and, when `bend`, bendStiffness and bendDamping; docs/scene-format.md).
+build::SpringSettings readSprings(ObjectReader& r, bool bend = true);
+
+}  // namespace robophi::io

@@ -1,0 +1,19 @@
+#pragma once
+// Reading the robot objects of a scene ("arm", "vehicle", "hand";
+// docs/robotics.md) into their build specs (robophi/build/robots.h).
+
+#include <string>
+
+#include "scene/scene_fields.h"
+#include "scene/scene_objects.h"
+
+namespace robophi::io {
+
+bool isRobotKind(const std::string& kind);
+
+/// Reads an arm, vehicle or hand entry into `object.geometry` (its fixed base
+/// included). Returns false when a parameter is missing or bad (reported).
+/// Throws build::SpecError when the builder refuses the spec.
+bool readRobot(ObjectReader& r, SceneObject& object);
+
+}  // namespace robophi::io
