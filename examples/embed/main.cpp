@@ -4,8 +4,8 @@
 //
 //   embed SCENE.json [SECONDS]
 //
-// Exits 0 when the loop ran, found contacts, and every driven joint moved
-// towards its new target; 1 otherwise (with the reason).
+// Exits 0 when the loop ran to the end with a finite state and every driven
+// joint (a servo: stiffness > 0) moved towards its new target; 1 otherwise.
 #include <robophi/adaptive_step.h>
 #include <robophi/joints.h>
 #include <robophi/scene/scene.h>
@@ -74,11 +74,11 @@ int main(int argc, char** argv) {
     std::printf("  %-24s value %.4f, target %.4f (started at %.4f)\n",
                 world.model().joints[j].name.c_str(), value, servo.target, start[j]);
   }
-  if (mostContacts == 0) {
-    std::fprintf(stderr, "no contact was found\n");
+  if (!std::isfinite(energy.total())) {
+    std::fprintf(stderr, "the state is not finite\n");
     return 1;
   }
-  if (driven == 0 || followed < driven) {
+  if (followed < driven) {
     std::fprintf(stderr, "%d of %d driven joints moved towards their targets\n", followed, driven);
     return 1;
   }

@@ -32,7 +32,11 @@ command -v ninja > /dev/null && generator=(-G Ninja)
 cmake -S "$source/examples/embed" -B "$work/embed" "${generator[@]}" \
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" > "$work/embed.configure.log"
 cmake --build "$work/embed" --parallel 2 > "$work/embed.build.log"
-"$work/embed/embed" "$source/scenes/hand_grasp.json" 1.0
+# The hand grasp: contacts and (passive) joint values; the servo arm: targets.
+"$work/embed/embed" "$source/scenes/hand_grasp.json" 1.0 | tee "$work/hand.txt"
+grep -qE 'most contacts [1-9]' "$work/hand.txt" || { echo "no contact in the hand grasp"; exit 1; }
+"$work/embed/embed" "$source/scenes/revolute_arm.json" 1.0 | tee "$work/arm.txt"
+grep -qE 'ok: [1-9][0-9]* driven joints followed' "$work/arm.txt" || { echo "no joint driven"; exit 1; }
 
 pc_dir=$(dirname "$(find "$prefix" -name robophi.pc)")
 flags=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --cflags --libs robophi)
