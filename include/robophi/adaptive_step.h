@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The energy-based adaptive time step (ATS, MODEL.md §4; the rule is written
+/// The energy-based adaptive time step (ATS, MODEL §4; the rule is written
 /// out in docs/adaptive-step.md). The paper's factors are lost: every factor
 /// here is our own choice, set in AdaptiveStepSettings.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Contact (MODEL.md §3, docs/contact.md): the environment the particles collide
+/// Contact (MODEL §3, docs/contact.md): the environment the particles collide
 /// with, the contact settings of a model, and the contact records a State carries
 /// from step to step (their friction anchors).
 ///

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Model: everything that does not change during a step (MODEL.md §1).
+/// Model: everything that does not change during a step (MODEL §1).
 /// Masses, radii, connector rest values and stiffnesses, objects and joints.
 /// The mutable part (positions, velocities, forces) is State (state.h).
 
@@ -46,7 +46,8 @@ struct TorsionSpring {
 
 /// JS: joint spring/damper, a TS with a reference particle d that orients the
 /// angle (MODEL §1, JS). θ in [0, 2π) measured positive about n = (p_d - p_c)/|p_d - p_c|.
-/// No force is applied to d. The spring acts on θ - θ0 wrapped into (-π, π].
+/// The force on d is zero when the arms lie in the plane through c normal to the
+/// axis (as the joint builders make them). The spring acts on θ - θ0 wrapped into (-π, π].
 struct JointSpring {
   ParticleIndex a = kNoParticle;
   ParticleIndex c = kNoParticle;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// State: what a step advances (MODEL.md §2). A plain value: copying it is a
+/// State: what a step advances (MODEL §2). A plain value: copying it is a
 /// snapshot. Everything computed *from* a state (forces, potentials, the contacts
 /// at its positions) is an Evaluation (evaluation.h), never part of the state.
 

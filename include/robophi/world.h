@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// World: a compiled model, its state, the last evaluation, and the step that
-/// advances them (MODEL.md §2). Between steps the model and the state change
+/// advances them (MODEL §2). Between steps the model and the state change
 /// only through the edit functions below; each invalidates what it must (the
 /// evaluation always, the contact tables when contact data change) and the
 /// work an edit does is booked as external work at the next evaluation, so

@@ -88,7 +88,7 @@ GeneratedObject makeVehicle(const VehicleSpec& spec) {
       if (side * (g.position[hubs[0]].y - g.position[hubs[1]].y) > 0.0) std::swap(hubs[0], hubs[1]);
       // Mounts, rigid with the chassis: ahead/behind (toward the middle), inward on
       // the axle line, and above each hub. Two stiff links fix a hub in x and y;
-      // the soft link above is the suspension spring (MODEL §5: the vehicle adapts).
+      // the soft link above is the suspension spring (MODEL §6.3: the vehicle adapts).
       const double towardMiddle = x > 0.0 ? -1.0 : 1.0;
       const int inward = addParticle(g, g.position[hubs[0]] - Vec3{0.0, side * 0.6 * W, 0.0},
                                      mountMass, mountRadius);

@@ -3,7 +3,7 @@
 
 namespace robophi {
 
-// F_i = m_i g; potential -m_i g·p_i. Fixed particles feel it too but never move.
+// F_i = m_i g; potential -m_i g·p_i, over the free particles (a fixed one gets neither).
 ForceTally accumulateGravity(const Model& model, const std::vector<Vec3>& position,
                              std::vector<Vec3>& force) {
   ForceTally tally;
