@@ -7,7 +7,8 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "robophi/runner.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 #include "scene_input.h"
 
 namespace robophi::cli {
@@ -86,6 +87,7 @@ int runCommand(const RunArguments& args) {
           ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
           : args.outDir;
   options.progress = makeProgress(args.quiet);
+  options.tasks = {robotics::makeSceneTasks(*scene)};  // the scene's robotics section
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "robophi/runner.h"
 #include "robophi/scene.h"
+#include "run/runner.h"
 
 namespace robophi::cli {
 
@@ -24,7 +24,7 @@ struct ExperimentFigures {
 /// Watches one run: an optional hook between steps, then the figures from the
 /// final state and the report.
 struct ExperimentProbe {
-  std::function<bool(World&, RunReport&)> betweenSteps;
+  StepTask betweenSteps;
   std::function<void(const Scene&, const State& last, const RunReport&, ExperimentFigures&)> finish;
 };
 

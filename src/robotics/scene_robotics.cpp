@@ -3,9 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
-
-#include "robophi/robotics/joint_control.h"
 
 namespace robophi::robotics {
 
@@ -251,12 +250,16 @@ void readLimit(io::DiagnosticSink& sink, const nlohmann::json& entry, const std:
   const double damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·m·s/rad or N·s/m");
   r.finish();
   if (!name || !min || !max || !stiffness) return;
-  const auto joint = findJoint(scene.model, *name);
-  if (!joint) {
+  // By name here: robotics::findJoint belongs to the application layer above.
+  const std::vector<Joint>& joints = scene.model.joints;
+  const auto joint = std::find_if(joints.begin(), joints.end(),
+                                  [&](const Joint& j) { return j.name == *name; });
+  if (joint == joints.end()) {
     sink.error(r.memberPointer("joint"), fmt::format("no joint named '{}'", *name));
     return;
   }
-  scene.robotics.limits.push_back({*joint, *min, *max, *stiffness, damping});
+  scene.robotics.limits.push_back(
+      {static_cast<std::size_t>(joint - joints.begin()), *min, *max, *stiffness, damping});
 }
 
 void readGrasp(io::DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,

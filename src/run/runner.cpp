@@ -1,6 +1,6 @@
 // Running a scene: steps, sampling of frames and energy rows, progress, and the
 // staging folder that makes the output appear whole or not at all.
-#include "robophi/runner.h"
+#include "run/runner.h"
 
 #include <fmt/format.h>
 
@@ -9,9 +9,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "io/run_writer.h"
-#include "robophi/replay.h"
-#include "robophi/robotics/tasks.h"
+#include "output/replay.h"
+#include "output/run_writer.h"
 
 namespace robophi {
 
@@ -90,7 +89,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
   };
 
-  const auto robotTasks = robotics::makeSceneTasks(scene);  // empty when the scene has none
   const bool adaptive = settings.stepMode == StepMode::kAdaptive;
   std::optional<AdaptiveStepper> stepper;
   if (adaptive) {
@@ -128,9 +126,14 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       break;
     }
     sample(dtUsed, false);
-    // Robotics tasks between steps (docs/robotics.md); either may end the run.
-    const bool stop = (robotTasks && !robotTasks(world, report)) ||
-                      (options.betweenSteps && !options.betweenSteps(world, report));
+    // Tasks between steps (docs/robotics.md), in order; the first to say so ends the run.
+    bool stop = false;
+    for (const StepTask& task : options.tasks) {
+      if (task && !task(world, report.events)) {
+        stop = true;
+        break;
+      }
+    }
     world.bookExternalWork();  // what the tasks changed is work from outside
     if (stop) break;
     if (options.progress && (world.state().stepCount & 255) == 0) {

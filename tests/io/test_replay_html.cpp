@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "robophi/replay.h"
+#include "output/replay.h"
 #include "test_files.h"
 
 namespace robophi {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "robophi/vtk_export.h"
+#include "output/vtk_export.h"
 #include "test_files.h"
 
 namespace robophi {

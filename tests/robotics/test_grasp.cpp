@@ -3,15 +3,16 @@
 // ball under gravity and after a sideways kick, for the paper's 50 s.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
 
-#include "robophi/runner.h"
 #include "robophi/scene.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -21,6 +22,7 @@ TEST(Grasp, ThreeFingeredHandHoldsTheBallThroughADisturbance) {
   ASSERT_EQ(scene.model.joints.size(), 9u);  // three fingers, three joints each
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "robophi/runner.h"
+#include "output/run_report.h"
 #include "robophi/scene.h"
 
 namespace robophi {

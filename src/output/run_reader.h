@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace robophi::io {
+namespace robophi::output {
 
 /// A CSV file with a header line and numeric rows.
 struct CsvTable {
@@ -77,4 +77,4 @@ bool readRunFolder(const std::string& runDir, bool needEnergy, RunFolder& run, s
 bool readCsvTable(const std::string& path, const std::vector<std::string>& requiredColumns,
                   CsvTable& table, std::string& error);
 
-}  // namespace robophi::io
+}  // namespace robophi::output

@@ -3,7 +3,7 @@
 // One ASCII PolyData file per frame (points = particles, lines = linear
 // connectors) and a .pvd collection that gives each file its time. ASCII keeps
 // the files readable and checkable by eye; they are for looking at, not archiving.
-#include "robophi/vtk_export.h"
+#include "output/vtk_export.h"
 
 #include <fmt/format.h>
 
@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "io/run_reader.h"
+#include "output/run_reader.h"
 
 namespace robophi {
 
 namespace {
 
 namespace fs = std::filesystem;
-using io::RunFolder;
+using output::RunFolder;
 
 std::string frameFileName(std::size_t frame) { return fmt::format("frame_{:06}.vtp", frame); }
 
@@ -48,7 +48,7 @@ std::vector<double> frameVelocity(const RunFolder& run, std::size_t k) {
 std::vector<double> frameStrain(const RunFolder& run, std::size_t k) {
   std::vector<double> strain;
   strain.reserve(run.linear.size());
-  for (const io::LinearLink& link : run.linear) {
+  for (const output::LinearLink& link : run.linear) {
     const double* a = run.position(k, link.a);
     const double* b = run.position(k, link.b);
     const double length = std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
@@ -136,7 +136,7 @@ bool writeText(const fs::path& path, const std::string& text, std::string& error
 
 bool writeVtkSeries(const std::string& runDir, const std::string& outDir, std::string& error) {
   RunFolder run;
-  if (!io::readRunFolder(runDir, /*needEnergy=*/false, run, error)) return false;
+  if (!output::readRunFolder(runDir, /*needEnergy=*/false, run, error)) return false;
   if (run.frameCount() == 0) {
     error = fmt::format("{}: no frames (only a header line)",
                         (fs::path(runDir) / "particles.csv").string());

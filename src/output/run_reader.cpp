@@ -1,4 +1,4 @@
-#include "io/run_reader.h"
+#include "output/run_reader.h"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string_view>
 
-namespace robophi::io {
+namespace robophi::output {
 
 namespace {
 
@@ -234,4 +234,4 @@ bool readRunFolder(const std::string& runDir, bool needEnergy, RunFolder& run, s
   return true;
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::output

@@ -17,8 +17,8 @@
 #include <string_view>
 #include <vector>
 
-#include "io/run_reader.h"
-#include "robophi/replay.h"
+#include "output/replay.h"
+#include "output/run_reader.h"
 #include "robophi/replay_assets.h"
 
 namespace robophi {
@@ -26,8 +26,8 @@ namespace robophi {
 namespace {
 
 namespace fs = std::filesystem;
-using io::CsvTable;
-using io::RunFolder;
+using output::CsvTable;
+using output::RunFolder;
 
 // Room kept for the JSON punctuation and notices that the estimates below leave out.
 constexpr std::size_t kSlackBytes = 4096;
@@ -217,7 +217,7 @@ bool writeAtomically(const fs::path& path, const std::string& data, std::string&
 
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {
   RunFolder run;
-  if (!io::readRunFolder(runDir, /*needEnergy=*/true, run, error)) return false;
+  if (!output::readRunFolder(runDir, /*needEnergy=*/true, run, error)) return false;
   if (run.frameCount() == 0) {
     error = fmt::format("{}: no frames (only a header line)",
                         (fs::path(runDir) / "particles.csv").string());

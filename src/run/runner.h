@@ -1,12 +1,15 @@
 #pragma once
 /// \file
 /// Running a scene for a duration and writing its results (docs/output-format.md).
+/// The runner knows nothing of robotics: what runs between steps comes in as
+/// StepTasks (the scene's robotics tasks among them: robotics::makeSceneTasks).
 
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "output/run_report.h"
 #include "robophi/adaptive_step.h"
 #include "robophi/scene.h"
 #include "robophi/world.h"
@@ -21,7 +24,12 @@ struct RunProgress {
   double wallSeconds = 0.0;
 };
 
-struct RunReport;
+/// A task run between steps (docs/robotics.md): it may change the world through
+/// its public API (joint targets, World::mutableModel) and add lines to the
+/// run's events (RunReport::events, summary.json "events"); returning false
+/// ends the run (e.g. a goal reached). What it changes is booked as external
+/// work (World::bookExternalWork).
+using StepTask = std::function<bool(World& world, std::vector<std::string>& events)>;
 
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
@@ -34,41 +42,10 @@ struct RunOptions {
   bool writeReplay = true;
   /// Called about every 0.1 s of wall time.
   std::function<void(const RunProgress&)> progress;
-  /// Called after each accepted step, after the scene's own robotics tasks
-  /// (docs/robotics.md): it may change the world through its public API (joint
-  /// targets, World::mutableModel) and add lines to RunReport::events; returning
-  /// false ends the run early (e.g. a goal reached).
-  std::function<bool(World&, RunReport&)> betweenSteps;
-};
-
-/// What a run did.
-struct RunReport {
-  /// "ok"; "diverged" when a state became NaN or infinite, or the energy grew
-  /// over 100 times its initial value (constant step);
-  /// "stalled" when the adaptive step fell below its floor.
-  std::string status = "ok";
-  /// For a diverged run: which particle, when.
-  std::string failure;
-  std::int64_t steps = 0;
-  double simulatedTime = 0.0;
-  double wallSeconds = 0.0;
-  /// E + dissipated - external work at the start and end (J), and their drift
-  /// relative to the initial mechanical energy.
-  double initialTotal = 0.0;
-  double finalTotal = 0.0;
-  double energyDrift = 0.0;
-  double dissipated = 0.0;
-  /// Work done between steps by robotics tasks and hooks (J, EnergyTally::external).
-  double externalWork = 0.0;
-  StabilityEstimate stability;
-  /// Accepted and rejected steps, step sizes (adaptive mode).
-  AdaptiveStepStats adaptive;
-  std::uint64_t stateHash = 0;
-  std::vector<std::string> warnings;
-  /// What the robotics tasks did (goal reached, virtual obstacles added, grasp
-  /// verdict), in order; written to summary.json as "events".
-  std::vector<std::string> events;
-  bool ok() const { return status == "ok"; }
+  /// Called after each accepted step, in order; the first that returns false
+  /// ends the run (the later ones are not called then). Empty tasks are skipped.
+  /// Callers put the scene's robotics tasks first (robotics::makeSceneTasks).
+  std::vector<StepTask> tasks;
 };
 
 /// Warnings about a scene before it runs (e.g. a step above the stability estimate).

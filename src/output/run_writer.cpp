@@ -1,4 +1,4 @@
-#include "io/run_writer.h"
+#include "output/run_writer.h"
 
 #include <fmt/format.h>
 
