@@ -3,11 +3,14 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
 #include "commands.h"
+#include "output/results_folder.h"
 #include "robotics/tasks.h"
+#include "run/interrupt.h"
 #include "run/runner.h"
 #include "scene_input.h"
 
@@ -18,6 +21,7 @@ namespace {
 struct RunArguments {
   std::string scene;
   std::string outDir;
+  bool force = false;
   std::optional<double> duration, dt, fps;
   std::string integrator;
   std::string stepMode;
@@ -51,6 +55,8 @@ std::function<void(const RunProgress&)> makeProgress(bool quiet) {
 }
 
 int runCommand(const RunArguments& args) {
+  // From here on SIGINT and SIGTERM end the run cleanly, with its results so far.
+  InterruptGuard interrupt;
   auto scene = loadSceneOrReport(args.scene);
   if (!scene) return kExitBadInput;
 
@@ -86,8 +92,18 @@ int runCommand(const RunArguments& args) {
       args.outDir.empty()
           ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
           : args.outDir;
+  options.force = args.force;
+  if (const std::string problem = outputFolderProblem(options); !problem.empty()) {
+    std::fprintf(stderr,
+                 "robophi run: --out: %s. robophi deletes nothing it did not write: choose "
+                 "another --out or move those away%s; nothing was run or written\n",
+                 problem.c_str(),
+                 args.force ? "" : ", or pass --force to write robophi's files beside them");
+    return kExitBadInput;
+  }
   options.progress = makeProgress(args.quiet);
   options.tasks = {robotics::makeSceneTasks(*scene)};  // the scene's robotics section
+  options.stop = &InterruptGuard::flag();
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
@@ -95,8 +111,15 @@ int runCommand(const RunArguments& args) {
     std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
   }
 
-  const RunReport report = runScene(*scene, options);
+  RunReport report;
+  try {
+    report = runScene(*scene, options);
+  } catch (const output::ResultsFolderError& e) {  // the folder changed during the run
+    std::fprintf(stderr, "robophi run: --out: %s\n", e.what());
+    return kExitBadInput;
+  }
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+
   const std::string steps =
       options.settings.stepMode == StepMode::kAdaptive
           ? fmt::format("{} adaptive steps ({} rejected, dt {:.3g} to {:.3g} s)",
@@ -107,6 +130,15 @@ int runCommand(const RunArguments& args) {
               args.scene.c_str(), report.status.c_str(), steps.c_str(),
               integratorName(options.settings.integrator), report.simulatedTime, report.wallSeconds,
               report.energyDrift, options.outDir.c_str());
+  if (report.interrupted()) {
+    const int caught = InterruptGuard::caughtSignal();
+    std::fprintf(stderr,
+                 "%s: interrupted by %s at t = %.6g s: the results so far are in %s "
+                 "(summary.json \"status\": \"interrupted\")\n",
+                 args.scene.c_str(), caught == SIGTERM ? "SIGTERM" : "SIGINT", report.simulatedTime,
+                 options.outDir.c_str());
+    return exitCodeForSignal(caught == 0 ? SIGINT : caught);
+  }
   if (!report.ok()) {
     std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
     return kExitDiverged;
@@ -120,7 +152,12 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("run", "Simulate a scene and write its results folder");
   auto args = std::make_shared<RunArguments>();
   cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--out", args->outDir, "Results folder (default out/<scene name>)");
+  cmd->add_option("--out", args->outDir,
+                  "Results folder (default out/<scene name>); an existing one must hold nothing "
+                  "but robophi's results (its robophi-results.json lists them)");
+  cmd->add_flag("--force", args->force,
+                "Also write into an --out folder that holds other files: they are kept, only "
+                "robophi's own files are replaced");
   cmd->add_option("--duration", args->duration, "Model time to simulate (s)");
   cmd->add_option("--step", args->stepMode,
                   "adaptive (energy-based, the default) | constant (use --dt)");

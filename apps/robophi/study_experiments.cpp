@@ -221,7 +221,7 @@ std::vector<Experiment> paperExperiments() {
   return list;
 }
 
-ExperimentResult runExperiment(const Experiment& experiment) {
+ExperimentResult runExperiment(const Experiment& experiment, const std::atomic<bool>* stop) {
   ExperimentResult r;
   r.id = experiment.id;
   r.number = experiment.number;
@@ -244,6 +244,7 @@ ExperimentResult runExperiment(const Experiment& experiment) {
   RunOptions options;
   options.settings = scene.run;  // as the scene asks; no outDir: nothing written
   options.tasks = {robotics::makeSceneTasks(scene), probe.betweenSteps};
+  options.stop = stop;
   State last;
   const RunReport report = runScene(scene, options, &last);
   r.status = report.status;

@@ -3,6 +3,7 @@
 // their scene files as `robophi run` plays them, with their outcomes and wall
 // times: `robophi study experiments`.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -49,7 +50,7 @@ std::vector<Experiment> paperExperiments();
 /// The outcome of one experiment.
 struct ExperimentResult {
   std::string id, number, title, scene;
-  /// "ok", "stalled", "diverged" (RunReport::status), "load error", or "not run"
+  /// "ok", "stalled", "diverged", "interrupted" (RunReport::status), "load error", or "not run"
   /// for a note.
   std::string status = "not run";
   std::string failure;
@@ -62,8 +63,10 @@ struct ExperimentResult {
   bool ok() const { return status == "ok" || status == "not run"; }
 };
 
-/// Loads the scene and runs it (nothing written), or returns the note.
-ExperimentResult runExperiment(const Experiment& experiment);
+/// Loads the scene and runs it (nothing written), or returns the note. A set
+/// `stop` flag ends the run early (status "interrupted").
+ExperimentResult runExperiment(const Experiment& experiment,
+                               const std::atomic<bool>* stop = nullptr);
 
 /// The record of one result (bench/results/experiments.json "experiments").
 nlohmann::ordered_json toJson(const ExperimentResult& result);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "output/replay.h"
+#include "output/results_folder.h"
 #include "output/run_reader.h"
 #include "robophi/replay_assets.h"
 
@@ -187,27 +188,19 @@ void appendContacts(std::string& out, const CsvTable& table, const std::vector<s
   out += "]}";
 }
 
-bool writeAtomically(const fs::path& path, const std::string& data, std::string& error) {
-  std::error_code ec;
-  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  const fs::path staging = path.string() + ".partial";
-  {
-    std::ofstream out(staging, std::ios::binary);
-    if (out) {
+// The page (head, data, tail) written whole or not at all; a page written into
+// a robophi run folder is listed in its marker.
+bool writePage(const fs::path& path, const std::string& data, std::string& error) {
+  try {
+    output::writeFileAtomically(path, [&](std::ostream& out) {
       for (std::string_view piece : replay_assets::kPageHead) out << piece;
       out << data;
       for (std::string_view piece : replay_assets::kPageTail) out << piece;
-    }
-    if (!out) {
-      error = fmt::format("{}: cannot write", path.string());
-      fs::remove(staging, ec);
-      return false;
-    }
-  }
-  fs::rename(staging, path, ec);
-  if (ec) {
-    error = fmt::format("{}: cannot write ({})", path.string(), ec.message());
-    fs::remove(staging, ec);
+    });
+    if (path.has_parent_path())
+      output::addToResultsMarker(path.parent_path(), path.filename().string());
+  } catch (const std::exception& e) {
+    error = e.what();
     return false;
   }
   return true;
@@ -300,7 +293,7 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
         outPath.string(), pageBytes, cap, keptFrames.size(), frames.size());
     return false;
   }
-  return writeAtomically(outPath, data, error);
+  return writePage(outPath, data, error);
 }
 
 }  // namespace robophi

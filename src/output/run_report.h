@@ -17,7 +17,8 @@ namespace robophi {
 struct RunReport {
   /// "ok"; "diverged" when a state became NaN or infinite, or the energy grew
   /// over 100 times its initial value (constant step); "stalled" when the
-  /// adaptive step fell below its floor.
+  /// adaptive step fell below its floor; "interrupted" when a stop was requested
+  /// (SIGINT, SIGTERM: RunOptions::stop) before the end: the results so far.
   std::string status = "ok";
   /// For a diverged or stalled run: which particle, when.
   std::string failure;
@@ -41,6 +42,7 @@ struct RunReport {
   /// verdict), in order; written to summary.json as "events".
   std::vector<std::string> events;
   bool ok() const { return status == "ok"; }
+  bool interrupted() const { return status == "interrupted"; }
 };
 
 }  // namespace robophi

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "output/results_folder.h"
 #include "output/run_reader.h"
 
 namespace robophi {
@@ -142,8 +143,25 @@ bool writeVtkSeries(const std::string& runDir, const std::string& outDir, std::s
                         (fs::path(runDir) / "particles.csv").string());
     return false;
   }
+  // A results folder of robophi's own (docs/output-format.md): a previous
+  // export's files are replaced; anything else in the folder stops the export.
+  std::vector<std::string> files;
+  for (std::size_t k = 0; k < run.frameCount(); ++k) files.push_back(frameFileName(k));
+  files.push_back("run.pvd");
+  const std::string problem = output::resultsFolderProblem(outDir, "vtk", /*force=*/false, files);
+  if (!problem.empty()) {
+    error = problem + ": choose another output folder, or move those away";
+    return false;
+  }
   std::error_code ec;
-  fs::create_directories(outDir, ec);
+  try {
+    output::removeOwnedEntries(outDir, /*removeFolder=*/false);
+    fs::create_directories(outDir, ec);
+    if (!ec) output::writeResultsMarker(outDir, "vtk", files);
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
   if (ec) {
     error = fmt::format("{}: cannot create the folder ({})", outDir, ec.message());
     return false;

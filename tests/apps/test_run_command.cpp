@@ -1,0 +1,188 @@
+// `robophi run` as a user runs it: a results folder that is not robophi's is
+// refused (exit 2) and kept, --force writes beside it, SIGINT and SIGTERM end a
+// run with a whole folder marked interrupted.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "output/results_folder.h"
+#include "output/run_reader.h"
+#include "test_files.h"
+
+namespace robophi {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::readText;
+using testing::writeText;
+
+const std::string kScenes = ROBOPHI_SOURCE_DIR "/scenes/";
+
+struct Outcome {
+  int exitCode = -1;
+  std::string errors;  // what it wrote to stderr
+};
+
+class RunCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device seed;
+    root_ = fs::temp_directory_path() / ("robophi_run_command_" + std::to_string(seed()));
+    fs::create_directories(root_);
+    out_ = root_ / "out";
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // `robophi run <args>`, to its end.
+  Outcome run(const std::string& args) const {
+    const fs::path errors = root_ / "stderr.txt";
+    const std::string command =
+        std::string(ROBOPHI_BINARY) + " run " + args + " > /dev/null 2> " + errors.string();
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(errors)};
+  }
+
+  // `robophi run <args>` started in the background, its stderr to `errors`.
+  pid_t spawn(const std::vector<std::string>& args, const fs::path& errors) const {
+    std::vector<std::string> words = {ROBOPHI_BINARY, "run"};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      // As from a terminal: the signals delivered, not blocked or ignored.
+      sigset_t signals;
+      sigemptyset(&signals);
+      sigaddset(&signals, SIGINT);
+      sigaddset(&signals, SIGTERM);
+      sigprocmask(SIG_UNBLOCK, &signals, nullptr);
+      const int err = open(errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(err, STDERR_FILENO);
+      dup2(null, STDOUT_FILENO);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    return pid;
+  }
+
+  // Waits for `pid` (at most a minute, then kills it); `poke` is called every
+  // 5 ms meanwhile. Returns its exit code, or -1 if a signal ended it.
+  static int wait(pid_t pid, const std::function<void()>& poke = {}) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    int status = 0;
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        ADD_FAILURE() << "robophi run did not end within a minute";
+        return -1;
+      }
+      if (poke) poke();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  nlohmann::json summary() const { return nlohmann::json::parse(readText(out_ / "summary.json")); }
+
+  // The folder is whole: every file parses, the marker lists them, no staging left.
+  void expectWholeInterruptedFolder() const {
+    EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+    ASSERT_TRUE(fs::exists(out_ / "summary.json"));
+    const nlohmann::json s = summary();
+    EXPECT_EQ(s["status"], "interrupted");
+    EXPECT_GT(s["steps"].get<int>(), 0);
+    EXPECT_LT(s["simulated_time_s"].get<double>(), s["duration_s"].get<double>());
+    output::RunFolder folder;
+    std::string error;
+    EXPECT_TRUE(output::readRunFolder(out_.string(), /*needEnergy=*/true, folder, error)) << error;
+    EXPECT_GT(folder.frameCount(), 1u);
+    EXPECT_TRUE(folder.hasJoints && folder.hasContacts);
+    const output::FolderContents contents = output::inspectResultsFolder(out_);
+    EXPECT_TRUE(contents.marked);
+    EXPECT_TRUE(contents.foreign.empty());
+  }
+
+  fs::path root_, out_;
+};
+
+TEST_F(RunCommandTest, AFolderWithAForeignFileIsRefusedWithExit2AndKept) {
+  fs::create_directories(out_);
+  writeText(out_ / "notes.txt", "mine");
+  const Outcome o = run(kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string());
+  EXPECT_EQ(o.exitCode, 2) << o.errors;
+  EXPECT_NE(o.errors.find(out_.string()), std::string::npos) << o.errors;
+  EXPECT_NE(o.errors.find("notes.txt"), std::string::npos) << o.errors;
+  EXPECT_NE(o.errors.find("--force"), std::string::npos) << o.errors;
+  EXPECT_EQ(readText(out_ / "notes.txt"), "mine");
+  EXPECT_FALSE(fs::exists(out_ / "summary.json"));
+  EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+}
+
+TEST_F(RunCommandTest, ForceWritesBesideForeignFilesAndAPreviousResultIsReplaced) {
+  const std::string args = kScenes + "pendulum.json --quiet --out " + out_.string();
+  ASSERT_EQ(run(args + " --duration 0.05").exitCode, 0);
+  ASSERT_EQ(run(args + " --duration 0.05").exitCode, 0);  // a previous result: replaced
+  writeText(out_ / "notes.txt", "mine");
+  EXPECT_EQ(run(args + " --duration 0.05").exitCode, 2);
+  const Outcome forced = run(args + " --force --duration 0.02");
+  EXPECT_EQ(forced.exitCode, 0) << forced.errors;
+  EXPECT_EQ(readText(out_ / "notes.txt"), "mine");
+  EXPECT_DOUBLE_EQ(summary()["duration_s"].get<double>(), 0.02);
+  // Even --force does not replace a foreign file that has a result's name.
+  fs::remove_all(out_);
+  fs::create_directories(out_);
+  writeText(out_ / "energy.csv", "mine");
+  const Outcome clash = run(args + " --force --duration 0.02");
+  EXPECT_EQ(clash.exitCode, 2);
+  EXPECT_NE(clash.errors.find("energy.csv"), std::string::npos) << clash.errors;
+  EXPECT_EQ(readText(out_ / "energy.csv"), "mine");
+}
+
+// hand_grasp runs 50 s of model time in about 2 s here; 500 s keeps it running
+// well past the signal on a faster machine.
+const std::vector<std::string> kLongRun = {kScenes + "hand_grasp.json", "--duration", "500",
+                                           "--quiet"};
+
+TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) {
+  std::vector<std::string> args = kLongRun;
+  args.insert(args.end(), {"--out", out_.string()});
+  const fs::path errors = root_ / "stderr.txt";
+  const pid_t pid = spawn(args, errors);
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  kill(pid, SIGINT);
+  EXPECT_EQ(wait(pid), 130) << readText(errors);
+  EXPECT_NE(readText(errors).find("interrupted by SIGINT"), std::string::npos) << readText(errors);
+  expectWholeInterruptedFolder();
+  EXPECT_FALSE(fs::exists(out_ / "replay.html"));  // made later by robophi export html
+}
+
+TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) {
+  std::vector<std::string> args = kLongRun;
+  args.insert(args.end(), {"--out", out_.string()});
+  const fs::path errors = root_ / "stderr.txt";
+  const pid_t pid = spawn(args, errors);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGTERM);
+  // Late signals, while it writes its results: they must not cut them short.
+  // (SIGTERM again: a pending SIGINT would be delivered before the first SIGTERM.)
+  EXPECT_EQ(wait(pid, [&] { kill(pid, SIGTERM); }), 143) << readText(errors);
+  EXPECT_NE(readText(errors).find("interrupted by SIGTERM"), std::string::npos) << readText(errors);
+  expectWholeInterruptedFolder();
+}
+
+}  // namespace
+}  // namespace robophi
