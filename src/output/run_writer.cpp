@@ -183,7 +183,11 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
                      {"largest_dt_s", a.largestStep},
                      {"mean_dt_s", a.meanStep()},
                      {"final_energy_error", a.lastEnergyError},
-                     {"energy_tolerance", settings.adaptive.energyTolerance}};
+                     // the settings in use (scene run.adaptive, command line)
+                     {"energy_tolerance", settings.adaptive.energyTolerance},
+                     {"min_step_s", settings.adaptive.minStep},
+                     {"max_step_s", settings.adaptive.maxStep},
+                     {"max_penetration_fraction", settings.adaptive.maxPenetrationFraction}};
   }
   s["duration_s"] = settings.duration;  // asked for; simulated_time_s is how far it got
   s["simulated_time_s"] = report.simulatedTime;

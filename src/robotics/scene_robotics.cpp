@@ -252,8 +252,8 @@ void readLimit(io::DiagnosticSink& sink, const nlohmann::json& entry, const std:
   if (!name || !min || !max || !stiffness) return;
   // By name here: robotics::findJoint belongs to the application layer above.
   const std::vector<Joint>& joints = scene.model.joints;
-  const auto joint = std::find_if(joints.begin(), joints.end(),
-                                  [&](const Joint& j) { return j.name == *name; });
+  const auto joint =
+      std::find_if(joints.begin(), joints.end(), [&](const Joint& j) { return j.name == *name; });
   if (joint == joints.end()) {
     sink.error(r.memberPointer("joint"), fmt::format("no joint named '{}'", *name));
     return;

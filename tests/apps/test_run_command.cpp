@@ -1,6 +1,7 @@
 // `robophi run` as a user runs it: a results folder that is not robophi's is
 // refused (exit 2) and kept, --force writes beside it, SIGINT and SIGTERM end a
-// run with a whole folder marked interrupted.
+// run with a whole folder marked interrupted, and the adaptive step's options
+// are checked and used.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -182,6 +183,63 @@ TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) 
   EXPECT_EQ(wait(pid, [&] { kill(pid, SIGTERM); }), 143) << readText(errors);
   EXPECT_NE(readText(errors).find("interrupted by SIGTERM"), std::string::npos) << readText(errors);
   expectWholeInterruptedFolder();
+}
+
+TEST_F(RunCommandTest, TheAdaptiveStepsOptionsAreUsedAndRecorded) {
+  const Outcome o = run(kScenes +
+                        "pendulum.json --quiet --duration 0.2 --tolerance 1e-7 "
+                        "--min-step 1e-9 --max-step 2e-4 --max-penetration 0.05 --out " +
+                        out_.string());
+  ASSERT_EQ(o.exitCode, 0) << o.errors;
+  const nlohmann::json adaptive = summary()["adaptive"];
+  EXPECT_EQ(adaptive["energy_tolerance"].get<double>(), 1e-7);
+  EXPECT_EQ(adaptive["min_step_s"].get<double>(), 1e-9);
+  EXPECT_EQ(adaptive["max_step_s"].get<double>(), 2e-4);
+  EXPECT_EQ(adaptive["max_penetration_fraction"].get<double>(), 0.05);
+  EXPECT_LE(adaptive["largest_dt_s"].get<double>(), 2e-4);
+}
+
+TEST_F(RunCommandTest, BadNumbersAreBadInputWithAClearMessage) {
+  const std::string base = kScenes + "pendulum.json --quiet --out " + out_.string();
+  for (const std::string bad :
+       {"--tolerance abc", "--tolerance 0", "--min-step -1e-9", "--max-step inf",
+        "--max-penetration nan", "--dt 1e-3x", "--duration=-1"}) {
+    const Outcome o = run(base + " " + bad);
+    EXPECT_EQ(o.exitCode, 2) << bad << ": " << o.errors;
+    const std::string option = bad.substr(0, bad.find_first_of(" ="));
+    EXPECT_NE(o.errors.find(option), std::string::npos) << bad << ": " << o.errors;
+    EXPECT_NE(o.errors.find("expected a positive number"), std::string::npos) << o.errors;
+  }
+  const Outcome crossed = run(base + " --min-step 1e-2 --max-step 1e-3");
+  EXPECT_EQ(crossed.exitCode, 2);
+  EXPECT_NE(crossed.errors.find("--min-step"), std::string::npos) << crossed.errors;
+  EXPECT_EQ(run(base + " --no-such-option").exitCode, 2);  // not CLI11's own 109
+  EXPECT_FALSE(fs::exists(out_));
+}
+
+TEST_F(RunCommandTest, HelpGivesTheAdaptiveOptionsWithTheirUnits) {
+  const fs::path help = root_ / "help.txt";
+  ASSERT_EQ(std::system((std::string(ROBOPHI_BINARY) + " run --help > " + help.string()).c_str()),
+            0);
+  const std::string text = readText(help);
+  for (const char* part : {"--tolerance", "(-; energyTolerance", "--min-step", "(s; minStep",
+                           "--max-step", "(s; maxStep", "--max-penetration",
+                           "(-; maxPenetrationFraction", "--force", "never a stiffness"})
+    EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+}
+
+// --dt is the step only: the model, its stiffness and so its highest frequency
+// are the scene's whatever --dt says.
+TEST_F(RunCommandTest, DtChangesTheStepNotTheStiffness) {
+  std::vector<double> omega;
+  for (const char* dt : {"1e-4", "2e-5"}) {
+    const Outcome o = run(kScenes + "default.json --quiet --step constant --duration 0.001 --dt " +
+                          dt + " --out " + out_.string());
+    ASSERT_EQ(o.exitCode, 0) << o.errors;
+    EXPECT_EQ(summary()["dt_s"].get<double>(), std::stod(dt));
+    omega.push_back(summary()["omega_max_rad_s"].get<double>());
+  }
+  EXPECT_EQ(omega[0], omega[1]);
 }
 
 }  // namespace
