@@ -210,12 +210,7 @@ bool writePage(const fs::path& path, const std::string& data, std::string& error
 
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {
   RunFolder run;
-  if (!output::readRunFolder(runDir, /*needEnergy=*/true, run, error)) return false;
-  if (run.frameCount() == 0) {
-    error = fmt::format("{}: no frames (only a header line)",
-                        (fs::path(runDir) / "particles.csv").string());
-    return false;
-  }
+  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/true, run, error)) return false;
   const fs::path outPath =
       options.outputPath.empty() ? fs::path(runDir) / "replay.html" : fs::path(options.outputPath);
 

@@ -137,12 +137,7 @@ bool writeText(const fs::path& path, const std::string& text, std::string& error
 
 bool writeVtkSeries(const std::string& runDir, const std::string& outDir, std::string& error) {
   RunFolder run;
-  if (!output::readRunFolder(runDir, /*needEnergy=*/false, run, error)) return false;
-  if (run.frameCount() == 0) {
-    error = fmt::format("{}: no frames (only a header line)",
-                        (fs::path(runDir) / "particles.csv").string());
-    return false;
-  }
+  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/false, run, error)) return false;
   // A results folder of robophi's own (docs/output-format.md): a previous
   // export's files are replaced; anything else in the folder stops the export.
   std::vector<std::string> files;

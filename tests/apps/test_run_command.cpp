@@ -12,7 +12,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -38,9 +37,7 @@ struct Outcome {
 class RunCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::random_device seed;
-    root_ = fs::temp_directory_path() / ("robophi_run_command_" + std::to_string(seed()));
-    fs::create_directories(root_);
+    root_ = testing::makeTempFolder("robophi_run_command_");
     out_ = root_ / "out";
   }
   void TearDown() override { fs::remove_all(root_); }
@@ -95,6 +92,22 @@ class RunCommandTest : public ::testing::Test {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // hand_grasp into out_ (it runs 50 s of model time in about 2 s here; 500 s
+  // keeps it running well past the signal on a faster machine), sent `signal`
+  // after `delay`; with `keepSignalling` the same signal again every 5 ms until
+  // it ends: late signals, while it writes its results. (The same signal: a
+  // pending SIGINT would be delivered before a first SIGTERM.)
+  Outcome interruptLongRun(std::chrono::milliseconds delay, int signal, bool keepSignalling) {
+    const fs::path errors = root_ / "stderr.txt";
+    const pid_t pid =
+        spawn({kScenes + "hand_grasp.json", "--duration", "500", "--quiet", "--out", out_.string()},
+              errors);
+    std::this_thread::sleep_for(delay);
+    kill(pid, signal);
+    const int exitCode = keepSignalling ? wait(pid, [&] { kill(pid, signal); }) : wait(pid);
+    return {exitCode, readText(errors)};
   }
 
   nlohmann::json summary() const { return nlohmann::json::parse(readText(out_ / "summary.json")); }
@@ -153,35 +166,19 @@ TEST_F(RunCommandTest, ForceWritesBesideForeignFilesAndAPreviousResultIsReplaced
   EXPECT_EQ(readText(out_ / "energy.csv"), "mine");
 }
 
-// hand_grasp runs 50 s of model time in about 2 s here; 500 s keeps it running
-// well past the signal on a faster machine.
-const std::vector<std::string> kLongRun = {kScenes + "hand_grasp.json", "--duration", "500",
-                                           "--quiet"};
-
 TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) {
-  std::vector<std::string> args = kLongRun;
-  args.insert(args.end(), {"--out", out_.string()});
-  const fs::path errors = root_ / "stderr.txt";
-  const pid_t pid = spawn(args, errors);
-  std::this_thread::sleep_for(std::chrono::seconds(1));
-  kill(pid, SIGINT);
-  EXPECT_EQ(wait(pid), 130) << readText(errors);
-  EXPECT_NE(readText(errors).find("interrupted by SIGINT"), std::string::npos) << readText(errors);
+  const Outcome o = interruptLongRun(std::chrono::seconds(1), SIGINT, /*keepSignalling=*/false);
+  EXPECT_EQ(o.exitCode, 130) << o.errors;
+  EXPECT_NE(o.errors.find("interrupted by SIGINT"), std::string::npos) << o.errors;
   expectWholeInterruptedFolder();
   EXPECT_FALSE(fs::exists(out_ / "replay.html"));  // made later by robophi export html
 }
 
 TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) {
-  std::vector<std::string> args = kLongRun;
-  args.insert(args.end(), {"--out", out_.string()});
-  const fs::path errors = root_ / "stderr.txt";
-  const pid_t pid = spawn(args, errors);
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(pid, SIGTERM);
-  // Late signals, while it writes its results: they must not cut them short.
-  // (SIGTERM again: a pending SIGINT would be delivered before the first SIGTERM.)
-  EXPECT_EQ(wait(pid, [&] { kill(pid, SIGTERM); }), 143) << readText(errors);
-  EXPECT_NE(readText(errors).find("interrupted by SIGTERM"), std::string::npos) << readText(errors);
+  const Outcome o =
+      interruptLongRun(std::chrono::milliseconds(500), SIGTERM, /*keepSignalling=*/true);
+  EXPECT_EQ(o.exitCode, 143) << o.errors;
+  EXPECT_NE(o.errors.find("interrupted by SIGTERM"), std::string::npos) << o.errors;
   expectWholeInterruptedFolder();
 }
 

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <string>
 
 #include "output/results_folder.h"
@@ -30,9 +29,7 @@ using testing::writeText;
 class ResultsFolderTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::random_device seed;
-    root_ = fs::temp_directory_path() / ("robophi_results_test_" + std::to_string(seed()));
-    fs::create_directories(root_);
+    root_ = testing::makeTempFolder("robophi_results_test_");
     out_ = root_ / "out";
     const SceneLoadResult loaded = loadSceneFile(ROBOPHI_SOURCE_DIR "/scenes/pendulum.json");
     ASSERT_TRUE(loaded.ok());
