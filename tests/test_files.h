@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -14,6 +15,14 @@ inline std::string readText(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+/// A new folder under the system's temporary folder, `prefix` and a random number.
+inline std::filesystem::path makeTempFolder(const std::string& prefix) {
+  std::random_device seed;
+  const auto dir = std::filesystem::temp_directory_path() / (prefix + std::to_string(seed()));
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 /// Writes `text` to a file, replacing it.

@@ -5,7 +5,7 @@ The page is one HTML file that opens from disk with no server and no network, so
 three.js and OrbitControls travel inside it: each becomes a data: URL in an import
 map, and the module that imported "./three.core.min.js" imports "three/core"
 instead. The viewer's own CSS and JS are inlined as they are. What is left for the
-C++ writer (src/io/replay_html.cpp) is the run data, between kPageHead and kPageTail.
+C++ writer (src/output/replay_html.cpp) is the run data, between kPageHead and kPageTail.
 """
 
 import argparse

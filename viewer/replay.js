@@ -1,6 +1,6 @@
 // robophi replay viewer (docs/viewer.md). Inlined into replay.html at build time.
 //
-// The run data is the JSON in <script id="robophi-data"> (src/io/replay_html.cpp
+// The run data is the JSON in <script id="robophi-data"> (src/output/replay_html.cpp
 // writes it). The page works in three layers, so that a browser without WebGL
 // still shows the data: (1) data, time and plots; (2) the three.js scene graph;
 // (3) the WebGL renderer, drawn when available.

@@ -12,9 +12,11 @@
 #include "bench_pile.h"
 #include "bench_scenes.h"
 #include "commands.h"
+#include "output/results_folder.h"
 #include "record.h"
 #include "robophi/adaptive_step.h"
 #include "robophi/version.h"
+#include "run/interrupt.h"
 
 namespace robophi::cli {
 
@@ -57,6 +59,10 @@ BenchResult runBench(const BenchScene& bench) {
   AdaptiveStepper stepper(scene.model, controller);
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
+    if (InterruptGuard::flag().load(std::memory_order_relaxed)) {
+      r.status = "interrupted";
+      break;
+    }
     if (bench.adaptive) {
       const AdaptiveStepResult a = stepper.advance(world, scene.run.duration - world.state().time);
       if (!a.ok) {
@@ -102,10 +108,16 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
 int benchCommand(const BenchArguments& args) {
   // SCALING: contact detection cost from 1e3 to 1e6 particles (bench_pile.cpp).
   if (args.filter.find("SCALING") != std::string::npos) return runContactScaling(args.json);
+  // SIGINT, SIGTERM: the scene in progress stops, nothing is recorded.
+  InterruptGuard interrupt;
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   for (const BenchScene& bench : standardBenchScenes(args.quick)) {
     if (!args.filter.empty() && bench.name.find(args.filter) == std::string::npos) continue;
     const BenchResult r = runBench(bench);
+    if (InterruptGuard::flag()) {
+      std::fprintf(stderr, "robophi bench: interrupted: nothing recorded\n");
+      return exitCodeForSignal(InterruptGuard::caughtSignal());
+    }
     all.push_back(toJson(r));
     if (!args.json) {
       std::printf(
@@ -141,7 +153,6 @@ int benchCommand(const BenchArguments& args) {
   if (args.json) std::printf("%s\n", doc.dump(2).c_str());
   // A filtered run replaces only its own scenes' results in the record.
   if (!args.record.empty() && !args.quick) {
-    std::filesystem::create_directories(args.record);
     const auto path = std::filesystem::path(args.record) / "latest.json";
     if (!args.filter.empty()) {
       std::ifstream in(path);
@@ -157,7 +168,8 @@ int benchCommand(const BenchArguments& args) {
         doc["results"] = merged;
       }
     }
-    std::ofstream(path) << doc.dump(2) << '\n';
+    // Only latest.json under --record, replaced whole or not at all.
+    output::writeFileAtomically(path, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
     if (!args.json) std::printf("recorded in %s\n", path.string().c_str());
   }
   for (const auto& r : all) {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "commands.h"
-#include "robophi/replay.h"
-#include "robophi/vtk_export.h"
+#include "output/replay.h"
+#include "output/vtk_export.h"
 
 namespace robophi::cli {
 

@@ -2,12 +2,17 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
 #include "commands.h"
-#include "robophi/runner.h"
+#include "output/results_folder.h"
+#include "robotics/tasks.h"
+#include "run/interrupt.h"
+#include "run/runner.h"
 #include "scene_input.h"
 
 namespace robophi::cli {
@@ -17,12 +22,37 @@ namespace {
 struct RunArguments {
   std::string scene;
   std::string outDir;
-  std::optional<double> duration, dt, fps;
+  bool force = false;
+  // Numbers as typed, checked by positiveNumber (a clear message, exit 2).
+  std::optional<std::string> duration, dt, fps, energyRate;
+  std::optional<std::string> tolerance, minStep, maxStep, maxPenetration;
   std::string integrator;
   std::string stepMode;
-  double energyRate = 1000.0;
   bool quiet = false;
 };
+
+// `text` as a positive finite number, or a message on stderr and nullopt.
+std::optional<double> positiveNumber(const char* option, const std::string& text,
+                                     const char* meaning) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || !(value > 0.0) || !std::isfinite(value)) {
+    std::fprintf(stderr, "robophi run: %s '%s': expected a positive number (%s)\n", option,
+                 text.c_str(), meaning);
+    return std::nullopt;
+  }
+  return value;
+}
+
+// Sets `target` from an option when it was given; false after a bad value.
+bool setFromOption(const char* option, const std::optional<std::string>& text, const char* meaning,
+                   double& target) {
+  if (!text) return true;
+  const auto value = positiveNumber(option, *text, meaning);
+  if (value) target = *value;
+  return value.has_value();
+}
 
 // A progress bar on a terminal; otherwise a status line every 10 s of wall time.
 std::function<void(const RunProgress&)> makeProgress(bool quiet) {
@@ -50,14 +80,38 @@ std::function<void(const RunProgress&)> makeProgress(bool quiet) {
 }
 
 int runCommand(const RunArguments& args) {
+  // From here on SIGINT and SIGTERM end the run cleanly, with its results so far.
+  InterruptGuard interrupt;
   auto scene = loadSceneOrReport(args.scene);
   if (!scene) return kExitBadInput;
 
   RunOptions options;
   options.settings = scene->run;
-  if (args.duration) options.settings.duration = *args.duration;
-  if (args.dt) options.settings.dt = *args.dt;
-  if (args.fps) options.settings.fps = *args.fps;
+  // The command line overrides the scene's run settings (the model is built:
+  // --dt is the step only, it changes no stiffness).
+  RunSettings& run = options.settings;
+  AdaptiveStepSettings& adaptive = run.adaptive;
+  const bool numbersOk =
+      setFromOption("--duration", args.duration, "model time to simulate, s", run.duration) &&
+      setFromOption("--dt", args.dt, "step, s", run.dt) &&
+      setFromOption("--fps", args.fps, "frames per model second", run.fps) &&
+      setFromOption("--energy-rate", args.energyRate, "energy rows per model second",
+                    options.energyRate) &&
+      setFromOption("--tolerance", args.tolerance, "adaptive step's energy tolerance, -",
+                    adaptive.energyTolerance) &&
+      setFromOption("--min-step", args.minStep, "adaptive step's floor, s", adaptive.minStep) &&
+      setFromOption("--max-step", args.maxStep, "adaptive step's ceiling, s", adaptive.maxStep) &&
+      setFromOption("--max-penetration", args.maxPenetration,
+                    "penetration growth per step, fraction of the radius, -",
+                    adaptive.maxPenetrationFraction);
+  if (!numbersOk) return kExitBadInput;
+  if (adaptive.minStep > adaptive.maxStep) {
+    std::fprintf(stderr,
+                 "robophi run: the adaptive step's floor %g s (--min-step, run.adaptive.minStep) "
+                 "is above its ceiling %g s (--max-step, run.adaptive.maxStep)\n",
+                 adaptive.minStep, adaptive.maxStep);
+    return kExitBadInput;
+  }
   if (!args.integrator.empty() && !parseIntegrator(args.integrator, options.settings.integrator)) {
     std::fprintf(stderr, "robophi run: --integrator '%s': expected taylor, symplectic or verlet\n",
                  args.integrator.c_str());
@@ -72,20 +126,22 @@ int runCommand(const RunArguments& args) {
                  args.stepMode.c_str());
     return kExitBadInput;
   }
-  for (auto [name, value] :
-       {std::pair{"--duration", options.settings.duration}, std::pair{"--dt", options.settings.dt},
-        std::pair{"--fps", options.settings.fps}, std::pair{"--energy-rate", args.energyRate}}) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-      std::fprintf(stderr, "robophi run: %s %g: expected a positive number\n", name, value);
-      return kExitBadInput;
-    }
-  }
-  options.energyRate = args.energyRate;
   options.outDir =
       args.outDir.empty()
           ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
           : args.outDir;
+  options.force = args.force;
+  if (const std::string problem = outputFolderProblem(options); !problem.empty()) {
+    std::fprintf(stderr,
+                 "robophi run: --out: %s. robophi deletes nothing it did not write: choose "
+                 "another --out or move those away%s; nothing was run or written\n",
+                 problem.c_str(),
+                 args.force ? "" : ", or pass --force to write robophi's files beside them");
+    return kExitBadInput;
+  }
   options.progress = makeProgress(args.quiet);
+  options.tasks = {robotics::makeSceneTasks(*scene)};  // the scene's robotics section
+  options.stop = &InterruptGuard::flag();
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
@@ -93,7 +149,13 @@ int runCommand(const RunArguments& args) {
     std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
   }
 
-  const RunReport report = runScene(*scene, options);
+  RunReport report;
+  try {
+    report = runScene(*scene, options);
+  } catch (const output::ResultsFolderError& e) {  // the folder changed during the run
+    std::fprintf(stderr, "robophi run: --out: %s\n", e.what());
+    return kExitBadInput;
+  }
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
   const std::string steps =
       options.settings.stepMode == StepMode::kAdaptive
@@ -105,6 +167,15 @@ int runCommand(const RunArguments& args) {
               args.scene.c_str(), report.status.c_str(), steps.c_str(),
               integratorName(options.settings.integrator), report.simulatedTime, report.wallSeconds,
               report.energyDrift, options.outDir.c_str());
+  if (report.interrupted()) {
+    const int caught = InterruptGuard::caughtSignal();
+    std::fprintf(stderr,
+                 "%s: interrupted by %s at t = %.6g s: the results so far are in %s "
+                 "(summary.json \"status\": \"interrupted\")\n",
+                 args.scene.c_str(), caught == SIGTERM ? "SIGTERM" : "SIGINT", report.simulatedTime,
+                 options.outDir.c_str());
+    return exitCodeForSignal(caught == 0 ? SIGINT : caught);
+  }
   if (!report.ok()) {
     std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
     return kExitDiverged;
@@ -118,14 +189,51 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("run", "Simulate a scene and write its results folder");
   auto args = std::make_shared<RunArguments>();
   cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--out", args->outDir, "Results folder (default out/<scene name>)");
-  cmd->add_option("--duration", args->duration, "Model time to simulate (s)");
+  cmd->add_option("--out", args->outDir,
+                  "Results folder (default out/<scene name>); an existing one must hold nothing "
+                  "but robophi's results (its robophi-results.json lists them)");
+  cmd->add_flag("--force", args->force,
+                "Also write into an --out folder that holds other files: they are kept, only "
+                "robophi's own files are replaced");
+  cmd->add_option("--duration", args->duration, "Model time to simulate (s)")->type_name("NUMBER");
   cmd->add_option("--step", args->stepMode,
                   "adaptive (energy-based, the default) | constant (use --dt)");
-  cmd->add_option("--dt", args->dt, "Constant time step, or the first adaptive trial step (s)");
+  cmd->add_option("--dt", args->dt,
+                  "Constant time step, or the first adaptive trial step (s); the step only, "
+                  "never a stiffness")
+      ->type_name("NUMBER");
   cmd->add_option("--integrator", args->integrator, "taylor | symplectic | verlet");
-  cmd->add_option("--fps", args->fps, "Frames per model second in particles.csv (default 60)");
-  cmd->add_option("--energy-rate", args->energyRate, "Rows of energy.csv per model second");
+  cmd->add_option("--fps", args->fps, "Frames per model second in particles.csv (default 60)")
+      ->type_name("NUMBER");
+  cmd->add_option("--energy-rate", args->energyRate,
+                  "Rows of energy.csv per model second (default 1000)")
+      ->type_name("NUMBER");
+  // The adaptive step's settings (AdaptiveStepSettings), over the scene's run.adaptive.
+  const AdaptiveStepSettings defaults;
+  const std::string group =
+      "Adaptive step (docs/adaptive-step.md; each overrides the scene's run.adaptive key)";
+  cmd->add_option("--tolerance", args->tolerance,
+                  fmt::format("Accepted energy error per step, relative to the energy scale (-; "
+                              "energyTolerance, default {:g})",
+                              defaults.energyTolerance))
+      ->group(group)
+      ->type_name("NUMBER");
+  cmd->add_option("--min-step", args->minStep,
+                  fmt::format("Smallest step (s; minStep, default {:g}): below it the run stops "
+                              "as stalled",
+                              defaults.minStep))
+      ->group(group)
+      ->type_name("NUMBER");
+  cmd->add_option("--max-step", args->maxStep,
+                  fmt::format("Largest step (s; maxStep, default {:g})", defaults.maxStep))
+      ->group(group)
+      ->type_name("NUMBER");
+  cmd->add_option("--max-penetration", args->maxPenetration,
+                  fmt::format("Largest growth of the deepest contact in one step, as a fraction "
+                              "of the smaller radius (-; maxPenetrationFraction, default {:g})",
+                              defaults.maxPenetrationFraction))
+      ->group(group)
+      ->type_name("NUMBER");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress display");
   cmd->callback([args, &exitCode] { exitCode = runCommand(*args); });
 }

@@ -9,8 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "output/results_folder.h"
 #include "record.h"
 #include "robophi/version.h"
+#include "run/interrupt.h"
 #include "study_ats.h"
 #include "study_experiments.h"
 
@@ -40,12 +42,21 @@ std::string markdownTable(const std::vector<StudyRow>& rows) {
   return md;
 }
 
+// After SIGINT or SIGTERM: nothing is written, the previous files stay as they were.
+int interruptedExit(const char* command) {
+  std::fprintf(stderr, "robophi %s: interrupted: nothing written, the previous files are kept\n",
+               command);
+  return exitCodeForSignal(InterruptGuard::caughtSignal());
+}
+
 int studyCommand(const StudyArguments& args) {
+  InterruptGuard interrupt;
   std::vector<StudyRow> rows;
   for (const StudyCase& c : atsStudyCases()) {
     if (!args.filter.empty() && c.name.find(args.filter) == std::string::npos) continue;
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());
     rows.push_back(runStudyCase(c, args.maxCtsSteps));
+    if (InterruptGuard::flag()) return interruptedExit("study ats");
     const StudyRow& r = rows.back();
     std::printf(
         "%-40s ATS %7lld steps (%lld rejected) error %.3g | CTS dt %.3g %9lld steps "
@@ -56,27 +67,31 @@ int studyCommand(const StudyArguments& args) {
     std::fflush(stdout);
   }
   if (args.out.empty()) return kExitOk;
-  std::filesystem::create_directories(args.out);
+  // Only these two files under --out, each replaced whole or not at all.
   const auto mdPath = std::filesystem::path(args.out) / "ats-study.md";
   const auto csvPath = std::filesystem::path(args.out) / "ats-study.csv";
-  std::ofstream md(mdPath);
-  md << "# ATS against CTS, measured\n\n"
-        "Written by `robophi study ats` (apps/robophi/study_ats.cpp). ATS runs with the default\n"
-        "settings (docs/adaptive-step.md), velocity Verlet; CTS runs velocity Verlet at the\n"
-        "largest constant step whose error is no larger than ATS's (halving, then bisection).\n"
-        "`>` marks a CTS that did not reach the ATS error within its step budget. The cost\n"
-        "per step compares wall time per ATS trial step (accepted or rejected) with wall time\n"
-        "per CTS step; on one-particle cases it is dominated by fixed per-step overheads.\n\n"
-     << markdownTable(rows);
-  std::ofstream csv(csvPath);
-  csv << "case,error_measure,ats_steps,ats_rejected,ats_error,ats_wall_s,ats_mean_dt_s,cts_dt_s,"
-         "cts_steps,cts_error,cts_wall_s,cts_budget_exhausted,step_ratio,cost_per_step_ratio\n";
-  for (const StudyRow& r : rows) {
-    csv << fmt::format("\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{}\n", r.caseName,
-                       r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error, r.ats.wallSeconds,
-                       r.ats.dt, r.cts.dt, r.cts.steps, r.cts.error, r.cts.wallSeconds,
-                       r.ctsBudgetExhausted ? 1 : 0, r.stepRatio, r.costPerStepRatio);
-  }
+  output::writeFileAtomically(mdPath, [&](std::ostream& md) {
+    md << "# ATS against CTS, measured\n\n"
+          "Written by `robophi study ats` (apps/robophi/study_ats.cpp). ATS runs with the default\n"
+          "settings (docs/adaptive-step.md), velocity Verlet; CTS runs velocity Verlet at the\n"
+          "largest constant step whose error is no larger than ATS's (halving, then bisection).\n"
+          "`>` marks a CTS that did not reach the ATS error within its step budget. The cost\n"
+          "per step compares wall time per ATS trial step (accepted or rejected) with wall time\n"
+          "per CTS step; on one-particle cases it is dominated by fixed per-step overheads.\n\n"
+       << markdownTable(rows);
+  });
+  output::writeFileAtomically(csvPath, [&](std::ostream& csv) {
+    csv << "case,error_measure,ats_steps,ats_rejected,ats_error,ats_wall_s,ats_mean_dt_s,"
+           "cts_dt_s,cts_steps,cts_error,cts_wall_s,cts_budget_exhausted,step_ratio,"
+           "cost_per_step_ratio\n";
+    for (const StudyRow& r : rows) {
+      csv << fmt::format("\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{}\n", r.caseName,
+                         r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error,
+                         r.ats.wallSeconds, r.ats.dt, r.cts.dt, r.cts.steps, r.cts.error,
+                         r.cts.wallSeconds, r.ctsBudgetExhausted ? 1 : 0, r.stepRatio,
+                         r.costPerStepRatio);
+    }
+  });
   std::printf("wrote %s and %s\n", mdPath.string().c_str(), csvPath.string().c_str());
   return kExitOk;
 }
@@ -88,6 +103,7 @@ struct ExperimentsArguments {
 };
 
 int experimentsCommand(const ExperimentsArguments& args) {
+  InterruptGuard interrupt;
   const std::vector<Experiment> experiments = paperExperiments();
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   bool allOk = true, allLoaded = true;
@@ -97,7 +113,8 @@ int experimentsCommand(const ExperimentsArguments& args) {
       continue;
     if (!e.scene.empty())
       std::fprintf(stderr, "robophi study experiments: %s ...\n", e.scene.c_str());
-    const ExperimentResult r = runExperiment(e);
+    const ExperimentResult r = runExperiment(e, &InterruptGuard::flag());
+    if (InterruptGuard::flag()) return interruptedExit("study experiments");
     allOk = allOk && r.ok();
     allLoaded = allLoaded && r.status != "load error";
     results.push_back(toJson(r));
@@ -130,15 +147,17 @@ int experimentsCommand(const ExperimentsArguments& args) {
       record["experiments"] = merged;
     }
   }
+  // Only experiments.json under --record and experiments.md under --out, each
+  // replaced whole or not at all.
   if (!args.record.empty()) {
-    std::filesystem::create_directories(args.record);
-    std::ofstream(jsonPath) << record.dump(2) << '\n';
+    output::writeFileAtomically(jsonPath,
+                                [&](std::ostream& out) { out << record.dump(2) << '\n'; });
     std::printf("recorded in %s\n", jsonPath.string().c_str());
   }
   if (!args.out.empty()) {
-    std::filesystem::create_directories(args.out);
     const auto mdPath = std::filesystem::path(args.out) / "experiments.md";
-    std::ofstream(mdPath) << experimentsMarkdown(record);
+    output::writeFileAtomically(mdPath,
+                                [&](std::ostream& out) { out << experimentsMarkdown(record); });
     std::printf("wrote %s\n", mdPath.string().c_str());
   }
   // Scene files are found from the working folder: run from the repository root.

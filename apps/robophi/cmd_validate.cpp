@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "robophi/runner.h"
+#include "run/runner.h"
 #include "scene_input.h"
 
 namespace robophi::cli {

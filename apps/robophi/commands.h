@@ -8,10 +8,13 @@ namespace robophi::cli {
 /// Exit codes shared by every subcommand.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
-/// The scene file (or another input) has errors.
+/// The scene file, the command line or another input has errors, or the
+/// results folder holds files robophi did not write.
 inline constexpr int kExitBadInput = 2;
-/// The run diverged (NaN or infinite state).
+/// The run diverged (NaN or infinite state) or stalled.
 inline constexpr int kExitDiverged = 3;
+/// Ended by SIGINT or SIGTERM: 128 + the signal (130, 143), exitCodeForSignal
+/// in run/interrupt.h; the results so far are written.
 
 void addRunCommand(CLI::App& app, int& exitCode);
 void addValidateCommand(CLI::App& app, int& exitCode);

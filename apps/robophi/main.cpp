@@ -17,6 +17,11 @@ int main(int argc, char** argv) {
   robophi::cli::addStudyCommand(app, exitCode);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {  // a subcommand's own exit code (robophi export)
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; a bad command line is bad input (exit 2).
+    return app.exit(e) == 0 ? robophi::cli::kExitOk : robophi::cli::kExitBadInput;
   } catch (const CLI::Error& e) {
     return app.exit(e);
   } catch (const std::exception& e) {

@@ -10,12 +10,17 @@
 #include "robophi/adaptive_step.h"
 #include "robophi/contact.h"
 #include "robophi/scene/scene.h"
+#include "run/interrupt.h"
 
 namespace robophi::cli {
 
 namespace {
 
 constexpr double kGravity = 9.81;
+
+// SIGINT or SIGTERM under robophi study's InterruptGuard: runs stop early, and
+// the command writes nothing.
+bool interrupted() { return InterruptGuard::flag().load(std::memory_order_relaxed); }
 
 // Case 1: a rigid ball (one particle, 1 kg, r = 5 cm) dropped from 1 m onto the
 // ground, κ_c = 1e7 or 1e9 N/m, no damping: it must rebound to exactly 1 m. The error
@@ -137,7 +142,7 @@ StudyCase referenceCase(std::string name, std::string measure, double duration,
     if (reference->empty()) {
       World ref = make();
       const auto steps = static_cast<std::int64_t>(std::llround(duration / referenceStep));
-      for (std::int64_t i = 0; i < steps; ++i) ref.step(referenceStep);
+      for (std::int64_t i = 0; i < steps && !interrupted(); ++i) ref.step(referenceStep);
       for (std::size_t o : objects) reference->push_back(objectCentre(ref, o));
     }
     double worst = 0.0;
@@ -203,7 +208,7 @@ StudyRun runAdaptive(const StudyCase& c) {
   StudyRun run;
   run.mode = "ATS";
   const auto start = std::chrono::steady_clock::now();
-  while (world.state().time < c.duration * (1.0 - 1e-12)) {
+  while (world.state().time < c.duration * (1.0 - 1e-12) && !interrupted()) {
     const AdaptiveStepResult r = stepper.advance(world, c.duration - world.state().time);
     if (!r.ok) {
       run.finite = false;
@@ -227,7 +232,7 @@ StudyRun runConstant(const StudyCase& c, double dt) {
   run.dt = dt;
   const auto steps = static_cast<std::int64_t>(std::ceil(c.duration / dt - 1e-9));
   const auto start = std::chrono::steady_clock::now();
-  for (std::int64_t i = 0; i < steps; ++i) {
+  for (std::int64_t i = 0; i < steps && !interrupted(); ++i) {
     if (world.step(dt) != StepStatus::kOk) {
       run.finite = false;
       break;
@@ -247,6 +252,7 @@ StudyRow runStudyCase(const StudyCase& c, std::int64_t maxCtsSteps) {
   row.caseName = c.name;
   row.errorMeasure = c.errorMeasure;
   row.ats = runAdaptive(c);
+  if (interrupted()) return row;
   c.error(c.make());  // builds a reference solution before any timing of CTS
   const double target = row.ats.error;
 
@@ -257,6 +263,7 @@ StudyRow runStudyCase(const StudyCase& c, std::int64_t maxCtsSteps) {
   StudyRun good;
   bool found = false;
   while (c.duration / dt <= static_cast<double>(maxCtsSteps)) {
+    if (interrupted()) return row;
     StudyRun run = runConstant(c, dt);
     if (run.finite && run.error <= target) {
       good = run;

@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 
+#include "robotics/tasks.h"
+
 namespace robophi::cli {
 
 namespace {
@@ -108,7 +110,7 @@ ExperimentProbe vehicleProbe(const Scene&) {
   };
   auto watch = std::make_shared<Watch>();
   ExperimentProbe probe;
-  probe.betweenSteps = [watch](World& world, RunReport&) {
+  probe.betweenSteps = [watch](World& world, std::vector<std::string>&) {
     const State& s = world.state();
     // The chassis lattice's own vertical (particle 0 → 1) against +z.
     const Vec3 up = s.position[1] - s.position[0];
@@ -219,7 +221,7 @@ std::vector<Experiment> paperExperiments() {
   return list;
 }
 
-ExperimentResult runExperiment(const Experiment& experiment) {
+ExperimentResult runExperiment(const Experiment& experiment, const std::atomic<bool>* stop) {
   ExperimentResult r;
   r.id = experiment.id;
   r.number = experiment.number;
@@ -241,7 +243,8 @@ ExperimentResult runExperiment(const Experiment& experiment) {
   ExperimentProbe probe = experiment.probe ? experiment.probe(scene) : ExperimentProbe{};
   RunOptions options;
   options.settings = scene.run;  // as the scene asks; no outDir: nothing written
-  options.betweenSteps = probe.betweenSteps;
+  options.tasks = {robotics::makeSceneTasks(scene), probe.betweenSteps};
+  options.stop = stop;
   State last;
   const RunReport report = runScene(scene, options, &last);
   r.status = report.status;

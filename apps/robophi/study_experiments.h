@@ -3,14 +3,15 @@
 // their scene files as `robophi run` plays them, with their outcomes and wall
 // times: `robophi study experiments`.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
+#include "run/runner.h"
 
 namespace robophi::cli {
 
@@ -24,7 +25,7 @@ struct ExperimentFigures {
 /// Watches one run: an optional hook between steps, then the figures from the
 /// final state and the report.
 struct ExperimentProbe {
-  std::function<bool(World&, RunReport&)> betweenSteps;
+  StepTask betweenSteps;
   std::function<void(const Scene&, const State& last, const RunReport&, ExperimentFigures&)> finish;
 };
 
@@ -49,7 +50,7 @@ std::vector<Experiment> paperExperiments();
 /// The outcome of one experiment.
 struct ExperimentResult {
   std::string id, number, title, scene;
-  /// "ok", "stalled", "diverged" (RunReport::status), "load error", or "not run"
+  /// "ok", "stalled", "diverged", "interrupted" (RunReport::status), "load error", or "not run"
   /// for a note.
   std::string status = "not run";
   std::string failure;
@@ -62,8 +63,10 @@ struct ExperimentResult {
   bool ok() const { return status == "ok" || status == "not run"; }
 };
 
-/// Loads the scene and runs it (nothing written), or returns the note.
-ExperimentResult runExperiment(const Experiment& experiment);
+/// Loads the scene and runs it (nothing written), or returns the note. A set
+/// `stop` flag ends the run early (status "interrupted").
+ExperimentResult runExperiment(const Experiment& experiment,
+                               const std::atomic<bool>* stop = nullptr);
 
 /// The record of one result (bench/results/experiments.json "experiments").
 nlohmann::ordered_json toJson(const ExperimentResult& result);

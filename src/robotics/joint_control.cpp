@@ -1,6 +1,6 @@
 // Joint control between steps: servo targets, stiffness, passive joints, limits
 // (MODEL §1). Uses the public API only: World's edits and jointValue.
-#include "robophi/robotics/joint_control.h"
+#include "robotics/joint_control.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // Robotics tasks between steps (MODEL §5): goal monitoring, local-minimum escape,
 // grasp checks, joint limits. Public API only.
-#include "robophi/robotics/tasks.h"
+#include "robotics/tasks.h"
 
 #include <fmt/format.h>
 
@@ -133,7 +133,7 @@ std::string GraspCheck::verdict() const {
                      stable() ? "stable" : "NOT stable", largestDrift_, spec_.tolerance);
 }
 
-std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
+std::function<bool(World&, std::vector<std::string>&)> makeSceneTasks(const Scene& scene) {
   const SceneTasks& tasks = scene.robotics;
   if (tasks.empty()) return {};
   // The tasks' own state lives in a shared block the hook owns.
@@ -155,22 +155,20 @@ std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
                                                false});
   for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e);
   for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g);
-  return [run](World& world, RunReport& report) {
+  return [run](World& world, std::vector<std::string>& events) {
     run->limiter.update(world);
     for (auto& escape : run->escapes)
-      if (auto event = escape.update(world, run->goals[escape.goal()]))
-        report.events.push_back(*event);
+      if (auto event = escape.update(world, run->goals[escape.goal()])) events.push_back(*event);
     for (auto& grasp : run->grasps)
-      if (auto event = grasp.update(world)) report.events.push_back(*event);
+      if (auto event = grasp.update(world)) events.push_back(*event);
     bool keepGoing = true;
     for (std::size_t g = 0; g < run->goals.size(); ++g) {
-      if (auto event = arriveVirtualRobot(world, run->goals[g])) report.events.push_back(*event);
+      if (auto event = arriveVirtualRobot(world, run->goals[g])) events.push_back(*event);
       const GoalStatus status = goalStatus(world, run->goals[g]);
       if (status.reached && !run->reached[g]) {
         run->reached[g] = true;
-        report.events.push_back(fmt::format("goal '{}' reached at t = {:.4g} s (within {:.3g} m)",
-                                            run->goals[g].name, world.state().time,
-                                            status.worstDistance));
+        events.push_back(fmt::format("goal '{}' reached at t = {:.4g} s (within {:.3g} m)",
+                                     run->goals[g].name, world.state().time, status.worstDistance));
         if (run->goals[g].stopWhenReached) keepGoing = false;
       }
     }
@@ -180,13 +178,12 @@ std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene) {
       for (std::size_t g = 0; g < run->goals.size(); ++g) {
         if (run->reached[g]) continue;
         const GoalStatus status = goalStatus(world, run->goals[g]);
-        report.events.push_back(fmt::format("goal '{}' not reached: {:.3g} m away at the end",
-                                            run->goals[g].name, status.worstDistance));
+        events.push_back(fmt::format("goal '{}' not reached: {:.3g} m away at the end",
+                                     run->goals[g].name, status.worstDistance));
       }
-      for (const auto& grasp : run->grasps) report.events.push_back(grasp.verdict());
+      for (const auto& grasp : run->grasps) events.push_back(grasp.verdict());
       if (run->limiter.engagements() > 0)
-        report.events.push_back(
-            fmt::format("joint limits engaged {} times", run->limiter.engagements()));
+        events.push_back(fmt::format("joint limits engaged {} times", run->limiter.engagements()));
     }
     return keepGoing;
   };

@@ -1,6 +1,7 @@
-// Running a scene: steps, sampling of frames and energy rows, progress, and the
-// staging folder that makes the output appear whole or not at all.
-#include "robophi/runner.h"
+// Running a scene: steps, the tasks between them, sampling of frames and energy
+// rows, progress, interruption, and the staging folder that makes the output
+// appear whole or not at all.
+#include "run/runner.h"
 
 #include <fmt/format.h>
 
@@ -9,9 +10,9 @@
 #include <filesystem>
 #include <optional>
 
-#include "io/run_writer.h"
-#include "robophi/replay.h"
-#include "robophi/robotics/tasks.h"
+#include "output/replay.h"
+#include "output/results_folder.h"
+#include "output/run_writer.h"
 
 namespace robophi {
 
@@ -40,10 +41,45 @@ std::string stagingFolder(const std::string& target) {
   return (path.parent_path() / ("." + path.filename().string() + ".partial")).string();
 }
 
+// The staging folder of a run: a stale one of robophi's (a killed run) is
+// cleared first; whatever robophi wrote into it is removed again unless it was
+// moved into place (or kept on purpose).
+class StagingFolder {
+ public:
+  explicit StagingFolder(std::string path) : path_(std::move(path)) {
+    output::removeOwnedEntries(path_, /*removeFolder=*/true);
+  }
+  ~StagingFolder() {
+    if (path_.empty()) return;
+    try {
+      output::removeOwnedEntries(path_, /*removeFolder=*/true);
+    } catch (const std::exception&) {  // already unwinding or failing: leave it
+    }
+  }
+  StagingFolder(const StagingFolder&) = delete;
+  StagingFolder& operator=(const StagingFolder&) = delete;
+  const std::string& path() const { return path_; }
+  /// Nothing to clean up any more.
+  void release() { path_.clear(); }
+
+ private:
+  std::string path_;
+};
+
 // Time of the sample `index` of a series sampled `rate` times per second.
 double sampleTime(std::int64_t index, double rate) { return static_cast<double>(index) / rate; }
 
 }  // namespace
+
+std::string outputFolderProblem(const RunOptions& options) {
+  if (options.outDir.empty()) return {};
+  std::string problem =
+      output::resultsFolderProblem(options.outDir, "run", options.force, runFileNames());
+  // The staging folder may be a killed run's (robophi's, cleared) but nothing else.
+  if (problem.empty())
+    problem = output::resultsFolderProblem(stagingFolder(options.outDir), "run", false, {});
+  return problem;
+}
 
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState) {
   using Clock = std::chrono::steady_clock;
@@ -57,12 +93,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.initialTotal = world.energy().total();
   const double energyScale = std::max(std::abs(world.energy().mechanical()), 1e-12);
 
+  std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
-  std::string staging;
   if (!options.outDir.empty()) {
-    staging = stagingFolder(options.outDir);
-    std::filesystem::remove_all(staging);
-    writer.emplace(staging, scene);
+    if (const std::string problem = outputFolderProblem(options); !problem.empty())
+      throw output::ResultsFolderError(problem);
+    staging.emplace(stagingFolder(options.outDir));
+    writer.emplace(staging->path(), scene);
   }
 
   const auto start = Clock::now();
@@ -90,7 +127,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
   };
 
-  const auto robotTasks = robotics::makeSceneTasks(scene);  // empty when the scene has none
   const bool adaptive = settings.stepMode == StepMode::kAdaptive;
   std::optional<AdaptiveStepper> stepper;
   if (adaptive) {
@@ -107,6 +143,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     const bool done =
         adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : state.stepCount >= totalSteps;
     if (done) break;
+    // A requested stop (a signal) ends the run between steps, with its results so far.
+    if (options.stop && options.stop->load(std::memory_order_relaxed)) {
+      report.status = "interrupted";
+      report.warnings.push_back(fmt::format("interrupted at t = {:.6g} s of {:.6g} s, step {}",
+                                            state.time, settings.duration, state.stepCount));
+      break;
+    }
     double dtUsed = settings.dt;
     if (adaptive) {
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
@@ -128,9 +171,14 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       break;
     }
     sample(dtUsed, false);
-    // Robotics tasks between steps (docs/robotics.md); either may end the run.
-    const bool stop = (robotTasks && !robotTasks(world, report)) ||
-                      (options.betweenSteps && !options.betweenSteps(world, report));
+    // Tasks between steps (docs/robotics.md), in order; the first to say so ends the run.
+    bool stop = false;
+    for (const StepTask& task : options.tasks) {
+      if (task && !task(world, report.events)) {
+        stop = true;
+        break;
+      }
+    }
     world.bookExternalWork();  // what the tasks changed is work from outside
     if (stop) break;
     if (options.progress && (world.state().stepCount & 255) == 0) {
@@ -142,7 +190,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
     }
   }
-  if (report.ok()) sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
+  if (report.ok() || report.interrupted())
+    sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
   if (stepper) report.adaptive = stepper->stats();
 
   const State& last = world.state();
@@ -168,16 +217,28 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (finalState) *finalState = last;
 
   if (writer) {
+    // An interrupted run stops quickly: its page can be made later.
+    if (options.writeReplay && report.interrupted()) {
+      report.warnings.push_back(
+          fmt::format("replay.html not written (interrupted): robophi export html {} makes it",
+                      options.outDir));
+    }
     writer->finish(scene, settings, report);
     writer.reset();
     // The replay page is built from the finished files; a failure there is a
     // warning (the results are complete without it).
     std::string replayError;
-    if (options.writeReplay && !writeReplayHtml(staging, ReplayOptions{}, replayError)) {
+    if (options.writeReplay && !report.interrupted() &&
+        !writeReplayHtml(staging->path(), ReplayOptions{}, replayError)) {
       report.warnings.push_back("replay.html not written: " + replayError);
     }
-    std::filesystem::remove_all(options.outDir);
-    std::filesystem::rename(staging, options.outDir);
+    try {
+      output::publishResultsFolder(staging->path(), options.outDir, "run", options.force);
+    } catch (const output::ResultsFolderError&) {
+      staging->release();  // the folder changed during the run: keep the results where they are
+      throw;
+    }
+    staging->release();
   }
   return report;
 }

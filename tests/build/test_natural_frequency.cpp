@@ -14,7 +14,7 @@
 #include "build/model_compare.h"
 #include "scene/json_locator.h"
 #include "robophi/build/objects.h"
-#include "robophi/runner.h"
+#include "run/runner.h"
 #include "robophi/scene/scene.h"
 
 namespace robophi {

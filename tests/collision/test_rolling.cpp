@@ -8,8 +8,9 @@
 #include <string>
 
 #include "collision/contact_test_util.h"
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -133,6 +134,7 @@ TEST(Rolling, WheelCubeSceneFile) {
   const std::pair<int, int> cube{c.firstParticle, c.firstParticle + c.particleCount};
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "robophi/runner.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 #include "robophi/scene/scene.h"
 
 namespace robophi::testing {
@@ -30,10 +31,11 @@ inline RunReport runSteps(const Scene& scene, std::int64_t steps,
   RunOptions options;
   options.settings = scene.run;
   options.writeReplay = false;
-  options.betweenSteps = [&](World& world, RunReport&) {
+  options.tasks.push_back(robotics::makeSceneTasks(scene));
+  options.tasks.push_back([&](World& world, std::vector<std::string>&) {
     if (hook) hook(world);
     return world.state().stepCount < steps;
-  };
+  });
   return runScene(scene, options);
 }
 

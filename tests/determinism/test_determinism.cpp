@@ -7,8 +7,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -25,6 +26,7 @@ std::vector<std::string> exampleScenes() {
 RunReport runBriefly(const Scene& scene, StepMode mode) {
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   options.settings.stepMode = mode;
   options.settings.duration = std::min(scene.run.duration, 0.05);
   return runScene(scene, options);

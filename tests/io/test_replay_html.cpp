@@ -7,11 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <sstream>
 #include <string>
 
-#include "robophi/replay.h"
+#include "output/replay.h"
 #include "test_files.h"
 
 namespace robophi {
@@ -33,9 +32,7 @@ nlohmann::json pageData(const std::string& page) {
 class ReplayHtmlTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::random_device seed;
-    dir_ = fs::temp_directory_path() / ("robophi_replay_test_" + std::to_string(seed()));
-    fs::create_directories(dir_);
+    dir_ = testing::makeTempFolder("robophi_replay_test_");
     writeText(dir_ / "model.json", R"({"name": "two </script> balls",
       "particles": {"count": 2, "mass": [1, 1], "radius": [0.1, 0.1], "object": [0, 0],
                     "fixed": [0, 0]},

@@ -6,12 +6,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "robophi/vtk_export.h"
+#include "output/vtk_export.h"
 #include "test_files.h"
 
 namespace robophi {
@@ -48,9 +47,7 @@ std::vector<double> dataArray(const std::string& xml, const std::string& name) {
 class VtkExportTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::random_device seed;
-    dir_ = fs::temp_directory_path() / ("robophi_vtk_test_" + std::to_string(seed()));
-    fs::create_directories(dir_);
+    dir_ = testing::makeTempFolder("robophi_vtk_test_");
     writeText(dir_ / "model.json", R"({
       "name": "three in a line",
       "particles": {"count": 3, "mass": [1, 1, 1], "radius": [0.1, 0.2, 0.3],

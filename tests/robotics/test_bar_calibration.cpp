@@ -10,10 +10,11 @@
 #include <cstdio>
 #include <string>
 
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -300,6 +301,7 @@ TEST(BarCalibration, FlexionSceneFile) {
   const Scene scene = testing::loadSceneFromScenes("bar_flexion.json");
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

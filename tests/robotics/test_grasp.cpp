@@ -10,9 +10,10 @@
 #include <string>
 
 #include "robophi/evaluation.h"
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -22,6 +23,7 @@ TEST(Grasp, ThreeFingeredHandHoldsTheBallThroughADisturbance) {
   ASSERT_EQ(scene.model.joints.size(), 9u);  // three fingers, three joints each
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

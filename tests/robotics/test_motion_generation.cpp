@@ -6,11 +6,11 @@
 #include <string>
 
 #include "robophi/joints.h"
-#include "robophi/robotics/joint_control.h"
-#include "robophi/robotics/tasks.h"
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
+#include "robotics/joint_control.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -31,6 +31,7 @@ TEST(MotionGeneration, PassiveArmToolReachesVirtualToolAndJointsGiveTheTrajector
   for (const auto& s : scene.model.jointSprings) EXPECT_EQ(s.stiffness, 0.0);
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;
@@ -55,11 +56,12 @@ TEST(MotionGeneration, MobileRobotStaysOnItsStraightLine) {
   const Scene scene = testing::loadSceneFromScenes("mobile_line.json");
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   double largestOffLine = 0.0;
-  options.betweenSteps = [&](World& world, RunReport&) {
+  options.tasks.push_back([&](World& world, std::vector<std::string>&) {
     largestOffLine = std::max(largestOffLine, std::abs(world.state().position[4].y));
     return true;
-  };
+  });
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;
@@ -74,12 +76,13 @@ TEST(MotionGeneration, MobileRobotFollowsAnArcOfCircle) {
   const Scene scene = testing::loadSceneFromScenes("mobile_arc.json");
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   double largestRadiusError = 0.0;
-  options.betweenSteps = [&](World& world, RunReport&) {
+  options.tasks.push_back([&](World& world, std::vector<std::string>&) {
     const Vec3& p = world.state().position[4];
     largestRadiusError = std::max(largestRadiusError, std::abs(std::hypot(p.x, p.y) - 1.0));
     return true;
-  };
+  });
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

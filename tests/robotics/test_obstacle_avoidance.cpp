@@ -8,10 +8,10 @@
 #include <cmath>
 #include <string>
 
-#include "robophi/robotics/tasks.h"
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -61,13 +61,14 @@ Passage pass(double offset, double securityDistance, bool escape = false) {
   const Scene scene = ballBehindObstacle(offset, securityDistance, escape);
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   Passage p;
-  options.betweenSteps = [&p, offset](World& world, RunReport&) {
+  options.tasks.push_back([&p, offset](World& world, std::vector<std::string>&) {
     const Vec3 c = world.state().position[0];
     p.smallestGap = std::min(p.smallestGap, norm(c - Vec3{0.5, offset, 0.0}) - 0.1 - 0.05);
     p.largestSideways = std::max(p.largestSideways, std::abs(c.y));
     return true;
-  };
+  });
   p.report = runScene(scene, options);
   return p;
 }
@@ -125,12 +126,13 @@ TEST(ObstacleAvoidance, ArmEscapesItsLocalMinimumAndReachesTheGoal) {
   double smallestGap = 1e9;
   RunOptions options;
   options.settings = scene.run;
-  options.betweenSteps = [&](World& world, RunReport&) {
+  options.tasks = {robotics::makeSceneTasks(scene)};
+  options.tasks.push_back([&](World& world, std::vector<std::string>&) {
     for (ParticleIndex i = arm.firstParticle; i < arm.firstParticle + arm.particleCount; ++i)
       smallestGap = std::min(smallestGap, norm(world.state().position[i] - obstacle) -
                                               obstacleRadius - scene.model.radius[i]);
     return true;
-  };
+  });
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;
@@ -158,6 +160,7 @@ TEST(ObstacleAvoidance, WithoutEscapeTheArmStaysStuck) {
   scene.run.duration = 6.0;
   RunOptions options;
   options.settings = scene.run;
+  options.tasks = {robotics::makeSceneTasks(scene)};
   const RunReport report = runScene(scene, options);
   ASSERT_TRUE(report.ok()) << report.failure;
   EXPECT_EQ(countEvents(report, "reached at"), 0);

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <string>
 
-#include "robophi/robotics/tasks.h"
-#include "robophi/runner.h"
 #include "robophi/scene/scene.h"
 #include "robotics/scene_files.h"
+#include "robotics/tasks.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {
@@ -27,7 +27,8 @@ TEST(Vehicle, CrossesTheHillsAndReachesItsGoalUpright) {
   std::int64_t steps = 0, chassisContacts = 0, stepsWithFourWheelsDown = 0;
   RunOptions options;
   options.settings = scene.run;
-  options.betweenSteps = [&](World& world, RunReport&) {
+  options.tasks = {robotics::makeSceneTasks(scene)};
+  options.tasks.push_back([&](World& world, std::vector<std::string>&) {
     const State& s = world.state();
     ++steps;
     // Tilt: the chassis lattice's own vertical (particle 0 → 1) against z.
@@ -52,7 +53,7 @@ TEST(Vehicle, CrossesTheHillsAndReachesItsGoalUpright) {
     }
     if (wheelDown[0] && wheelDown[1] && wheelDown[2] && wheelDown[3]) ++stepsWithFourWheelsDown;
     return true;
-  };
+  });
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "robophi/runner.h"
+#include "run/runner.h"
 
 namespace robophi {
 namespace {

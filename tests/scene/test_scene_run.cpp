@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "robophi/runner.h"
+#include "run/runner.h"
 #include "robophi/scene/scene.h"
 #include "scene/scene_test_util.h"
 

@@ -1,4 +1,4 @@
-#include "io/run_reader.h"
+#include "output/run_reader.h"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string_view>
 
-namespace robophi::io {
+namespace robophi::output {
 
 namespace {
 
@@ -234,4 +234,15 @@ bool readRunFolder(const std::string& runDir, bool needEnergy, RunFolder& run, s
   return true;
 }
 
-}  // namespace robophi::io
+bool readRunFolderWithFrames(const std::string& runDir, bool needEnergy, RunFolder& run,
+                             std::string& error) {
+  if (!readRunFolder(runDir, needEnergy, run, error)) return false;
+  if (run.frameCount() == 0) {
+    error = fmt::format("{}: no frames (only a header line)",
+                        (fs::path(runDir) / "particles.csv").string());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace robophi::output

@@ -1,4 +1,4 @@
-#include "io/run_writer.h"
+#include "output/run_writer.h"
 
 #include <fmt/format.h>
 
@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "output/results_folder.h"
 #include "robophi/joints.h"
 #include "robophi/version.h"
 
@@ -27,22 +28,38 @@ void appendNumber(std::string& line, double value) {
 
 }  // namespace
 
+const std::vector<std::string>& runFileNames() {
+  static const std::vector<std::string> names = {"summary.json",  "model.json", "energy.csv",
+                                                 "particles.csv", "joints.csv", "contacts.csv",
+                                                 "replay.html"};
+  return names;
+}
+
+std::ofstream RunWriter::open(const std::string& name) {
+  return openOrThrow(std::filesystem::path(dir_) / name);
+}
+
 RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir) {
+  // The marker first: a folder cut short at any point is still robophi's.
+  files_ = {"energy.csv", "particles.csv"};
+  if (scene.model.contact.enabled) files_.push_back("contacts.csv");
+  if (!scene.model.joints.empty()) files_.push_back("joints.csv");
   std::filesystem::create_directories(dir_);
-  energy_ = openOrThrow(std::filesystem::path(dir_) / "energy.csv");
+  output::writeResultsMarker(dir_, "run", files_);
+  energy_ = open("energy.csv");
   energy_ << "t,dt,kinetic,potential,dissipated,total\n";
-  particles_ = openOrThrow(std::filesystem::path(dir_) / "particles.csv");
+  particles_ = open("particles.csv");
   line_ = "t";
   for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i) {
     fmt::format_to(std::back_inserter(line_), ",x{0},y{0},z{0}", i);
   }
   particles_ << line_ << '\n';
   if (scene.model.contact.enabled) {
-    contacts_ = openOrThrow(std::filesystem::path(dir_) / "contacts.csv");
+    contacts_ = open("contacts.csv");
     contacts_ << "t,a,b,fx,fy,fz\n";
   }
   if (!scene.model.joints.empty()) {
-    joints_ = openOrThrow(std::filesystem::path(dir_) / "joints.csv");
+    joints_ = open("joints.csv");
     line_ = "t";
     for (const Joint& joint : scene.model.joints) line_ += "," + joint.name;
     joints_ << line_ << '\n';
@@ -145,8 +162,10 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   particles_.close();
   if (joints_.is_open()) joints_.close();
   if (contacts_.is_open()) contacts_.close();
+  files_.insert(files_.end(), {"model.json", "summary.json"});
+  output::writeResultsMarker(dir_, "run", files_);
   {
-    auto out = openOrThrow(std::filesystem::path(dir_) / "model.json");
+    auto out = open("model.json");
     out << modelJson(scene) << '\n';
   }
   nlohmann::ordered_json s;
@@ -167,8 +186,13 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
                      {"largest_dt_s", a.largestStep},
                      {"mean_dt_s", a.meanStep()},
                      {"final_energy_error", a.lastEnergyError},
-                     {"energy_tolerance", settings.adaptive.energyTolerance}};
+                     // the settings in use (scene run.adaptive, command line)
+                     {"energy_tolerance", settings.adaptive.energyTolerance},
+                     {"min_step_s", settings.adaptive.minStep},
+                     {"max_step_s", settings.adaptive.maxStep},
+                     {"max_penetration_fraction", settings.adaptive.maxPenetrationFraction}};
   }
+  s["duration_s"] = settings.duration;  // asked for; simulated_time_s is how far it got
   s["simulated_time_s"] = report.simulatedTime;
   s["wall_time_s"] = report.wallSeconds;
   s["dt_s"] = settings.dt;  // the constant step, or the first trial step
@@ -186,7 +210,7 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   s["state_hash"] = fmt::format("{:016x}", report.stateHash);
   s["warnings"] = report.warnings;
   if (!report.events.empty()) s["events"] = report.events;
-  auto out = openOrThrow(std::filesystem::path(dir_) / "summary.json");
+  auto out = open("summary.json");
   out << s.dump(2) << '\n';
 }
 

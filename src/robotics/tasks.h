@@ -11,10 +11,10 @@
 
 #include "robophi/build/tasks.h"
 #include "robophi/contact.h"
-#include "robophi/robotics/joint_control.h"
-#include "robophi/runner.h"
+#include "robophi/build/tasks.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "robotics/joint_control.h"
 
 namespace robophi::robotics {
 
@@ -91,8 +91,11 @@ class GraspCheck {
 /// The centre of mass (m) of object `object`.
 Vec3 objectCenterOfMass(const World& world, std::int32_t object);
 
-/// The scene's robotics tasks as a runner hook (RunOptions::betweenSteps form);
-/// an empty function when the scene has none. Events go to RunReport::events.
-std::function<bool(World&, RunReport&)> makeSceneTasks(const Scene& scene);
+/// The scene's robotics tasks as one task between steps, in the runner's
+/// StepTask form (run/runner.h; pass it first in RunOptions::tasks): it adds
+/// what happened to `events` and returns false when a goal that stops the run
+/// is reached. An empty function when the scene has none.
+std::function<bool(World& world, std::vector<std::string>& events)> makeSceneTasks(
+    const Scene& scene);
 
 }  // namespace robophi::robotics

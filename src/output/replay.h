@@ -20,8 +20,9 @@ struct ReplayOptions {
 
 /// Reads the run folder `runDir` (model.json, particles.csv, energy.csv and, when
 /// present, joints.csv and contacts.csv; docs/output-format.md) and writes the
-/// replay page. On failure returns false, writes nothing and sets `error` to a
-/// message that names the file and what is wrong.
+/// replay page, whole or not at all; a page written into a robophi results
+/// folder is added to its marker. On failure returns false, writes nothing and
+/// sets `error` to a message that names the file and what is wrong.
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error);
 
 }  // namespace robophi

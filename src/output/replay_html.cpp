@@ -17,8 +17,9 @@
 #include <string_view>
 #include <vector>
 
-#include "io/run_reader.h"
-#include "robophi/replay.h"
+#include "output/replay.h"
+#include "output/results_folder.h"
+#include "output/run_reader.h"
 #include "robophi/replay_assets.h"
 
 namespace robophi {
@@ -26,8 +27,8 @@ namespace robophi {
 namespace {
 
 namespace fs = std::filesystem;
-using io::CsvTable;
-using io::RunFolder;
+using output::CsvTable;
+using output::RunFolder;
 
 // Room kept for the JSON punctuation and notices that the estimates below leave out.
 constexpr std::size_t kSlackBytes = 4096;
@@ -187,27 +188,19 @@ void appendContacts(std::string& out, const CsvTable& table, const std::vector<s
   out += "]}";
 }
 
-bool writeAtomically(const fs::path& path, const std::string& data, std::string& error) {
-  std::error_code ec;
-  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  const fs::path staging = path.string() + ".partial";
-  {
-    std::ofstream out(staging, std::ios::binary);
-    if (out) {
+// The page (head, data, tail) written whole or not at all; a page written into
+// a robophi run folder is listed in its marker.
+bool writePage(const fs::path& path, const std::string& data, std::string& error) {
+  try {
+    output::writeFileAtomically(path, [&](std::ostream& out) {
       for (std::string_view piece : replay_assets::kPageHead) out << piece;
       out << data;
       for (std::string_view piece : replay_assets::kPageTail) out << piece;
-    }
-    if (!out) {
-      error = fmt::format("{}: cannot write", path.string());
-      fs::remove(staging, ec);
-      return false;
-    }
-  }
-  fs::rename(staging, path, ec);
-  if (ec) {
-    error = fmt::format("{}: cannot write ({})", path.string(), ec.message());
-    fs::remove(staging, ec);
+    });
+    if (path.has_parent_path())
+      output::addToResultsMarker(path.parent_path(), path.filename().string());
+  } catch (const std::exception& e) {
+    error = e.what();
     return false;
   }
   return true;
@@ -217,12 +210,7 @@ bool writeAtomically(const fs::path& path, const std::string& data, std::string&
 
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {
   RunFolder run;
-  if (!io::readRunFolder(runDir, /*needEnergy=*/true, run, error)) return false;
-  if (run.frameCount() == 0) {
-    error = fmt::format("{}: no frames (only a header line)",
-                        (fs::path(runDir) / "particles.csv").string());
-    return false;
-  }
+  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/true, run, error)) return false;
   const fs::path outPath =
       options.outputPath.empty() ? fs::path(runDir) / "replay.html" : fs::path(options.outputPath);
 
@@ -300,7 +288,7 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
         outPath.string(), pageBytes, cap, keptFrames.size(), frames.size());
     return false;
   }
-  return writeAtomically(outPath, data, error);
+  return writePage(outPath, data, error);
 }
 
 }  // namespace robophi

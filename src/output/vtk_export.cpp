@@ -3,7 +3,7 @@
 // One ASCII PolyData file per frame (points = particles, lines = linear
 // connectors) and a .pvd collection that gives each file its time. ASCII keeps
 // the files readable and checkable by eye; they are for looking at, not archiving.
-#include "robophi/vtk_export.h"
+#include "output/vtk_export.h"
 
 #include <fmt/format.h>
 
@@ -14,14 +14,15 @@
 #include <string>
 #include <vector>
 
-#include "io/run_reader.h"
+#include "output/results_folder.h"
+#include "output/run_reader.h"
 
 namespace robophi {
 
 namespace {
 
 namespace fs = std::filesystem;
-using io::RunFolder;
+using output::RunFolder;
 
 std::string frameFileName(std::size_t frame) { return fmt::format("frame_{:06}.vtp", frame); }
 
@@ -48,7 +49,7 @@ std::vector<double> frameVelocity(const RunFolder& run, std::size_t k) {
 std::vector<double> frameStrain(const RunFolder& run, std::size_t k) {
   std::vector<double> strain;
   strain.reserve(run.linear.size());
-  for (const io::LinearLink& link : run.linear) {
+  for (const output::LinearLink& link : run.linear) {
     const double* a = run.position(k, link.a);
     const double* b = run.position(k, link.b);
     const double length = std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
@@ -136,14 +137,26 @@ bool writeText(const fs::path& path, const std::string& text, std::string& error
 
 bool writeVtkSeries(const std::string& runDir, const std::string& outDir, std::string& error) {
   RunFolder run;
-  if (!io::readRunFolder(runDir, /*needEnergy=*/false, run, error)) return false;
-  if (run.frameCount() == 0) {
-    error = fmt::format("{}: no frames (only a header line)",
-                        (fs::path(runDir) / "particles.csv").string());
+  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/false, run, error)) return false;
+  // A results folder of robophi's own (docs/output-format.md): a previous
+  // export's files are replaced; anything else in the folder stops the export.
+  std::vector<std::string> files;
+  for (std::size_t k = 0; k < run.frameCount(); ++k) files.push_back(frameFileName(k));
+  files.push_back("run.pvd");
+  const std::string problem = output::resultsFolderProblem(outDir, "vtk", /*force=*/false, files);
+  if (!problem.empty()) {
+    error = problem + ": choose another output folder, or move those away";
     return false;
   }
   std::error_code ec;
-  fs::create_directories(outDir, ec);
+  try {
+    output::removeOwnedEntries(outDir, /*removeFolder=*/false);
+    fs::create_directories(outDir, ec);
+    if (!ec) output::writeResultsMarker(outDir, "vtk", files);
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
   if (ec) {
     error = fmt::format("{}: cannot create the folder ({})", outDir, ec.message());
     return false;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace robophi::io {
+namespace robophi::output {
 
 /// A CSV file with a header line and numeric rows.
 struct CsvTable {
@@ -71,10 +71,13 @@ struct RunFolder {
 /// `needEnergy`), joints.csv and contacts.csv (when present). On failure returns
 /// false and sets `error` to a message naming the file, the line and what is wrong.
 bool readRunFolder(const std::string& runDir, bool needEnergy, RunFolder& run, std::string& error);
+/// The same, and particles.csv must hold at least one frame (what the exporters need).
+bool readRunFolderWithFrames(const std::string& runDir, bool needEnergy, RunFolder& run,
+                             std::string& error);
 
 /// Reads a CSV file of numbers with a header line; `requiredColumns` must all be
 /// present. On failure returns false with a message naming the file and line.
 bool readCsvTable(const std::string& path, const std::vector<std::string>& requiredColumns,
                   CsvTable& table, std::string& error);
 
-}  // namespace robophi::io
+}  // namespace robophi::output

@@ -1,0 +1,243 @@
+// `robophi run` as a user runs it: a results folder that is not robophi's is
+// refused (exit 2) and kept, --force writes beside it, SIGINT and SIGTERM end a
+// run with a whole folder marked interrupted, and the adaptive step's options
+// are checked and used.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "output/results_folder.h"
+#include "output/run_reader.h"
+#include "test_files.h"
+
+namespace robophi {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::readText;
+using testing::writeText;
+
+const std::string kScenes = ROBOPHI_SOURCE_DIR "/scenes/";
+
+struct Outcome {
+  int exitCode = -1;
+  std::string errors;  // what it wrote to stderr
+};
+
+class RunCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = testing::makeTempFolder("robophi_run_command_");
+    out_ = root_ / "out";
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // `robophi run <args>`, to its end.
+  Outcome run(const std::string& args) const {
+    const fs::path errors = root_ / "stderr.txt";
+    const std::string command =
+        std::string(ROBOPHI_BINARY) + " run " + args + " > /dev/null 2> " + errors.string();
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(errors)};
+  }
+
+  // `robophi run <args>` started in the background, its stderr to `errors`.
+  pid_t spawn(const std::vector<std::string>& args, const fs::path& errors) const {
+    std::vector<std::string> words = {ROBOPHI_BINARY, "run"};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      // As from a terminal: the signals delivered, not blocked or ignored.
+      sigset_t signals;
+      sigemptyset(&signals);
+      sigaddset(&signals, SIGINT);
+      sigaddset(&signals, SIGTERM);
+      sigprocmask(SIG_UNBLOCK, &signals, nullptr);
+      const int err = open(errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(err, STDERR_FILENO);
+      dup2(null, STDOUT_FILENO);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    return pid;
+  }
+
+  // Waits for `pid` (at most a minute, then kills it); `poke` is called every
+  // 5 ms meanwhile. Returns its exit code, or -1 if a signal ended it.
+  static int wait(pid_t pid, const std::function<void()>& poke = {}) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    int status = 0;
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        ADD_FAILURE() << "robophi run did not end within a minute";
+        return -1;
+      }
+      if (poke) poke();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // hand_grasp into out_ (it runs 50 s of model time in about 2 s here; 500 s
+  // keeps it running well past the signal on a faster machine), sent `signal`
+  // after `delay`; with `keepSignalling` the same signal again every 5 ms until
+  // it ends: late signals, while it writes its results. (The same signal: a
+  // pending SIGINT would be delivered before a first SIGTERM.)
+  Outcome interruptLongRun(std::chrono::milliseconds delay, int signal, bool keepSignalling) {
+    const fs::path errors = root_ / "stderr.txt";
+    const pid_t pid =
+        spawn({kScenes + "hand_grasp.json", "--duration", "500", "--quiet", "--out", out_.string()},
+              errors);
+    std::this_thread::sleep_for(delay);
+    kill(pid, signal);
+    const int exitCode = keepSignalling ? wait(pid, [&] { kill(pid, signal); }) : wait(pid);
+    return {exitCode, readText(errors)};
+  }
+
+  nlohmann::json summary() const { return nlohmann::json::parse(readText(out_ / "summary.json")); }
+
+  // The folder is whole: every file parses, the marker lists them, no staging left.
+  void expectWholeInterruptedFolder() const {
+    EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+    ASSERT_TRUE(fs::exists(out_ / "summary.json"));
+    const nlohmann::json s = summary();
+    EXPECT_EQ(s["status"], "interrupted");
+    EXPECT_GT(s["steps"].get<int>(), 0);
+    EXPECT_LT(s["simulated_time_s"].get<double>(), s["duration_s"].get<double>());
+    output::RunFolder folder;
+    std::string error;
+    EXPECT_TRUE(output::readRunFolder(out_.string(), /*needEnergy=*/true, folder, error)) << error;
+    EXPECT_GT(folder.frameCount(), 1u);
+    EXPECT_TRUE(folder.hasJoints && folder.hasContacts);
+    const output::FolderContents contents = output::inspectResultsFolder(out_);
+    EXPECT_TRUE(contents.marked);
+    EXPECT_TRUE(contents.foreign.empty());
+  }
+
+  fs::path root_, out_;
+};
+
+TEST_F(RunCommandTest, AFolderWithAForeignFileIsRefusedWithExit2AndKept) {
+  fs::create_directories(out_);
+  writeText(out_ / "notes.txt", "mine");
+  const Outcome o = run(kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string());
+  EXPECT_EQ(o.exitCode, 2) << o.errors;
+  EXPECT_NE(o.errors.find(out_.string()), std::string::npos) << o.errors;
+  EXPECT_NE(o.errors.find("notes.txt"), std::string::npos) << o.errors;
+  EXPECT_NE(o.errors.find("--force"), std::string::npos) << o.errors;
+  EXPECT_EQ(readText(out_ / "notes.txt"), "mine");
+  EXPECT_FALSE(fs::exists(out_ / "summary.json"));
+  EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+}
+
+TEST_F(RunCommandTest, ForceWritesBesideForeignFilesAndAPreviousResultIsReplaced) {
+  const std::string args = kScenes + "pendulum.json --quiet --out " + out_.string();
+  ASSERT_EQ(run(args + " --duration 0.05").exitCode, 0);
+  ASSERT_EQ(run(args + " --duration 0.05").exitCode, 0);  // a previous result: replaced
+  writeText(out_ / "notes.txt", "mine");
+  EXPECT_EQ(run(args + " --duration 0.05").exitCode, 2);
+  const Outcome forced = run(args + " --force --duration 0.02");
+  EXPECT_EQ(forced.exitCode, 0) << forced.errors;
+  EXPECT_EQ(readText(out_ / "notes.txt"), "mine");
+  EXPECT_DOUBLE_EQ(summary()["duration_s"].get<double>(), 0.02);
+  // Even --force does not replace a foreign file that has a result's name.
+  fs::remove_all(out_);
+  fs::create_directories(out_);
+  writeText(out_ / "energy.csv", "mine");
+  const Outcome clash = run(args + " --force --duration 0.02");
+  EXPECT_EQ(clash.exitCode, 2);
+  EXPECT_NE(clash.errors.find("energy.csv"), std::string::npos) << clash.errors;
+  EXPECT_EQ(readText(out_ / "energy.csv"), "mine");
+}
+
+TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) {
+  const Outcome o = interruptLongRun(std::chrono::seconds(1), SIGINT, /*keepSignalling=*/false);
+  EXPECT_EQ(o.exitCode, 130) << o.errors;
+  EXPECT_NE(o.errors.find("interrupted by SIGINT"), std::string::npos) << o.errors;
+  expectWholeInterruptedFolder();
+  EXPECT_FALSE(fs::exists(out_ / "replay.html"));  // made later by robophi export html
+}
+
+TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) {
+  const Outcome o =
+      interruptLongRun(std::chrono::milliseconds(500), SIGTERM, /*keepSignalling=*/true);
+  EXPECT_EQ(o.exitCode, 143) << o.errors;
+  EXPECT_NE(o.errors.find("interrupted by SIGTERM"), std::string::npos) << o.errors;
+  expectWholeInterruptedFolder();
+}
+
+TEST_F(RunCommandTest, TheAdaptiveStepsOptionsAreUsedAndRecorded) {
+  const Outcome o = run(kScenes +
+                        "pendulum.json --quiet --duration 0.2 --tolerance 1e-7 "
+                        "--min-step 1e-9 --max-step 2e-4 --max-penetration 0.05 --out " +
+                        out_.string());
+  ASSERT_EQ(o.exitCode, 0) << o.errors;
+  const nlohmann::json adaptive = summary()["adaptive"];
+  EXPECT_EQ(adaptive["energy_tolerance"].get<double>(), 1e-7);
+  EXPECT_EQ(adaptive["min_step_s"].get<double>(), 1e-9);
+  EXPECT_EQ(adaptive["max_step_s"].get<double>(), 2e-4);
+  EXPECT_EQ(adaptive["max_penetration_fraction"].get<double>(), 0.05);
+  EXPECT_LE(adaptive["largest_dt_s"].get<double>(), 2e-4);
+}
+
+TEST_F(RunCommandTest, BadNumbersAreBadInputWithAClearMessage) {
+  const std::string base = kScenes + "pendulum.json --quiet --out " + out_.string();
+  for (const std::string bad :
+       {"--tolerance abc", "--tolerance 0", "--min-step -1e-9", "--max-step inf",
+        "--max-penetration nan", "--dt 1e-3x", "--duration=-1"}) {
+    const Outcome o = run(base + " " + bad);
+    EXPECT_EQ(o.exitCode, 2) << bad << ": " << o.errors;
+    const std::string option = bad.substr(0, bad.find_first_of(" ="));
+    EXPECT_NE(o.errors.find(option), std::string::npos) << bad << ": " << o.errors;
+    EXPECT_NE(o.errors.find("expected a positive number"), std::string::npos) << o.errors;
+  }
+  const Outcome crossed = run(base + " --min-step 1e-2 --max-step 1e-3");
+  EXPECT_EQ(crossed.exitCode, 2);
+  EXPECT_NE(crossed.errors.find("--min-step"), std::string::npos) << crossed.errors;
+  EXPECT_EQ(run(base + " --no-such-option").exitCode, 2);  // not CLI11's own 109
+  EXPECT_FALSE(fs::exists(out_));
+}
+
+TEST_F(RunCommandTest, HelpGivesTheAdaptiveOptionsWithTheirUnits) {
+  const fs::path help = root_ / "help.txt";
+  ASSERT_EQ(std::system((std::string(ROBOPHI_BINARY) + " run --help > " + help.string()).c_str()),
+            0);
+  const std::string text = readText(help);
+  for (const char* part : {"--tolerance", "(-; energyTolerance", "--min-step", "(s; minStep",
+                           "--max-step", "(s; maxStep", "--max-penetration",
+                           "(-; maxPenetrationFraction", "--force", "never a stiffness"})
+    EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+}
+
+// --dt is the step only: the model, its stiffness and so its highest frequency
+// are the scene's whatever --dt says.
+TEST_F(RunCommandTest, DtChangesTheStepNotTheStiffness) {
+  std::vector<double> omega;
+  for (const char* dt : {"1e-4", "2e-5"}) {
+    const Outcome o = run(kScenes + "default.json --quiet --step constant --duration 0.001 --dt " +
+                          dt + " --out " + out_.string());
+    ASSERT_EQ(o.exitCode, 0) << o.errors;
+    EXPECT_EQ(summary()["dt_s"].get<double>(), std::stod(dt));
+    omega.push_back(summary()["omega_max_rad_s"].get<double>());
+  }
+  EXPECT_EQ(omega[0], omega[1]);
+}
+
+}  // namespace
+}  // namespace robophi
