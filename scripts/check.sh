@@ -11,4 +11,4 @@ ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
 
 "$root/scripts/build.sh" "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROBOPHI_SANITIZE=ON
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE slow
+  ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE "slow|package"

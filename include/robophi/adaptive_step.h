@@ -111,8 +111,8 @@ class AdaptiveStepper {
   double gravityScale_ = -1.0;
   AdaptiveStepStats stats_;
   World::Snapshot saved_;
-  /// The model revision the stability cap was computed for.
-  std::int64_t modelRevision_ = -1;
+  /// Whether stabilityLimit_ has been refined with the first state's positions.
+  bool refinedLimit_ = false;
 };
 
 }  // namespace robophi

@@ -63,18 +63,16 @@ double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
-  if (modelRevision_ != world.compiled().stiffnessRevision()) {
-    // The cap from the model alone, refined with the positions (tighter on
-    // braced lattices): at the first step, and again after an edit of a
-    // stiffness or a mass.
-    const double modelOnly = modelRevision_ < 0 ? stabilityLimit_
-                                                : settings_.stabilitySafety *
-                                                      estimateStability(world.model()).criticalStep;
-    modelRevision_ = world.compiled().stiffnessRevision();
-    stabilityLimit_ = std::max(
-        modelOnly, settings_.stabilitySafety *
-                       estimateStability(world.model(), &world.state().position).criticalStep);
-    step_ = std::min(step_, stabilityLimit_);
+  if (!refinedLimit_) {
+    // The tighter estimate needs positions: refine at the first step. (Edits
+    // that stiffen the model later are not re-estimated: a joint limit that
+    // engages and releases every few steps would pay a power iteration each
+    // time; the energy test rejects a step that is too large for them.)
+    refinedLimit_ = true;
+    stabilityLimit_ =
+        std::max(stabilityLimit_,
+                 settings_.stabilitySafety *
+                     estimateStability(world.model(), &world.state().position).criticalStep);
   }
   if (errorOrder_ <= 0.0) {
     errorOrder_ = settings_.errorOrder > 0.0                          ? settings_.errorOrder

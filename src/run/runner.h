@@ -26,7 +26,7 @@ struct RunProgress {
 };
 
 /// A task run between steps (docs/robotics.md): it may change the world through
-/// its public API (joint targets, World::mutableModel) and add lines to the
+/// its edit API (joint targets, obstacles, velocities) and add lines to the
 /// run's events (RunReport::events, summary.json "events"); returning false
 /// ends the run (e.g. a goal reached). What it changes is booked as external
 /// work (World::bookExternalWork).

@@ -144,14 +144,3 @@ class ObjectReader {
 };
 
 }  // namespace robophi::scene
-
-// The object readers still in src/io/ (scene_objects, and the robot readers in
-// src/robotics/) name these io::; they go when those readers join this layer.
-namespace robophi::io {
-using scene::Bound;
-using scene::checkNumber;
-using scene::describeJson;
-using scene::DiagnosticSink;
-using scene::didYouMean;
-using scene::ObjectReader;
-}  // namespace robophi::io

@@ -240,7 +240,7 @@ void readPrismatic(ObjectReader& r, const std::string& name, const ParticleLooku
 std::optional<ParticleIndex> resolveParticle(DiagnosticSink& sink, const nlohmann::json& ref,
                                              const std::string& pointer,
                                              const ParticleLookup& lookup) {
-  const auto inRange = [&](const io::SceneObject& object, std::int64_t index,
+  const auto inRange = [&](const scene::SceneObject& object, std::int64_t index,
                            const std::string& text) -> std::optional<ParticleIndex> {
     if (!object.valid) return std::nullopt;  // its own errors are already reported
     const auto n = static_cast<std::int64_t>(object.geometry.size());

@@ -9,21 +9,21 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene_objects.h"
 #include "robophi/model.h"
 #include "scene/scene_fields.h"
+#include "scene/scene_objects.h"
 
 namespace robophi::scene {
 
 /// What particle references resolve against.
 struct ParticleLookup {
-  const std::vector<io::SceneObject>* objects = nullptr;
+  const std::vector<scene::SceneObject>* objects = nullptr;
   /// Object index by name (the first object of each name).
   const std::map<std::string, std::size_t>* byName = nullptr;
   /// Initial positions of every particle of the model (m).
   const std::vector<Vec3>* position = nullptr;
   /// Inside a "particles" object: plain integers are indices into it.
-  const io::SceneObject* local = nullptr;
+  const scene::SceneObject* local = nullptr;
 };
 
 /// Resolves "object:index" (negative counts from the end), or a plain integer

@@ -9,12 +9,12 @@
 #include <map>
 #include <sstream>
 
-#include "scene/scene_objects.h"
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
 #include "scene/scene_fields.h"
 #include "scene/scene_links.h"
+#include "scene/scene_objects.h"
 #include "scene/scene_robotics.h"
 #include "scene/scene_run.h"
 
@@ -22,9 +22,9 @@ namespace robophi {
 
 namespace {
 
-using io::SceneObject;
 using scene::DiagnosticSink;
 using scene::ObjectReader;
+using scene::SceneObject;
 
 constexpr int kFormatVersion = 1;
 
@@ -42,7 +42,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
     return objects;
   }
   for (std::size_t i = 0; i < list->size(); ++i) {
-    SceneObject object = io::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i));
+    SceneObject object = scene::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i));
     if (!object.name.empty()) {
       const auto [it, fresh] = byName.emplace(object.name, objects.size());
       if (!fresh) {

@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "scene/scene_robots.h"
 #include "robophi/build/calibration.h"
 #include "robophi/build/objects.h"
+#include "scene/scene_robots.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 namespace {
 
@@ -374,4 +374,4 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   return object;
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

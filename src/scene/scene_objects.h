@@ -10,7 +10,7 @@
 #include "robophi/build/model_builder.h"
 #include "scene/scene_fields.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 /// One scene object, read and generated (local indices), before placement:
 /// what build::ModelBuilder places, and where the entry is in the file.
@@ -35,4 +35,4 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
 /// naturalFrequency and, when `bend`, bendStiffness and bendDamping; docs/scene-format.md).
 build::SpringSettings readSprings(ObjectReader& r, bool bend = true);
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

@@ -8,7 +8,7 @@
 
 #include "robophi/build/robots.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 namespace {
 
@@ -142,4 +142,4 @@ bool readRobot(ObjectReader& r, SceneObject& object) {
   return readHand(r, object);
 }
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

@@ -7,7 +7,7 @@
 #include "scene/scene_fields.h"
 #include "scene/scene_objects.h"
 
-namespace robophi::io {
+namespace robophi::scene {
 
 bool isRobotKind(const std::string& kind);
 
@@ -16,4 +16,4 @@ bool isRobotKind(const std::string& kind);
 /// Throws build::SpecError when the builder refuses the spec.
 bool readRobot(ObjectReader& r, SceneObject& object);
 
-}  // namespace robophi::io
+}  // namespace robophi::scene

@@ -42,4 +42,15 @@ pc_dir=$(dirname "$(find "$prefix" -name robophi.pc)")
 flags=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --cflags --libs robophi)
 c++ -O2 "$source/examples/embed/main.cpp" $flags -o "$work/embed-pkg-config"
 "$work/embed-pkg-config" "$source/scenes/revolute_arm.json" 0.5
-echo "package: installed, found by find_package and pkg-config, embed ran"
+# As a subproject (add_subdirectory): the three libraries, and no tests, CLI or npm step.
+cmake -S "$source/examples/embed" -B "$work/subproject" "${generator[@]}" \
+  -DROBOPHI_SOURCE_DIR="$source" > "$work/subproject.configure.log"
+rules="$work/subproject/build.ninja"
+[ -f "$rules" ] || rules="$work/subproject/Makefile"
+for wanted in robophi_core robophi_build robophi_scene embed; do
+  grep -q "$wanted" "$rules" || { echo "subproject: no target $wanted"; exit 1; }
+done
+if grep -qE 'robophi_tests|robophi_replay_assets|robophi_app|CLI11|gtest' "$rules"; then
+  echo "subproject: robophi's tests, CLI or viewer step came along"; exit 1
+fi
+echo "package: installed, found by find_package and pkg-config, embed ran; subproject clean"
