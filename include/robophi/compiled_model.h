@@ -33,7 +33,7 @@ class CompiledModel {
   /// Changes with every edit of the model.
   std::int64_t revision() const { return revision_; }
   /// Changes with every edit of a mass, a fixed particle, a stiffness or a
-  /// damping: what the stability estimate reads (the adaptive step's cap).
+  /// damping: what the stability estimate reads (a cached estimate compares it).
   std::int64_t stiffnessRevision() const { return stiffnessRevision_; }
   /// Changes whenever the contact tables are rebuilt (a Workspace's sphere trees).
   std::int64_t contactRevision() const { return contactRevision_; }

@@ -4,6 +4,8 @@
 /// the slider's distance along its line for a prismatic one).
 
 #include <cstddef>
+#include <optional>
+#include <string>
 
 #include "robophi/model.h"
 #include "robophi/state.h"
@@ -17,6 +19,9 @@ double jointValue(const Model& model, const State& state, std::size_t joint);
 
 /// The joint's rate: rad/s or m/s. Same checks as jointValue.
 double jointRate(const Model& model, const State& state, std::size_t joint);
+
+/// The index of the joint named `name` in Model::joints, or nullopt.
+std::optional<std::size_t> findJoint(const Model& model, const std::string& name);
 
 /// The servo parameters of a joint (MODEL §1): target (rad or m), stiffness,
 /// damping. For a revolute joint they are its JS's; for a prismatic joint its

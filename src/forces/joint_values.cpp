@@ -63,6 +63,12 @@ double jointRate(const Model& model, const State& state, std::size_t joint) {
 
 namespace robophi {
 
+std::optional<std::size_t> findJoint(const Model& model, const std::string& name) {
+  for (std::size_t i = 0; i < model.joints.size(); ++i)
+    if (model.joints[i].name == name) return i;
+  return std::nullopt;
+}
+
 JointServo jointServo(const Model& model, std::size_t joint) {
   const Joint& j = checkedJoint("jointServo", model, nullptr, joint);
   if (j.kind == JointKind::kRevolute) {

@@ -20,12 +20,6 @@ double angleBetween(double from, double to) {
 
 }  // namespace
 
-std::optional<std::size_t> findJoint(const Model& model, const std::string& name) {
-  for (std::size_t i = 0; i < model.joints.size(); ++i)
-    if (model.joints[i].name == name) return i;
-  return std::nullopt;
-}
-
 bool setJointTarget(World& world, std::size_t joint, double target) {
   const Joint& j = world.model().joints.at(joint);
   if (j.kind == JointKind::kPrismatic && (j.driveSpring < 0 || !(target > 0.0))) return false;

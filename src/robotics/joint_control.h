@@ -18,8 +18,8 @@ namespace robophi::robotics {
 // The limit spec is plain data of the build layer (robophi/build/tasks.h).
 using build::JointLimitSpec;
 
-/// The index of the joint named `name` in Model::joints, or nullopt.
-std::optional<std::size_t> findJoint(const Model& model, const std::string& name);
+/// The joint lookup by name is the core's (robophi/joints.h).
+using robophi::findJoint;
 
 /// Drives the joint to `target` (rad, wrapped into [0, 2π), or m > 0): sets the
 /// JS rest angle or the drive LS rest length. Returns false for a prismatic

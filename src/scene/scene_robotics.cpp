@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "robophi/build/goals.h"
+#include "robophi/joints.h"
 
 namespace robophi::scene {
 
@@ -213,12 +214,6 @@ void readObstacle(DiagnosticSink& sink, const nlohmann::json& entry, const std::
   tryBuild(sink, at, [&] { build::addObstacle(scene.model, spec); });
 }
 
-std::optional<std::size_t> jointNamed(const Model& model, const std::string& name) {
-  for (std::size_t i = 0; i < model.joints.size(); ++i)
-    if (model.joints[i].name == name) return i;
-  return std::nullopt;
-}
-
 void readLimit(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
                Scene& scene) {
   ObjectReader r(sink, entry, at, fmt::format("limit {}", at));
@@ -230,7 +225,7 @@ void readLimit(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
   const double damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·m·s/rad or N·s/m");
   r.finish();
   if (!name || !min || !max || !stiffness) return;
-  const auto joint = jointNamed(scene.model, *name);
+  const auto joint = findJoint(scene.model, *name);
   if (!joint) {
     std::vector<std::string> names;
     for (const Joint& j : scene.model.joints) names.push_back(j.name);
