@@ -85,6 +85,7 @@ struct AdaptiveStepResult {
 /// the state is restored from a copy.
 class AdaptiveStepper {
  public:
+  /// Throws std::invalid_argument naming a setting out of its range.
   AdaptiveStepper(const Model& model, AdaptiveStepSettings settings);
 
   /// Advances `world` by one accepted step of at most `maxDt` seconds.

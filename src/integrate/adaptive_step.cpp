@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "core/text.h"
 #include "robophi/connector_forces.h"
@@ -36,8 +37,37 @@ double gravityEnergyScale(const Model& model, const State& state) {
 
 }  // namespace
 
+namespace {
+
+// Throws std::invalid_argument naming the first setting out of its range.
+const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
+  const auto require = [](bool ok, const char* name, double value, const char* range) {
+    if (!ok || !std::isfinite(value))
+      throw std::invalid_argument(
+          detail::text("AdaptiveStepSettings::{} = {} must be {}", name, value, range));
+  };
+  require(s.initialStep > 0.0, "initialStep", s.initialStep, "> 0 (s)");
+  require(s.minStep > 0.0, "minStep", s.minStep, "> 0 (s)");
+  require(s.maxStep >= s.minStep, "maxStep", s.maxStep, ">= minStep (s)");
+  require(s.energyTolerance > 0.0, "energyTolerance", s.energyTolerance, "> 0");
+  require(s.lossToleranceFactor >= 0.0, "lossToleranceFactor", s.lossToleranceFactor, ">= 0");
+  require(s.energyFloor > 0.0, "energyFloor", s.energyFloor, "> 0 (J)");
+  require(s.shrinkFactor > 0.0 && s.shrinkFactor < 1.0, "shrinkFactor", s.shrinkFactor,
+          "in (0, 1)");
+  require(s.growFactor >= 1.0, "growFactor", s.growFactor, ">= 1");
+  require(s.safety > 0.0 && s.safety <= 1.0, "safety", s.safety, "in (0, 1]");
+  require(s.errorOrder >= 0.0, "errorOrder", s.errorOrder, ">= 0 (0: from the integrator)");
+  require(s.maxPenetrationFraction >= 0.0, "maxPenetrationFraction", s.maxPenetrationFraction,
+          ">= 0");
+  require(s.stabilitySafety > 0.0, "stabilitySafety", s.stabilitySafety, "> 0");
+  require(s.maxRejectionsInARow >= 1, "maxRejectionsInARow", s.maxRejectionsInARow, ">= 1");
+  return s;
+}
+
+}  // namespace
+
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
-    : settings_(settings),
+    : settings_(checked(settings)),
       stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
       step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
   stats_.smallestStep = std::numeric_limits<double>::infinity();
@@ -49,9 +79,10 @@ double AdaptiveStepper::proposal(double error) const {
 }
 
 double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after) const {
-  // MODEL §4: error = (E(t+δ) - E(t) - W_dissipative) / max(|E|, E_floor), where
-  // W_dissipative (<= 0) is the work of damping, friction and viscosity (and
-  // the work of fixed particles moved kinematically is taken off as well).
+  // MODEL §4.1: error = (ΔE + ΔW_dissipated - ΔW_external) / scale, where
+  // W_dissipated is the work of damping, friction and viscosity, W_external that
+  // of fixed particles moved kinematically, and the scale is the largest of the
+  // active energy before and after, the gravity scale and the floor.
   const double created = (after.mechanical() - before.mechanical()) +
                          (after.dissipated - before.dissipated) -
                          (after.external - before.external);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "collision/contact_test_util.h"
+#include "robophi/adaptive_step.h"
 #include "robophi/joints.h"
 #include "robophi/world.h"
 
@@ -148,6 +149,12 @@ TEST(Edits, BadArgumentsAreClearExceptionsNotCrashes) {
   } catch (const std::out_of_range& e) {
     EXPECT_NE(std::string(e.what()).find("particle 5"), std::string::npos) << e.what();
   }
+  AdaptiveStepSettings badStep;
+  badStep.maxStep = 0.5 * badStep.minStep;
+  EXPECT_THROW(AdaptiveStepper(setup.model, badStep), std::invalid_argument);
+  badStep = AdaptiveStepSettings{};
+  badStep.energyTolerance = std::nan("");
+  EXPECT_THROW(AdaptiveStepper(setup.model, badStep), std::invalid_argument);
   // Nothing was changed by the refused edits.
   EXPECT_EQ(stateHash(world.state()), stateHash(World(setup.model, setup.state).state()));
 }
