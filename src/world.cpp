@@ -131,6 +131,16 @@ StepStatus World::step(double dt) {
   return std::isfinite(current_.energy().total()) ? StepStatus::kOk : StepStatus::kNonFinite;
 }
 
+void World::restore(const Snapshot& saved) {
+  const auto n = static_cast<std::size_t>(model().particleCount());
+  if (saved.state_.position.size() != n || saved.state_.velocity.size() != n) {
+    throw std::invalid_argument(
+        detail::text("World::restore: the snapshot holds {} particles; the model has {}",
+                     saved.state_.position.size(), n));
+  }
+  current_ = saved;
+}
+
 ParticleIndex World::firstNonFiniteParticle() const {
   const auto n = model().particleCount();
   const State& state = current_.state_;

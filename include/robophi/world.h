@@ -144,7 +144,8 @@ class World {
     return current_;
   }
   /// Puts back a snapshot taken earlier: undoes steps exactly.
-  void restore(const Snapshot& saved) { current_ = saved; }
+  /// Throws std::invalid_argument for a snapshot not sized for this model.
+  void restore(const Snapshot& saved);
 
   /// The first particle whose state is not finite, or kNoParticle.
   ParticleIndex firstNonFiniteParticle() const;

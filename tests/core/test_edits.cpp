@@ -155,6 +155,12 @@ TEST(Edits, BadArgumentsAreClearExceptionsNotCrashes) {
   badStep = AdaptiveStepSettings{};
   badStep.energyTolerance = std::nan("");
   EXPECT_THROW(AdaptiveStepper(setup.model, badStep), std::invalid_argument);
+  Model other;
+  State otherState;
+  test::addBall(other, otherState, {}, 1.0, 0.1);
+  test::addBall(other, otherState, {1.0, 0.0, 0.0}, 1.0, 0.1);
+  const World::Snapshot foreign = World(other, otherState).snapshot();
+  EXPECT_THROW(world.restore(foreign), std::invalid_argument);
   // Nothing was changed by the refused edits.
   EXPECT_EQ(stateHash(world.state()), stateHash(World(setup.model, setup.state).state()));
 }
