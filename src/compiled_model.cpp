@@ -24,7 +24,7 @@ CompiledModel::CompiledModel(Model model) : model_(std::move(model)) {
     throw std::invalid_argument("model: " + problem);
   }
   tables_ = std::make_unique<ContactTables>(compileContactTables(model_));
-  revision_ = stiffnessRevision_ = contactRevision_ = nextRevision();
+  revision_ = contactRevision_ = nextRevision();
 }
 
 CompiledModel::~CompiledModel() = default;
@@ -32,14 +32,12 @@ CompiledModel::CompiledModel(const CompiledModel& other)
     : model_(other.model_),
       tables_(std::make_unique<ContactTables>(*other.tables_)),
       revision_(other.revision_),
-      stiffnessRevision_(other.stiffnessRevision_),
       contactRevision_(other.contactRevision_) {}
 CompiledModel& CompiledModel::operator=(const CompiledModel& other) {
   if (this != &other) {
     model_ = other.model_;
     tables_ = std::make_unique<ContactTables>(*other.tables_);
     revision_ = other.revision_;
-    stiffnessRevision_ = other.stiffnessRevision_;
     contactRevision_ = other.contactRevision_;
   }
   return *this;
@@ -49,7 +47,6 @@ CompiledModel& CompiledModel::operator=(CompiledModel&&) noexcept = default;
 
 void CompiledModel::changed(unsigned change) {
   revision_ = nextRevision();
-  if ((change & kStiffness) != 0) stiffnessRevision_ = revision_;
   if ((change & kContactTables) != 0) {
     *tables_ = compileContactTables(model_);
     contactRevision_ = revision_;

@@ -91,10 +91,7 @@ void World::setJointTarget(std::size_t joint, double target) {
   requireFinite("World::setJointTarget", "target", target);
   const Joint& j = m.joints[joint];
   if (j.kind == JointKind::kRevolute) {
-    const double twoPi = 2.0 * std::numbers::pi;
-    double wrapped = std::fmod(target, twoPi);
-    if (wrapped < 0.0) wrapped += twoPi;
-    if (wrapped >= twoPi) wrapped = 0.0;
+    const double wrapped = wrapAngle(target);
     double& rest = model_.model_.jointSprings[static_cast<std::size_t>(j.connector)].restAngle;
     if (rest == wrapped) return;
     edited();
@@ -139,7 +136,7 @@ void World::setJointServo(std::size_t joint, double stiffness, double damping) {
   edited();
   *k = stiffness;
   *c = damping;
-  model_.changed(CompiledModel::kStiffness);
+  model_.changed(CompiledModel::kValues);
 }
 
 namespace {
@@ -160,9 +157,7 @@ unsigned checkReplacement(const char* function, const std::vector<Connector>& li
   requireIndex(function, "connector", index, list.size());
   if (const std::string problem = checkConnector(connector, index, particles); !problem.empty())
     throw std::invalid_argument(std::string(function) + ": " + problem);
-  return CompiledModel::kStiffness |
-         (sameEnds(list[index], connector) ? CompiledModel::kValues
-                                           : CompiledModel::kContactTables);
+  return sameEnds(list[index], connector) ? CompiledModel::kValues : CompiledModel::kContactTables;
 }
 
 }  // namespace
@@ -261,7 +256,7 @@ void World::setParticleFixed(ParticleIndex particle, bool fixed) {
   if (m.inverseMass[particle] == inverseMass) return;
   edited();
   m.inverseMass[particle] = inverseMass;
-  model_.changed(CompiledModel::kStiffness | CompiledModel::kContactTables);
+  model_.changed(CompiledModel::kContactTables);
 }
 
 void World::setGravity(const Vec3& gravity) {

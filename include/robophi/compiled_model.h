@@ -32,14 +32,11 @@ class CompiledModel {
   // (World's edit API), for caches derived from the model to compare.
   /// Changes with every edit of the model.
   std::int64_t revision() const { return revision_; }
-  /// Changes with every edit of a mass, a fixed particle, a stiffness or a
-  /// damping: what the stability estimate reads (a cached estimate compares it).
-  std::int64_t stiffnessRevision() const { return stiffnessRevision_; }
   /// Changes whenever the contact tables are rebuilt (a Workspace's sphere trees).
   std::int64_t contactRevision() const { return contactRevision_; }
 
   /// What an edit changed (World's edits say so when they change the model).
-  enum Change : unsigned { kValues = 0, kStiffness = 1, kContactTables = 2 };
+  enum Change : unsigned { kValues = 0, kContactTables = 1 };
 
  private:
   friend class World;
@@ -49,7 +46,6 @@ class CompiledModel {
   Model model_;
   std::unique_ptr<ContactTables> tables_;
   std::int64_t revision_ = 0;
-  std::int64_t stiffnessRevision_ = 0;
   std::int64_t contactRevision_ = 0;
 };
 

@@ -20,6 +20,9 @@ double jointValue(const Model& model, const State& state, std::size_t joint);
 /// The joint's rate: rad/s or m/s. Same checks as jointValue.
 double jointRate(const Model& model, const State& state, std::size_t joint);
 
+/// An angle wrapped into [0, 2π) (rad): a revolute joint's value and target range.
+double wrapAngle(double angle);
+
 /// The index of the joint named `name` in Model::joints, or nullopt.
 std::optional<std::size_t> findJoint(const Model& model, const std::string& name);
 

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "core/text.h"
@@ -62,6 +63,14 @@ double jointRate(const Model& model, const State& state, std::size_t joint) {
 }  // namespace robophi
 
 namespace robophi {
+
+double wrapAngle(double angle) {
+  const double twoPi = 2.0 * std::numbers::pi;
+  double wrapped = std::fmod(angle, twoPi);
+  if (wrapped < 0.0) wrapped += twoPi;
+  if (wrapped >= twoPi) wrapped = 0.0;
+  return wrapped;
+}
 
 std::optional<std::size_t> findJoint(const Model& model, const std::string& name) {
   for (std::size_t i = 0; i < model.joints.size(); ++i)

@@ -7,18 +7,11 @@
 #include <set>
 
 #include "robophi/connector_forces.h"
+#include "robophi/joints.h"
 
 namespace robophi::scene {
 
 namespace {
-
-// Keeps an angle in [0, 2π).
-double wrapTwoPi(double angle) {
-  double wrapped = std::fmod(angle, 2.0 * M_PI);
-  if (wrapped < 0.0) wrapped += 2.0 * M_PI;
-  if (wrapped >= 2.0 * M_PI) wrapped = 0.0;
-  return wrapped;
-}
 
 std::string refText(const nlohmann::json& ref) {
   return ref.is_string() ? ref.get<std::string>() : ref.dump();
@@ -132,7 +125,7 @@ void readConnector(DiagnosticSink& sink, const nlohmann::json& entry, const std:
                "JS axis particle starts on the centre: the axis would be undefined");
     return;
   }
-  const double angle = wrapTwoPi(restAngle.value_or(jointAngle(pa, pc, pb, pd)));
+  const double angle = wrapAngle(restAngle.value_or(jointAngle(pa, pc, pb, pd)));
   model.jointSprings.push_back({(*p)[0], (*p)[1], (*p)[2], (*p)[3], angle, *stiffness, damping});
 }
 
@@ -182,7 +175,7 @@ void readRevolute(ObjectReader& r, const std::string& name, const ParticleLookup
     return;
   }
   // MODEL §1 JS: θ in [0, 2π) about n = p_axis - p_center; default target: the initial angle.
-  const double angle = wrapTwoPi(target.value_or(jointAngle(x[*a], x[*c], x[*b], x[*d])));
+  const double angle = wrapAngle(target.value_or(jointAngle(x[*a], x[*c], x[*b], x[*d])));
   model.jointSprings.push_back({*a, *c, *b, *d, angle, stiffness, damping});
   model.joints.push_back(
       {name, JointKind::kRevolute, static_cast<std::int32_t>(model.jointSprings.size()) - 1, -1});
