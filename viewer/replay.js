@@ -99,6 +99,7 @@ const paths = (world && world.paths) || [];
 const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#76b7b2', '#edc948', '#b07aa1',
   '#ff9da7', '#9c755f', '#86bcb6'];
 const fixedColour = '#4a4f57';
+const virtualColour = '#7fd17f';  // virtual particles (goal copies, path ends)
 const objectColour = (o) => palette[((o % palette.length) + palette.length) % palette.length];
 
 // Largest index k with times[k] <= t (0 if t is before the first).
@@ -462,11 +463,11 @@ if (connectorIndex.length === 0 && attractorIndex.length === 0) {
   const objects = data.objects.length > 0 ? data.objects : [{ name: 'particles', kind: '' }];
   objects.forEach((o, i) => {
     const row = document.createElement('div');
-    row.innerHTML = `<span class="swatch" style="background:${objectColour(i)}"></span>`;
+    row.innerHTML = `<span class="swatch" style="background:${o.kind === 'virtual' ? virtualColour : objectColour(i)}"></span>`;
     row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}`);
     legend.appendChild(row);
   });
-  if (fixedFlag.some((f) => f)) {
+  if (fixedFlag.some((f, i) => f && !isVirtualParticle(i))) {
     const row = document.createElement('div');
     row.innerHTML = `<span class="swatch" style="background:${fixedColour}"></span>`;
     row.append('fixed particles');
@@ -758,7 +759,8 @@ async function setupScene() {
   const markerMaterial = new THREE.MeshStandardMaterial({ color: worldColour.goal, roughness: 0.4 });
   for (const g of goals) {
     for (const p of g.positions || []) {
-      const tolerance = new THREE.Mesh(new THREE.SphereGeometry(Math.max(g.tolerance || 0, 0.5 * markerSize), 24, 16),
+      // At least a little larger than a particle, so that a robot at its goal does not hide it.
+      const tolerance = new THREE.Mesh(new THREE.SphereGeometry(Math.max(g.tolerance || 0, 1.4 * markerSize), 24, 16),
         goalMaterial);
       tolerance.position.set(...p);
       goalGroup.add(tolerance);
@@ -808,7 +810,7 @@ async function setupScene() {
   const shownRadius = new Float64Array(particleCount);
   for (let i = 0; i < particleCount; ++i) {
     const virtual = isVirtualParticle(i);
-    colour.set(virtual ? '#7fd17f' : fixedFlag[i] ? fixedColour : objectColour(objectOf[i]));
+    colour.set(virtual ? virtualColour : fixedFlag[i] ? fixedColour : objectColour(objectOf[i]));
     spheres.setColorAt(i, colour);
     shownRadius[i] = virtual ? Math.max(radius[i], 0.35 * markerSize) : radius[i];
   }
@@ -982,8 +984,12 @@ async function setupScene() {
   const camera = new THREE.PerspectiveCamera(40, 1, size * 1e-3, size * 100);
   const side = Math.abs(up.x) < 0.9 ? new THREE.Vector3(1, 0, 0) : new THREE.Vector3(0, 1, 0);
   const across = new THREE.Vector3().crossVectors(up, side).normalize();
+  // Higher above a flat scene (an arm in a plane), lower beside a tall one.
+  const extent = new THREE.Vector3(...bounds.hi).sub(new THREE.Vector3(...bounds.lo));
+  const height = Math.abs(extent.dot(up));
+  const flat = height < 0.25 * extent.length();
   const homeDirection = new THREE.Vector3().addScaledVector(side, 1.1).addScaledVector(across, -1.6)
-    .addScaledVector(up, 0.8).normalize();
+    .addScaledVector(up, flat ? 1.6 : 0.8).normalize();
   // The bounding sphere's radius is size/2; distance so that it fits the smaller field of view.
   const fitDistance = (aspect) => {
     const vertical = THREE.MathUtils.degToRad(camera.fov) / 2;
@@ -1017,6 +1023,17 @@ async function setupScene() {
   }
   resetView();
   $('reset-view').addEventListener('click', resetView);
+  // Looks at `target` (m) from `distance` (m) along the home direction, or one
+  // `elevation` high (the weight of "up" in it; test hook, screenshots).
+  function setView(target, distance, elevation) {
+    const at = new THREE.Vector3(...target);
+    const direction = elevation === undefined ? homeDirection : new THREE.Vector3().addScaledVector(side, 1.1)
+      .addScaledVector(across, -1.6).addScaledVector(up, elevation).normalize();
+    camera.position.copy(direction).multiplyScalar(distance).add(at);
+    camera.up.copy(up);
+    camera.lookAt(at);
+    if (controls) { controls.target.copy(at); controls.update(); }
+  }
 
   const setVisible = () => {
     links.visible = $('show-connectors').checked;
@@ -1047,7 +1064,7 @@ async function setupScene() {
     renderer.render(scene, camera);
   }
   return {
-    spheres, update, render, webgl: Boolean(renderer), counts, shown, strainScale,
+    spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
     frictionDrawn: Boolean(frictionColumns),
   };
 }
@@ -1110,6 +1127,11 @@ window.robophiReplay = {
   strainScale: () => (scene3d ? scene3d.strainScale : NaN),
   /** Whether the contact rows carry friction forces that are drawn. */
   frictionDrawn: () => Boolean(scene3d && scene3d.frictionDrawn),
+  /** Looks at target [x, y, z] (m) from `distance` (m) along the home view direction
+   * (or one of the given elevation, the weight of "up" against 1.1 and 1.6 across). */
+  setView: (target, distance, elevation) => {
+    if (scene3d) { scene3d.setView(target, distance, elevation); scene3d.render(); }
+  },
   /** Whether the page has the run's world description (world.json). */
   hasWorld: () => Boolean(world),
   ready: true,

@@ -1,10 +1,13 @@
 // A screenshot of a run's replay page in headless Chromium (docs/viewer.md "Screenshots").
 //
-//   node tests/viewer/screenshot.mjs RUN_DIR OUT.png [TIME_S | last] [WIDTH HEIGHT]
+//   node tests/viewer/screenshot.mjs RUN_DIR OUT.png [TIME_S | last] [VIEW]
 //
 // RUN_DIR must hold replay.html. The page is shown at TIME_S (default: the last
-// frame) and the window (default 1400 × 820) saved as a PNG. Prints the
-// page's worldCounts() so that a caller can check what was drawn.
+// frame) and the window (1400 × 820) saved as a PNG. VIEW, optional, is JSON
+// {"target": [x, y, z], "distance": d, "elevation": e} (m, m, -): the camera
+// looks at target from d along the home view direction, or one of elevation e
+// (default: "reset view", the whole scene).
+// Prints the page's worldCounts() so that a caller can check what was drawn.
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
 import os from 'node:os';
@@ -15,9 +18,11 @@ const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '..', '..', 'viewer', 'package.json'));
 const { chromium } = require('playwright-core');
 
-const [runDir, out, when = 'last', width = '1400', height = '820'] = process.argv.slice(2);
+const [runDir, out, when = 'last', viewJson = ''] = process.argv.slice(2);
+const width = 1400;
+const height = 820;
 if (!runDir || !out) {
-  console.error('usage: node tests/viewer/screenshot.mjs RUN_DIR OUT.png [TIME_S | last] [WIDTH HEIGHT]');
+  console.error('usage: node tests/viewer/screenshot.mjs RUN_DIR OUT.png [TIME_S | last] [VIEW]');
   process.exit(2);
 }
 const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'robophi-chromium-'));
@@ -42,6 +47,10 @@ try {
     const times = window.robophiReplay.frameTimes();
     return window.robophiReplay.seek(w === 'last' ? times[times.length - 1] : Number(w));
   }, when);
+  if (viewJson) {
+    const view = JSON.parse(viewJson);
+    await page.evaluate((v) => window.robophiReplay.setView(v.target, v.distance, v.elevation), view);
+  }
   await page.waitForTimeout(500);
   fs.mkdirSync(path.dirname(path.resolve(out)), { recursive: true });
   await page.screenshot({ path: out });
