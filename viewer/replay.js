@@ -903,13 +903,17 @@ async function setupScene() {
       spheres.setMatrixAt(i, matrix);
     }
     spheres.instanceMatrix.needsUpdate = true;
-    connectorIndex.forEach((s, n) => {
+    // The n-th segment of `positions` from spring s's particle a to its particle b.
+    const placeSpring = (positions, s, n) => {
       const a = base + 3 * linear[3 * s];
       const b = base + 3 * linear[3 * s + 1];
       for (let d = 0; d < 3; ++d) {
-        linkPositions[6 * n + d] = framePosition[a + d];
-        linkPositions[6 * n + 3 + d] = framePosition[b + d];
+        positions[6 * n + d] = framePosition[a + d];
+        positions[6 * n + 3 + d] = framePosition[b + d];
       }
+    };
+    connectorIndex.forEach((s, n) => {
+      placeSpring(linkPositions, s, n);
       const x = Math.max(-1, Math.min(1, strainOf(frame, s) / strainScale));
       // dark grey (0.22, 0.24, 0.27) toward red (0.85, 0.15, 0.10) or blue (0.10, 0.35, 0.85)
       const to = x >= 0 ? [0.85, 0.15, 0.10] : [0.10, 0.35, 0.85];
@@ -920,14 +924,7 @@ async function setupScene() {
     });
     linkGeometry.attributes.position.needsUpdate = true;
     linkGeometry.attributes.color.needsUpdate = true;
-    attractorIndex.forEach((s, n) => {
-      const a = base + 3 * linear[3 * s];
-      const b = base + 3 * linear[3 * s + 1];
-      for (let d = 0; d < 3; ++d) {
-        pullPositions[6 * n + d] = framePosition[a + d];
-        pullPositions[6 * n + 3 + d] = framePosition[b + d];
-      }
-    });
+    attractorIndex.forEach((s, n) => placeSpring(pullPositions, s, n));
     pullGeometry.attributes.position.needsUpdate = true;
     // Virtual obstacles from the frame at which they appeared.
     shown.virtualObstacles = 0;

@@ -117,6 +117,15 @@ Json pathsJson(const Scene& scene) {
   return paths;
 }
 
+// Item k of a kind that had `initialCount` at the start: one added during the
+// run gets "virtual" and the time it was first seen.
+void markAdded(Json& item, std::size_t k, std::size_t initialCount,
+               const std::vector<double>& addedAt) {
+  if (k < initialCount) return;
+  item["addedAt"] = addedAt[k - initialCount];
+  item["virtual"] = true;
+}
+
 }  // namespace
 
 std::vector<int> attractorSprings(const Model& model) {
@@ -173,7 +182,7 @@ std::string WorldView::json() const {
   for (std::size_t k = 0; k < latest_.planes.size(); ++k) {
     const GroundPlane& p = latest_.planes[k];
     Json item = {{"point", vec(p.point)}, {"normal", vec(p.normal)}};
-    if (k >= initial_.planes.size()) item["addedAt"] = planeAddedAt_[k - initial_.planes.size()];
+    markAdded(item, k, initial_.planes.size(), planeAddedAt_);
     planes.push_back(item);
   }
   env["planes"] = planes;
@@ -193,10 +202,7 @@ std::string WorldView::json() const {
                  {"halfExtents", vec(b.halfExtents)},
                  {"axes", {vec(b.axisX), vec(b.axisY), vec(b.axisZ)}},
                  {"securityDistance", k < boxMargin.size() ? boxMargin[k].get<double>() : 0.0}};
-    if (k >= initial_.boxes.size()) {
-      item["addedAt"] = boxAddedAt_[k - initial_.boxes.size()];
-      item["virtual"] = true;
-    }
+    markAdded(item, k, initial_.boxes.size(), boxAddedAt_);
     boxes.push_back(item);
   }
   env["boxes"] = boxes;
@@ -207,10 +213,7 @@ std::string WorldView::json() const {
         {"center", vec(s.center)},
         {"radius", s.radius},
         {"securityDistance", k < sphereMargin.size() ? sphereMargin[k].get<double>() : 0.0}};
-    if (k >= initial_.spheres.size()) {
-      item["addedAt"] = sphereAddedAt_[k - initial_.spheres.size()];
-      item["virtual"] = true;
-    }
+    markAdded(item, k, initial_.spheres.size(), sphereAddedAt_);
     spheres.push_back(item);
   }
   env["spheres"] = spheres;

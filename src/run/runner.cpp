@@ -20,16 +20,17 @@ namespace robophi {
 std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability) {
   std::vector<std::string> warnings;
-  if (settings.dt > stability.criticalStep) {
+  // Constant steps only: the adaptive step never starts above its stability
+  // limit (AdaptiveStepSettings::stabilitySafety × the critical step), so
+  // there `dt`, its first trial step, cannot make the run diverge.
+  if (settings.stepMode == StepMode::kConstant && settings.dt > stability.criticalStep) {
     // criticalStep is 2/omega_max reduced for damping (MODEL §2): name it as such.
     warnings.push_back(fmt::format(
         "step {:.3g} s exceeds the critical step {:.3g} s (the stability estimate: 2/omega_max = "
         "{:.3g} s for omega_max = {:.4g} rad/s, reduced for damping; particle {}): the run may "
-        "diverge{}",
+        "diverge",
         settings.dt, stability.criticalStep, 2.0 / stability.omegaMax, stability.omegaMax,
-        stability.limitingParticle,
-        settings.stepMode == StepMode::kAdaptive ? " (dt is the adaptive step's first trial step)"
-                                                 : ""));
+        stability.limitingParticle));
   }
   return warnings;
 }
