@@ -66,7 +66,8 @@ function columnTriple(candidates) {
 const contactA = Math.max(0, contactColumns.indexOf('a'));
 const contactB = contactColumns.indexOf('b') >= 0 ? contactColumns.indexOf('b') : 1;
 const normalColumns = columnTriple([['fnx', 'fny', 'fnz'], ['fx_n', 'fy_n', 'fz_n'], ['fx', 'fy', 'fz']]) || [2, 3, 4];
-const frictionColumns = columnTriple([['ftx', 'fty', 'ftz'], ['fx_t', 'fy_t', 'fz_t'],
+// (robophi run writes t,a,b,fx,fy,fz,tx,ty,tz,sliding: f normal, t tangential.)
+const frictionColumns = columnTriple([['tx', 'ty', 'tz'], ['ftx', 'fty', 'ftz'], ['fx_t', 'fy_t', 'fz_t'],
   ['frictionx', 'frictiony', 'frictionz'], ['friction_x', 'friction_y', 'friction_z']]);
 
 // ---------------------------------------------------------------- the world

@@ -131,7 +131,7 @@ TEST_F(ReplayHtmlTest, EmbedsTheWorldAndTheContactColumns) {
   writeText(dir_ / "world.json", R"({"environment": {"planes": [{"point": [0, 0, 0],
     "normal": [0, 0, 1]}], "heightfields": [], "boxes": [], "spheres": []},
     "goals": [{"name": "a </script> goal"}], "paths": [], "attractors": [0]})");
-  writeText(dir_ / "contacts.csv", "t,a,b,fx,fy,fz,ftx,fty,ftz\n0.01,0,2,0,0,1,0.5,0,0\n");
+  writeText(dir_ / "contacts.csv", "t,a,b,fx,fy,fz,tx,ty,tz,sliding\n0.01,0,2,0,0,1,0.5,0,0,1\n");
   std::string error;
   ASSERT_TRUE(writeReplayHtml(dir_.string(), {}, error)) << error;
   const std::string page = readText(dir_ / "replay.html");
@@ -142,7 +142,7 @@ TEST_F(ReplayHtmlTest, EmbedsTheWorldAndTheContactColumns) {
   EXPECT_EQ(data["world"]["goals"][0]["name"], "a </script> goal");
   EXPECT_EQ(data["world"]["attractors"][0], 0);
   EXPECT_EQ(data["contacts"]["columns"],
-            nlohmann::json::parse(R"(["t","a","b","fx","fy","fz","ftx","fty","ftz"])"));
+            nlohmann::json::parse(R"(["t","a","b","fx","fy","fz","tx","ty","tz","sliding"])"));
   EXPECT_EQ(data["contacts"]["rows"][0][6].get<double>(), 0.5);
 }
 

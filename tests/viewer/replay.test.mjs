@@ -211,7 +211,8 @@ test('draws friction forces when contacts.csv has them', async () => {
   if (!fs.existsSync(file)) return;
   const lines = fs.readFileSync(file, 'utf8').split(/\r?\n/).filter((l) => l.trim() !== '');
   const header = lines[0].split(',').map((c) => c.trim());
-  const hasFriction = ['ftx', 'fty', 'ftz'].every((c) => header.includes(c));
+  const hasFriction = [['tx', 'ty', 'tz'], ['ftx', 'fty', 'ftz']]
+    .some((names) => names.every((c) => header.includes(c)));
   assert.equal(await page.evaluate(() => window.robophiReplay.frictionDrawn()), hasFriction);
   if (!hasFriction || lines.length < 2) return;
   const first = Number(lines[1].split(',')[0]);
