@@ -465,7 +465,8 @@ if (connectorIndex.length === 0 && attractorIndex.length === 0) {
   objects.forEach((o, i) => {
     const row = document.createElement('div');
     row.innerHTML = `<span class="swatch" style="background:${o.kind === 'virtual' ? virtualColour : objectColour(i)}"></span>`;
-    row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}`);
+    const fixedObject = world && world.objects && world.objects[i] && world.objects[i].fixed && o.kind !== 'virtual';
+    row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}${fixedObject ? ', fixed' : ''}`);
     legend.appendChild(row);
   });
   if (fixedFlag.some((f, i) => f && !isVirtualParticle(i))) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "robophi/scene/scene.h"
+#include "run/runner.h"
 #include "run/start_checks.h"
 
 namespace robophi {
@@ -45,6 +46,38 @@ TEST(StartChecks, NamesAnObjectThatStartsInsideTheEnvironment) {
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("object 'left' starts inside environment plane 0"), std::string::npos)
       << warnings[0];
+}
+
+TEST(StartChecks, TheRunListsTheOverlapAmongItsWarnings) {
+  Scene scene = twoBalls(-0.1);
+  RunOptions options;
+  options.settings = scene.run;
+  options.settings.duration = 1e-3;
+  const RunReport report = runScene(scene, options);
+  ASSERT_FALSE(report.warnings.empty());
+  EXPECT_NE(report.warnings[0].find("start overlapping"), std::string::npos) << report.warnings[0];
+}
+
+// The stability warning says what its number is: the critical step, 2/omega_max
+// reduced for damping, with 2/omega_max beside it; only for a constant step.
+TEST(StartChecks, TheStepWarningNamesTheCriticalStepAndOnlyForConstantSteps) {
+  RunSettings settings;
+  settings.dt = 1e-3;
+  StabilityEstimate stability;
+  stability.omegaMax = 4767.0;        // 2/omega_max = 4.196e-4 s
+  stability.criticalStep = 5.145e-5;  // reduced for damping
+  stability.limitingParticle = 3;
+  settings.stepMode = StepMode::kConstant;
+  const std::vector<std::string> warnings = preflightWarnings(settings, stability);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("exceeds the critical step 5.14e-05 s"), std::string::npos)
+      << warnings[0];
+  EXPECT_NE(warnings[0].find("2/omega_max = 0.00042 s for omega_max = 4767 rad/s, reduced for "
+                             "damping"),
+            std::string::npos)
+      << warnings[0];
+  settings.stepMode = StepMode::kAdaptive;  // its first trial step is capped below the limit
+  EXPECT_TRUE(preflightWarnings(settings, stability).empty());
 }
 
 }  // namespace
