@@ -686,12 +686,12 @@ async function setupScene() {
       side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
     mesh.userData.kind = 'heightfield';
     environmentGroup.add(mesh);
-    // Grid lines along rows and columns.
+    // Grid lines along rows and columns (not for a large terrain: a haze of lines).
     const lines = [];
-    for (let j = 0; j < rows; ++j) {
+    for (let j = 0; j < rows && columns * rows <= 40000; ++j) {
       for (let i = 0; i + 1 < columns; ++i) lines.push(...positions.slice(3 * (j * columns + i), 3 * (j * columns + i) + 6));
     }
-    for (let i = 0; i < columns; ++i) {
+    for (let i = 0; i < columns && columns * rows <= 40000; ++i) {
       for (let j = 0; j + 1 < rows; ++j) {
         lines.push(...positions.slice(3 * (j * columns + i), 3 * (j * columns + i) + 3),
           ...positions.slice(3 * ((j + 1) * columns + i), 3 * ((j + 1) * columns + i) + 3));
