@@ -41,7 +41,7 @@ const energy = columnsOf(data.energy);
 const joints = data.joints ? columnsOf(data.joints) : null;
 const jointNames = data.joints ? data.joints.columns.slice(1) : [];
 
-// Contacts grouped by time: [{t, rows: [[a, b, fx, fy, fz], ...]}], times increasing.
+// Contacts grouped by time: [{t, rows: [[a, b, fx, fy, fz, ...], ...]}], times increasing.
 const contactGroups = [];
 if (data.contacts) {
   for (const row of data.contacts.rows) {
@@ -52,11 +52,55 @@ if (data.contacts) {
     contactGroups[contactGroups.length - 1].rows.push(row.slice(1).map(num));
   }
 }
+// Which columns of a contact row (after t) hold what: the particles, the normal
+// force and, when the run folder has them, the friction (tangential) force.
+const contactColumns = (data.contacts && data.contacts.columns ? data.contacts.columns.slice(1)
+  : ['a', 'b', 'fx', 'fy', 'fz']).map((name) => String(name).trim().toLowerCase());
+function columnTriple(candidates) {
+  for (const names of candidates) {
+    const index = names.map((n) => contactColumns.indexOf(n));
+    if (index.every((i) => i >= 0)) return index;
+  }
+  return null;
+}
+const contactA = Math.max(0, contactColumns.indexOf('a'));
+const contactB = contactColumns.indexOf('b') >= 0 ? contactColumns.indexOf('b') : 1;
+const normalColumns = columnTriple([['fnx', 'fny', 'fnz'], ['fx_n', 'fy_n', 'fz_n'], ['fx', 'fy', 'fz']]) || [2, 3, 4];
+// (robophi run writes t,a,b,fx,fy,fz,tx,ty,tz,sliding: f normal, t tangential.)
+const frictionColumns = columnTriple([['tx', 'ty', 'tz'], ['ftx', 'fty', 'ftz'], ['fx_t', 'fy_t', 'fz_t'],
+  ['frictionx', 'frictiony', 'frictionz'], ['friction_x', 'friction_y', 'friction_z']]);
+
+// ---------------------------------------------------------------- the world
+// The world description (src/output/world_view.cpp, world.json): environment,
+// goals, paths, virtual obstacles. Absent for older run folders: then only the
+// particles are known and a reference grid stands for the ground.
+const world = data.world || null;
+const objectKinds = data.objects.map((o) => o.kind);
+const isVirtualParticle = (i) => objectKinds[objectOf[i]] === 'virtual';
+// Linear springs that are attractors (goal, path, finger tips: MODEL §5), not
+// connectors: drawn apart, and left out of the strain scale.
+const attractor = new Uint8Array(linkCount);
+if (world && Array.isArray(world.attractors)) {
+  for (const s of world.attractors) if (s >= 0 && s < linkCount) attractor[s] = 1;
+}
+for (let s = 0; s < linkCount; ++s) {
+  if (linear[3 * s + 2] <= 1e-6 || isVirtualParticle(linear[3 * s]) || isVirtualParticle(linear[3 * s + 1])) {
+    attractor[s] = 1;
+  }
+}
+const connectorIndex = [];
+const attractorIndex = [];
+for (let s = 0; s < linkCount; ++s) (attractor[s] ? attractorIndex : connectorIndex).push(s);
+const environment = (world && world.environment) || { planes: [], heightfields: [], boxes: [], spheres: [] };
+for (const key of ['planes', 'heightfields', 'boxes', 'spheres']) environment[key] = environment[key] || [];
+const goals = (world && world.goals) || [];
+const paths = (world && world.paths) || [];
 
 // ---------------------------------------------------------------- helpers
 const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#76b7b2', '#edc948', '#b07aa1',
   '#ff9da7', '#9c755f', '#86bcb6'];
 const fixedColour = '#4a4f57';
+const virtualColour = '#7fd17f';  // virtual particles (goal copies, path ends)
 const objectColour = (o) => palette[((o % palette.length) + palette.length) % palette.length];
 
 // Largest index k with times[k] <= t (0 if t is before the first).
@@ -95,7 +139,7 @@ function notice(text) {
 document.title = `robophi replay: ${data.name || 'run'}`;
 $('run-name').textContent = data.name || 'run';
 $('run-info').textContent = [
-  `${particleCount} particles`, `${linkCount} connectors`,
+  `${particleCount} particles`, `${connectorIndex.length} connectors`,
   `${frameCount} frame${frameCount === 1 ? '' : 's'}`, `t = ${formatNumber(tStart)} to ${formatNumber(tEnd)} s`,
 ].join(' · ');
 
@@ -331,12 +375,26 @@ function addPlot(canvasId, series, options) {
   return plot;
 }
 
-addPlot('plot-energy', [
+// External work W_ext (J, EnergyTally::external): energy.csv's column when it has
+// one, else what its total implies (total = E + dissipated − W_ext).
+const externalWork = energy.external || Float64Array.from(energy.t,
+  (_, i) => energy.kinetic[i] + energy.potential[i] + energy.dissipated[i] - energy.total[i]);
+const energySeries = [
   { name: 'kinetic', label: 'kinetic', colour: '#e15759', t: energy.t, v: energy.kinetic, unit: 'J' },
   { name: 'potential', label: 'potential', colour: '#4e79a7', t: energy.t, v: energy.potential, unit: 'J' },
   { name: 'dissipated', label: 'dissipated', colour: '#f28e2b', t: energy.t, v: energy.dissipated, unit: 'J' },
-  { name: 'total', label: 'total', colour: '#1f2933', t: energy.t, v: energy.total, unit: 'J', dash: [6, 3] },
-], { includeZero: true });
+];
+// Shown when anything was done from outside (a moving virtual robot, edits between steps).
+let scaleOfEnergy = 1e-300;
+for (const column of [energy.total, energy.potential, energy.kinetic]) {
+  for (const v of column) if (Number.isFinite(v)) scaleOfEnergy = Math.max(scaleOfEnergy, Math.abs(v));
+}
+if (externalWork.some((v) => Number.isFinite(v) && Math.abs(v) > 1e-9 * scaleOfEnergy) || energy.external) {
+  energySeries.push({ name: 'external', label: 'external work', colour: '#76b7b2', t: energy.t, v: externalWork, unit: 'J' });
+}
+energySeries.push({ name: 'total', label: 'total (E + dissipated − external)', colour: '#1f2933', t: energy.t,
+  v: energy.total, unit: 'J', dash: [6, 3] });
+addPlot('plot-energy', energySeries, { includeZero: true });
 addPlot('plot-dt', [
   { name: 'dt', label: 'dt', colour: '#59a14f', t: energy.t, v: energy.dt, unit: 's' },
 ], { includeZero: false });
@@ -395,7 +453,7 @@ if (!data.contacts) {
   box.parentElement.classList.add('disabled');
   box.parentElement.title = 'this run folder has no contacts.csv';
 }
-if (linkCount === 0) {
+if (connectorIndex.length === 0 && attractorIndex.length === 0) {
   $('show-connectors').disabled = true;
   $('show-connectors').parentElement.classList.add('disabled');
 }
@@ -406,11 +464,12 @@ if (linkCount === 0) {
   const objects = data.objects.length > 0 ? data.objects : [{ name: 'particles', kind: '' }];
   objects.forEach((o, i) => {
     const row = document.createElement('div');
-    row.innerHTML = `<span class="swatch" style="background:${objectColour(i)}"></span>`;
-    row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}`);
+    row.innerHTML = `<span class="swatch" style="background:${o.kind === 'virtual' ? virtualColour : objectColour(i)}"></span>`;
+    const fixedObject = world && world.objects && world.objects[i] && world.objects[i].fixed && o.kind !== 'virtual';
+    row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}${fixedObject ? ', fixed' : ''}`);
     legend.appendChild(row);
   });
-  if (fixedFlag.some((f) => f)) {
+  if (fixedFlag.some((f, i) => f && !isVirtualParticle(i))) {
     const row = document.createElement('div');
     row.innerHTML = `<span class="swatch" style="background:${fixedColour}"></span>`;
     row.append('fixed particles');
@@ -433,30 +492,58 @@ function showViewMessage(text) {
   $('view-message').textContent = text;
 }
 
-// Extent of the whole run (every kept frame, plus radii).
+// Extent of the whole run (every kept frame, plus radii; virtual particles are
+// points) and of the environment and goals: what the camera frames.
 function runBounds() {
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
+  const add = (p, r = 0) => {
+    for (let d = 0; d < 3; ++d) {
+      const v = p[d];
+      if (!Number.isFinite(v)) continue;
+      lo[d] = Math.min(lo[d], v - r);
+      hi[d] = Math.max(hi[d], v + r);
+    }
+  };
   for (let k = 0; k < frameCount; ++k) {
     for (let i = 0; i < particleCount; ++i) {
       const base = (k * particleCount + i) * 3;
-      for (let d = 0; d < 3; ++d) {
-        const v = framePosition[base + d];
-        if (!Number.isFinite(v)) continue;
-        lo[d] = Math.min(lo[d], v - radius[i]);
-        hi[d] = Math.max(hi[d], v + radius[i]);
-      }
+      add([framePosition[base], framePosition[base + 1], framePosition[base + 2]], radius[i]);
     }
   }
-  if (!Number.isFinite(lo[0])) return { lo: [-1, -1, -1], hi: [1, 1, 1] };
+  for (const h of environment.heightfields) {
+    let zLo = Infinity;
+    let zHi = -Infinity;
+    for (const z of h.heights) if (Number.isFinite(z)) { zLo = Math.min(zLo, z); zHi = Math.max(zHi, z); }
+    add([h.origin[0], h.origin[1], zLo]);
+    add([h.origin[0] + (h.columns - 1) * h.cellSize[0], h.origin[1] + (h.rows - 1) * h.cellSize[1], zHi]);
+  }
+  for (const b of environment.boxes) {
+    for (let corner = 0; corner < 8; ++corner) {
+      const p = b.center.slice();
+      for (let a = 0; a < 3; ++a) {
+        const sign = (corner >> a) & 1 ? 1 : -1;
+        for (let d = 0; d < 3; ++d) p[d] += sign * b.halfExtents[a] * b.axes[a][d];
+      }
+      add(p);
+    }
+  }
+  for (const s of environment.spheres) add(s.center, s.radius);
+  for (const g of goals) for (const p of g.positions || []) add(p, g.tolerance || 0);
+  for (const p of paths) {
+    if (p.type === 'line') { add(p.from); add(p.to); } else if (p.type === 'arc') add(p.center, p.radius);
+  }
+  if (!Number.isFinite(lo[0]) || !Number.isFinite(lo[1]) || !Number.isFinite(lo[2])) {
+    return { lo: [-1, -1, -1], hi: [1, 1, 1] };
+  }
   return { lo, hi };
 }
 
-// Largest |strain| of any connector over the run, for the colour scale.
+// Largest |strain| of any connector (attractors left out) over the run, for the colour scale.
 function maxStrain() {
   let largest = 0;
   for (let k = 0; k < frameCount; ++k) {
-    for (let s = 0; s < linkCount; ++s) {
+    for (const s of connectorIndex) {
       const strain = strainOf(k, s);
       if (Number.isFinite(strain)) largest = Math.max(largest, Math.abs(strain));
     }
@@ -472,6 +559,13 @@ function strainOf(frame, s) {
   return rest > 0 ? (length - rest) / rest : 0;
 }
 
+// Colours of the world.
+const worldColour = {
+  plane: 0xd9dee5, planeGrid: 0xa9b2bf, box: 0x9a8f80, sphere: 0x8d99a6, security: 0xf2a93b,
+  virtualObstacle: 0x9467bd, goal: 0x2ca02c, path: 0x17a2b8, attractor: 0x2ca02c,
+  terrainLow: [0.55, 0.68, 0.45], terrainHigh: [0.69, 0.55, 0.36], friction: 0xff7f0e,
+};
+
 let scene3d = null;
 async function setupScene() {
   const THREE = await import('three');
@@ -485,6 +579,10 @@ async function setupScene() {
   const bounds = runBounds();
   const centre = new THREE.Vector3(...bounds.lo).add(new THREE.Vector3(...bounds.hi)).multiplyScalar(0.5);
   const size = Math.max(new THREE.Vector3(...bounds.hi).sub(new THREE.Vector3(...bounds.lo)).length(), 1e-3);
+  // Typical particle radius (non-virtual): the size of markers.
+  const realRadii = radius.filter((r, i) => !isVirtualParticle(i) && r > 0).sort((a, b) => a - b);
+  const typicalRadius = realRadii.length > 0 ? realRadii[realRadii.length >> 1] : 0.01 * size;
+  const markerSize = Math.max(typicalRadius, 0.006 * size);
 
   // Lights: sky/ground fill and a key light from above.
   scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8f99, 1.6));
@@ -492,19 +590,218 @@ async function setupScene() {
   key.position.copy(up).multiplyScalar(2 * size).add(new THREE.Vector3(size, size * 0.6, 0));
   scene.add(key);
 
-  // Ground grid in the plane through the origin normal to `up`, with 1-2-5 spacing.
+  const counts = {
+    planes: 0, heightfields: 0, heightfieldTriangles: 0, boxes: 0, spheres: 0, securityShells: 0,
+    virtualObstacles: 0, goals: 0, goalMarkers: 0, paths: 0, attractors: attractorIndex.length,
+    connectors: connectorIndex.length,
+  };
+  const environmentGroup = new THREE.Group();
+  environmentGroup.name = 'environment';
+  scene.add(environmentGroup);
+  const goalGroup = new THREE.Group();
+  goalGroup.name = 'goals';
+  scene.add(goalGroup);
+
+  // Grid spacing 1-2-5 × 10^n for about 16 cells over the scene.
   const spanDesired = 2.5 * size;
   const cell = Plot.ticks(0, spanDesired, 16)[1] || 1;
   const divisions = Math.max(4, Math.ceil(spanDesired / cell / 2) * 2);
-  const grid = new THREE.GridHelper(divisions * cell, divisions, 0x98a2b3, 0xc8cfd8);
-  grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), up);
-  const centreOnGround = centre.clone().sub(up.clone().multiplyScalar(centre.dot(up)));
-  grid.position.set(Math.round(centreOnGround.x / cell) * cell, Math.round(centreOnGround.y / cell) * cell,
-    Math.round(centreOnGround.z / cell) * cell);
-  scene.add(grid);
-  scene.add(new THREE.AxesHelper(Math.max(cell, 0.1 * size)));
+  const snap = (v) => new THREE.Vector3(Math.round(v.x / cell) * cell, Math.round(v.y / cell) * cell,
+    Math.round(v.z / cell) * cell);
+  const grids = [];
 
-  // Particles: one instanced sphere mesh, unit sphere scaled by each radius.
+  // Planes (ground, walls): a light square with a grid, centred where the scene projects on it.
+  for (const p of environment.planes) {
+    const normal = new THREE.Vector3(...p.normal).normalize();
+    const point = new THREE.Vector3(...p.point);
+    const foot = centre.clone().sub(normal.clone().multiplyScalar(centre.clone().sub(point).dot(normal)));
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(divisions * cell, divisions * cell),
+      new THREE.MeshStandardMaterial({ color: worldColour.plane, roughness: 0.95, side: THREE.DoubleSide,
+        transparent: true, opacity: 0.75, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+    quad.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), normal);
+    quad.position.copy(foot);
+    quad.userData.kind = 'plane';
+    environmentGroup.add(quad);
+    const grid = new THREE.GridHelper(divisions * cell, divisions, worldColour.planeGrid, worldColour.planeGrid);
+    grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), normal);
+    grid.position.copy(foot);
+    grids.push(grid);
+    scene.add(grid);
+    ++counts.planes;
+  }
+  // Without a plane in the world, a reference grid just below the scene (normal to "up").
+  if (environment.planes.length === 0) {
+    const grid = new THREE.GridHelper(divisions * cell, divisions, 0x98a2b3, 0xc8cfd8);
+    grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), up);
+    let lowest = Infinity;
+    for (let corner = 0; corner < 8; ++corner) {
+      const p = [0, 1, 2].map((d) => ((corner >> d) & 1 ? bounds.hi[d] : bounds.lo[d]));
+      lowest = Math.min(lowest, new THREE.Vector3(...p).dot(up));
+    }
+    // Through the origin when the scene reaches it (the classic ground), else under the scene.
+    const level = world ? lowest - 0.002 * size : Math.min(0, lowest);
+    const onGround = centre.clone().sub(up.clone().multiplyScalar(centre.dot(up) - level));
+    grid.position.copy(snap(onGround.clone().sub(up.clone().multiplyScalar(onGround.dot(up)))))
+      .add(up.clone().multiplyScalar(level));
+    grids.push(grid);
+    scene.add(grid);
+  }
+
+  // The x (red), y (green), z (blue) axes at the origin, with the grid toggle.
+  const axes = new THREE.AxesHelper(Math.max(cell, 0.1 * size));
+  grids.push(axes);
+  scene.add(axes);
+
+  // Heightfields z = h(x, y): a shaded surface coloured by height, with its grid lines.
+  for (const h of environment.heightfields) {
+    const { columns, rows } = h;
+    if (!(columns >= 2 && rows >= 2) || h.heights.length !== columns * rows) continue;
+    let zLo = Infinity;
+    let zHi = -Infinity;
+    for (const z of h.heights) { zLo = Math.min(zLo, z); zHi = Math.max(zHi, z); }
+    const positions = new Float32Array(columns * rows * 3);
+    const colours = new Float32Array(columns * rows * 3);
+    for (let j = 0; j < rows; ++j) {
+      for (let i = 0; i < columns; ++i) {
+        const v = j * columns + i;
+        const z = h.heights[v];
+        positions.set([h.origin[0] + i * h.cellSize[0], h.origin[1] + j * h.cellSize[1], z], 3 * v);
+        const w = zHi > zLo ? (z - zLo) / (zHi - zLo) : 0;
+        colours.set([0, 1, 2].map((c) => worldColour.terrainLow[c] + w * (worldColour.terrainHigh[c] - worldColour.terrainLow[c])), 3 * v);
+      }
+    }
+    const index = [];
+    for (let j = 0; j + 1 < rows; ++j) {
+      for (let i = 0; i + 1 < columns; ++i) {
+        const v = j * columns + i;
+        index.push(v, v + 1, v + columns + 1, v, v + columns + 1, v + columns);
+      }
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+    geometry.setIndex(index);
+    geometry.computeVertexNormals();
+    const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.95,
+      side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+    mesh.userData.kind = 'heightfield';
+    environmentGroup.add(mesh);
+    // Grid lines along rows and columns (not for a large terrain: a haze of lines).
+    const lines = [];
+    for (let j = 0; j < rows && columns * rows <= 40000; ++j) {
+      for (let i = 0; i + 1 < columns; ++i) lines.push(...positions.slice(3 * (j * columns + i), 3 * (j * columns + i) + 6));
+    }
+    for (let i = 0; i < columns && columns * rows <= 40000; ++i) {
+      for (let j = 0; j + 1 < rows; ++j) {
+        lines.push(...positions.slice(3 * (j * columns + i), 3 * (j * columns + i) + 3),
+          ...positions.slice(3 * ((j + 1) * columns + i), 3 * ((j + 1) * columns + i) + 3));
+      }
+    }
+    const lineGeometry = new THREE.BufferGeometry();
+    lineGeometry.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(lines), 3));
+    environmentGroup.add(new THREE.LineSegments(lineGeometry,
+      new THREE.LineBasicMaterial({ color: 0x5f6b52, transparent: true, opacity: 0.35 })));
+    ++counts.heightfields;
+    counts.heightfieldTriangles += index.length / 3;
+  }
+
+  // Items that appear during the run (virtual obstacles): shown from their time on.
+  const timed = [];
+  const securityMaterial = new THREE.MeshStandardMaterial({ color: worldColour.security, transparent: true,
+    opacity: 0.3, depthWrite: false, roughness: 0.6 });
+  const virtualMaterial = new THREE.MeshStandardMaterial({ color: worldColour.virtualObstacle, transparent: true,
+    opacity: 0.35, depthWrite: false, roughness: 0.5 });
+
+  // Boxes: solid; a robotics obstacle's security distance as a translucent shell.
+  for (const b of environment.boxes) {
+    const margin = b.securityDistance || 0;
+    const basis = new THREE.Matrix4().makeBasis(new THREE.Vector3(...b.axes[0]), new THREE.Vector3(...b.axes[1]),
+      new THREE.Vector3(...b.axes[2]));
+    const make = (half, material) => {
+      const mesh = new THREE.Mesh(new THREE.BoxGeometry(2 * half[0], 2 * half[1], 2 * half[2]), material);
+      mesh.quaternion.setFromRotationMatrix(basis);
+      mesh.position.set(...b.center);
+      return mesh;
+    };
+    const core = b.halfExtents.map((v) => Math.max(v - margin, 1e-9));
+    const solid = make(core, b.virtual ? virtualMaterial
+      : new THREE.MeshStandardMaterial({ color: worldColour.box, roughness: 0.8, transparent: true, opacity: 0.92 }));
+    solid.userData.kind = b.virtual ? 'virtual obstacle' : 'box';
+    environmentGroup.add(solid);
+    if (b.virtual) { timed.push({ object: solid, time: b.addedAt }); ++counts.virtualObstacles; } else ++counts.boxes;
+    if (margin > 0) {
+      const shell = make(b.halfExtents, securityMaterial);
+      environmentGroup.add(shell);
+      ++counts.securityShells;
+    }
+  }
+  // Spheres: the same; virtual obstacles of the escape task in violet.
+  for (const sp of environment.spheres) {
+    const margin = sp.securityDistance || 0;
+    const make = (r, material) => {
+      const mesh = new THREE.Mesh(new THREE.SphereGeometry(r, 40, 24), material);
+      mesh.position.set(...sp.center);
+      return mesh;
+    };
+    const solid = make(Math.max(sp.radius - margin, 1e-9), sp.virtual ? virtualMaterial
+      : new THREE.MeshStandardMaterial({ color: worldColour.sphere, roughness: 0.6 }));
+    solid.userData.kind = sp.virtual ? 'virtual obstacle' : 'sphere';
+    environmentGroup.add(solid);
+    if (sp.virtual) { timed.push({ object: solid, time: sp.addedAt }); ++counts.virtualObstacles; } else ++counts.spheres;
+    if (margin > 0) {
+      environmentGroup.add(make(sp.radius, securityMaterial));
+      ++counts.securityShells;
+    }
+  }
+
+  // Goals: the goal pose (a green sphere of the goal's tolerance and a marker);
+  // the attractors from the robot to its virtual copy follow the frames.
+  const goalMaterial = new THREE.MeshStandardMaterial({ color: worldColour.goal, transparent: true, opacity: 0.3,
+    depthWrite: false });
+  const markerMaterial = new THREE.MeshStandardMaterial({ color: worldColour.goal, roughness: 0.4 });
+  for (const g of goals) {
+    for (const p of g.positions || []) {
+      // At least a little larger than a particle, so that a robot at its goal does not hide it.
+      const tolerance = new THREE.Mesh(new THREE.SphereGeometry(Math.max(g.tolerance || 0, 1.4 * markerSize), 24, 16),
+        goalMaterial);
+      tolerance.position.set(...p);
+      goalGroup.add(tolerance);
+      const marker = new THREE.Mesh(new THREE.OctahedronGeometry(0.9 * markerSize), markerMaterial);
+      marker.position.set(...p);
+      marker.userData.kind = 'goal';
+      goalGroup.add(marker);
+      ++counts.goalMarkers;
+    }
+    ++counts.goals;
+  }
+  // Paths of motion generation: a line segment or a circle.
+  const pathMaterial = new THREE.LineBasicMaterial({ color: worldColour.path });
+  for (const p of paths) {
+    let points = [];
+    if (p.type === 'line') {
+      points = [new THREE.Vector3(...p.from), new THREE.Vector3(...p.to)];
+    } else if (p.type === 'arc') {
+      const n = new THREE.Vector3(...(p.normal || [0, 0, 1])).normalize();
+      const u = new THREE.Vector3().crossVectors(n, Math.abs(n.x) < 0.9 ? new THREE.Vector3(1, 0, 0)
+        : new THREE.Vector3(0, 1, 0)).normalize();
+      const v = new THREE.Vector3().crossVectors(n, u);
+      const c = new THREE.Vector3(...p.center);
+      for (let k = 0; k <= 128; ++k) {
+        const a = (2 * Math.PI * k) / 128;
+        points.push(c.clone().addScaledVector(u, p.radius * Math.cos(a)).addScaledVector(v, p.radius * Math.sin(a)));
+      }
+      const hub = new THREE.Mesh(new THREE.OctahedronGeometry(0.6 * markerSize), new THREE.MeshBasicMaterial({ color: worldColour.path }));
+      hub.position.copy(c);
+      goalGroup.add(hub);
+    } else continue;
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(points), pathMaterial);
+    line.userData.kind = 'path';
+    goalGroup.add(line);
+    ++counts.paths;
+  }
+
+  // Particles: one instanced sphere mesh, unit sphere scaled by each radius
+  // (virtual particles, 0.1 mm, as goal-coloured markers).
   const sphere = new THREE.SphereGeometry(1, 24, 16);
   const material = new THREE.MeshStandardMaterial({ roughness: 0.45, metalness: 0.05 });
   const spheres = new THREE.InstancedMesh(sphere, material, Math.max(particleCount, 1));
@@ -512,33 +809,65 @@ async function setupScene() {
   spheres.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
   spheres.frustumCulled = false;
   const colour = new THREE.Color();
+  const shownRadius = new Float64Array(particleCount);
   for (let i = 0; i < particleCount; ++i) {
-    colour.set(fixedFlag[i] ? fixedColour : objectColour(objectOf[i]));
+    const virtual = isVirtualParticle(i);
+    colour.set(virtual ? virtualColour : fixedFlag[i] ? fixedColour : objectColour(objectOf[i]));
     spheres.setColorAt(i, colour);
+    shownRadius[i] = virtual ? Math.max(radius[i], 0.35 * markerSize) : radius[i];
   }
   scene.add(spheres);
 
   // Connectors: line segments coloured by strain (blue compressed, grey at rest, red stretched).
-  const linkPositions = new Float32Array(linkCount * 6);
-  const linkColours = new Float32Array(linkCount * 6);
+  const linkPositions = new Float32Array(connectorIndex.length * 6);
+  const linkColours = new Float32Array(connectorIndex.length * 6);
   const linkGeometry = new THREE.BufferGeometry();
   linkGeometry.setAttribute('position', new THREE.BufferAttribute(linkPositions, 3).setUsage(THREE.DynamicDrawUsage));
   linkGeometry.setAttribute('color', new THREE.BufferAttribute(linkColours, 3).setUsage(THREE.DynamicDrawUsage));
   const links = new THREE.LineSegments(linkGeometry, new THREE.LineBasicMaterial({ vertexColors: true }));
   links.frustumCulled = false;
   scene.add(links);
+  // Attractors (goal, path, finger tips): thin green lines, no strain colour.
+  const pullPositions = new Float32Array(attractorIndex.length * 6);
+  const pullGeometry = new THREE.BufferGeometry();
+  pullGeometry.setAttribute('position', new THREE.BufferAttribute(pullPositions, 3).setUsage(THREE.DynamicDrawUsage));
+  const pulls = new THREE.LineSegments(pullGeometry, new THREE.LineBasicMaterial({ color: worldColour.attractor,
+    transparent: true, opacity: 0.7 }));
+  pulls.frustumCulled = false;
+  scene.add(pulls);
   const strainScale = Math.max(maxStrain(), 1e-6);
-  if (linkCount > 0) {
+  if (connectorIndex.length > 0) {
     const row = document.createElement('div');
     row.innerHTML = `strain −${formatNumber(100 * strainScale, 2)}%<span class="bar"></span>+${formatNumber(100 * strainScale, 2)}%`;
-    row.title = 'connector strain (length − rest) / rest';
+    row.title = 'connector strain (length − rest) / rest, over the connectors (goal and tip attractors left out)';
+    row.id = 'strain-legend';
     $('legend').appendChild(row);
   }
+  // World legend entries.
+  const legendLine = (css, text) => {
+    const row = document.createElement('div');
+    row.innerHTML = `<span class="swatch" style="${css}"></span>`;
+    row.append(text);
+    $('legend').appendChild(row);
+  };
+  const hex = (c) => `#${c.toString(16).padStart(6, '0')}`;
+  if (counts.heightfields > 0) legendLine('background:linear-gradient(#b08d5c,#8cae73);border-radius:2px', 'terrain');
+  if (counts.boxes + counts.spheres > 0) legendLine(`background:${hex(worldColour.box)};border-radius:2px`, 'obstacles');
+  if (counts.securityShells > 0) legendLine(`background:${hex(worldColour.security)};opacity:0.5`, 'security distance');
+  if (counts.virtualObstacles > 0) legendLine(`background:${hex(worldColour.virtualObstacle)};opacity:0.6`, 'virtual obstacles (escape)');
+  if (counts.goals > 0) legendLine(`background:${hex(worldColour.goal)}`, 'goal (tolerance)');
+  if (counts.paths > 0) legendLine(`background:${hex(worldColour.path)};border-radius:0;height:3px`, 'path');
 
-  // Contact forces: a segment from the contact point along the force.
+  // Contact forces: a segment from the contact point along the normal force
+  // (red) and, when the run has it, the friction force (orange).
   let maxForce = 0;
   for (const group of contactGroups) {
-    for (const r of group.rows) maxForce = Math.max(maxForce, Math.hypot(r[2], r[3], r[4]) || 0);
+    for (const r of group.rows) {
+      maxForce = Math.max(maxForce, Math.hypot(r[normalColumns[0]], r[normalColumns[1]], r[normalColumns[2]]) || 0);
+      if (frictionColumns) {
+        maxForce = Math.max(maxForce, Math.hypot(r[frictionColumns[0]], r[frictionColumns[1]], r[frictionColumns[2]]) || 0);
+      }
+    }
   }
   const forceScale = maxForce > 0 ? (0.15 * size) / maxForce : 0;
   const maxContacts = contactGroups.reduce((m, g) => Math.max(m, g.rows.length), 0);
@@ -551,42 +880,71 @@ async function setupScene() {
   const contactPoints = new THREE.Points(contactGeometry, new THREE.PointsMaterial({ color: 0xd62728, size: 5, sizeAttenuation: false }));
   contactPoints.frustumCulled = false;
   scene.add(contactPoints);
+  const frictionPositions = new Float32Array(Math.max(maxContacts, 1) * 6);
+  const frictionGeometry = new THREE.BufferGeometry();
+  frictionGeometry.setAttribute('position', new THREE.BufferAttribute(frictionPositions, 3).setUsage(THREE.DynamicDrawUsage));
+  const friction = new THREE.LineSegments(frictionGeometry, new THREE.LineBasicMaterial({ color: worldColour.friction }));
+  friction.frustumCulled = false;
+  scene.add(friction);
+  if (frictionColumns) {
+    const row = document.createElement('div');
+    row.innerHTML = '<span class="swatch" style="background:#d62728;border-radius:0;height:3px"></span>normal force ' +
+      '<span class="swatch" style="background:#ff7f0e;border-radius:0;height:3px;margin-left:6px"></span>friction';
+    $('legend').appendChild(row);
+  }
+  const shown = { contacts: 0, friction: 0, virtualObstacles: 0 };
 
   const matrix = new THREE.Matrix4();
   const frameInterval = frameCount > 1 ? (tEnd - tStart) / (frameCount - 1) : Infinity;
   function update(frame) {
     const base = frame * particleCount * 3;
     for (let i = 0; i < particleCount; ++i) {
-      const r = radius[i];
+      const r = shownRadius[i];
       matrix.makeScale(r, r, r);
       matrix.setPosition(framePosition[base + 3 * i], framePosition[base + 3 * i + 1], framePosition[base + 3 * i + 2]);
       spheres.setMatrixAt(i, matrix);
     }
     spheres.instanceMatrix.needsUpdate = true;
-    for (let s = 0; s < linkCount; ++s) {
+    // The n-th segment of `positions` from spring s's particle a to its particle b.
+    const placeSpring = (positions, s, n) => {
       const a = base + 3 * linear[3 * s];
       const b = base + 3 * linear[3 * s + 1];
       for (let d = 0; d < 3; ++d) {
-        linkPositions[6 * s + d] = framePosition[a + d];
-        linkPositions[6 * s + 3 + d] = framePosition[b + d];
+        positions[6 * n + d] = framePosition[a + d];
+        positions[6 * n + 3 + d] = framePosition[b + d];
       }
+    };
+    connectorIndex.forEach((s, n) => {
+      placeSpring(linkPositions, s, n);
       const x = Math.max(-1, Math.min(1, strainOf(frame, s) / strainScale));
       // dark grey (0.22, 0.24, 0.27) toward red (0.85, 0.15, 0.10) or blue (0.10, 0.35, 0.85)
       const to = x >= 0 ? [0.85, 0.15, 0.10] : [0.10, 0.35, 0.85];
       const w = Math.abs(x);
       const rgb = [0.22 + w * (to[0] - 0.22), 0.24 + w * (to[1] - 0.24), 0.27 + w * (to[2] - 0.27)];
-      linkColours.set(rgb, 6 * s);
-      linkColours.set(rgb, 6 * s + 3);
-    }
+      linkColours.set(rgb, 6 * n);
+      linkColours.set(rgb, 6 * n + 3);
+    });
     linkGeometry.attributes.position.needsUpdate = true;
     linkGeometry.attributes.color.needsUpdate = true;
+    attractorIndex.forEach((s, n) => placeSpring(pullPositions, s, n));
+    pullGeometry.attributes.position.needsUpdate = true;
+    // Virtual obstacles from the frame at which they appeared.
+    shown.virtualObstacles = 0;
+    for (const item of timed) {
+      item.object.visible = !(frameTime[frame] + 1e-9 < item.time);
+      if (item.object.visible) ++shown.virtualObstacles;
+    }
     // The contact group at this frame: the latest one not older than a frame.
-    let shown = 0;
+    let nContacts = 0;
+    let nFriction = 0;
     if (contactGroups.length > 0) {
       const g = indexAtOrBefore(contactGroups.map((c) => c.t), frameTime[frame]);
       const group = contactGroups[g];
       if (group.t <= frameTime[frame] + 1e-9 && group.t > frameTime[frame] - frameInterval) {
-        for (const [a, b, fx, fy, fz] of group.rows) {
+        for (const row of group.rows) {
+          const a = row[contactA];
+          const b = row[contactB];
+          const fn = normalColumns.map((c) => row[c]);
           if (!(a >= 0 && a < particleCount)) continue;
           const pa = base + 3 * a;
           let p;
@@ -594,26 +952,49 @@ async function setupScene() {
             const pb = base + 3 * b;
             p = [0, 1, 2].map((d) => 0.5 * (framePosition[pa + d] + framePosition[pb + d]));
           } else {
-            // Against the environment: the point of the sphere facing the force.
-            const f = Math.hypot(fx, fy, fz) || 1;
-            p = [fx, fy, fz].map((v, d) => framePosition[pa + d] - radius[a] * v / f);
+            // Against the environment: the point of the sphere facing the normal force.
+            const f = Math.hypot(...fn) || 1;
+            p = fn.map((v, d) => framePosition[pa + d] - radius[a] * v / f);
           }
-          contactPositions.set(p, 6 * shown);
-          contactPositions.set([p[0] + forceScale * fx, p[1] + forceScale * fy, p[2] + forceScale * fz], 6 * shown + 3);
-          ++shown;
+          if (!p.every(Number.isFinite)) continue;
+          contactPositions.set(p, 6 * nContacts);
+          contactPositions.set([p[0] + forceScale * fn[0], p[1] + forceScale * fn[1], p[2] + forceScale * fn[2]], 6 * nContacts + 3);
+          ++nContacts;
+          if (frictionColumns) {
+            const ft = frictionColumns.map((c) => row[c]);
+            if (ft.every(Number.isFinite) && Math.hypot(...ft) > 0) {
+              frictionPositions.set(p, 6 * nFriction);
+              frictionPositions.set([p[0] + forceScale * ft[0], p[1] + forceScale * ft[1], p[2] + forceScale * ft[2]], 6 * nFriction + 3);
+              ++nFriction;
+            }
+          }
         }
       }
     }
-    contactGeometry.setDrawRange(0, 2 * shown);
+    shown.contacts = nContacts;
+    shown.friction = nFriction;
+    contactGeometry.setDrawRange(0, 2 * nContacts);
     contactGeometry.attributes.position.needsUpdate = true;
+    frictionGeometry.setDrawRange(0, 2 * nFriction);
+    frictionGeometry.attributes.position.needsUpdate = true;
   }
 
-  // Camera framing the whole run from a three-quarter view.
+  // Camera framing the whole scene (objects, environment, goals) from a three-quarter view.
   const camera = new THREE.PerspectiveCamera(40, 1, size * 1e-3, size * 100);
   const side = Math.abs(up.x) < 0.9 ? new THREE.Vector3(1, 0, 0) : new THREE.Vector3(0, 1, 0);
   const across = new THREE.Vector3().crossVectors(up, side).normalize();
-  const home = new THREE.Vector3().addScaledVector(side, 1.1).addScaledVector(across, -1.6).addScaledVector(up, 0.8)
-    .normalize().multiplyScalar(1.25 * size).add(centre);
+  // Higher above a flat scene (an arm in a plane), lower beside a tall one.
+  const extent = new THREE.Vector3(...bounds.hi).sub(new THREE.Vector3(...bounds.lo));
+  const height = Math.abs(extent.dot(up));
+  const flat = height < 0.25 * extent.length();
+  const homeDirection = new THREE.Vector3().addScaledVector(side, 1.1).addScaledVector(across, -1.6)
+    .addScaledVector(up, flat ? 1.6 : 0.8).normalize();
+  // The bounding sphere's radius is size/2; distance so that it fits the smaller field of view.
+  const fitDistance = (aspect) => {
+    const vertical = THREE.MathUtils.degToRad(camera.fov) / 2;
+    const horizontal = Math.atan(Math.tan(vertical) * aspect);
+    return (0.5 * size) / Math.sin(Math.min(vertical, horizontal)) * 1.05;
+  };
 
   let renderer = null;
   let controls = null;
@@ -630,20 +1011,40 @@ async function setupScene() {
       'The plots, the time scrubber and the data are all here.');
   }
   function resetView() {
-    camera.position.copy(home);
+    const w = $('view').clientWidth || 1;
+    const h = $('view').clientHeight || 1;
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+    camera.position.copy(homeDirection).multiplyScalar(fitDistance(camera.aspect)).add(centre);
     camera.up.copy(up);
     camera.lookAt(centre);
     if (controls) { controls.target.copy(centre); controls.update(); }
   }
   resetView();
   $('reset-view').addEventListener('click', resetView);
+  // Looks at `target` (m) from `distance` (m) along the home direction, or one
+  // `elevation` high (the weight of "up" in it; test hook, screenshots).
+  function setView(target, distance, elevation) {
+    const at = new THREE.Vector3(...target);
+    const direction = elevation === undefined ? homeDirection : new THREE.Vector3().addScaledVector(side, 1.1)
+      .addScaledVector(across, -1.6).addScaledVector(up, elevation).normalize();
+    camera.position.copy(direction).multiplyScalar(distance).add(at);
+    camera.up.copy(up);
+    camera.lookAt(at);
+    if (controls) { controls.target.copy(at); controls.update(); }
+  }
 
   const setVisible = () => {
     links.visible = $('show-connectors').checked;
-    contacts.visible = contactPoints.visible = $('show-contacts').checked;
-    grid.visible = $('show-grid').checked;
+    pulls.visible = $('show-connectors').checked && $('show-goals').checked;
+    contacts.visible = contactPoints.visible = friction.visible = $('show-contacts').checked;
+    for (const grid of grids) grid.visible = $('show-grid').checked;
+    environmentGroup.visible = $('show-environment').checked;
+    goalGroup.visible = $('show-goals').checked;
   };
-  for (const id of ['show-connectors', 'show-contacts', 'show-grid']) $(id).addEventListener('change', setVisible);
+  for (const id of ['show-connectors', 'show-contacts', 'show-grid', 'show-environment', 'show-goals']) {
+    $(id).addEventListener('change', setVisible);
+  }
   setVisible();
 
   function render() {
@@ -661,7 +1062,10 @@ async function setupScene() {
     if (controls) controls.update();
     renderer.render(scene, camera);
   }
-  return { spheres, update, render, webgl: Boolean(renderer) };
+  return {
+    spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
+    frictionDrawn: Boolean(frictionColumns),
+  };
 }
 
 try {
@@ -712,6 +1116,23 @@ window.robophiReplay = {
   frameTimes: () => Array.from(frameTime),
   plotSeries: () => plotSeriesNames.slice(),
   webgl: () => Boolean(scene3d && scene3d.webgl),
+  /** What the scene graph holds of the world: {planes, heightfields, heightfieldTriangles,
+   * boxes, spheres, securityShells, virtualObstacles, goals, goalMarkers, paths,
+   * attractors, connectors} (all 0 when three.js could not start). */
+  worldCounts: () => (scene3d ? { ...scene3d.counts } : {}),
+  /** Drawn at the displayed frame: {contacts, friction, virtualObstacles}. */
+  shownCounts: () => (scene3d ? { ...scene3d.shown } : {}),
+  /** The strain legend's scale: the largest |strain| of a connector over the run (-). */
+  strainScale: () => (scene3d ? scene3d.strainScale : NaN),
+  /** Whether the contact rows carry friction forces that are drawn. */
+  frictionDrawn: () => Boolean(scene3d && scene3d.frictionDrawn),
+  /** Looks at target [x, y, z] (m) from `distance` (m) along the home view direction
+   * (or one of the given elevation, the weight of "up" against 1.1 and 1.6 across). */
+  setView: (target, distance, elevation) => {
+    if (scene3d) { scene3d.setView(target, distance, elevation); scene3d.render(); }
+  },
+  /** Whether the page has the run's world description (world.json). */
+  hasWorld: () => Boolean(world),
   ready: true,
 };
 document.body.dataset.ready = 'true';

@@ -13,6 +13,7 @@
 #include "robotics/tasks.h"
 #include "run/interrupt.h"
 #include "run/runner.h"
+#include "run/start_checks.h"
 #include "scene_input.h"
 
 namespace robophi::cli {
@@ -146,6 +147,9 @@ int runCommand(const RunArguments& args) {
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
   for (const auto& w : preflightWarnings(options.settings, stability)) {
+    std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
+  }
+  for (const auto& w : startingOverlapWarnings(scene->model, scene->initial)) {
     std::fprintf(stderr, "%s: warning: %s\n", args.scene.c_str(), w.c_str());
   }
 

@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "run/runner.h"
+#include "run/start_checks.h"
 #include "scene_input.h"
 
 namespace robophi::cli {
@@ -20,6 +21,9 @@ void addValidateCommand(CLI::App& app, int& exitCode) {
     const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
     std::printf("%s\n", describeScene(*scene, stability).c_str());
     for (const auto& w : preflightWarnings(scene->run, stability)) {
+      std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());
+    }
+    for (const auto& w : startingOverlapWarnings(scene->model, scene->initial)) {
       std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());
     }
     std::printf("%s: valid\n", path->c_str());

@@ -21,12 +21,18 @@ std::optional<Scene> loadSceneOrReport(const std::string& path) {
 
 std::string describeScene(const Scene& scene, const StabilityEstimate& stability) {
   const Model& m = scene.model;
+  // The critical step is 2/omega_max reduced for damping (MODEL §2): both are given.
+  const double undamped = 2.0 / stability.omegaMax;
+  const std::string damped =
+      stability.criticalStep < undamped * (1.0 - 1e-3)
+          ? fmt::format(", reduced for damping from 2/omega_max = {:.4g} s", undamped)
+          : std::string(" (2/omega_max)");
   return fmt::format(
       "{}: {} particles, {} LS, {} TS, {} JS, {} joints; omega_max {:.4g} rad/s, critical step "
-      "2/omega_max {:.4g} s",
+      "{:.4g} s{}",
       scene.name.empty() ? scene.sourcePath : scene.name, m.particleCount(), m.linearSprings.size(),
       m.torsionSprings.size(), m.jointSprings.size(), m.joints.size(), stability.omegaMax,
-      stability.criticalStep);
+      stability.criticalStep, damped);
 }
 
 }  // namespace robophi::cli

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// The replay page of a run: one self-contained HTML file (three.js inlined) that
-/// shows the particles, connectors and contacts over time with energy, step and
+/// shows the particles, connectors and contact forces over time in the world they
+/// move in (environment, goals, paths, virtual obstacles), with energy, step and
 /// joint plots. Opens from disk in a browser with no server and no network.
 /// docs/viewer.md describes the page.
 
@@ -19,7 +20,8 @@ struct ReplayOptions {
 };
 
 /// Reads the run folder `runDir` (model.json, particles.csv, energy.csv and, when
-/// present, joints.csv and contacts.csv; docs/output-format.md) and writes the
+/// present, world.json (output/world_view.h), joints.csv and contacts.csv, whose
+/// columns go into the page as they are; docs/output-format.md) and writes the
 /// replay page, whole or not at all; a page written into a robophi results
 /// folder is added to its marker. On failure returns false, writes nothing and
 /// sets `error` to a message that names the file and what is wrong.

@@ -20,6 +20,7 @@
 #include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_reader.h"
+#include "output/world_view.h"
 #include "robophi/replay_assets.h"
 
 namespace robophi {
@@ -173,9 +174,14 @@ void appendContacts(std::string& out, const CsvTable& table, const std::vector<s
   for (std::size_t r = 0; r < table.rowCount; ++r) {
     if (r == 0 || table.at(r, 0) != table.at(r - 1, 0)) groupStart.push_back(r);
   }
+  out += ",\"contacts\":{\"columns\":[";
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    if (c > 0) out += ',';
+    out += jsonString(table.columns[c]);
+  }
   fmt::format_to(std::back_inserter(out),
-                 ",\"contacts\":{{\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"rows\":[",
-                 table.rowCount, groupStart.size(), stride);
+                 "],\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"rows\":[", table.rowCount,
+                 groupStart.size(), stride);
   bool first = true;
   for (std::size_t g : keptIndices(groupStart.size(), stride)) {
     const std::size_t end = g + 1 < groupStart.size() ? groupStart[g + 1] : table.rowCount;
@@ -190,6 +196,41 @@ void appendContacts(std::string& out, const CsvTable& table, const std::vector<s
 
 // The page (head, data, tail) written whole or not at all; a page written into
 // a robophi run folder is listed in its marker.
+// world.json (output/world_view.h) as compact JSON safe inside <script>, or
+// empty when the run folder has none (an older run, a hand-made folder). A
+// file that is there but not JSON is an error naming it.
+bool readWorldView(const fs::path& dir, std::string& world, std::string& error) {
+  const fs::path path = dir / std::string(output::kWorldViewFile);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return true;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    error = fmt::format("{}: cannot be read", path.string());
+    return false;
+  }
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (!j.is_object()) {
+      error = fmt::format("{}: expected a JSON object", path.string());
+      return false;
+    }
+    const std::string compact = j.dump();
+    world.clear();
+    for (std::size_t i = 0; i < compact.size(); ++i) {  // "</" would end the <script> element
+      if (compact[i] == '<' && i + 1 < compact.size() && compact[i + 1] == '/') {
+        world += "<\\";
+      } else {
+        world += compact[i];
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    error = fmt::format("{}: not valid JSON: {}", path.string(), e.what());
+    return false;
+  }
+  return true;
+}
+
 bool writePage(const fs::path& path, const std::string& data, std::string& error) {
   try {
     output::writeFileAtomically(path, [&](std::ostream& out) {
@@ -214,7 +255,10 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
   const fs::path outPath =
       options.outputPath.empty() ? fs::path(runDir) / "replay.html" : fs::path(options.outputPath);
 
-  const std::string model = modelJson(run);
+  std::string world;
+  if (!readWorldView(fs::path(runDir), world, error)) return false;
+  std::string model = modelJson(run);
+  if (!world.empty()) model += ",\"world\":" + world;
   const std::vector<std::string> frames = renderFrames(run);
   const std::vector<std::string> energy = renderRows(run.energy);
   const std::vector<std::string> joints = renderRows(run.joints);

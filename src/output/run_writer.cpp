@@ -31,7 +31,7 @@ void appendNumber(std::string& line, double value) {
 const std::vector<std::string>& runFileNames() {
   static const std::vector<std::string> names = {"summary.json",  "model.json", "energy.csv",
                                                  "particles.csv", "joints.csv", "contacts.csv",
-                                                 "replay.html"};
+                                                 "replay.html",   "world.json"};
   return names;
 }
 
@@ -39,7 +39,7 @@ std::ofstream RunWriter::open(const std::string& name) {
   return openOrThrow(std::filesystem::path(dir_) / name);
 }
 
-RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir) {
+RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), world_(scene) {
   // The marker first: a folder cut short at any point is still robophi's.
   files_ = {"energy.csv", "particles.csv"};
   if (scene.model.contact.enabled) files_.push_back("contacts.csv");
@@ -80,6 +80,7 @@ void RunWriter::writeEnergyRow(const World& world, double dt) {
 void RunWriter::writeFrame(const World& world) {
   const Model& model = world.model();
   const State& state = world.state();
+  world_.observe(world);  // virtual obstacles appear during the run
   line_.clear();
   appendNumber(line_, state.time);
   for (const Vec3& p : state.position) {
@@ -162,8 +163,9 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   particles_.close();
   if (joints_.is_open()) joints_.close();
   if (contacts_.is_open()) contacts_.close();
-  files_.insert(files_.end(), {"model.json", "summary.json"});
+  files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
   output::writeResultsMarker(dir_, "run", files_);
+  world_.write(dir_);
   {
     auto out = open("model.json");
     out << modelJson(scene) << '\n';

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "output/run_report.h"
+#include "output/world_view.h"
 #include "robophi/scene/scene.h"
 
 namespace robophi {
@@ -34,7 +35,8 @@ class RunWriter {
   std::ofstream particles_;
   std::ofstream joints_;
   std::ofstream contacts_;
-  std::string line_;  // reused buffer for one CSV row
+  std::string line_;         // reused buffer for one CSV row
+  output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
 };
 
 /// Every file a run folder may hold besides the marker (docs/output-format.md).

@@ -13,17 +13,24 @@
 #include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_writer.h"
+#include "run/start_checks.h"
 
 namespace robophi {
 
 std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability) {
   std::vector<std::string> warnings;
-  if (settings.dt > stability.criticalStep) {
+  // Constant steps only: the adaptive step never starts above its stability
+  // limit (AdaptiveStepSettings::stabilitySafety × the critical step), so
+  // there `dt`, its first trial step, cannot make the run diverge.
+  if (settings.stepMode == StepMode::kConstant && settings.dt > stability.criticalStep) {
+    // criticalStep is 2/omega_max reduced for damping (MODEL §2): name it as such.
     warnings.push_back(fmt::format(
-        "step {:.3g} s exceeds the stability estimate 2/omega_max = {:.3g} s (set by particle "
-        "{}): the run may diverge",
-        settings.dt, stability.criticalStep, stability.limitingParticle));
+        "step {:.3g} s exceeds the critical step {:.3g} s (the stability estimate: 2/omega_max = "
+        "{:.3g} s for omega_max = {:.4g} rad/s, reduced for damping; particle {}): the run may "
+        "diverge",
+        settings.dt, stability.criticalStep, 2.0 / stability.omegaMax, stability.omegaMax,
+        stability.limitingParticle));
   }
   return warnings;
 }
@@ -90,6 +97,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
 
   World world(scene.model, scene.initial, settings.integrator);
   world.refresh();  // the energy account of the initial state
+  for (std::string& w : startingOverlapWarnings(scene.model, scene.initial))
+    report.warnings.push_back(std::move(w));
   report.initialTotal = world.energy().total();
   const double energyScale = std::max(std::abs(world.energy().mechanical()), 1e-12);
 
@@ -208,7 +217,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.status = "diverged";
     report.failure = fmt::format(
         "the energy grew to {:.3g} times its initial value (E + dissipated, from {:.6g} J to "
-        "{:.6g} J): the step is too large for the model's stiffness (estimate 2/omega_max = "
+        "{:.6g} J): the step is too large for the model's stiffness (critical step estimate "
         "{:.3g} s)",
         report.energyDrift, report.initialTotal, report.finalTotal, report.stability.criticalStep);
     report.warnings.push_back(report.failure);

@@ -57,7 +57,8 @@ struct RunOptions {
   const std::atomic<bool>* stop = nullptr;
 };
 
-/// Warnings about a scene before it runs (e.g. a step above the stability estimate).
+/// Warnings about a scene before it runs: a constant step above the critical step
+/// (StabilityEstimate::criticalStep). None in adaptive mode, whose steps stay below it.
 std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability);
 

@@ -168,6 +168,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
     if (!from || !to) return;
     tryBuild(sink, at, [&] {
       build::addLinePath(scene.model, scene.initial, {name, *p, *from, *to, *stiffness, damping});
+      scene.linePaths.push_back({name, *p, *from, *to, *stiffness, damping});
     });
   } else if (*type == "arc") {
     if (!center) return;
@@ -179,6 +180,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
     tryBuild(sink, at, [&] {
       build::addArcPath(scene.model, scene.initial,
                         {name, *p, *center, *stiffness, damping, h, headingStiffness});
+      scene.arcPaths.push_back({name, *p, *center, *stiffness, damping, h, headingStiffness});
     });
   }
 }
@@ -211,7 +213,8 @@ void readObstacle(DiagnosticSink& sink, const nlohmann::json& entry, const std::
   r.finish();
   if (!type || !ok) return;
   spec.center = *center;
-  tryBuild(sink, at, [&] { build::addObstacle(scene.model, spec); });
+  if (tryBuild(sink, at, [&] { build::addObstacle(scene.model, spec); }))
+    scene.obstacles.push_back(spec);
 }
 
 void readLimit(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,

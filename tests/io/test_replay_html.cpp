@@ -125,5 +125,42 @@ TEST_F(ReplayHtmlTest, NamesABadContactsColumn) {
   EXPECT_NE(error.find("contacts.csv:1: missing column 'fz'"), std::string::npos) << error;
 }
 
+TEST_F(ReplayHtmlTest, EmbedsTheWorldAndTheContactColumns) {
+  writeFrames(5);
+  // world.json (output/world_view.h) goes into the page as "world", safely inside <script>.
+  writeText(dir_ / "world.json", R"({"environment": {"planes": [{"point": [0, 0, 0],
+    "normal": [0, 0, 1]}], "heightfields": [], "boxes": [], "spheres": []},
+    "goals": [{"name": "a </script> goal"}], "paths": [], "attractors": [0]})");
+  writeText(dir_ / "contacts.csv", "t,a,b,fx,fy,fz,tx,ty,tz,sliding\n0.01,0,2,0,0,1,0.5,0,0,1\n");
+  std::string error;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), {}, error)) << error;
+  const std::string page = readText(dir_ / "replay.html");
+  EXPECT_EQ(page.find("a </script>"), std::string::npos);
+  const nlohmann::json data = pageData(page);
+  ASSERT_TRUE(data.contains("world"));
+  EXPECT_EQ(data["world"]["environment"]["planes"].size(), 1u);
+  EXPECT_EQ(data["world"]["goals"][0]["name"], "a </script> goal");
+  EXPECT_EQ(data["world"]["attractors"][0], 0);
+  EXPECT_EQ(data["contacts"]["columns"],
+            nlohmann::json::parse(R"(["t","a","b","fx","fy","fz","tx","ty","tz","sliding"])"));
+  EXPECT_EQ(data["contacts"]["rows"][0][6].get<double>(), 0.5);
+}
+
+TEST_F(ReplayHtmlTest, WorksWithoutAWorldFile) {
+  writeFrames(5);
+  std::string error;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), {}, error)) << error;
+  EXPECT_FALSE(pageData(readText(dir_ / "replay.html")).contains("world"));
+}
+
+TEST_F(ReplayHtmlTest, NamesAMalformedWorldFile) {
+  writeFrames(5);
+  writeText(dir_ / "world.json", "{\"environment\": [1, 2");
+  std::string error;
+  EXPECT_FALSE(writeReplayHtml(dir_.string(), {}, error));
+  EXPECT_NE(error.find("world.json"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(dir_ / "replay.html"));
+}
+
 }  // namespace
 }  // namespace robophi

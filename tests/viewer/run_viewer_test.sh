@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The replay page in a real browser: copies the fixture run folder, writes its
 # replay.html with `robophi export html`, and drives it in headless Chromium
-# (tests/viewer/replay.test.mjs).
+# (tests/viewer/replay.test.mjs); then the same for a real run of
+# scenes/arm_obstacle.json.
 #
 #   tests/viewer/run_viewer_test.sh ROBOPHI_BINARY ARTIFACT_DIR
 #
@@ -41,3 +42,11 @@ test -s "$run/vtk/run.pvd"
 
 export ROBOPHI_CHROMIUM="$chromium"
 node "$here/replay.test.mjs" "$run" "$artifacts/replay.png"
+
+# A real run end to end: robophi run writes world.json and the page, which must
+# draw the obstacle, its security distance, the virtual obstacle of the escape
+# and the goal (scenes/arm_obstacle.json: 0.1 s of wall time).
+arm="$artifacts/arm_obstacle_run"
+rm -rf "$arm"
+"$robophi" run "$repo/scenes/arm_obstacle.json" --out "$arm" --quiet > /dev/null
+node "$here/replay.test.mjs" "$arm" "$artifacts/arm_obstacle.png"

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "robophi/adaptive_step.h"
+#include "robophi/build/goals.h"
 #include "robophi/build/tasks.h"
 #include "robophi/model.h"
 #include "robophi/state.h"
@@ -50,6 +51,12 @@ struct Scene {
   RunSettings run;
   /// Robotics tasks run between steps (docs/robotics.md); empty for most scenes.
   build::SceneTasks robotics;
+  /// The robotics section's obstacles and paths as given, for drawing them (the
+  /// replay's world view): the model holds them built (obstacles grown by their
+  /// security distance, paths as virtual particles and connectors).
+  std::vector<build::ObstacleSpec> obstacles;
+  std::vector<build::LinePathSpec> linePaths;
+  std::vector<build::ArcPathSpec> arcPaths;
 };
 
 /// One problem found in a scene file.
