@@ -196,11 +196,13 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       const double reducedMass = 1.0 / inverseSum;
       const Vec3 force =
           contactForce(model, k, reducedMass, relative, v[a] - v[b], before, c, tally);
+      c.frictionForce = force - c.normal * c.normalForce;
       f[a] += force;
       f[b] -= force;
       ++stats.particleContacts;
     } else {
       const Vec3 force = contactForce(model, k, model.mass[a], p[a], v[a], before, c, tally);
+      c.frictionForce = force - c.normal * c.normalForce;
       f[a] += force;
       ++stats.environmentContacts;
     }
