@@ -25,8 +25,26 @@ struct ResumeArguments {
   bool quiet = false;
 };
 
+// A run killed outright (SIGKILL, a power cut) leaves its files in the staging
+// folder beside DIR (.DIR.partial); when DIR does not exist, that folder becomes
+// DIR so that the run can go on from its last checkpoint.
+void adoptKilledRun(const std::string& dir) {
+  namespace fs = std::filesystem;
+  fs::path target(dir);
+  if (target.filename().empty()) target = target.parent_path();
+  const fs::path staging = target.parent_path() / ("." + target.filename().string() + ".partial");
+  std::error_code ec;
+  if (fs::exists(target, ec) || !fs::is_regular_file(staging / "checkpoint.json", ec)) return;
+  fs::rename(staging, target, ec);
+  if (!ec) {
+    std::fprintf(stderr, "robophi resume: %s: taken from the killed run's staging folder %s\n",
+                 target.string().c_str(), staging.string().c_str());
+  }
+}
+
 int resumeCommand(const ResumeArguments& args) {
   InterruptGuard interrupt;
+  adoptKilledRun(args.dir);
   nlohmann::json checkpoint;
   CheckpointedRun saved;
   try {

@@ -333,11 +333,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       dtUsed = r.dt;
     } else if (world.step(settings.dt) != StepStatus::kOk) {
       report.status = "diverged";
+      // The first non-finite particle; when only the energy is, the one with the most.
       const ParticleIndex bad = world.firstNonFiniteParticle();
-      report.failurePlace = placeOf(world, bad);
+      report.failurePlace = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
       report.failure =
           fmt::format("the state became non-finite at {}{}", describePlace(*report.failurePlace),
-                      bad == kNoParticle ? std::string(" (energy)") : std::string());
+                      bad == kNoParticle ? std::string(" (the energy: that particle has the most)")
+                                         : std::string());
       report.warnings.push_back(report.failure);
       break;
     }

@@ -88,7 +88,7 @@ std::string outputFolderProblem(const RunOptions& options);
 /// std::runtime_error if the folder cannot be written.
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState = nullptr);
 
-/// Reads `dir`/checkpoint.json (a run folder, or a killed run's staging folder).
+/// Reads `dir`/checkpoint.json (a run folder).
 /// Throws std::runtime_error naming the file and what is wrong.
 nlohmann::json readCheckpoint(const std::string& dir);
 /// What a checkpoint says of its run: the scene file, and the settings it ran
