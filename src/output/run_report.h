@@ -81,6 +81,8 @@ struct RunReport {
   /// For a resumed run (robophi resume): the time of the checkpoint it started from (s).
   double resumedFrom = -1.0;
   bool ok() const { return status == "ok"; }
+  /// The run ended soundly: ok, or only a goal was not reached by its end.
+  bool sound() const { return ok() || status == "goal_not_reached"; }
   bool interrupted() const { return status == "interrupted" || status == "stopped"; }
   /// The run ended by numerical trouble (diverged, stalled).
   bool failed() const { return status == "diverged" || status == "stalled"; }

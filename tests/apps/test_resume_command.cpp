@@ -55,6 +55,16 @@ TEST_F(ResumeCommand, StopAndResumeEndsWithTheUninterruptedStateHash) {
   EXPECT_TRUE(fs::exists(root_ / "cut" / "replay.html"));
 }
 
+TEST_F(ResumeCommand, AGoalNotReachedExitsWithFive) {
+  const std::string scene = ROBOPHI_SOURCE_DIR "/scenes/arm_obstacle.json";
+  EXPECT_EQ(robophi("run " + scene + " -q --out short --duration 0.5"), 5) << errors();
+  EXPECT_NE(errors().find("goal 'goal' not reached"), std::string::npos) << errors();
+  const nlohmann::json s = summary("short");
+  EXPECT_EQ(s["status"], "goal_not_reached");
+  EXPECT_FALSE(s["outcomes"]["goals"][0]["reached"].get<bool>());
+  EXPECT_EQ(s["goals_not_reached"][0], "goal");
+}
+
 TEST_F(ResumeCommand, ACheckpointThatDoesNotFitIsRefused) {
   EXPECT_EQ(robophi("resume nowhere"), 2);
   EXPECT_NE(errors().find("no checkpoint"), std::string::npos) << errors();
