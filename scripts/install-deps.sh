@@ -23,7 +23,7 @@ install_missing \
   build-essential cmake ninja-build pkg-config \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
-  python3 python3-numpy python3-pytest
+  python3 python3-numpy python3-pytest python3-jsonschema
 
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may

@@ -67,6 +67,20 @@ void World::refresh() const {
   }
 }
 
+void World::resumeAfterStep(Evaluation evaluation) {
+  if (evaluation.force.size() != current_.state_.position.size()) {
+    throw std::invalid_argument(
+        detail::text("World::resumeAfterStep: an evaluation of {} particles for a model of {}",
+                     evaluation.force.size(), current_.state_.position.size()));
+  }
+  Snapshot& s = current_;
+  s.evaluation_ = std::move(evaluation);
+  s.evaluated_ = true;
+  s.edited_ = false;
+  s.bookedRelease_ = s.evaluation_.releasedAnchorEnergy;
+  unreportedWork_ = 0.0;
+}
+
 EnergyTally World::Snapshot::energy() const {
   EnergyTally e = evaluation_.energy;
   e.dissipated = state_.dissipated;

@@ -27,6 +27,7 @@ struct RunArguments {
   // Numbers as typed, checked by positiveNumber (a clear message, exit 2).
   std::optional<std::string> duration, dt, fps, energyRate;
   std::optional<std::string> tolerance, minStep, maxStep, maxPenetration;
+  std::optional<std::string> checkpointEvery, stopAfter;
   std::string integrator;
   std::string stepMode;
   bool quiet = false;
@@ -104,7 +105,11 @@ int runCommand(const RunArguments& args) {
       setFromOption("--max-step", args.maxStep, "adaptive step's ceiling, s", adaptive.maxStep) &&
       setFromOption("--max-penetration", args.maxPenetration,
                     "penetration growth per step, fraction of the radius, -",
-                    adaptive.maxPenetrationFraction);
+                    adaptive.maxPenetrationFraction) &&
+      setFromOption("--checkpoint-every", args.checkpointEvery, "model time between checkpoints, s",
+                    options.checkpointEvery) &&
+      setFromOption("--stop-after", args.stopAfter, "model time to stop at with a checkpoint, s",
+                    options.stopAfter);
   if (!numbersOk) return kExitBadInput;
   if (adaptive.minStep > adaptive.maxStep) {
     std::fprintf(stderr,
@@ -161,6 +166,12 @@ int runCommand(const RunArguments& args) {
     return kExitBadInput;
   }
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+  return reportRun(args.scene, options, report);
+}
+
+}  // namespace
+
+int reportRun(const std::string& label, const RunOptions& options, const RunReport& report) {
   const std::string steps =
       options.settings.stepMode == StepMode::kAdaptive
           ? fmt::format("{} adaptive steps ({} rejected, dt {:.3g} to {:.3g} s)",
@@ -168,26 +179,32 @@ int runCommand(const RunArguments& args) {
                         report.adaptive.smallestStep, report.adaptive.largestStep)
           : fmt::format("{} constant steps of {:.3g} s", report.steps, options.settings.dt);
   std::printf("%s: %s, %s, %s; %.4g s simulated in %.3f s wall, energy drift %.3g; results in %s\n",
-              args.scene.c_str(), report.status.c_str(), steps.c_str(),
+              label.c_str(), report.status.c_str(), steps.c_str(),
               integratorName(options.settings.integrator), report.simulatedTime, report.wallSeconds,
               report.energyDrift, options.outDir.c_str());
+  if (report.status == "stopped") {
+    std::fprintf(stderr,
+                 "%s: stopped at t = %.6g s with a checkpoint: robophi resume %s continues\n",
+                 label.c_str(), report.simulatedTime, options.outDir.c_str());
+    return kExitOk;
+  }
   if (report.interrupted()) {
     const int caught = InterruptGuard::caughtSignal();
-    std::fprintf(stderr,
-                 "%s: interrupted by %s at t = %.6g s: the results so far are in %s "
-                 "(summary.json \"status\": \"interrupted\")\n",
-                 args.scene.c_str(), caught == SIGTERM ? "SIGTERM" : "SIGINT", report.simulatedTime,
-                 options.outDir.c_str());
+    std::fprintf(
+        stderr,
+        "%s: interrupted by %s at t = %.6g s: the results so far are in %s "
+        "(summary.json \"status\": \"interrupted\")%s\n",
+        label.c_str(), caught == SIGTERM ? "SIGTERM" : "SIGINT", report.simulatedTime,
+        options.outDir.c_str(),
+        report.checkpoints > 0 ? "; robophi resume continues from its last checkpoint" : "");
     return exitCodeForSignal(caught == 0 ? SIGINT : caught);
   }
-  if (!report.ok()) {
-    std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
-    return kExitDiverged;
-  }
-  return kExitOk;
+  if (report.ok()) return kExitOk;
+  std::fprintf(stderr, "%s: error: %s\n", label.c_str(), report.failure.c_str());
+  if (report.status == "energy_account_broken") return kExitEnergyAccount;
+  if (report.status == "goal_not_reached") return kExitGoalNotReached;
+  return kExitDiverged;
 }
-
-}  // namespace
 
 void addRunCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("run", "Simulate a scene and write its results folder");
@@ -238,6 +255,13 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                               defaults.maxPenetrationFraction))
       ->group(group)
       ->type_name("NUMBER");
+  cmd->add_option("--checkpoint-every", args->checkpointEvery,
+                  "Write a checkpoint (checkpoint.json in the results folder) every S model "
+                  "seconds; robophi resume DIR continues from the last one")
+      ->type_name("S");
+  cmd->add_option("--stop-after", args->stopAfter,
+                  "Stop at model time S with a checkpoint (status \"stopped\", exit 0)")
+      ->type_name("S");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress display");
   cmd->callback([args, &exitCode] { exitCode = runCommand(*args); });
 }

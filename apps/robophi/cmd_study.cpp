@@ -21,7 +21,7 @@ namespace robophi::cli {
 namespace {
 
 struct StudyArguments {
-  std::string out = "docs";
+  std::string out;
   std::int64_t maxCtsSteps = 50'000'000;
   std::string filter;
 };
@@ -97,14 +97,56 @@ int studyCommand(const StudyArguments& args) {
 }
 
 struct ExperimentsArguments {
-  std::string out = "docs";
+  std::string out;
   std::string filter;
-  std::string record = "bench/results";
+  std::string record;
+  std::string scenes;
 };
+
+// The folder the experiments' scene files are in: --scenes, else scenes/ in
+// the working folder, else the checkout or installation the program belongs to
+// (beside or above the executable). Empty after a message when there is none.
+std::filesystem::path sceneFolder(const std::string& option, const std::string& probe) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> candidates;
+  if (!option.empty()) {
+    candidates.push_back(option);
+  } else {
+    candidates.push_back("scenes");
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+      const fs::path dir = exe.parent_path();
+      for (const fs::path& c : {dir / "scenes", dir.parent_path() / "scenes",
+                                dir.parent_path().parent_path() / "scenes",
+                                dir.parent_path() / "share" / "robophi" / "scenes"})
+        candidates.push_back(c);
+    }
+  }
+  std::string looked;
+  for (const fs::path& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c / probe, ec)) return c;
+    looked += (looked.empty() ? "" : ", ") + c.string();
+  }
+  std::fprintf(stderr,
+               "robophi study experiments: no scene folder holding %s (looked in %s): pass "
+               "--scenes DIR (the repository's scenes/)\n",
+               probe.c_str(), looked.c_str());
+  return {};
+}
 
 int experimentsCommand(const ExperimentsArguments& args) {
   InterruptGuard interrupt;
-  const std::vector<Experiment> experiments = paperExperiments();
+  std::vector<Experiment> experiments = paperExperiments();
+  // The scene files relative to their folder (see sceneFolder), not the working folder.
+  std::string probe;
+  for (const Experiment& e : experiments)
+    if (probe.empty() && !e.scene.empty()) probe = std::filesystem::path(e.scene).filename();
+  const std::filesystem::path scenes = sceneFolder(args.scenes, probe);
+  if (scenes.empty()) return kExitBadInput;
+  for (Experiment& e : experiments)
+    if (!e.scene.empty()) e.scene = (scenes / std::filesystem::path(e.scene).filename()).string();
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   bool allOk = true, allLoaded = true;
   for (const Experiment& e : experiments) {
@@ -129,9 +171,11 @@ int experimentsCommand(const ExperimentsArguments& args) {
 
   nlohmann::ordered_json record = recordHeader();
   record["experiments"] = results;
-  const auto jsonPath = std::filesystem::path(args.record) / "experiments.json";
+  // experiments.json goes under --record, else under --out beside experiments.md.
+  const std::string recordDir = !args.record.empty() ? args.record : args.out;
+  const auto jsonPath = std::filesystem::path(recordDir) / "experiments.json";
   // A filtered run replaces only its own experiments in the record (and the table).
-  if (!args.filter.empty() && !args.record.empty()) {
+  if (!args.filter.empty() && !recordDir.empty()) {
     std::ifstream in(jsonPath);
     const nlohmann::ordered_json previous = nlohmann::ordered_json::parse(in, nullptr, false);
     if (!previous.is_discarded() && previous.contains("experiments")) {
@@ -147,9 +191,9 @@ int experimentsCommand(const ExperimentsArguments& args) {
       record["experiments"] = merged;
     }
   }
-  // Only experiments.json under --record and experiments.md under --out, each
-  // replaced whole or not at all.
-  if (!args.record.empty()) {
+  // Only experiments.json (under --record or --out) and experiments.md under
+  // --out, each replaced whole or not at all; nothing without --out or --record.
+  if (!recordDir.empty()) {
     output::writeFileAtomically(jsonPath,
                                 [&](std::ostream& out) { out << record.dump(2) << '\n'; });
     std::printf("recorded in %s\n", jsonPath.string().c_str());
@@ -160,7 +204,6 @@ int experimentsCommand(const ExperimentsArguments& args) {
                                 [&](std::ostream& out) { out << experimentsMarkdown(record); });
     std::printf("wrote %s\n", mdPath.string().c_str());
   }
-  // Scene files are found from the working folder: run from the repository root.
   if (!allLoaded) return kExitBadInput;
   return allOk ? kExitOk : kExitDiverged;
 }
@@ -172,7 +215,8 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   cmd->require_subcommand(1);
   auto args = std::make_shared<StudyArguments>();
   auto* ats = cmd->add_subcommand("ats", "Adaptive against constant step on analytic cases");
-  ats->add_option("--out", args->out, "Folder for ats-study.md and .csv (empty: print only)");
+  ats->add_option("--out", args->out,
+                  "Folder for ats-study.md and .csv (e.g. docs); without it: print only");
   ats->add_option("--max-cts-steps", args->maxCtsSteps, "Step budget of one CTS run");
   ats->add_option("--filter", args->filter, "Only cases whose name contains this");
   ats->callback([args, &exitCode] { exitCode = studyCommand(*args); });
@@ -180,11 +224,16 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   auto eargs = std::make_shared<ExperimentsArguments>();
   auto* experiments = cmd->add_subcommand(
       "experiments", "The paper's experiments from their scene files: outcomes and wall times");
-  experiments->add_option("--out", eargs->out, "Folder for experiments.md (empty: do not write)");
+  experiments->add_option("--out", eargs->out,
+                          "Folder for experiments.md and experiments.json (e.g. docs); without "
+                          "it: print only");
   experiments->add_option("--filter", eargs->filter,
                           "Only experiments whose id or title contains this");
   experiments->add_option("--record", eargs->record,
-                          "Folder for experiments.json (empty: do not record)");
+                          "Folder for experiments.json instead of --out (e.g. bench/results)");
+  experiments->add_option("--scenes", eargs->scenes,
+                          "Folder of the experiments' scene files (default: scenes/ here, or "
+                          "the checkout beside the executable)");
   experiments->callback([eargs, &exitCode] { exitCode = experimentsCommand(*eargs); });
 }
 

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exitCode = robophi::cli::kExitOk;
   robophi::cli::addRunCommand(app, exitCode);
+  robophi::cli::addResumeCommand(app, exitCode);
   robophi::cli::addValidateCommand(app, exitCode);
   robophi::cli::addBenchCommand(app, exitCode);
   robophi::cli::addExportCommand(app);

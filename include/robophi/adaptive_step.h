@@ -96,6 +96,28 @@ class AdaptiveStepper {
   /// The step the next trial will use (s).
   double nextStep() const { return step_; }
 
+  /// The controller's state between steps, for a checkpoint: a plain value.
+  struct Progress {
+    double step = 0.0;
+    double stabilityLimit = 0.0;
+    double errorOrder = 0.0;
+    double gravityScale = -1.0;
+    bool refinedLimit = false;
+    AdaptiveStepStats stats;
+  };
+  Progress progress() const {
+    return {step_, stabilityLimit_, errorOrder_, gravityScale_, refinedLimit_, stats_};
+  }
+  /// Continues from the progress() of a stepper of the same settings and model.
+  void resume(const Progress& p) {
+    step_ = p.step;
+    stabilityLimit_ = p.stabilityLimit;
+    errorOrder_ = p.errorOrder;
+    gravityScale_ = p.gravityScale;
+    refinedLimit_ = p.refinedLimit;
+    stats_ = p.stats;
+  }
+
  private:
   /// Relative energy error of a trial from the energy account `before` to `after`.
   double energyError(const EnergyTally& before, const EnergyTally& after) const;

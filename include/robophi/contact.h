@@ -137,6 +137,9 @@ struct Contact {
   double depth = 0.0;
   /// Normal force F_n (N), >= 0, at the last evaluation.
   double normalForce = 0.0;
+  /// Friction force F_t on a (N), tangential, at the last evaluation (an
+  /// output: the state hash leaves it out, it follows from the other fields).
+  Vec3 frictionForce;
   /// Elastic energy of the friction anchor ½ k_t |δ_t|² (J) at the last evaluation.
   double anchorEnergy = 0.0;
   /// k̂: unit normal from the other body to a (-).

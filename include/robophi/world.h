@@ -147,6 +147,16 @@ class World {
   /// Throws std::invalid_argument for a snapshot not sized for this model.
   void restore(const Snapshot& saved);
 
+  /// For a world built from a state that a step ended (a checkpoint, with the
+  /// model edits it had): puts back `evaluation`, the evaluation the world had
+  /// at that state (World::evaluation() then), which is not always a function of
+  /// the state alone (velocity Verlet evaluates at the half-step velocity).
+  /// Its released anchor energy is taken as already in State::dissipated. Call
+  /// before any accessor or edit; then the world steps on bit-identically to the
+  /// one that wrote the checkpoint. Throws std::invalid_argument for an
+  /// evaluation not sized for the model.
+  void resumeAfterStep(Evaluation evaluation);
+
   /// The first particle whose state is not finite, or kNoParticle.
   ParticleIndex firstNonFiniteParticle() const;
 

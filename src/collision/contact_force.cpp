@@ -493,6 +493,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
       const Vec3 tangential =
           frictionForce(k, t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
+      c.frictionForce = tangential;
       f[c.a] += tangential;
       if (c.other >= 0) f[c.other] -= tangential;
       // A rim's contact point is off the line through a's centre: the normal
@@ -505,6 +506,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       }
     } else {
       c.sliding = 0;
+      c.frictionForce = Vec3{};
     }
     tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
   }

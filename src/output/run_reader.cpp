@@ -192,22 +192,37 @@ bool readRunFolder(const std::string& runDir, bool needEnergy, RunFolder& run, s
   run = RunFolder{};
   if (!readModel(dir / "model.json", run, error)) return false;
 
-  // particles.csv: t and x,y,z of every particle per row.
+  // particles.csv: t, then per particle x,y,z,vx,vy,vz (or x,y,z alone, the
+  // format before velocities were written).
   CsvTable particles;
   const std::string particlesPath = (dir / "particles.csv").string();
   if (!readCsvTable(particlesPath, {"t"}, particles, error)) return false;
-  const std::size_t expected = 1 + 3 * static_cast<std::size_t>(run.particleCount);
-  if (particles.columns.size() != expected || particles.columns[0] != "t") {
+  const auto n = static_cast<std::size_t>(run.particleCount);
+  const std::size_t stride = particles.columns.size() == 1 + 6 * n ? 6 : 3;
+  const std::size_t expected = 1 + stride * n;
+  bool layout = particles.columns.size() == expected && particles.columns[0] == "t";
+  for (std::size_t i = 0; layout && i < n; ++i)
+    layout = particles.columns[1 + stride * i] == fmt::format("x{}", i);
+  if (!layout) {
     error = fmt::format(
-        "{}:1: expected {} columns (t, then x,y,z of the {} particles in model.json), found {}",
-        particlesPath, expected, run.particleCount, particles.columns.size());
+        "{}:1: expected {} columns (t, then x,y,z,vx,vy,vz of the {} particles in model.json), "
+        "found {}",
+        particlesPath, 1 + 6 * n, run.particleCount, particles.columns.size());
     return false;
   }
+  run.hasVelocities = stride == 6;
   run.frameTime.reserve(particles.rowCount);
-  run.framePosition.reserve(particles.rowCount * (expected - 1));
+  run.framePosition.reserve(particles.rowCount * 3 * n);
+  if (run.hasVelocities) run.frameVelocity.reserve(particles.rowCount * 3 * n);
   for (std::size_t k = 0; k < particles.rowCount; ++k) {
     run.frameTime.push_back(particles.at(k, 0));
-    for (std::size_t c = 1; c < expected; ++c) run.framePosition.push_back(particles.at(k, c));
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t c = 0; c < 3; ++c)
+        run.framePosition.push_back(particles.at(k, 1 + stride * i + c));
+      if (run.hasVelocities)
+        for (std::size_t c = 3; c < 6; ++c)
+          run.frameVelocity.push_back(particles.at(k, 1 + stride * i + c));
+    }
   }
 
   const fs::path energyPath = dir / "energy.csv";

@@ -52,11 +52,14 @@ struct RunFolder {
   /// particles.csv: frameTime (frameCount) s, framePosition (frameCount × particleCount × 3) m.
   std::vector<double> frameTime;
   std::vector<double> framePosition;
-  CsvTable energy;  // t,dt,kinetic,potential,dissipated,total
+  /// Velocities in the same layout (m/s), when particles.csv has them (hasVelocities).
+  bool hasVelocities = false;
+  std::vector<double> frameVelocity;
+  CsvTable energy;  // t,dt,kinetic,potential,dissipated,[external,]total
   bool hasJoints = false;
   CsvTable joints;  // t,<name>,...
   bool hasContacts = false;
-  CsvTable contacts;  // t,a,b,fx,fy,fz
+  CsvTable contacts;  // t,a,b,fx,fy,fz[,tx,ty,tz,sliding]: normal, friction force
 
   std::size_t frameCount() const { return frameTime.size(); }
   /// Position of particle i in frame k, as a pointer to its x, y, z.

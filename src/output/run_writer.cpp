@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "output/json_numbers.h"
 #include "output/results_folder.h"
+#include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 #include "robophi/version.h"
 
@@ -29,34 +32,50 @@ void appendNumber(std::string& line, double value) {
 }  // namespace
 
 const std::vector<std::string>& runFileNames() {
-  static const std::vector<std::string> names = {"summary.json",  "model.json", "energy.csv",
-                                                 "particles.csv", "joints.csv", "contacts.csv",
-                                                 "replay.html",   "world.json"};
+  static const std::vector<std::string> names = {"summary.json",  "model.json",  "energy.csv",
+                                                 "particles.csv", "objects.csv", "joints.csv",
+                                                 "contacts.csv",  "replay.html", "checkpoint.json", "world.json"};
   return names;
 }
 
-std::ofstream RunWriter::open(const std::string& name) {
-  return openOrThrow(std::filesystem::path(dir_) / name);
+std::ofstream RunWriter::open(const std::string& name, bool append) {
+  const std::filesystem::path path = std::filesystem::path(dir_) / name;
+  if (!append) return openOrThrow(path);
+  std::ofstream out(path, std::ios::binary | std::ios::app);
+  if (!out) throw std::runtime_error(fmt::format("cannot append to {}", path.string()));
+  return out;
 }
+
+namespace {
+
+// The series files a run of `scene` writes, in the marker's order.
+std::vector<std::string> seriesFiles(const Scene& scene) {
+  std::vector<std::string> files = {"energy.csv", "particles.csv", "objects.csv"};
+  if (scene.model.contact.enabled) files.push_back("contacts.csv");
+  if (!scene.model.joints.empty()) files.push_back("joints.csv");
+  return files;
+}
+
+}  // namespace
 
 RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), world_(scene) {
   // The marker first: a folder cut short at any point is still robophi's.
-  files_ = {"energy.csv", "particles.csv"};
-  if (scene.model.contact.enabled) files_.push_back("contacts.csv");
-  if (!scene.model.joints.empty()) files_.push_back("joints.csv");
+  files_ = seriesFiles(scene);
   std::filesystem::create_directories(dir_);
   output::writeResultsMarker(dir_, "run", files_);
   energy_ = open("energy.csv");
-  energy_ << "t,dt,kinetic,potential,dissipated,total\n";
+  energy_ << "t,dt,kinetic,potential,dissipated,external,total\n";
   particles_ = open("particles.csv");
   line_ = "t";
   for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i) {
-    fmt::format_to(std::back_inserter(line_), ",x{0},y{0},z{0}", i);
+    fmt::format_to(std::back_inserter(line_), ",x{0},y{0},z{0},vx{0},vy{0},vz{0}", i);
   }
   particles_ << line_ << '\n';
+  objects_ = open("objects.csv");
+  objects_ << "t,object,mass,kinetic,gravity,elastic,x,y,z,vx,vy,vz\n";
   if (scene.model.contact.enabled) {
     contacts_ = open("contacts.csv");
-    contacts_ << "t,a,b,fx,fy,fz\n";
+    contacts_ << "t,a,b,fx,fy,fz,tx,ty,tz,sliding\n";
   }
   if (!scene.model.joints.empty()) {
     joints_ = open("joints.csv");
@@ -66,11 +85,65 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), wo
   }
 }
 
+RunWriter::RunWriter(const std::string& dir, const Scene& scene,
+                     const std::map<std::string, std::uintmax_t>& progress)
+    : dir_(dir), world_(scene) {
+  files_ = seriesFiles(scene);
+  if (std::filesystem::exists(std::filesystem::path(dir_) / "checkpoint.json"))
+    files_.push_back("checkpoint.json");
+  output::writeResultsMarker(dir_, "run", files_);
+  for (const std::string& name : seriesFiles(scene)) {
+    const std::filesystem::path path = std::filesystem::path(dir_) / name;
+    const auto it = progress.find(name);
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (it == progress.end() || ec || size < it->second) {
+      throw std::runtime_error(fmt::format(
+          "{}: {} than the checkpoint says ({} bytes): the run folder does not go with its "
+          "checkpoint",
+          path.string(), ec ? "missing, or not readable" : "shorter",
+          it == progress.end() ? 0 : it->second));
+    }
+    std::filesystem::resize_file(path, it->second);
+  }
+  energy_ = open("energy.csv", true);
+  particles_ = open("particles.csv", true);
+  objects_ = open("objects.csv", true);
+  if (scene.model.contact.enabled) contacts_ = open("contacts.csv", true);
+  if (!scene.model.joints.empty()) joints_ = open("joints.csv", true);
+}
+
+std::map<std::string, std::uintmax_t> RunWriter::progress() {
+  std::map<std::string, std::uintmax_t> sizes;
+  auto add = [&](const char* name, std::ofstream& out) {
+    if (!out.is_open()) return;
+    out.flush();
+    if (!out) throw std::runtime_error(fmt::format("cannot write {}/{}", dir_, name));
+    sizes[name] = static_cast<std::uintmax_t>(out.tellp());
+  };
+  add("energy.csv", energy_);
+  add("particles.csv", particles_);
+  add("objects.csv", objects_);
+  add("contacts.csv", contacts_);
+  add("joints.csv", joints_);
+  return sizes;
+}
+
+void RunWriter::writeCheckpoint(const nlohmann::json& checkpoint) {
+  output::writeFileAtomically(std::filesystem::path(dir_) / "checkpoint.json",
+                              [&](std::ostream& out) { out << checkpoint.dump() << '\n'; });
+  if (std::find(files_.begin(), files_.end(), "checkpoint.json") == files_.end()) {
+    files_.push_back("checkpoint.json");
+    output::writeResultsMarker(dir_, "run", files_);
+  }
+}
+
 void RunWriter::writeEnergyRow(const World& world, double dt) {
   line_.clear();
   const State& state = world.state();
   const EnergyTally e = world.energy();
-  for (double value : {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.total()}) {
+  for (double value :
+       {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.external, e.total()}) {
     if (!line_.empty()) line_ += ',';
     appendNumber(line_, value);
   }
@@ -83,16 +156,19 @@ void RunWriter::writeFrame(const World& world) {
   world_.observe(world);  // virtual obstacles appear during the run
   line_.clear();
   appendNumber(line_, state.time);
-  for (const Vec3& p : state.position) {
-    for (double value : {p.x, p.y, p.z}) {
+  for (std::size_t i = 0; i < state.position.size(); ++i) {
+    const Vec3& p = state.position[i];
+    const Vec3& v = state.velocity[i];
+    for (double value : {p.x, p.y, p.z, v.x, v.y, v.z}) {
       line_ += ',';
       appendNumber(line_, value);
     }
   }
   particles_ << line_ << '\n';
+  writeObjects(world);
   if (contacts_.is_open()) {
-    // The normal force on a (N); b is the other particle, or particleCount + the
-    // environment item.
+    // The normal and the friction force on a (N); b is the other particle, or
+    // particleCount + the environment item.
     for (const Contact& c : world.contacts()) {
       if (c.normalForce <= 0.0) continue;
       line_.clear();
@@ -103,10 +179,12 @@ void RunWriter::writeFrame(const World& world) {
               : c.other;
       fmt::format_to(std::back_inserter(line_), ",{},{}", c.a, b);
       const Vec3 f = c.normal * c.normalForce;
-      for (double value : {f.x, f.y, f.z}) {
+      for (double value :
+           {f.x, f.y, f.z, c.frictionForce.x, c.frictionForce.y, c.frictionForce.z}) {
         line_ += ',';
         appendNumber(line_, value);
       }
+      fmt::format_to(std::back_inserter(line_), ",{}", c.sliding);
       contacts_ << line_ << '\n';
     }
   }
@@ -118,6 +196,72 @@ void RunWriter::writeFrame(const World& world) {
       appendNumber(line_, jointValue(model, state, j));
     }
     joints_ << line_ << '\n';
+  }
+}
+
+// objects.csv: per object its mass, kinetic energy, gravity potential and the
+// elastic energy of the connectors wholly inside it (J), centre of mass (m) and
+// its velocity (m/s); then a row for object -1: the connectors between objects
+// and the contacts (their potential and the friction anchors). The rows of a
+// frame sum to energy.csv's kinetic + potential at that state.
+void RunWriter::writeObjects(const World& world) {
+  const Model& model = world.model();
+  const State& state = world.state();
+  const auto objectCount = model.objects.size();
+  struct Sums {
+    double mass = 0.0, kinetic = 0.0, gravity = 0.0, elastic = 0.0;
+    Vec3 momentum, moment;
+  };
+  std::vector<Sums> sums(objectCount + 1);  // the last: between objects
+  auto of = [&](ParticleIndex i) -> Sums& {
+    const auto o = model.objectOf[static_cast<std::size_t>(i)];
+    return o >= 0 && static_cast<std::size_t>(o) < objectCount ? sums[static_cast<std::size_t>(o)]
+                                                               : sums[objectCount];
+  };
+  const auto& p = state.position;
+  const auto& v = state.velocity;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    Sums& s = of(i);
+    const double m = model.mass[i];
+    s.mass += m;
+    s.moment += p[i] * m;
+    s.momentum += v[i] * m;
+    // MODEL §2: the energy account counts free particles only (as gravity.cpp).
+    if (model.isFixed(i)) continue;
+    s.kinetic += 0.5 * m * squaredNorm(v[i]);
+    s.gravity -= m * dot(model.gravity, p[i]);
+  }
+  auto owner = [&](std::initializer_list<ParticleIndex> ends) -> Sums& {
+    const auto o = model.objectOf[static_cast<std::size_t>(*ends.begin())];
+    for (ParticleIndex e : ends)
+      if (model.objectOf[static_cast<std::size_t>(e)] != o) return sums[objectCount];
+    return of(*ends.begin());
+  };
+  for (const LinearSpring& c : model.linearSprings)
+    owner({c.a, c.b}).elastic += linearSpringForce(c, p[c.a], p[c.b], v[c.a], v[c.b]).energy;
+  for (const TorsionSpring& c : model.torsionSprings) {
+    owner({c.a, c.c, c.b}).elastic +=
+        torsionSpringForce(c, p[c.a], p[c.c], p[c.b], v[c.a], v[c.c], v[c.b]).energy;
+  }
+  for (const JointSpring& c : model.jointSprings) {
+    owner({c.a, c.c, c.b, c.d}).elastic +=
+        jointSpringForce(c, p[c.a], p[c.c], p[c.b], p[c.d], v[c.a], v[c.c], v[c.b], v[c.d]).energy;
+  }
+  sums[objectCount].elastic += world.energy().contact;
+  for (std::size_t o = 0; o <= objectCount; ++o) {
+    const Sums& s = sums[o];
+    line_.clear();
+    appendNumber(line_, state.time);
+    fmt::format_to(std::back_inserter(line_), ",{}",
+                   o == objectCount ? -1 : static_cast<std::int64_t>(o));
+    const Vec3 com = s.mass > 0.0 ? s.moment / s.mass : Vec3{};
+    const Vec3 vcom = s.mass > 0.0 ? s.momentum / s.mass : Vec3{};
+    for (double value :
+         {s.mass, s.kinetic, s.gravity, s.elastic, com.x, com.y, com.z, vcom.x, vcom.y, vcom.z}) {
+      line_ += ',';
+      appendNumber(line_, value);
+    }
+    objects_ << line_ << '\n';
   }
 }
 
@@ -158,24 +302,28 @@ std::string modelJson(const Scene& scene) {
   return j.dump(1);
 }
 
-void RunWriter::finish(const Scene& scene, const RunSettings& settings, const RunReport& report) {
-  energy_.close();
-  particles_.close();
-  if (joints_.is_open()) joints_.close();
-  if (contacts_.is_open()) contacts_.close();
-  files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
-  output::writeResultsMarker(dir_, "run", files_);
-  world_.write(dir_);
-  {
-    auto out = open("model.json");
-    out << modelJson(scene) << '\n';
-  }
+std::string summaryJson(const Scene& scene, const RunSettings& settings, const RunReport& report) {
   nlohmann::ordered_json s;
   s["robophi"] = kVersion;
   s["scene"] = scene.sourcePath;
   s["name"] = scene.name;
   s["status"] = report.status;
   if (!report.failure.empty()) s["failure"] = report.failure;
+  if (report.failurePlace) {
+    const FailurePlace& at = *report.failurePlace;
+    s["failure_at"] = {
+        {"time_s", at.time},
+        {"step", at.step},
+        {"particle", at.particle == kNoParticle ? nlohmann::ordered_json()
+                                                : nlohmann::ordered_json(at.particle)},
+        {"object",
+         at.object.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(at.object)}};
+  }
+  s["flags"] = {{"diverged", report.status == "diverged"},
+                {"stalled", report.status == "stalled"},
+                {"interrupted", report.interrupted()},
+                {"energy_account_broken", report.largestAccountError > report.accountBound},
+                {"goal_not_reached", !report.goalsNotReached.empty()}};
   s["integrator"] = integratorName(settings.integrator);
   const bool adaptive = settings.stepMode == StepMode::kAdaptive;
   s["step_mode"] = adaptive ? "adaptive" : "constant";
@@ -207,13 +355,46 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   s["energy"] = {{"initial_total_J", report.initialTotal},
                  {"final_total_J", report.finalTotal},
                  {"drift", report.energyDrift},
+                 {"largest_account_error", report.largestAccountError},
+                 {"account_bound", report.accountBound},
+                 {"scale_J", report.energyScale},
                  {"dissipated_J", report.dissipated},
                  {"external_work_J", report.externalWork}};
+  s["outcomes"] = report.outcomes;
+  if (!report.goalsNotReached.empty()) s["goals_not_reached"] = report.goalsNotReached;
+  if (report.checkpoints > 0 || report.resumedFrom >= 0.0) {
+    s["checkpoint"] = {
+        {"written", report.checkpoints},
+        {"last_time_s", report.checkpoints > 0 ? nlohmann::ordered_json(report.lastCheckpointTime)
+                                               : nlohmann::ordered_json()},
+        {"resumed_from_s", report.resumedFrom >= 0.0 ? nlohmann::ordered_json(report.resumedFrom)
+                                                     : nlohmann::ordered_json()}};
+  }
   s["state_hash"] = fmt::format("{:016x}", report.stateHash);
   s["warnings"] = report.warnings;
   if (!report.events.empty()) s["events"] = report.events;
+  // JSON has no NaN or infinity (a diverged run has them): null, and where.
+  std::vector<std::string> nonFinite;
+  output::nullNonFinite(s, nonFinite);
+  if (!nonFinite.empty()) s["non_finite"] = nonFinite;
+  return s.dump(2);
+}
+
+void RunWriter::finish(const Scene& scene, const RunSettings& settings, const RunReport& report) {
+  energy_.close();
+  particles_.close();
+  objects_.close();
+  if (joints_.is_open()) joints_.close();
+  if (contacts_.is_open()) contacts_.close();
+  files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
+  output::writeResultsMarker(dir_, "run", files_);
+  world_.write(dir_);
+  {
+    auto out = open("model.json");
+    out << modelJson(scene) << '\n';
+  }
   auto out = open("summary.json");
-  out << s.dump(2) << '\n';
+  out << summaryJson(scene, settings, report) << '\n';
 }
 
 }  // namespace robophi

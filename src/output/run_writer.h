@@ -2,11 +2,15 @@
 // Writes a run's files (docs/output-format.md) into a folder, streaming the
 // sampled series as the run goes.
 
+#include <cstdint>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "output/run_report.h"
+#include "output/world_view.h"
 #include "output/world_view.h"
 #include "robophi/scene/scene.h"
 
@@ -17,17 +21,30 @@ class RunWriter {
   /// Creates `dir` (which must not exist), writes the results marker
   /// (output/results_folder.h) that lists the series files, and opens them.
   RunWriter(const std::string& dir, const Scene& scene);
+  /// Continues the series files already in `dir` (a resumed run, robophi
+  /// resume): each is cut back to its length in `progress` (what progress()
+  /// said at the checkpoint) and appended to. Throws std::runtime_error naming a
+  /// file that is missing or shorter.
+  RunWriter(const std::string& dir, const Scene& scene,
+            const std::map<std::string, std::uintmax_t>& progress);
 
   /// The energy row of the world's current state, reached with a step of `dt` (s).
   void writeEnergyRow(const World& world, double dt);
-  /// The frame of the world's current state: positions, joints, contacts.
+  /// The frame of the world's current state: positions and velocities, the
+  /// objects' energies and centres of mass, joints, contacts.
   void writeFrame(const World& world);
+  /// Flushes the series files and returns their lengths (bytes), for a checkpoint.
+  std::map<std::string, std::uintmax_t> progress();
+  /// Writes `checkpoint` as checkpoint.json (whole or not at all) and lists it
+  /// in the marker.
+  void writeCheckpoint(const nlohmann::json& checkpoint);
   /// Lists model.json and summary.json in the marker, writes them and closes
   /// every file.
   void finish(const Scene& scene, const RunSettings& settings, const RunReport& report);
 
  private:
-  std::ofstream open(const std::string& name);
+  std::ofstream open(const std::string& name, bool append = false);
+  void writeObjects(const World& world);
 
   std::string dir_;
   std::vector<std::string> files_;  // written so far, for the marker
@@ -35,8 +52,9 @@ class RunWriter {
   std::ofstream particles_;
   std::ofstream joints_;
   std::ofstream contacts_;
-  std::string line_;         // reused buffer for one CSV row
+  std::ofstream objects_;
   output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
+  std::string line_;  // reused buffer for one CSV row
 };
 
 /// Every file a run folder may hold besides the marker (docs/output-format.md).
@@ -44,5 +62,9 @@ const std::vector<std::string>& runFileNames();
 
 /// The resolved model as JSON text (model.json).
 std::string modelJson(const Scene& scene);
+
+/// summary.json's text for a run (no NaN or infinity: such numbers are null and
+/// listed in "non_finite").
+std::string summaryJson(const Scene& scene, const RunSettings& settings, const RunReport& report);
 
 }  // namespace robophi

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "output/json_numbers.h"
+
 namespace robophi::robotics {
 
 namespace {
@@ -70,6 +72,34 @@ void JointLimiter::update(World& world) {
       setJointTarget(world, limit.joint, saved_[i].target);
     }
   }
+}
+
+nlohmann::json JointLimiter::save() const {
+  auto servos = nlohmann::json::array();
+  for (const JointServo& s : saved_) {
+    servos.push_back({{"has_drive", s.hasDrive},
+                      {"target", output::exactNumber(s.target)},
+                      {"stiffness", output::exactNumber(s.stiffness)},
+                      {"damping", output::exactNumber(s.damping)}});
+  }
+  std::vector<int> active(active_.begin(), active_.end());
+  return {{"active", active}, {"saved", servos}, {"engagements", engagements_}};
+}
+
+void JointLimiter::restore(const nlohmann::json& saved) {
+  const auto active = saved.at("active").get<std::vector<int>>();
+  const auto& servos = saved.at("saved");
+  if (active.size() != limits_.size() || servos.size() != limits_.size())
+    throw std::runtime_error("joint limits: the checkpoint has another number of limits");
+  for (std::size_t i = 0; i < limits_.size(); ++i) {
+    active_[i] = active[i] != 0;
+    const auto& s = servos[i];
+    saved_[i] = JointServo{s.at("has_drive").get<bool>(),
+                           output::numberFromJson(s.at("target"), "joint limit target"),
+                           output::numberFromJson(s.at("stiffness"), "joint limit stiffness"),
+                           output::numberFromJson(s.at("damping"), "joint limit damping")};
+  }
+  engagements_ = saved.at("engagements").get<int>();
 }
 
 }  // namespace robophi::robotics

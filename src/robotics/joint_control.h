@@ -5,6 +5,7 @@
 /// change the World's model through its edit API: call them between steps.
 
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,9 @@ class JointLimiter {
   bool active(std::size_t i) const { return active_[i]; }
   /// How many times a limit engaged so far.
   int engagements() const { return engagements_; }
+  /// Its state for a checkpoint, and back (robotics/task.h).
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& saved);
 
  private:
   std::vector<JointLimitSpec> limits_;

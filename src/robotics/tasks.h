@@ -5,16 +5,17 @@
 /// limits. They observe the World and change it only through its public API.
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "robophi/build/tasks.h"
 #include "robophi/contact.h"
-#include "robophi/build/tasks.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
 #include "robotics/joint_control.h"
+#include "robotics/task.h"
 
 namespace robophi::robotics {
 
@@ -52,6 +53,9 @@ class LocalMinimumEscape {
   std::size_t goal() const { return spec_.goal; }
   /// The virtual obstacles added so far, in order.
   const std::vector<SphereObstacle>& added() const { return added_; }
+  /// Its state for a checkpoint, and back (robotics/task.h).
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& saved);
 
  private:
   EscapeSpec spec_;
@@ -80,10 +84,16 @@ class GraspCheck {
   bool stable() const { return settled_ && largestDrift_ <= spec_.tolerance; }
   /// A one-line verdict with the figures.
   std::string verdict() const;
+  /// The verdict as data (summary.json "outcomes"."grasps").
+  nlohmann::json outcome() const;
+  /// Its state for a checkpoint, and back (robotics/task.h).
+  nlohmann::json save() const;
+  void restore(const nlohmann::json& saved);
 
  private:
   GraspSpec spec_;
   bool settled_ = false, disturbed_ = false;
+  double settledAt_ = -1.0;
   Vec3 rest_;
   double largestDrift_ = 0.0;
 };
@@ -91,11 +101,12 @@ class GraspCheck {
 /// The centre of mass (m) of object `object`.
 Vec3 objectCenterOfMass(const World& world, std::int32_t object);
 
-/// The scene's robotics tasks as one task between steps, in the runner's
-/// StepTask form (run/runner.h; pass it first in RunOptions::tasks): it adds
-/// what happened to `events` and returns false when a goal that stops the run
-/// is reached. An empty function when the scene has none.
-std::function<bool(World& world, std::vector<std::string>& events)> makeSceneTasks(
-    const Scene& scene);
+/// The scene's robotics tasks as one task between steps (robotics/task.h; pass
+/// it first in RunOptions::tasks): it adds what happened to `events`, returns
+/// false when a goal that stops the run is reached, reports its goals' and
+/// grasps' outcomes as data (Task::outcomes: {"goals": [{"name", "reached",
+/// "time_s", "final_distance_m", "tolerance_m"}], "grasps": [...]}) and saves and
+/// restores its state for a checkpoint. Empty when the scene has none.
+StepTask makeSceneTasks(const Scene& scene);
 
 }  // namespace robophi::robotics

@@ -8,11 +8,16 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <optional>
 
+#include "output/json_numbers.h"
 #include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_writer.h"
+#include "robophi/version.h"
+#include "run/checkpoint.h"
 #include "run/start_checks.h"
 
 namespace robophi {
@@ -37,9 +42,69 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 
 namespace {
 
-// Energy drift (relative to the initial mechanical energy) above which a finite
-// run is reported as diverged.
+// Energy growth (relative to the initial energy scale) above which a finite run
+// is reported as diverged.
 constexpr double kRunawayEnergyGrowth = 100.0;
+
+// Kinetic and elastic energy (connectors, contacts): what the energy scale
+// follows; gravity's potential is left out, it depends on where z = 0 is.
+double activeEnergy(const EnergyTally& e) {
+  return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
+}
+
+// The energy gravity can release in the scene (J): Σ m |g| over the free
+// particles × (their bounding box's diagonal + 2 × the largest radius).
+double gravityReleaseScale(const Model& model, const State& state) {
+  double weight = 0.0, largestRadius = 0.0;
+  Vec3 low{1e300, 1e300, 1e300}, high{-1e300, -1e300, -1e300};
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (model.isFixed(i)) continue;
+    weight += model.mass[i] * norm(model.gravity);
+    largestRadius = std::max(largestRadius, model.radius[i]);
+    const Vec3& p = state.position[i];
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  if (weight == 0.0) return 0.0;
+  return weight * (norm(high - low) + 2.0 * largestRadius);
+}
+
+// Where a run went wrong: `particle` (or none), its object, the world's time.
+FailurePlace placeOf(const World& world, ParticleIndex particle) {
+  FailurePlace at;
+  at.time = world.state().time;
+  at.step = world.state().stepCount;
+  at.particle = particle;
+  if (particle != kNoParticle) {
+    const auto o = world.model().objectOf[static_cast<std::size_t>(particle)];
+    if (o >= 0 && static_cast<std::size_t>(o) < world.model().objects.size())
+      at.object = world.model().objects[static_cast<std::size_t>(o)].name;
+  }
+  return at;
+}
+
+std::string describePlace(const FailurePlace& at) {
+  if (at.particle == kNoParticle) return fmt::format("t = {:.6g} s, step {}", at.time, at.step);
+  return fmt::format("t = {:.6g} s, step {}, particle {}{}", at.time, at.step, at.particle,
+                     at.object.empty() ? std::string() : fmt::format(" of object '{}'", at.object));
+}
+
+// The free particle with the most kinetic energy (kNoParticle when none moves).
+ParticleIndex mostEnergetic(const World& world) {
+  const Model& model = world.model();
+  ParticleIndex best = kNoParticle;
+  double largest = 0.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (model.isFixed(i)) continue;
+    const double e = 0.5 * model.mass[i] * squaredNorm(world.state().velocity[i]);
+    if (e > largest || !std::isfinite(e)) {
+      largest = e;
+      best = i;
+      if (!std::isfinite(e)) break;
+    }
+  }
+  return best;
+}
 
 // A folder beside `target` that is renamed to it when complete.
 std::string stagingFolder(const std::string& target) {
@@ -90,17 +155,60 @@ std::string outputFolderProblem(const RunOptions& options) {
 
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState) {
   using Clock = std::chrono::steady_clock;
+  using nlohmann::json;
   const RunSettings& settings = options.settings;
+  const json* resume = options.resume;
   RunReport report;
   report.stability = estimateStability(scene.model, &scene.initial.position);
-  report.warnings = preflightWarnings(settings, report.stability);
+  report.accountBound = options.energyAccountBound;
 
-  World world(scene.model, scene.initial, settings.integrator);
-  world.refresh();  // the energy account of the initial state
-  for (std::string& w : startingOverlapWarnings(scene.model, scene.initial))
-    report.warnings.push_back(std::move(w));
-  report.initialTotal = world.energy().total();
-  const double energyScale = std::max(std::abs(world.energy().mechanical()), 1e-12);
+  // The world: the scene's, or the one a checkpoint saved (its model edits, its
+  // state, its tasks' state), evaluated as the step that made it left it.
+  Model model = scene.model;
+  State initial = scene.initial;
+  if (resume) {
+    applyModelEdits(resume->at("model_edits"), model);
+    initial = stateFromJson(resume->at("state"), model);
+  }
+  World world(std::move(model), std::move(initial), settings.integrator);
+  // The run's own progress (a checkpoint saves it).
+  std::int64_t nextFrame = 0, nextEnergyRow = 0, nextCheckpoint = 1;
+  std::int64_t lastFrameStep = -1, lastEnergyStep = -1;
+  double largestAccountError = 0.0;  // J
+  double priorWallSeconds = 0.0;
+  if (resume) {
+    const json& savedTasks = resume->at("tasks");
+    if (savedTasks.size() != options.tasks.size())
+      throw std::runtime_error("checkpoint: it was written by a run with another set of tasks");
+    for (std::size_t k = 0; k < options.tasks.size(); ++k)
+      if (options.tasks[k]) options.tasks[k]->restore(savedTasks[k]);
+    world.resumeAfterStep(evaluationFromJson(resume->at("evaluation")));
+    const json& r = resume->at("run");
+    report.warnings = r.at("warnings").get<std::vector<std::string>>();
+    report.events = r.at("events").get<std::vector<std::string>>();
+    report.initialTotal = output::numberFromJson(r.at("initial_total"), "initial_total");
+    report.initialScale = output::numberFromJson(r.at("initial_scale"), "initial_scale");
+    report.energyScale = output::numberFromJson(r.at("energy_scale"), "energy_scale");
+    largestAccountError = output::numberFromJson(r.at("largest_account_error"), "account error");
+    nextFrame = r.at("next_frame").get<std::int64_t>();
+    nextEnergyRow = r.at("next_energy_row").get<std::int64_t>();
+    nextCheckpoint = r.at("next_checkpoint").get<std::int64_t>();
+    lastFrameStep = r.at("last_frame_step").get<std::int64_t>();
+    lastEnergyStep = r.at("last_energy_step").get<std::int64_t>();
+    report.checkpoints = r.at("checkpoints").get<int>();
+    report.lastCheckpointTime = world.state().time;
+    priorWallSeconds = output::numberFromJson(r.at("wall_seconds"), "wall_seconds");
+    report.resumedFrom = world.state().time;
+  } else {
+    report.warnings = preflightWarnings(settings, report.stability);
+    for (std::string& w : startingOverlapWarnings(scene.model, scene.initial))
+      report.warnings.push_back(std::move(w));
+    world.refresh();  // the energy account of the initial state
+    report.initialTotal = world.energy().total();
+    report.initialScale = std::max(
+        {activeEnergy(world.energy()), gravityReleaseScale(world.model(), world.state()), 1e-12});
+    report.energyScale = report.initialScale;
+  }
 
   std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
@@ -108,13 +216,30 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     if (const std::string problem = outputFolderProblem(options); !problem.empty())
       throw output::ResultsFolderError(problem);
     staging.emplace(stagingFolder(options.outDir));
-    writer.emplace(staging->path(), scene);
+    if (resume) {
+      // The series so far, copied beside the folder and cut back to the checkpoint.
+      const auto sizes = resume->at("files").get<std::map<std::string, std::uintmax_t>>();
+      std::filesystem::create_directories(staging->path());
+      std::vector<std::string> names;
+      for (const auto& [name, size] : sizes) names.push_back(name);
+      output::writeResultsMarker(staging->path(), "run", names);
+      for (const std::string& name : names) {
+        const std::filesystem::path from = std::filesystem::path(options.outDir) / name;
+        if (!std::filesystem::exists(from))
+          throw std::runtime_error(
+              fmt::format("{}: missing; the checkpoint needs it", from.string()));
+        std::filesystem::copy_file(from, std::filesystem::path(staging->path()) / name);
+      }
+      writer.emplace(staging->path(), scene, sizes);
+    } else {
+      writer.emplace(staging->path(), scene);
+    }
   }
+  const std::string sceneHash =
+      resume ? resume->at("scene").at("hash").get<std::string>() : fileHash(scene.sourcePath);
 
   const auto start = Clock::now();
   auto lastProgress = start;
-  std::int64_t nextFrame = 0, nextEnergyRow = 0;
-  std::int64_t lastFrameStep = -1, lastEnergyStep = -1;
   // Writes the frame and energy row due at the state's time (the first state
   // at or after each sample time; `last` forces both unless already written).
   auto sample = [&](double dtUsed, bool last) {
@@ -142,11 +267,55 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     AdaptiveStepSettings controller = settings.adaptive;
     controller.initialStep = settings.dt;  // RunSettings::dt is the first trial step
     stepper.emplace(world.model(), controller);
+    if (resume) stepper->resume(adaptiveProgressFromJson(resume->at("adaptive")));
   }
+
+  // checkpoint.json: everything the loop below needs to go on from here.
+  auto writeCheckpoint = [&]() {
+    if (!writer) return;
+    const State& state = world.state();
+    ++report.checkpoints;
+    report.lastCheckpointTime = state.time;
+    json tasks = json::array();
+    for (const StepTask& task : options.tasks) tasks.push_back(task ? task->save() : json());
+    json checkpoint = {
+        {"robophi", kVersion},
+        {"kind", "checkpoint"},
+        {"format", 1},
+        {"scene",
+         {{"path", std::filesystem::absolute(scene.sourcePath).string()}, {"hash", sceneHash}}},
+        {"settings", runSettingsToJson(settings)},
+        {"energy_rate", output::exactNumber(options.energyRate)},
+        {"checkpoint_every", output::exactNumber(options.checkpointEvery)},
+        {"energy_account_bound", output::exactNumber(options.energyAccountBound)},
+        {"state", stateToJson(state)},
+        {"evaluation", evaluationToJson(world.evaluation())},
+        {"model_edits", modelEditsToJson(world.model())},
+        {"adaptive", stepper ? adaptiveProgressToJson(stepper->progress()) : json()},
+        {"run",
+         {{"next_frame", nextFrame},
+          {"next_energy_row", nextEnergyRow},
+          {"next_checkpoint", nextCheckpoint},
+          {"last_frame_step", lastFrameStep},
+          {"last_energy_step", lastEnergyStep},
+          {"initial_total", output::exactNumber(report.initialTotal)},
+          {"initial_scale", output::exactNumber(report.initialScale)},
+          {"energy_scale", output::exactNumber(report.energyScale)},
+          {"largest_account_error", output::exactNumber(largestAccountError)},
+          {"checkpoints", report.checkpoints},
+          {"wall_seconds",
+           priorWallSeconds + std::chrono::duration<double>(Clock::now() - start).count()},
+          {"warnings", report.warnings},
+          {"events", report.events}}},
+        {"files", writer->progress()},
+        {"tasks", tasks}};
+    writer->writeCheckpoint(checkpoint);
+  };
+
   // Constant steps are counted, not accumulated, so the final time does not drift.
   const auto totalSteps =
       static_cast<std::int64_t>(std::ceil(settings.duration / settings.dt - 1e-9));
-  sample(adaptive ? stepper->nextStep() : settings.dt, false);
+  if (!resume) sample(adaptive ? stepper->nextStep() : settings.dt, false);
   for (;;) {
     const State& state = world.state();
     const bool done =
@@ -157,6 +326,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       report.status = "interrupted";
       report.warnings.push_back(fmt::format("interrupted at t = {:.6g} s of {:.6g} s, step {}",
                                             state.time, settings.duration, state.stepCount));
+      if (options.checkpointEvery > 0.0) writeCheckpoint();
       break;
     }
     double dtUsed = settings.dt;
@@ -164,18 +334,21 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
         report.status = "stalled";
-        report.failure = r.failure;
-        report.warnings.push_back(r.failure);
+        report.failurePlace = placeOf(world, world.firstNonFiniteParticle());
+        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
+        report.warnings.push_back(report.failure);
         break;
       }
       dtUsed = r.dt;
     } else if (world.step(settings.dt) != StepStatus::kOk) {
       report.status = "diverged";
+      // The first non-finite particle; when only the energy is, the one with the most.
       const ParticleIndex bad = world.firstNonFiniteParticle();
-      report.failure = fmt::format(
-          "the state became non-finite at t = {:.6g} s, step {}{}", world.state().time,
-          world.state().stepCount,
-          bad == kNoParticle ? std::string(" (energy)") : fmt::format(", particle {}", bad));
+      report.failurePlace = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
+      report.failure =
+          fmt::format("the state became non-finite at {}{}", describePlace(*report.failurePlace),
+                      bad == kNoParticle ? std::string(" (the energy: that particle has the most)")
+                                         : std::string());
       report.warnings.push_back(report.failure);
       break;
     }
@@ -189,7 +362,29 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
     }
     world.bookExternalWork();  // what the tasks changed is work from outside
+    // The energy account: its scale and its largest error so far.
+    const EnergyTally energy = world.energy();
+    report.energyScale = std::max(report.energyScale, activeEnergy(energy));
+    largestAccountError =
+        std::max(largestAccountError, std::abs(energy.total() - report.initialTotal));
     if (stop) break;
+    const double t = world.state().time;
+    const bool stopHere = options.stopAfter > 0.0 && t >= options.stopAfter * (1.0 - 1e-12) &&
+                          t < settings.duration * (1.0 - 1e-12);
+    if (options.checkpointEvery > 0.0 &&
+        t >= static_cast<double>(nextCheckpoint) * options.checkpointEvery * (1.0 - 1e-12)) {
+      nextCheckpoint =
+          static_cast<std::int64_t>(std::floor(t / options.checkpointEvery * (1.0 + 1e-12))) + 1;
+      if (!stopHere) writeCheckpoint();
+    }
+    if (stopHere) {
+      report.status = "stopped";
+      writeCheckpoint();
+      report.warnings.push_back(fmt::format(
+          "stopped at t = {:.6g} s of {:.6g} s (--stop-after): robophi resume {} continues", t,
+          settings.duration, options.outDir));
+      break;
+    }
     if (options.progress && (world.state().stepCount & 255) == 0) {
       const auto now = Clock::now();
       if (now - lastProgress > std::chrono::milliseconds(100)) {
@@ -199,27 +394,59 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
     }
   }
-  if (report.ok() || report.interrupted())
-    sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
+  if (!report.failed()) sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
   if (stepper) report.adaptive = stepper->stats();
 
   const State& last = world.state();
-  report.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+  report.wallSeconds =
+      priorWallSeconds + std::chrono::duration<double>(Clock::now() - start).count();
   report.steps = last.stepCount;
   report.simulatedTime = last.time;
   const EnergyTally finalEnergy = world.energy();
   report.finalTotal = finalEnergy.total();
   report.dissipated = finalEnergy.dissipated;
   report.externalWork = finalEnergy.external;
-  report.energyDrift = (report.finalTotal - report.initialTotal) / energyScale;
+  report.energyDrift = (report.finalTotal - report.initialTotal) / report.energyScale;
+  report.largestAccountError = largestAccountError / report.energyScale;
   // Runaway energy is numerical trouble even while every number stays finite.
-  if (report.ok() && report.energyDrift > kRunawayEnergyGrowth) {
+  const double growth = (report.finalTotal - report.initialTotal) / report.initialScale;
+  if (report.ok() && growth > kRunawayEnergyGrowth) {
     report.status = "diverged";
+    report.failurePlace = placeOf(world, mostEnergetic(world));
     report.failure = fmt::format(
-        "the energy grew to {:.3g} times its initial value (E + dissipated, from {:.6g} J to "
-        "{:.6g} J): the step is too large for the model's stiffness (critical step estimate "
-        "{:.3g} s)",
-        report.energyDrift, report.initialTotal, report.finalTotal, report.stability.criticalStep);
+        "the energy grew to {:.3g} times its initial scale {:.3g} J (E + dissipated - external, "
+        "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large for the "
+        "model's stiffness (estimate 2/omega_max = {:.3g} s)",
+        growth, report.initialScale, report.initialTotal, report.finalTotal,
+        describePlace(*report.failurePlace), report.stability.criticalStep);
+    report.warnings.push_back(report.failure);
+  }
+  // The tasks' outcomes as data; a goal not reached by the end is a status.
+  for (const StepTask& task : options.tasks) {
+    if (!task) continue;
+    const json outcome = task->outcomes(world);
+    if (outcome.is_object()) report.outcomes.update(outcome);
+  }
+  if (report.outcomes.contains("goals")) {
+    for (const json& goal : report.outcomes["goals"])
+      if (!goal.value("reached", true)) report.goalsNotReached.push_back(goal.value("name", ""));
+  }
+  if (report.ok() && report.largestAccountError > report.accountBound) {
+    report.status = "energy_account_broken";
+    report.failure = fmt::format(
+        "the energy account (E + dissipated - external) drifted by up to {:.3g} of its scale "
+        "{:.3g} J (bound {:.3g}; final drift {:.3g}): the integration is not to be trusted; try "
+        "a smaller --dt or --tolerance",
+        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift);
+    report.warnings.push_back(report.failure);
+  }
+  if (report.ok() && !report.goalsNotReached.empty()) {
+    report.status = "goal_not_reached";
+    std::string names;
+    for (const std::string& name : report.goalsNotReached)
+      names += (names.empty() ? "'" : ", '") + name + "'";
+    report.failure = fmt::format("goal {} not reached by t = {:.6g} s (summary.json \"outcomes\")",
+                                 names, report.simulatedTime);
     report.warnings.push_back(report.failure);
   }
   report.stateHash = stateHash(last);
@@ -229,8 +456,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // An interrupted run stops quickly: its page can be made later.
     if (options.writeReplay && report.interrupted()) {
       report.warnings.push_back(
-          fmt::format("replay.html not written (interrupted): robophi export html {} makes it",
-                      options.outDir));
+          fmt::format("replay.html not written ({}): robophi export html {} makes it",
+                      report.status, options.outDir));
     }
     writer->finish(scene, settings, report);
     writer.reset();
@@ -250,6 +477,36 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     staging->release();
   }
   return report;
+}
+
+nlohmann::json readCheckpoint(const std::string& dir) {
+  const std::filesystem::path path = std::filesystem::path(dir) / "checkpoint.json";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw std::runtime_error(fmt::format(
+        "{}: no checkpoint (run with --checkpoint-every S or --stop-after S to write one)",
+        path.string()));
+  }
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object() || j.value("kind", "") != "checkpoint" ||
+      j.value("format", 0) != 1) {
+    throw std::runtime_error(fmt::format("{}: not a robophi checkpoint (format 1)", path.string()));
+  }
+  return j;
+}
+
+CheckpointedRun checkpointedRun(const nlohmann::json& checkpoint) {
+  CheckpointedRun run;
+  run.scenePath = checkpoint.at("scene").at("path").get<std::string>();
+  run.sceneHash = checkpoint.at("scene").at("hash").get<std::string>();
+  run.settings = runSettingsFromJson(checkpoint.at("settings"));
+  run.energyRate = output::numberFromJson(checkpoint.at("energy_rate"), "energy_rate");
+  run.checkpointEvery =
+      output::numberFromJson(checkpoint.at("checkpoint_every"), "checkpoint_every");
+  run.energyAccountBound =
+      output::numberFromJson(checkpoint.at("energy_account_bound"), "energy_account_bound");
+  run.time = output::numberFromJson(checkpoint.at("state").at("time"), "time");
+  return run;
 }
 
 }  // namespace robophi

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "robophi/adaptive_step.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "robotics/task.h"
 
 namespace robophi {
 
@@ -25,12 +27,10 @@ struct RunProgress {
   double wallSeconds = 0.0;
 };
 
-/// A task run between steps (docs/robotics.md): it may change the world through
-/// its edit API (joint targets, obstacles, velocities) and add lines to the
-/// run's events (RunReport::events, summary.json "events"); returning false
-/// ends the run (e.g. a goal reached). What it changes is booked as external
-/// work (World::bookExternalWork).
-using StepTask = std::function<bool(World& world, std::vector<std::string>& events)>;
+/// The energy account's bound: a run whose |total - initial total| exceeds this
+/// fraction of its energy scale (RunReport::energyScale) at any step ends with
+/// status "energy_account_broken" (docs/output-format.md).
+inline constexpr double kDefaultEnergyAccountBound = 0.05;
 
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
@@ -50,7 +50,22 @@ struct RunOptions {
   /// Called after each accepted step, in order; the first that returns false
   /// ends the run (the later ones are not called then). Empty tasks are skipped.
   /// Callers put the scene's robotics tasks first (robotics::makeSceneTasks).
+  /// Their outcomes (Task::outcomes) are merged into RunReport::outcomes, and
+  /// their state is saved in checkpoints.
   std::vector<StepTask> tasks;
+  /// The bound on the energy account's error (kDefaultEnergyAccountBound).
+  double energyAccountBound = kDefaultEnergyAccountBound;
+  /// Model time between checkpoints (s): outDir/checkpoint.json is replaced at
+  /// the first step at or after every multiple of it. 0: none.
+  double checkpointEvery = 0.0;
+  /// > 0: the run stops at the first step at or after this model time (s),
+  /// writes a checkpoint there and ends with status "stopped" (robophi resume
+  /// continues it).
+  double stopAfter = 0.0;
+  /// A checkpoint (readCheckpoint) to continue from instead of the scene's
+  /// initial state: robophi resume. outDir must be the folder that holds it;
+  /// `settings` must be the checkpoint's (checkpointSettings).
+  const nlohmann::json* resume = nullptr;
   /// When set and true, the run stops before its next step with status
   /// "interrupted" and writes the results so far (InterruptGuard sets one from
   /// SIGINT and SIGTERM).
@@ -73,5 +88,23 @@ std::string outputFolderProblem(const RunOptions& options);
 /// running, when outDir may not receive the results (outputFolderProblem), and
 /// std::runtime_error if the folder cannot be written.
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState = nullptr);
+
+/// Reads `dir`/checkpoint.json (a run folder).
+/// Throws std::runtime_error naming the file and what is wrong.
+nlohmann::json readCheckpoint(const std::string& dir);
+/// What a checkpoint says of its run: the scene file, and the settings it ran
+/// with (the command line's overrides included), the checkpoint interval and
+/// the energy rate.
+struct CheckpointedRun {
+  std::string scenePath;
+  /// The scene file's hash when the run started (fileHash).
+  std::string sceneHash;
+  RunSettings settings;
+  double energyRate = 1000.0;
+  double checkpointEvery = 0.0;
+  double energyAccountBound = kDefaultEnergyAccountBound;
+  double time = 0.0;
+};
+CheckpointedRun checkpointedRun(const nlohmann::json& checkpoint);
 
 }  // namespace robophi

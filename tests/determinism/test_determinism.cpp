@@ -41,7 +41,8 @@ TEST(Determinism, EveryExampleSceneTwiceInProcess) {
     for (StepMode mode : {StepMode::kConstant, StepMode::kAdaptive}) {
       const RunReport first = runBriefly(*loaded.scene, mode);
       const RunReport second = runBriefly(*loaded.scene, mode);
-      EXPECT_TRUE(first.ok()) << path << ": " << first.failure;
+      // Briefly: a goal may not be reached yet (status goal_not_reached).
+      EXPECT_TRUE(first.sound()) << path << ": " << first.failure;
       EXPECT_GT(first.steps, 0) << path;
       EXPECT_EQ(first.stateHash, second.stateHash) << path;
     }

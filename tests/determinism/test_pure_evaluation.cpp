@@ -36,7 +36,7 @@ TEST(PureEvaluation, FiveExtraEvaluationsBeforeEveryStepOfEveryShippedSceneChang
         (void)world.evaluation();
       }
     });
-    ASSERT_TRUE(plain.ok()) << path << ": " << plain.failure;
+    ASSERT_TRUE(plain.sound()) << path << ": " << plain.failure;  // a goal may be missed
     EXPECT_GT(plain.steps, 0) << path;
     EXPECT_EQ(probed.steps, plain.steps) << path;
     EXPECT_EQ(probed.stateHash, plain.stateHash) << path;

@@ -1,0 +1,52 @@
+#include "output/json_numbers.h"
+
+#include <fmt/format.h>
+
+#include <limits>
+#include <stdexcept>
+
+namespace robophi::output {
+
+void nullNonFinite(nlohmann::ordered_json& j, std::vector<std::string>& nonFinite,
+                   const std::string& pointer) {
+  if (j.is_number_float()) {
+    if (!std::isfinite(j.get<double>())) {
+      nonFinite.push_back(pointer);
+      j = nullptr;
+    }
+  } else if (j.is_object()) {
+    for (auto& [key, value] : j.items()) nullNonFinite(value, nonFinite, pointer + "/" + key);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i)
+      nullNonFinite(j[i], nonFinite, fmt::format("{}/{}", pointer, i));
+  }
+}
+
+nlohmann::json exactNumber(double value) {
+  if (std::isfinite(value)) return value;
+  if (std::isnan(value)) return "nan";
+  return value > 0.0 ? "inf" : "-inf";
+}
+
+double numberFromJson(const nlohmann::json& j, const std::string& what) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const auto& s = j.get_ref<const std::string&>();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+  }
+  throw std::runtime_error(fmt::format("{}: expected a number, found {}", what, j.dump()));
+}
+
+nlohmann::json exactVec3(const Vec3& v) {
+  return nlohmann::json::array({exactNumber(v.x), exactNumber(v.y), exactNumber(v.z)});
+}
+
+Vec3 vec3FromJson(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_array() || j.size() != 3)
+    throw std::runtime_error(fmt::format("{}: expected [x, y, z], found {}", what, j.dump()));
+  return Vec3{numberFromJson(j[0], what), numberFromJson(j[1], what), numberFromJson(j[2], what)};
+}
+
+}  // namespace robophi::output

@@ -1,0 +1,380 @@
+// Checkpoint serialisation: State, Contact, model edits, the adaptive step's and
+// the run's settings, each field by field and bit-exactly.
+#include "run/checkpoint.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <stdexcept>
+
+#include "output/json_numbers.h"
+
+namespace robophi {
+
+namespace {
+
+using nlohmann::json;
+using output::exactNumber;
+using output::exactVec3;
+using output::numberFromJson;
+using output::vec3FromJson;
+
+json vec3Array(const std::vector<Vec3>& values) {
+  json out = json::array();
+  for (const Vec3& v : values) out.push_back(exactVec3(v));
+  return out;
+}
+
+std::vector<Vec3> vec3ArrayFrom(const json& j, const char* what) {
+  std::vector<Vec3> out;
+  out.reserve(j.size());
+  for (const json& v : j) out.push_back(vec3FromJson(v, what));
+  return out;
+}
+
+json numberArray(const std::vector<double>& values) {
+  json out = json::array();
+  for (double v : values) out.push_back(exactNumber(v));
+  return out;
+}
+
+std::vector<double> numberArrayFrom(const json& j, const char* what) {
+  std::vector<double> out;
+  out.reserve(j.size());
+  for (const json& v : j) out.push_back(numberFromJson(v, what));
+  return out;
+}
+
+double number(const json& j, const char* key) { return numberFromJson(j.at(key), key); }
+
+}  // namespace
+
+// ---- State and Contact: one line per field.
+
+json contactToJson(const Contact& c) {
+  return {{"a", c.a},
+          {"other", c.other},
+          {"depth", exactNumber(c.depth)},
+          {"normal_force", exactNumber(c.normalForce)},
+          {"friction_force", exactVec3(c.frictionForce)},
+          {"anchor_energy", exactNumber(c.anchorEnergy)},
+          {"normal", exactVec3(c.normal)},
+          {"slip", exactVec3(c.slip)},
+          {"anchor", exactVec3(c.anchor)},
+          {"sliding", c.sliding}};
+}
+
+Contact contactFromJson(const json& j) {
+  Contact c;
+  c.a = j.at("a").get<std::int32_t>();
+  c.other = j.at("other").get<std::int32_t>();
+  c.depth = number(j, "depth");
+  c.normalForce = number(j, "normal_force");
+  c.frictionForce = vec3FromJson(j.at("friction_force"), "friction_force");
+  c.anchorEnergy = number(j, "anchor_energy");
+  c.normal = vec3FromJson(j.at("normal"), "normal");
+  c.slip = vec3FromJson(j.at("slip"), "slip");
+  c.anchor = vec3FromJson(j.at("anchor"), "anchor");
+  c.sliding = j.at("sliding").get<std::int32_t>();
+  return c;
+}
+
+json stateToJson(const State& s) {
+  json history = json::array();
+  for (const Contact& c : s.frictionHistory) history.push_back(contactToJson(c));
+  return {{"time", exactNumber(s.time)},        {"step_count", s.stepCount},
+          {"position", vec3Array(s.position)},  {"velocity", vec3Array(s.velocity)},
+          {"friction_history", history},        {"dissipated", exactNumber(s.dissipated)},
+          {"external", exactNumber(s.external)}};
+}
+
+State stateFromJson(const json& j, const Model& model) {
+  State s;
+  s.time = number(j, "time");
+  s.stepCount = j.at("step_count").get<std::int64_t>();
+  s.position = vec3ArrayFrom(j.at("position"), "position");
+  s.velocity = vec3ArrayFrom(j.at("velocity"), "velocity");
+  for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
+  s.dissipated = number(j, "dissipated");
+  s.external = number(j, "external");
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  if (s.position.size() != n || s.velocity.size() != n) {
+    throw std::runtime_error(
+        fmt::format("the checkpoint's state has {} particles, the scene {}", s.position.size(), n));
+  }
+  return s;
+}
+
+json evaluationToJson(const Evaluation& e) {
+  json contacts = json::array();
+  for (const Contact& c : e.contacts) contacts.push_back(contactToJson(c));
+  const EnergyTally& t = e.energy;
+  const ContactStats& st = e.contactStats;
+  return {{"force", vec3Array(e.force)},
+          {"energy",
+           {{"kinetic", exactNumber(t.kinetic)},
+            {"linear_spring", exactNumber(t.linearSpring)},
+            {"torsion_spring", exactNumber(t.torsionSpring)},
+            {"joint_spring", exactNumber(t.jointSpring)},
+            {"gravity", exactNumber(t.gravity)},
+            {"contact", exactNumber(t.contact)},
+            {"dissipated", exactNumber(t.dissipated)},
+            {"external", exactNumber(t.external)}}},
+          {"dissipative_power", exactNumber(e.dissipativePower)},
+          {"driving_power", exactNumber(e.drivingPower)},
+          {"released_anchor_energy", exactNumber(e.releasedAnchorEnergy)},
+          {"contact_critical_step", exactNumber(e.contactCriticalStep)},
+          {"contacts", contacts},
+          {"contact_stats",
+           {{"pair_tests", st.pairTests},
+            {"node_tests", st.nodeTests},
+            {"environment_tests", st.environmentTests},
+            {"particle_contacts", st.particleContacts},
+            {"environment_contacts", st.environmentContacts},
+            {"max_penetration", exactNumber(st.maxPenetration)},
+            {"max_penetration_fraction", exactNumber(st.maxPenetrationFraction)}}}};
+}
+
+Evaluation evaluationFromJson(const json& j) {
+  Evaluation e;
+  e.force = vec3ArrayFrom(j.at("force"), "force");
+  const json& t = j.at("energy");
+  e.energy.kinetic = number(t, "kinetic");
+  e.energy.linearSpring = number(t, "linear_spring");
+  e.energy.torsionSpring = number(t, "torsion_spring");
+  e.energy.jointSpring = number(t, "joint_spring");
+  e.energy.gravity = number(t, "gravity");
+  e.energy.contact = number(t, "contact");
+  e.energy.dissipated = number(t, "dissipated");
+  e.energy.external = number(t, "external");
+  e.dissipativePower = number(j, "dissipative_power");
+  e.drivingPower = number(j, "driving_power");
+  e.releasedAnchorEnergy = number(j, "released_anchor_energy");
+  e.contactCriticalStep = number(j, "contact_critical_step");
+  for (const json& c : j.at("contacts")) e.contacts.push_back(contactFromJson(c));
+  const json& st = j.at("contact_stats");
+  e.contactStats.pairTests = st.at("pair_tests").get<std::int64_t>();
+  e.contactStats.nodeTests = st.at("node_tests").get<std::int64_t>();
+  e.contactStats.environmentTests = st.at("environment_tests").get<std::int64_t>();
+  e.contactStats.particleContacts = st.at("particle_contacts").get<std::int64_t>();
+  e.contactStats.environmentContacts = st.at("environment_contacts").get<std::int64_t>();
+  e.contactStats.maxPenetration = number(st, "max_penetration");
+  e.contactStats.maxPenetrationFraction = number(st, "max_penetration_fraction");
+  return e;
+}
+
+// ---- What World's edit API changes in a model.
+
+json modelEditsToJson(const Model& m) {
+  json linear = json::array(), torsion = json::array(), joint = json::array();
+  for (const LinearSpring& s : m.linearSprings)
+    linear.push_back(
+        {s.a, s.b, exactNumber(s.restLength), exactNumber(s.stiffness), exactNumber(s.damping)});
+  for (const TorsionSpring& s : m.torsionSprings)
+    torsion.push_back({s.a, s.c, s.b, exactNumber(s.restAngle), exactNumber(s.stiffness),
+                       exactNumber(s.damping)});
+  for (const JointSpring& s : m.jointSprings)
+    joint.push_back({s.a, s.c, s.b, s.d, exactNumber(s.restAngle), exactNumber(s.stiffness),
+                     exactNumber(s.damping)});
+  json materials = json::array(), objects = json::array(), spheres = json::array(),
+       pairs = json::array();
+  for (const Material& mt : m.materials)
+    materials.push_back({mt.name, exactNumber(mt.contactStiffness), exactNumber(mt.contactDamping),
+                         exactNumber(mt.staticFriction), exactNumber(mt.kineticFriction)});
+  for (const ObjectInfo& o : m.objects) objects.push_back(o.material);
+  for (const SphereObstacle& s : m.environment.spheres)
+    spheres.push_back({exactVec3(s.center), exactNumber(s.radius), s.material});
+  const ContactSettings& c = m.contact;
+  for (const ContactPairOverride& p : c.pairOverrides)
+    pairs.push_back({p.objectA, p.objectB, exactNumber(p.stiffness), exactNumber(p.damping),
+                     exactNumber(p.staticFriction), exactNumber(p.kineticFriction)});
+  return {{"linear_springs", linear},
+          {"torsion_springs", torsion},
+          {"joint_springs", joint},
+          {"inverse_mass", numberArray(m.inverseMass)},
+          {"gravity", exactVec3(m.gravity)},
+          {"materials", materials},
+          {"object_materials", objects},
+          {"spheres", spheres},
+          {"viscosity", exactNumber(m.environment.viscosity)},
+          {"contact",
+           {{"enabled", c.enabled},
+            {"self_collision", c.selfCollision},
+            {"tangential_stiffness_ratio", exactNumber(c.tangentialStiffnessRatio)},
+            {"tangential_damping_ratio", exactNumber(c.tangentialDampingRatio)},
+            {"stick_velocity", exactNumber(c.stickVelocity)},
+            {"leaf_size", c.leafSize},
+            {"pairs", pairs}}}};
+}
+
+void applyModelEdits(const json& j, Model& m) {
+  const json& linear = j.at("linear_springs");
+  const json& torsion = j.at("torsion_springs");
+  const json& joint = j.at("joint_springs");
+  const json& inverseMass = j.at("inverse_mass");
+  const json& objects = j.at("object_materials");
+  if (linear.size() != m.linearSprings.size() || torsion.size() != m.torsionSprings.size() ||
+      joint.size() != m.jointSprings.size() ||
+      inverseMass.size() != static_cast<std::size_t>(m.particleCount()) ||
+      objects.size() != m.objects.size()) {
+    throw std::runtime_error(
+        "the checkpoint's model has other connectors, particles or objects than the scene");
+  }
+  for (std::size_t k = 0; k < linear.size(); ++k) {
+    const json& s = linear[k];
+    m.linearSprings[k] = {s.at(0).get<ParticleIndex>(), s.at(1).get<ParticleIndex>(),
+                          numberFromJson(s.at(2), "rest length"),
+                          numberFromJson(s.at(3), "stiffness"), numberFromJson(s.at(4), "damping")};
+  }
+  for (std::size_t k = 0; k < torsion.size(); ++k) {
+    const json& s = torsion[k];
+    m.torsionSprings[k] = {
+        s.at(0).get<ParticleIndex>(),         s.at(1).get<ParticleIndex>(),
+        s.at(2).get<ParticleIndex>(),         numberFromJson(s.at(3), "angle"),
+        numberFromJson(s.at(4), "stiffness"), numberFromJson(s.at(5), "damping")};
+  }
+  for (std::size_t k = 0; k < joint.size(); ++k) {
+    const json& s = joint[k];
+    m.jointSprings[k] = {s.at(0).get<ParticleIndex>(),      s.at(1).get<ParticleIndex>(),
+                         s.at(2).get<ParticleIndex>(),      s.at(3).get<ParticleIndex>(),
+                         numberFromJson(s.at(4), "angle"),  numberFromJson(s.at(5), "stiffness"),
+                         numberFromJson(s.at(6), "damping")};
+  }
+  m.inverseMass = numberArrayFrom(inverseMass, "inverse mass");
+  m.gravity = vec3FromJson(j.at("gravity"), "gravity");
+  m.materials.clear();
+  for (const json& mt : j.at("materials")) {
+    m.materials.push_back({mt.at(0).get<std::string>(), numberFromJson(mt.at(1), "stiffness"),
+                           numberFromJson(mt.at(2), "damping"),
+                           numberFromJson(mt.at(3), "static friction"),
+                           numberFromJson(mt.at(4), "kinetic friction")});
+  }
+  for (std::size_t o = 0; o < objects.size(); ++o)
+    m.objects[o].material = objects[o].get<std::int32_t>();
+  m.environment.spheres.clear();
+  for (const json& s : j.at("spheres")) {
+    SphereObstacle sphere;
+    sphere.center = vec3FromJson(s.at(0), "sphere centre");
+    sphere.radius = numberFromJson(s.at(1), "sphere radius");
+    sphere.material = s.at(2).get<std::int32_t>();
+    m.environment.spheres.push_back(sphere);
+  }
+  m.environment.viscosity = number(j, "viscosity");
+  const json& c = j.at("contact");
+  ContactSettings& settings = m.contact;
+  settings.enabled = c.at("enabled").get<bool>();
+  settings.selfCollision = c.at("self_collision").get<bool>();
+  settings.tangentialStiffnessRatio = number(c, "tangential_stiffness_ratio");
+  settings.tangentialDampingRatio = number(c, "tangential_damping_ratio");
+  settings.stickVelocity = number(c, "stick_velocity");
+  settings.leafSize = c.at("leaf_size").get<std::int32_t>();
+  settings.pairOverrides.clear();
+  for (const json& p : c.at("pairs")) {
+    settings.pairOverrides.push_back(
+        {p.at(0).get<std::int32_t>(), p.at(1).get<std::int32_t>(),
+         numberFromJson(p.at(2), "stiffness"), numberFromJson(p.at(3), "damping"),
+         numberFromJson(p.at(4), "static friction"), numberFromJson(p.at(5), "kinetic friction")});
+  }
+}
+
+// ---- The adaptive step and the run settings.
+
+json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
+  const AdaptiveStepStats& s = p.stats;
+  return {{"step", exactNumber(p.step)},
+          {"stability_limit", exactNumber(p.stabilityLimit)},
+          {"error_order", exactNumber(p.errorOrder)},
+          {"gravity_scale", exactNumber(p.gravityScale)},
+          {"refined_limit", p.refinedLimit},
+          {"accepted", s.accepted},
+          {"rejected", s.rejected},
+          {"smallest_step", exactNumber(s.smallestStep)},
+          {"largest_step", exactNumber(s.largestStep)},
+          {"sum_of_steps", exactNumber(s.sumOfSteps)},
+          {"last_energy_error", exactNumber(s.lastEnergyError)},
+          {"last_step", exactNumber(s.lastStep)}};
+}
+
+AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
+  AdaptiveStepper::Progress p;
+  p.step = number(j, "step");
+  p.stabilityLimit = number(j, "stability_limit");
+  p.errorOrder = number(j, "error_order");
+  p.gravityScale = number(j, "gravity_scale");
+  p.refinedLimit = j.at("refined_limit").get<bool>();
+  p.stats.accepted = j.at("accepted").get<std::int64_t>();
+  p.stats.rejected = j.at("rejected").get<std::int64_t>();
+  p.stats.smallestStep = number(j, "smallest_step");
+  p.stats.largestStep = number(j, "largest_step");
+  p.stats.sumOfSteps = number(j, "sum_of_steps");
+  p.stats.lastEnergyError = number(j, "last_energy_error");
+  p.stats.lastStep = number(j, "last_step");
+  return p;
+}
+
+json runSettingsToJson(const RunSettings& r) {
+  const AdaptiveStepSettings& a = r.adaptive;
+  return {{"duration", exactNumber(r.duration)},
+          {"dt", exactNumber(r.dt)},
+          {"step_mode", r.stepMode == StepMode::kAdaptive ? "adaptive" : "constant"},
+          {"integrator", integratorName(r.integrator)},
+          {"fps", exactNumber(r.fps)},
+          {"adaptive",
+           {{"initial_step", exactNumber(a.initialStep)},
+            {"min_step", exactNumber(a.minStep)},
+            {"max_step", exactNumber(a.maxStep)},
+            {"energy_tolerance", exactNumber(a.energyTolerance)},
+            {"loss_tolerance_factor", exactNumber(a.lossToleranceFactor)},
+            {"energy_floor", exactNumber(a.energyFloor)},
+            {"shrink_factor", exactNumber(a.shrinkFactor)},
+            {"grow_factor", exactNumber(a.growFactor)},
+            {"safety", exactNumber(a.safety)},
+            {"error_order", exactNumber(a.errorOrder)},
+            {"max_penetration_fraction", exactNumber(a.maxPenetrationFraction)},
+            {"stability_safety", exactNumber(a.stabilitySafety)},
+            {"max_rejections_in_a_row", a.maxRejectionsInARow}}}};
+}
+
+RunSettings runSettingsFromJson(const json& j) {
+  RunSettings r;
+  r.duration = number(j, "duration");
+  r.dt = number(j, "dt");
+  r.stepMode = j.at("step_mode").get<std::string>() == "adaptive" ? StepMode::kAdaptive
+                                                                  : StepMode::kConstant;
+  if (!parseIntegrator(j.at("integrator").get<std::string>(), r.integrator))
+    throw std::runtime_error("the checkpoint names an unknown integrator");
+  r.fps = number(j, "fps");
+  const json& a = j.at("adaptive");
+  AdaptiveStepSettings& s = r.adaptive;
+  s.initialStep = number(a, "initial_step");
+  s.minStep = number(a, "min_step");
+  s.maxStep = number(a, "max_step");
+  s.energyTolerance = number(a, "energy_tolerance");
+  s.lossToleranceFactor = number(a, "loss_tolerance_factor");
+  s.energyFloor = number(a, "energy_floor");
+  s.shrinkFactor = number(a, "shrink_factor");
+  s.growFactor = number(a, "grow_factor");
+  s.safety = number(a, "safety");
+  s.errorOrder = number(a, "error_order");
+  s.maxPenetrationFraction = number(a, "max_penetration_fraction");
+  s.stabilitySafety = number(a, "stability_safety");
+  s.maxRejectionsInARow = a.at("max_rejections_in_a_row").get<int>();
+  return r;
+}
+
+std::string fileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::uint64_t h = 1469598103934665603ULL;
+  char buffer[65536];
+  while (in) {
+    in.read(buffer, sizeof buffer);
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h ^= static_cast<unsigned char>(buffer[i]);
+      h *= 1099511628211ULL;
+    }
+  }
+  return fmt::format("{:016x}", h);
+}
+
+}  // namespace robophi
