@@ -11,31 +11,170 @@
 
 namespace robophi {
 
-namespace {
-
-// The energy that can turn into motion: kinetic plus the elastic potentials
-// (gravity's potential depends on where the origin is, so it sets no scale).
-double activeEnergy(const EnergyTally& e) {
-  return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
+Vec3 sceneFrameVelocity(const Model& model, const State& state) {
+  // MODEL §4.1: the frame the scene's physics is at rest in. Fixed particles
+  // (a base, a palm, a kinematic robot) carry it when there are any.
+  Vec3 fixedMomentum, freeMomentum;
+  double fixedMass = 0.0, freeMass = 0.0;
+  std::int64_t fixedCount = 0;
+  Vec3 fixedSum;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (model.isFixed(i)) {
+      fixedMomentum += state.velocity[i] * model.mass[i];
+      fixedMass += model.mass[i];
+      fixedSum += state.velocity[i];
+      ++fixedCount;
+    } else {
+      freeMomentum += state.velocity[i] * model.mass[i];
+      freeMass += model.mass[i];
+    }
+  }
+  if (fixedCount > 0)
+    return fixedMass > 0.0 ? fixedMomentum / fixedMass
+                           : fixedSum / static_cast<double>(fixedCount);
+  const Environment& env = model.environment;
+  // Anything but planes (and a medium at rest) fixes the frame to the world's.
+  if (!env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty() ||
+      env.viscosity > 0.0 || !(freeMass > 0.0))
+    return {};
+  // Planes leave the motion along them free: project the centre-of-mass
+  // velocity onto the common tangent space (Gram-Schmidt on the normals).
+  Vec3 v = freeMomentum / freeMass;
+  std::vector<Vec3> basis;
+  for (const GroundPlane& plane : env.planes) {
+    Vec3 n = plane.normal;
+    for (const Vec3& b : basis) n -= b * dot(n, b);
+    const double length = norm(n);
+    if (length > 1e-9) basis.push_back(n / length);
+  }
+  for (const Vec3& b : basis) v -= b * dot(v, b);
+  return v;
 }
 
-// The energy gravity can release within the scene: Σ m_i |g| × the diagonal of
-// the box around the particles. It keeps the scale of a system that starts at
-// rest well above the round-off of the energy sums.
+double activeEnergy(const Model& model, const State& state, const EnergyTally& energy) {
+  // MODEL §4.1: kinetic energy in the scene's frame plus the elastic
+  // potentials (gravity's potential depends on the datum and sets no scale).
+  const Vec3 frame = sceneFrameVelocity(model, state);
+  double kinetic = 0.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (!model.isFixed(i)) kinetic += 0.5 * model.mass[i] * squaredNorm(state.velocity[i] - frame);
+  }
+  return kinetic + energy.linearSpring + energy.torsionSpring + energy.jointSpring +
+         energy.contact;
+}
+
 double gravityEnergyScale(const Model& model, const State& state) {
+  // Σ m_i |g| × L: L the diagonal of the box around the particles, or the
+  // largest height of a particle above a plane that faces against gravity
+  // (a single ball above the ground has no box), whichever is larger.
   if (state.position.empty()) return 0.0;
+  const double g = norm(model.gravity);
+  if (!(g > 0.0)) return 0.0;
   Vec3 low = state.position.front(), high = low;
-  double freeMass = 0.0;
+  double freeMass = 0.0, height = 0.0;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
     const Vec3& p = state.position[i];
     low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-    if (!model.isFixed(i)) freeMass += model.mass[i];
+    if (model.isFixed(i)) continue;
+    freeMass += model.mass[i];
+    for (const GroundPlane& plane : model.environment.planes) {
+      if (dot(plane.normal, model.gravity) < 0.0)
+        height = std::max(height, dot(p - plane.point, plane.normal));
+    }
   }
-  return freeMass * norm(model.gravity) * norm(high - low);
+  return freeMass * g * std::max(norm(high - low), height);
 }
 
-}  // namespace
+double energyRoundoffScale(const EnergyTally& e) {
+  const double magnitude = std::abs(e.kinetic) + std::abs(e.linearSpring) +
+                           std::abs(e.torsionSpring) + std::abs(e.jointSpring) +
+                           std::abs(e.gravity) + std::abs(e.contact) + std::abs(e.dissipated) +
+                           std::abs(e.external);
+  return 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
+double energyAccountScale(const Model& model, const State& state, const EnergyTally& energy) {
+  return std::max({activeEnergy(model, state, energy), gravityEnergyScale(model, state),
+                   1.0e6 * energyRoundoffScale(energy)});
+}
+
+double approachStepBound(const Model& model, const State& state, const std::vector<Vec3>& force,
+                         double fraction) {
+  // MODEL §4.4. A pair closing at speed w with relative acceleration a may use
+  // δ with w δ + ½ a δ² ≤ D, D = gap + fraction × r: δ = 2D / (w + √(w² + 2aD)).
+  const ParticleIndex n = model.particleCount();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  const auto acceleration = [&](ParticleIndex i) {
+    return model.isFixed(i) ? Vec3{} : force[i] * model.inverseMass[i];
+  };
+  // Centres of the velocity and acceleration sets (boxes): pairs close at most
+  // at |v_i − c| + max_j |v_j − c|, whatever the observer.
+  Vec3 vLow = state.velocity[0], vHigh = vLow, aLow = acceleration(0), aHigh = aLow;
+  for (ParticleIndex i = 1; i < n; ++i) {
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = acceleration(i);
+    vLow = {std::min(vLow.x, v.x), std::min(vLow.y, v.y), std::min(vLow.z, v.z)};
+    vHigh = {std::max(vHigh.x, v.x), std::max(vHigh.y, v.y), std::max(vHigh.z, v.z)};
+    aLow = {std::min(aLow.x, a.x), std::min(aLow.y, a.y), std::min(aLow.z, a.z)};
+    aHigh = {std::max(aHigh.x, a.x), std::max(aHigh.y, a.y), std::max(aHigh.z, a.z)};
+  }
+  const Vec3 vCentre = (vLow + vHigh) * 0.5, aCentre = (aLow + aHigh) * 0.5;
+  double vSpread = 0.0, aSpread = 0.0;
+  for (ParticleIndex i = 0; i < n; ++i) {
+    vSpread = std::max(vSpread, norm(state.velocity[i] - vCentre));
+    aSpread = std::max(aSpread, norm(acceleration(i) - aCentre));
+  }
+  const auto bound = [](double w, double a, double distance) {
+    if (!(distance > 0.0)) return 0.0;
+    const double denominator = w + std::sqrt(w * w + 2.0 * a * distance);
+    return denominator > 0.0 ? 2.0 * distance / denominator
+                             : std::numeric_limits<double>::infinity();
+  };
+  const Environment& env = model.environment;
+  const bool solidEnvironment =
+      !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
+  double step = std::numeric_limits<double>::infinity();
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const double reach = fraction * model.radius[i];
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = acceleration(i);
+    // Against any other particle (the smaller radius is at most this one).
+    if (n > 1)
+      step = std::min(step, bound(norm(v - vCentre) + vSpread, norm(a - aCentre) + aSpread, reach));
+    if (model.isFixed(i)) continue;
+    // Against the planes: the speed along the normal, beyond the gap.
+    for (const GroundPlane& plane : env.planes) {
+      const double gap = std::max(0.0, dot(state.position[i] - plane.point, plane.normal) -
+                                           model.radius[i]);
+      const double w = -dot(v, plane.normal), an = -dot(a, plane.normal);
+      if (w <= 0.0 && an <= 0.0) continue;
+      step = std::min(step, bound(std::max(w, 0.0), std::max(an, 0.0), gap + reach));
+    }
+    // Against the other environment items: the full speed.
+    if (solidEnvironment) step = std::min(step, bound(norm(v), norm(a), reach));
+  }
+  return step;
+}
+
+StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, double contactSafety,
+                                 std::int64_t* splits) {
+  const double end = world.state().time + dt;
+  double left = dt;
+  for (;;) {
+    const Evaluation& evaluation = world.evaluation();
+    double bound = approachStepBound(world.model(), world.state(), evaluation.force, fraction);
+    if (contactSafety > 0.0) bound = std::min(bound, contactSafety * evaluation.contactCriticalStep);
+    const double pieces = bound >= left ? 1.0 : std::ceil(left / bound);
+    if (!(pieces < 1e9)) return StepStatus::kNonFinite;  // nothing finite can be done
+    const bool last = pieces <= 1.0;
+    if (!last && splits) ++*splits;
+    const StepStatus status = world.step(last ? left : left / pieces);
+    if (status != StepStatus::kOk || last) return status;
+    left = end - world.state().time;
+    if (!(left > 0.0)) return status;
+  }
+}
 
 namespace {
 
@@ -47,11 +186,12 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
           detail::text("AdaptiveStepSettings::{} = {} must be {}", name, value, range));
   };
   require(s.initialStep > 0.0, "initialStep", s.initialStep, "> 0 (s)");
-  require(s.minStep > 0.0, "minStep", s.minStep, "> 0 (s)");
-  require(s.maxStep >= s.minStep, "maxStep", s.maxStep, ">= minStep (s)");
+  require(s.minStep >= 0.0, "minStep", s.minStep, ">= 0 (s; 0: relative to the first step)");
+  require(s.maxStep >= s.minStep && s.maxStep > 0.0, "maxStep",
+          std::isinf(s.maxStep) ? 1.0 : s.maxStep, "> 0 and >= minStep (s; infinite: none)");
   require(s.energyTolerance > 0.0, "energyTolerance", s.energyTolerance, "> 0");
   require(s.lossToleranceFactor >= 0.0, "lossToleranceFactor", s.lossToleranceFactor, ">= 0");
-  require(s.energyFloor > 0.0, "energyFloor", s.energyFloor, "> 0 (J)");
+  require(s.energyFloor >= 0.0, "energyFloor", s.energyFloor, ">= 0 (J)");
   require(s.shrinkFactor > 0.0 && s.shrinkFactor < 1.0, "shrinkFactor", s.shrinkFactor,
           "in (0, 1)");
   require(s.growFactor >= 1.0, "growFactor", s.growFactor, ">= 1");
@@ -59,6 +199,7 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
   require(s.errorOrder >= 0.0, "errorOrder", s.errorOrder, ">= 0 (0: from the integrator)");
   require(s.maxPenetrationFraction >= 0.0, "maxPenetrationFraction", s.maxPenetrationFraction,
           ">= 0");
+  require(s.maxApproachFraction > 0.0, "maxApproachFraction", s.maxApproachFraction, "> 0");
   require(s.stabilitySafety > 0.0, "stabilitySafety", s.stabilitySafety, "> 0");
   require(s.maxRejectionsInARow >= 1, "maxRejectionsInARow", s.maxRejectionsInARow, ">= 1");
   return s;
@@ -69,7 +210,8 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
     : settings_(checked(settings)),
       stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
-      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
+      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})),
+      minStep_(settings.minStep > 0.0 ? settings.minStep : 1.0e-8 * step_) {
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
 
@@ -78,17 +220,24 @@ double AdaptiveStepper::proposal(double error) const {
   return settings_.safety * std::pow(ratio, 1.0 / errorOrder_);
 }
 
-double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after) const {
+double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after,
+                                     double activeBefore, double activeAfter) const {
   // MODEL §4.1: error = (ΔE + ΔW_dissipated - ΔW_external) / scale, where
   // W_dissipated is the work of damping, friction and viscosity, W_external that
   // of fixed particles moved kinematically, and the scale is the largest of the
-  // active energy before and after, the gravity scale and the floor.
+  // active energy (in the scene's frame) before and after, the gravity scale,
+  // the round-off guard (round-off stays under 1% of the tolerance) and the
+  // optional absolute floor. No term sees the observer's velocity or the datum
+  // except the round-off guard, where the error is round-off anyway.
   const double created = (after.mechanical() - before.mechanical()) +
                          (after.dissipated - before.dissipated) -
                          (after.external - before.external);
+  const double roundoff =
+      std::max(energyRoundoffScale(before), energyRoundoffScale(after)) /
+      (0.01 * settings_.energyTolerance);
   const double scale =
-      std::max({activeEnergy(before), activeEnergy(after), gravityScale_, settings_.energyFloor});
-  return created / scale;
+      std::max({activeBefore, activeAfter, gravityScale_, roundoff, settings_.energyFloor});
+  return scale > 0.0 ? created / scale : 0.0;
 }
 
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
@@ -111,27 +260,35 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
                                                                       : 2.0;
   }
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
-  if (!(step_ >= settings_.minStep)) {
+  if (!(step_ >= minStep_)) {
     result.ok = false;
     result.failure = detail::text(
         "the adaptive step {:.3g} s is below its floor {:.3g} s before any trial (the "
         "stability estimate allows {:.3g} s): {}",
-        step_, settings_.minStep, stabilityLimit_, diagnose(world));
+        step_, minStep_, stabilityLimit_, diagnose(world));
     return result;
   }
   saved_ = world.snapshot();
   const EnergyTally energyBefore = saved_.energy();
+  const double activeBefore = activeEnergy(world.model(), saved_.state(), energyBefore);
   const double penetrationBefore =
       settings_.maxPenetrationFraction > 0.0
           ? deepestPenetrationFraction(world.model(), saved_.evaluation().contacts)
           : 0.0;
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
+  // No pair of approaching surfaces may pass through each other (MODEL §4.4).
+  const double approachLimit =
+      approachStepBound(world.model(), saved_.state(), saved_.evaluation().force,
+                        settings_.maxApproachFraction);
   for (;;) {
-    const double dt = std::min({step_, maxDt, contactLimit});
+    const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);
-    const double error = status == StepStatus::kOk ? energyError(energyBefore, world.energy())
-                                                   : std::numeric_limits<double>::infinity();
+    const double error =
+        status == StepStatus::kOk
+            ? energyError(energyBefore, world.energy(), activeBefore,
+                          activeEnergy(world.model(), world.state(), world.energy()))
+            : std::numeric_limits<double>::infinity();
     // Geometric control (MODEL §4): one step may not push the deepest contact
     // further in by more than the set fraction of a radius. (The depth a soft
     // contact reaches at rest is physics, set by κ_c, and is not capped.)
@@ -151,6 +308,9 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       stats_.lastEnergyError = error;
       stats_.lastStep = dt;
       // Grow when the error leaves room: δ · safety · (tol/|e|)^(1/p), at most × growFactor.
+      // (The carried step grows from at most growFactor × the trial: a cap that
+      // held the trial down for long does not leave an unbounded step behind.)
+      step_ = std::min(step_, dt * settings_.growFactor);
       step_ = std::min({step_ * std::clamp(proposal(error), 1.0, settings_.growFactor),
                         settings_.maxStep, stabilityLimit_});
       return result;
@@ -161,7 +321,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     step_ = dt * std::clamp(tooDeep ? settings_.shrinkFactor : proposal(error), 0.1,
                             settings_.shrinkFactor);
     const bool stalled =
-        step_ < settings_.minStep || result.rejections >= settings_.maxRejectionsInARow;
+        step_ < minStep_ || result.rejections >= settings_.maxRejectionsInARow;
     const std::string why = stalled ? diagnose(world) : std::string();  // the failed trial
     world.restore(saved_);
     if (stalled) {
@@ -169,7 +329,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       result.failure = detail::text(
           "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "
           "s: {}",
-          step_, settings_.minStep, result.rejections, saved_.state().time, why);
+          step_, minStep_, result.rejections, saved_.state().time, why);
       return result;
     }
   }

@@ -30,8 +30,8 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 
 namespace {
 
-// Energy drift (relative to the initial mechanical energy) above which a finite
-// run is reported as diverged.
+// Energy drift (relative to the account's scale, energyAccountScale: datum- and
+// observer-free) above which a finite run is reported as diverged.
 constexpr double kRunawayEnergyGrowth = 100.0;
 
 // A folder beside `target` that is renamed to it when complete.
@@ -91,7 +91,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   World world(scene.model, scene.initial, settings.integrator);
   world.refresh();  // the energy account of the initial state
   report.initialTotal = world.energy().total();
-  const double energyScale = std::max(std::abs(world.energy().mechanical()), 1e-12);
+  // The drift's scale: the energy that can turn into motion in the scene's own
+  // frame, or that gravity can release (MODEL §4.1), never E(0), which depends
+  // on where z = 0 is.
+  const double energyScale = energyAccountScale(world.model(), world.state(), world.energy());
 
   std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
@@ -137,11 +140,12 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   // Constant steps are counted, not accumulated, so the final time does not drift.
   const auto totalSteps =
       static_cast<std::int64_t>(std::ceil(settings.duration / settings.dt - 1e-9));
+  std::int64_t constantSteps = 0, constantSplits = 0;
   sample(adaptive ? stepper->nextStep() : settings.dt, false);
   for (;;) {
     const State& state = world.state();
     const bool done =
-        adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : state.stepCount >= totalSteps;
+        adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : constantSteps >= totalSteps;
     if (done) break;
     // A requested stop (a signal) ends the run between steps, with its results so far.
     if (options.stop && options.stop->load(std::memory_order_relaxed)) {
@@ -151,6 +155,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       break;
     }
     double dtUsed = settings.dt;
+    // A constant step lands on k·dt exactly (the last one clipped to the
+    // duration), so the end time is the duration and end-of-run tasks fire.
+    if (!adaptive) {
+      const double target =
+          std::min(static_cast<double>(++constantSteps) * settings.dt, settings.duration);
+      dtUsed = target - state.time;
+    }
     if (adaptive) {
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
@@ -160,7 +171,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
         break;
       }
       dtUsed = r.dt;
-    } else if (world.step(settings.dt) != StepStatus::kOk) {
+    } else if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
+                                     settings.adaptive.stabilitySafety,
+                                     &constantSplits) != StepStatus::kOk) {
       report.status = "diverged";
       const ParticleIndex bad = world.firstNonFiniteParticle();
       report.failure = fmt::format(
@@ -193,6 +206,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (report.ok() || report.interrupted())
     sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
   if (stepper) report.adaptive = stepper->stats();
+  if (constantSplits > 0) {
+    report.warnings.push_back(fmt::format(
+        "the constant step {:.3g} s was split {} times to keep approaching surfaces from "
+        "passing through each other in one step and touching contacts stable (MODEL §4.4): "
+        "a smaller --dt avoids it",
+        settings.dt, constantSplits));
+  }
 
   const State& last = world.state();
   report.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();

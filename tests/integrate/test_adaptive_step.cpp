@@ -100,18 +100,32 @@ TEST(AdaptiveStep, SurvivesWhereConstantStepDiverges) {
   EXPECT_LT(adaptive.energy().total(), 1.05 * e0);
 }
 
-// Growth: a free particle in gravity with Verlet (exact) reaches the largest step.
+// Growth: a free particle in gravity with Verlet (exact) reaches the largest
+// step, when one is set (there is none by default).
 TEST(AdaptiveStep, GrowsToTheLargestStepWhenCalm) {
   Model model;
   model.addParticle(1.0, 0.1, false, model.addObject("ball", "particles"));
   State state = State::sizedFor(model);
   World world(std::move(model), std::move(state), Integrator::kVelocityVerlet);
   AdaptiveStepSettings settings;
+  settings.maxStep = 1e-2;
   AdaptiveStepper stepper(world.model(), settings);
   while (world.state().time < 1.0) stepper.advance(world, 1.0 - world.state().time);
   EXPECT_EQ(stepper.stats().largestStep, settings.maxStep);
   EXPECT_EQ(stepper.stats().rejected, 0);
   EXPECT_LT(stepper.stats().accepted, 200);  // a constant 1e-4 step would take 10 000
+}
+
+// Without a ceiling the calm step keeps growing (here up to the time left).
+TEST(AdaptiveStep, HasNoAbsoluteCeilingByDefault) {
+  Model model;
+  model.addParticle(1.0, 0.1, false, model.addObject("ball", "particles"));
+  State state = State::sizedFor(model);
+  World world(std::move(model), std::move(state), Integrator::kVelocityVerlet);
+  AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+  while (world.state().time < 1.0) stepper.advance(world, 1.0 - world.state().time);
+  EXPECT_GT(stepper.stats().largestStep, 0.1);
+  EXPECT_LT(stepper.stats().accepted, 20);
 }
 
 // Below the floor the run stops and names where: no endless loop, no garbage.
