@@ -23,6 +23,9 @@ struct StudyRun {
   double error = 0.0;
   /// CTS only: the error at `dt` itself (the bracket's centre).
   double centreError = 0.0;
+  /// ATS only: the smallest and largest accepted steps (s), and the
+  /// connectors' stability cap 0.9 × 2/ω_max at the start (s; infinite: none).
+  double smallestStep = 0.0, largestStep = 0.0, stabilityCap = 0.0;
   bool finite = true;
 };
 

@@ -225,19 +225,20 @@ double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally
   // MODEL §4.1: error = (ΔE + ΔW_dissipated - ΔW_external) / scale, where
   // W_dissipated is the work of damping, friction and viscosity, W_external that
   // of fixed particles moved kinematically, and the scale is the largest of the
-  // active energy (in the scene's frame) before and after, the gravity scale,
-  // the round-off guard (round-off stays under 1% of the tolerance) and the
-  // optional absolute floor. No term sees the observer's velocity or the datum
-  // except the round-off guard, where the error is round-off anyway.
+  // active energy (in the scene's frame) before and after, the gravity scale
+  // and the optional absolute floor. Energy changes within the round-off of the
+  // sums (energyRoundoffScale) are no error: that band is taken off |created|.
+  // No term sees the observer's velocity or the datum except that band.
   const double created = (after.mechanical() - before.mechanical()) +
                          (after.dissipated - before.dissipated) -
                          (after.external - before.external);
-  const double roundoff =
-      std::max(energyRoundoffScale(before), energyRoundoffScale(after)) /
-      (0.01 * settings_.energyTolerance);
-  const double scale =
-      std::max({activeBefore, activeAfter, gravityScale_, roundoff, settings_.energyFloor});
-  return scale > 0.0 ? created / scale : 0.0;
+  const double roundoff = std::max(energyRoundoffScale(before), energyRoundoffScale(after));
+  if (std::abs(created) <= roundoff) return 0.0;
+  const double beyond = created > 0.0 ? created - roundoff : created + roundoff;
+  const double scale = std::max({activeBefore, activeAfter, gravityScale_, settings_.energyFloor});
+  if (!(scale > 0.0)) return beyond > 0.0 ? std::numeric_limits<double>::infinity()
+                                          : -std::numeric_limits<double>::infinity();
+  return beyond / scale;
 }
 
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
