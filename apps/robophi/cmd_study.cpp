@@ -45,7 +45,13 @@ int studyCommand(const StudyArguments& args) {
     return kExitBadInput;
   }
   for (const StudyCase& c : cases) {
-    if (!args.filter.empty() && c.name.find(args.filter) == std::string::npos) continue;
+    // --filter TEXT keeps the cases whose name holds TEXT; !TEXT the others.
+    if (!args.filter.empty()) {
+      const bool exclude = args.filter.front() == '!';
+      const bool holds = c.name.find(exclude ? args.filter.substr(1) : args.filter) !=
+                         std::string::npos;
+      if (holds == exclude) continue;
+    }
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());
     rows.push_back(runStudyCase(c, args.maxCtsSteps));
     if (InterruptGuard::flag()) return interruptedExit("study ats");
@@ -57,6 +63,9 @@ int studyCommand(const StudyArguments& args) {
         static_cast<long long>(r.ats.rejected), r.ats.error, r.cts.dt,
         static_cast<long long>(r.cts.steps), r.cts.error, r.stepRatio, r.costPerStepRatio);
     std::fflush(stdout);
+    // The files so far after every case (each replaced whole): a long study
+    // stopped later still leaves what it measured.
+    if (!args.out.empty()) writeAtsStudy(rows, args.out);
   }
   if (args.out.empty()) return kExitOk;
   writeAtsStudy(rows, args.out);
@@ -145,7 +154,8 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
                   "written)");
   ats->add_option("--scenes", args->scenes, "Folder of the experiment scenes (scenes/*.json)");
   ats->add_option("--max-cts-steps", args->maxCtsSteps, "Step budget of one CTS run");
-  ats->add_option("--filter", args->filter, "Only cases whose name contains this");
+  ats->add_option("--filter", args->filter,
+                  "Only cases whose name contains this (!TEXT: only those that do not)");
   ats->callback([args, &exitCode] { exitCode = studyCommand(*args); });
 
   auto eargs = std::make_shared<ExperimentsArguments>();

@@ -52,6 +52,9 @@ struct StudyCase {
   std::function<void()> reset;
   /// The error of the run just observed (>= 0).
   std::function<double(const World&)> error;
+  /// When set: the error the run already has for certain (a running maximum),
+  /// so that a CTS run past its target can stop early.
+  std::function<double()> errorSoFar;
 };
 
 /// The analytic cases (ball drops at κ_c = 1e7, 1e9, 1e10 N/m, oscillators,
