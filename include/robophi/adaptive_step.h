@@ -94,10 +94,14 @@ double energyAccountScale(const Model& model, const State& state, const EnergyTa
 
 /// The anti-tunnelling bound (s), MODEL §4.4: the largest step in which no pair
 /// of approaching surfaces closes by more than `fraction` × the smaller radius
-/// (beyond the gap, for planes), with each particle's velocity and acceleration
-/// (`force`/m) held over the step. Pairs of particles are bounded through the
-/// spread of velocities and accelerations (Galilean: no frame enters), the
-/// environment through the speed towards it. Infinite when nothing moves.
+/// beyond its gap, with each particle's velocity and acceleration (`force`/m,
+/// `force` of particleCount entries) held over the step. Two objects are bounded
+/// through the gap between the spheres around their particles and the
+/// difference and spread of their velocities and accelerations (Galilean: no
+/// frame enters; one object's particles are not bounded against each other;
+/// above 128 objects, all together without gaps); a particle against a plane
+/// through its gap and normal speed, against other environment items through
+/// its speed. Infinite when nothing approaches.
 double approachStepBound(const Model& model, const State& state, const std::vector<Vec3>& force,
                          double fraction);
 
