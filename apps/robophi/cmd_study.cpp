@@ -54,7 +54,14 @@ int studyCommand(const StudyArguments& args) {
     }
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());
     rows.push_back(runStudyCase(c, args.maxCtsSteps));
-    if (InterruptGuard::flag()) return interruptedExit("study ats");
+    if (InterruptGuard::flag()) {
+      // The files under --out hold the cases finished before the signal.
+      std::fprintf(stderr,
+                   "robophi study ats: interrupted: the files under --out hold the %zu case(s) "
+                   "finished before it\n",
+                   rows.size() > 0 ? rows.size() - 1 : 0);
+      return exitCodeForSignal(InterruptGuard::caughtSignal());
+    }
     const StudyRow& r = rows.back();
     std::printf(
         "%-40s ATS %7lld steps (%lld rejected) error %.3g | CTS dt %.3g %9lld steps "
