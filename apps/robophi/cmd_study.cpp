@@ -48,8 +48,8 @@ int studyCommand(const StudyArguments& args) {
     // --filter TEXT keeps the cases whose name holds TEXT; !TEXT the others.
     if (!args.filter.empty()) {
       const bool exclude = args.filter.front() == '!';
-      const bool holds = c.name.find(exclude ? args.filter.substr(1) : args.filter) !=
-                         std::string::npos;
+      const bool holds =
+          c.name.find(exclude ? args.filter.substr(1) : args.filter) != std::string::npos;
       if (holds == exclude) continue;
     }
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());

@@ -267,9 +267,9 @@ std::vector<StudyCase> atsStudyCases(const std::string& scenesDir) {
   }
   analytic.push_back(oscillator(0.0));
   analytic.push_back(oscillator(0.05));
-  analytic.push_back(referenceCase(
-      "pendulum, pivot at z = 0", "bob position at t = 2 s vs reference (m)", 2.0,
-      [scenesDir] { return pendulumAtDatum(scenesDir); }, 2e-6, {1}));
+  analytic.push_back(referenceCase("pendulum, pivot at z = 0",
+                                   "bob position at t = 2 s vs reference (m)", 2.0,
+                                   [scenesDir] { return pendulumAtDatum(scenesDir); }, 2e-6, {1}));
   analytic.push_back(
       referenceCase("stiff bar falling flat", "centre of mass at t = 0.5 s vs reference (m)", 0.5,
                     [] { return worldFromScene(kBarScene, "<bar study>"); }, 2e-6, {0}));
@@ -537,8 +537,8 @@ std::string verdicts(const std::vector<StudyRow>& rows) {
     } else if (r.stiffnessChanges && r.stepRatio < 5.0) {
       ++shortOfMargin;
       md += fmt::format(
-          "- **{}**: CTS/ATS = {:.3g}, short of the paper's 5×. {}. {}\n", r.caseName,
-          r.stepRatio, steps,
+          "- **{}**: CTS/ATS = {:.3g}, short of the paper's 5×. {}. {}\n", r.caseName, r.stepRatio,
+          steps,
           capShare > 0.5
               ? "The stiffest moment is not brief here: the step sits near the connectors' "
                 "stability cap most of the run, which bounds CTS as much as ATS, so no "
@@ -564,7 +564,8 @@ void writeAtsStudy(const std::vector<StudyRow>& rows, const std::string& outDir)
   const std::filesystem::path dir(outDir);
   output::writeFileAtomically(dir / "ats-study.md", [&](std::ostream& md) {
     md << "# ATS against CTS, measured\n\n"
-          "Written by `robophi study ats --out DIR` (apps/robophi/study_ats.cpp); docs/ats-study.md\n"
+          "Written by `robophi study ats --out DIR` (apps/robophi/study_ats.cpp); "
+          "docs/ats-study.md\n"
           "adds a discussion. ATS runs with the default settings (docs/adaptive-step.md).\n"
           "CTS runs the same integrator at the largest constant step whose error, **bracketed**\n"
           "(the worst over the steps dt × {0.9, 0.95, 1, 1.05, 1.1}), is no larger than ATS's\n"
@@ -576,14 +577,15 @@ void writeAtsStudy(const std::vector<StudyRow>& rows, const std::string& outDir)
   });
   output::writeFileAtomically(dir / "ats-study.csv", [&](std::ostream& csv) {
     csv << "case,kind,stiffness_changes,error_measure,ats_steps,ats_rejected,ats_error,"
-           "ats_wall_s,ats_mean_dt_s,ats_smallest_dt_s,ats_largest_dt_s,stability_cap_s,cts_dt_s,cts_steps,cts_error_bracketed,cts_error_centre,"
+           "ats_wall_s,ats_mean_dt_s,ats_smallest_dt_s,ats_largest_dt_s,stability_cap_s,cts_dt_s,"
+           "cts_steps,cts_error_bracketed,cts_error_centre,"
            "cts_wall_s,cts_budget_exhausted,step_ratio,cost_per_step_ratio\n";
     for (const StudyRow& r : rows) {
       csv << fmt::format("\"{}\",{},{},\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
                          r.caseName, r.kind, r.stiffnessChanges ? 1 : 0, r.errorMeasure,
                          r.ats.steps, r.ats.rejected, r.ats.error, r.ats.wallSeconds, r.ats.dt,
-                         r.ats.smallestStep, r.ats.largestStep, r.ats.stabilityCap,
-                         r.cts.dt, r.cts.steps, r.cts.error, r.cts.centreError, r.cts.wallSeconds,
+                         r.ats.smallestStep, r.ats.largestStep, r.ats.stabilityCap, r.cts.dt,
+                         r.cts.steps, r.cts.error, r.cts.centreError, r.cts.wallSeconds,
                          r.ctsBudgetExhausted ? 1 : 0, r.stepRatio, r.costPerStepRatio);
     }
   });

@@ -30,8 +30,7 @@ Vec3 sceneFrameVelocity(const Model& model, const State& state) {
     }
   }
   if (fixedCount > 0)
-    return fixedMass > 0.0 ? fixedMomentum / fixedMass
-                           : fixedSum / static_cast<double>(fixedCount);
+    return fixedMass > 0.0 ? fixedMomentum / fixedMass : fixedSum / static_cast<double>(fixedCount);
   const Environment& env = model.environment;
   // Anything but planes (and a medium at rest) fixes the frame to the world's.
   if (!env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty() ||
@@ -59,8 +58,7 @@ double activeEnergy(const Model& model, const State& state, const EnergyTally& e
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
     if (!model.isFixed(i)) kinetic += 0.5 * model.mass[i] * squaredNorm(state.velocity[i] - frame);
   }
-  return kinetic + energy.linearSpring + energy.torsionSpring + energy.jointSpring +
-         energy.contact;
+  return kinetic + energy.linearSpring + energy.torsionSpring + energy.jointSpring + energy.contact;
 }
 
 double gravityEnergyScale(const Model& model, const State& state) {
@@ -105,8 +103,7 @@ namespace {
 double closingStep(double w, double a, double distance) {
   if (!(distance > 0.0)) return 0.0;
   const double denominator = w + std::sqrt(w * w + 2.0 * a * distance);
-  return denominator > 0.0 ? 2.0 * distance / denominator
-                           : std::numeric_limits<double>::infinity();
+  return denominator > 0.0 ? 2.0 * distance / denominator : std::numeric_limits<double>::infinity();
 }
 
 // An object's particles, bounded: the sphere around them, the centres of the
@@ -143,8 +140,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     const Vec3 a = acceleration(i);
     // Against the planes: the speed along the normal, beyond the gap.
     for (const GroundPlane& plane : env.planes) {
-      const double gap = std::max(0.0, dot(state.position[i] - plane.point, plane.normal) -
-                                           model.radius[i]);
+      const double gap =
+          std::max(0.0, dot(state.position[i] - plane.point, plane.normal) - model.radius[i]);
       const double w = -dot(v, plane.normal), an = -dot(a, plane.normal);
       if (w <= 0.0 && an <= 0.0) continue;
       step = std::min(step, closingStep(std::max(w, 0.0), std::max(an, 0.0), gap + reach));
@@ -157,8 +154,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   // only: no observer enters), beyond the gap between the objects' spheres.
   // (Particles of one object are not bounded against each other: they are tied
   // by connectors, and self-contacts are between neighbours.)
-  const auto objects = static_cast<std::size_t>(
-      std::max<std::int32_t>(1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
+  const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
+      1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
   if (objects < 2) return step;
   std::vector<ObjectBounds> bounds(objects);
   std::vector<Vec3> vLow(objects), vHigh(objects), aLow(objects), aHigh(objects), pSum(objects);
@@ -186,7 +183,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     bounds[o].acceleration = (aLow[o] + aHigh[o]) * 0.5;
   }
   for (ParticleIndex i = 0; i < n; ++i) {
-    ObjectBounds& b = bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+    ObjectBounds& b =
+        bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
     b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
     b.velocitySpread = std::max(b.velocitySpread, norm(state.velocity[i] - b.velocity));
     b.accelerationSpread = std::max(b.accelerationSpread, norm(acceleration(i) - b.acceleration));
@@ -228,8 +226,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
       const double w = norm(A.velocity - B.velocity) + A.velocitySpread + B.velocitySpread;
       const double acc =
           norm(A.acceleration - B.acceleration) + A.accelerationSpread + B.accelerationSpread;
-      step = std::min(step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius,
-                                                                          B.smallestRadius)));
+      step = std::min(
+          step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius, B.smallestRadius)));
     }
   }
   return step;
@@ -242,7 +240,8 @@ StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, doubl
   for (;;) {
     const Evaluation& evaluation = world.evaluation();
     double bound = approachStepBound(world.model(), world.state(), evaluation.force, fraction);
-    if (contactSafety > 0.0) bound = std::min(bound, contactSafety * evaluation.contactCriticalStep);
+    if (contactSafety > 0.0)
+      bound = std::min(bound, contactSafety * evaluation.contactCriticalStep);
     const double pieces = bound >= left ? 1.0 : std::ceil(left / bound);
     if (!(pieces < 1e9)) return StepStatus::kNonFinite;  // nothing finite can be done
     const bool last = pieces <= 1.0;
@@ -299,7 +298,7 @@ double AdaptiveStepper::proposal(double error) const {
 }
 
 double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after,
-                                     double activeBefore, double activeAfter) const {
+                                    double activeBefore, double activeAfter) const {
   // MODEL §4.1: error = (ΔE + ΔW_dissipated - ΔW_external) / scale, where
   // W_dissipated is the work of damping, friction and viscosity, W_external that
   // of fixed particles moved kinematically, and the scale is the largest of the
@@ -314,8 +313,9 @@ double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally
   if (std::abs(created) <= roundoff) return 0.0;
   const double beyond = created > 0.0 ? created - roundoff : created + roundoff;
   const double scale = std::max({activeBefore, activeAfter, gravityScale_, settings_.energyFloor});
-  if (!(scale > 0.0)) return beyond > 0.0 ? std::numeric_limits<double>::infinity()
-                                          : -std::numeric_limits<double>::infinity();
+  if (!(scale > 0.0))
+    return beyond > 0.0 ? std::numeric_limits<double>::infinity()
+                        : -std::numeric_limits<double>::infinity();
   return beyond / scale;
 }
 
@@ -357,9 +357,8 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
   // No pair of approaching surfaces may pass through each other (MODEL §4.4).
-  const double approachLimit =
-      approachStepBound(world.model(), saved_.state(), saved_.evaluation().force,
-                        settings_.maxApproachFraction);
+  const double approachLimit = approachStepBound(
+      world.model(), saved_.state(), saved_.evaluation().force, settings_.maxApproachFraction);
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);
@@ -399,8 +398,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     ++result.rejections;
     step_ = dt * std::clamp(tooDeep ? settings_.shrinkFactor : proposal(error), 0.1,
                             settings_.shrinkFactor);
-    const bool stalled =
-        step_ < minStep_ || result.rejections >= settings_.maxRejectionsInARow;
+    const bool stalled = step_ < minStep_ || result.rejections >= settings_.maxRejectionsInARow;
     const std::string why = stalled ? diagnose(world) : std::string();  // the failed trial
     world.restore(saved_);
     if (stalled) {

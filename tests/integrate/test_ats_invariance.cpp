@@ -134,8 +134,10 @@ TEST(AtsInvariance, StepCountDoesNotGrowWithTheLengthScale) {
     }
     counts[k++] = stepper.stats().accepted;
   }
-  EXPECT_NEAR(static_cast<double>(counts[0]), static_cast<double>(counts[1]), 0.02 * static_cast<double>(counts[1]));
-  EXPECT_NEAR(static_cast<double>(counts[2]), static_cast<double>(counts[1]), 0.02 * static_cast<double>(counts[1]));
+  EXPECT_NEAR(static_cast<double>(counts[0]), static_cast<double>(counts[1]),
+              0.02 * static_cast<double>(counts[1]));
+  EXPECT_NEAR(static_cast<double>(counts[2]), static_cast<double>(counts[1]),
+              0.02 * static_cast<double>(counts[1]));
 }
 
 TEST(AtsInvariance, EnergyScalesSeeNeitherTheDatumNorTheObserver) {

@@ -77,8 +77,8 @@ TEST(RunEnergyScale, PendulumAtZAndAtTwoExitZeroFromTheCommandLine) {
     const auto scene = dir / ("pendulum_" + std::to_string(static_cast<int>(z)) + ".json");
     std::ofstream(scene) << pendulumAt(z);
     const auto out = dir / ("out_" + std::to_string(static_cast<int>(z)));
-    const std::string command = std::string(ROBOPHI_BINARY) + " run " + scene.string() +
-                                " --out " + out.string() + " --quiet --duration 1 > /dev/null 2>&1";
+    const std::string command = std::string(ROBOPHI_BINARY) + " run " + scene.string() + " --out " +
+                                out.string() + " --quiet --duration 1 > /dev/null 2>&1";
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
   }
   std::filesystem::remove_all(dir);

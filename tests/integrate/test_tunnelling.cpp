@@ -79,7 +79,8 @@ TEST(Tunnelling, ConstantStepIsSplitWhereItWouldPassThrough) {
   {
     World world = ballOnPlate();
     for (int i = 0; i < 20; ++i) world.step(2.0e-3);
-    EXPECT_FALSE(world.state().position[0].z > 0.0 && std::abs(world.state().velocity[0].z - 10.0) < 1.0)
+    EXPECT_FALSE(world.state().position[0].z > 0.0 &&
+                 std::abs(world.state().velocity[0].z - 10.0) < 1.0)
         << "the unbounded constant step no longer fails here";
   }
   World world = ballOnPlate();
