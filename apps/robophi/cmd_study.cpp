@@ -21,26 +21,11 @@ namespace robophi::cli {
 namespace {
 
 struct StudyArguments {
-  std::string out;
+  std::string out;  // empty: print only; the study writes nothing but under --out
   std::int64_t maxCtsSteps = 50'000'000;
   std::string filter;
+  std::string scenes = "scenes";
 };
-
-std::string markdownTable(const std::vector<StudyRow>& rows) {
-  std::string md =
-      "| case | error measure | ATS steps (rejected) | ATS error | ATS wall s | CTS step s | CTS "
-      "steps | CTS error | CTS wall s | CTS/ATS steps | ATS/CTS cost per step |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const StudyRow& r : rows) {
-    md += fmt::format(
-        "| {} | {} | {} ({}) | {:.3g} | {:.3g} | {:.3g} | {}{} | {:.3g} | {:.3g} | "
-        "{:.3g} | {:.2f} |\n",
-        r.caseName, r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error, r.ats.wallSeconds,
-        r.cts.dt, r.ctsBudgetExhausted ? ">" : "", r.cts.steps, r.cts.error, r.cts.wallSeconds,
-        r.stepRatio, r.costPerStepRatio);
-  }
-  return md;
-}
 
 // After SIGINT or SIGTERM: nothing is written, the previous files stay as they were.
 int interruptedExit(const char* command) {
@@ -52,11 +37,31 @@ int interruptedExit(const char* command) {
 int studyCommand(const StudyArguments& args) {
   InterruptGuard interrupt;
   std::vector<StudyRow> rows;
-  for (const StudyCase& c : atsStudyCases()) {
-    if (!args.filter.empty() && c.name.find(args.filter) == std::string::npos) continue;
+  std::vector<StudyCase> cases;
+  try {
+    cases = atsStudyCases(args.scenes);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s (--scenes %s)\n", e.what(), args.scenes.c_str());
+    return kExitBadInput;
+  }
+  for (const StudyCase& c : cases) {
+    // --filter TEXT keeps the cases whose name holds TEXT; !TEXT the others.
+    if (!args.filter.empty()) {
+      const bool exclude = args.filter.front() == '!';
+      const bool holds =
+          c.name.find(exclude ? args.filter.substr(1) : args.filter) != std::string::npos;
+      if (holds == exclude) continue;
+    }
     std::fprintf(stderr, "robophi study ats: %s ...\n", c.name.c_str());
     rows.push_back(runStudyCase(c, args.maxCtsSteps));
-    if (InterruptGuard::flag()) return interruptedExit("study ats");
+    if (InterruptGuard::flag()) {
+      // The files under --out hold the cases finished before the signal.
+      std::fprintf(stderr,
+                   "robophi study ats: interrupted: the files under --out hold the %zu case(s) "
+                   "finished before it\n",
+                   rows.size() > 0 ? rows.size() - 1 : 0);
+      return exitCodeForSignal(InterruptGuard::caughtSignal());
+    }
     const StudyRow& r = rows.back();
     std::printf(
         "%-40s ATS %7lld steps (%lld rejected) error %.3g | CTS dt %.3g %9lld steps "
@@ -65,34 +70,13 @@ int studyCommand(const StudyArguments& args) {
         static_cast<long long>(r.ats.rejected), r.ats.error, r.cts.dt,
         static_cast<long long>(r.cts.steps), r.cts.error, r.stepRatio, r.costPerStepRatio);
     std::fflush(stdout);
+    // The files so far after every case (each replaced whole): a long study
+    // stopped later still leaves what it measured.
+    if (!args.out.empty()) writeAtsStudy(rows, args.out);
   }
   if (args.out.empty()) return kExitOk;
-  // Only these two files under --out, each replaced whole or not at all.
-  const auto mdPath = std::filesystem::path(args.out) / "ats-study.md";
-  const auto csvPath = std::filesystem::path(args.out) / "ats-study.csv";
-  output::writeFileAtomically(mdPath, [&](std::ostream& md) {
-    md << "# ATS against CTS, measured\n\n"
-          "Written by `robophi study ats` (apps/robophi/study_ats.cpp). ATS runs with the default\n"
-          "settings (docs/adaptive-step.md), velocity Verlet; CTS runs velocity Verlet at the\n"
-          "largest constant step whose error is no larger than ATS's (halving, then bisection).\n"
-          "`>` marks a CTS that did not reach the ATS error within its step budget. The cost\n"
-          "per step compares wall time per ATS trial step (accepted or rejected) with wall time\n"
-          "per CTS step; on one-particle cases it is dominated by fixed per-step overheads.\n\n"
-       << markdownTable(rows);
-  });
-  output::writeFileAtomically(csvPath, [&](std::ostream& csv) {
-    csv << "case,error_measure,ats_steps,ats_rejected,ats_error,ats_wall_s,ats_mean_dt_s,"
-           "cts_dt_s,cts_steps,cts_error,cts_wall_s,cts_budget_exhausted,step_ratio,"
-           "cost_per_step_ratio\n";
-    for (const StudyRow& r : rows) {
-      csv << fmt::format("\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{},{},{}\n", r.caseName,
-                         r.errorMeasure, r.ats.steps, r.ats.rejected, r.ats.error,
-                         r.ats.wallSeconds, r.ats.dt, r.cts.dt, r.cts.steps, r.cts.error,
-                         r.cts.wallSeconds, r.ctsBudgetExhausted ? 1 : 0, r.stepRatio,
-                         r.costPerStepRatio);
-    }
-  });
-  std::printf("wrote %s and %s\n", mdPath.string().c_str(), csvPath.string().c_str());
+  writeAtsStudy(rows, args.out);
+  std::printf("wrote ats-study.md, .csv and .svg under %s\n", args.out.c_str());
   return kExitOk;
 }
 
@@ -216,9 +200,12 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   auto args = std::make_shared<StudyArguments>();
   auto* ats = cmd->add_subcommand("ats", "Adaptive against constant step on analytic cases");
   ats->add_option("--out", args->out,
-                  "Folder for ats-study.md and .csv (e.g. docs); without it: print only");
+                  "Folder for ats-study.md, .csv and .svg (empty: print only; nothing else is "
+                  "written)");
+  ats->add_option("--scenes", args->scenes, "Folder of the experiment scenes (scenes/*.json)");
   ats->add_option("--max-cts-steps", args->maxCtsSteps, "Step budget of one CTS run");
-  ats->add_option("--filter", args->filter, "Only cases whose name contains this");
+  ats->add_option("--filter", args->filter,
+                  "Only cases whose name contains this (!TEXT: only those that do not)");
   ats->callback([args, &exitCode] { exitCode = studyCommand(*args); });
 
   auto eargs = std::make_shared<ExperimentsArguments>();

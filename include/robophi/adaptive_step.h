@@ -5,6 +5,7 @@
 /// here is our own choice, set in AdaptiveStepSettings.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "robophi/world.h"
@@ -16,9 +17,13 @@ struct AdaptiveStepSettings {
   /// First trial step δ0 (s).
   double initialStep = 1.0e-4;
   /// Smallest step (s): below it the run stops and says where it got stuck.
-  double minStep = 1.0e-10;
-  /// Largest step (s).
-  double maxStep = 1.0e-2;
+  /// 0 (default): relative, 1e-8 × the first trial step (no absolute floor that
+  /// a change of units crosses).
+  double minStep = 0.0;
+  /// Largest step (s); infinite (default): no absolute ceiling. The step is
+  /// bounded by the model's own scales instead: the stability caps, and the
+  /// approach bound (maxApproachFraction).
+  double maxStep = std::numeric_limits<double>::infinity();
   /// Accepted energy error per step, relative to the energy scale (-): a step is
   /// rejected when (ΔE + ΔW_dissipated) / scale > tolerance (energy created).
   double energyTolerance = 1.0e-5;
@@ -26,10 +31,11 @@ struct AdaptiveStepSettings {
   /// (energy destroyed by the integration, not by dissipation). 1 makes the
   /// test symmetric, which keeps a variable-step symplectic scheme from drifting.
   double lossToleranceFactor = 1.0;
-  /// Floor of the energy scale (J). The scale is also never below the energy
-  /// gravity can release in the scene (Σ m |g| × the particles' bounding-box
-  /// diagonal at the start), so a system at rest does not force tiny steps.
-  double energyFloor = 1.0e-9;
+  /// Absolute floor of the energy scale (J); 0 (default): none. The scale is
+  /// never below the energy gravity can release in the scene
+  /// (gravityEnergyScale), nor below the round-off guard of the energy sums
+  /// (MODEL §4.1), so a system at rest does not force tiny steps.
+  double energyFloor = 0.0;
   /// Largest step factor after a rejection (-), < 1: a rejected step is at least
   /// halved, more when its error was far above the tolerance (down to 0.1).
   double shrinkFactor = 0.5;
@@ -46,11 +52,67 @@ struct AdaptiveStepSettings {
   /// fraction of the smaller radius in the contact (-): a step that pushes in
   /// further is rejected. The depth a contact settles at is set by κ_c, not here.
   double maxPenetrationFraction = 0.1;
+  /// Anti-tunnelling bound (MODEL §4.4): in one step no pair of approaching
+  /// surfaces (two particles, or a particle and the environment) may close by
+  /// more than this fraction of the smaller radius beyond their gap (-), > 0.
+  double maxApproachFraction = 0.5;
   /// The step stays below this fraction of the connectors' stability estimate 2/ω_max (-).
   double stabilitySafety = 0.9;
   /// Rejections in a row before the run stops with a diagnosis.
   int maxRejectionsInARow = 200;
 };
+
+/// The velocity of the scene's own frame (m/s), MODEL §4.1: the mean velocity
+/// of the fixed particles when there are any; else zero when the environment
+/// holds anything but planes, or the medium is viscous; else the free
+/// particles' centre-of-mass velocity with its components along the planes'
+/// normals removed. It moves with the observer: a Galilean boost u of the whole
+/// scene (the planes only along themselves) adds u to it.
+Vec3 sceneFrameVelocity(const Model& model, const State& state);
+
+/// The energy that can turn into motion, in the scene's own frame (J):
+/// Σ_free ½ m |v − V_frame|² + U_LS + U_TS + U_JS + U_contact. Independent of
+/// the observer's velocity and of where z = 0 is.
+double activeEnergy(const Model& model, const State& state, const EnergyTally& energy);
+
+/// The energy gravity can release within the scene (J): Σ_free m |g| × L, L the
+/// larger of the particles' bounding-box diagonal and their largest height
+/// above a plane that faces against gravity. Independent of the datum.
+double gravityEnergyScale(const Model& model, const State& state);
+
+/// The round-off of an energy account (J): 64 ε × the sum of the magnitudes of
+/// its terms. A change of E_total below it is round-off of the sums, not
+/// physics; it is the only term of the energy scales that sees the datum and
+/// the observer, and it matters only where the physical scale is below it.
+double energyRoundoffScale(const EnergyTally& energy);
+
+/// The energy scale of a run's account (J), for the drift E_total(t) − E_total(0)
+/// and the divergence verdict: max(activeEnergy, gravityEnergyScale,
+/// 1e6 × energyRoundoffScale) at the given state. Independent of the datum and
+/// of the observer.
+double energyAccountScale(const Model& model, const State& state, const EnergyTally& energy);
+
+/// The anti-tunnelling bound (s), MODEL §4.4: the largest step in which no pair
+/// of approaching surfaces closes by more than `fraction` × the smaller radius
+/// beyond its gap, with each particle's velocity and acceleration (`force`/m,
+/// `force` of particleCount entries) held over the step. Two objects are bounded
+/// through the gap between the spheres around their particles and the
+/// difference and spread of their velocities and accelerations (Galilean: no
+/// frame enters; one object's particles are not bounded against each other;
+/// above 128 objects, all together without gaps); a particle against a plane
+/// through its gap and normal speed, against other environment items through
+/// its speed. Infinite when nothing approaches.
+double approachStepBound(const Model& model, const State& state, const std::vector<Vec3>& force,
+                         double fraction);
+
+/// A constant step that does not tunnel (MODEL §4.4): advances `world` by `dt`
+/// in one step, or, when approachStepBound(`fraction`) or `contactSafety` × the
+/// touching contacts' stability limit (Evaluation::contactCriticalStep; 0: not
+/// used) is shorter, in as many equal substeps as they require (re-bounded
+/// after each); the last substep lands on t + dt exactly. Adds the number of
+/// extra substeps to `*splits` when given. Stops at the first non-finite substep.
+StepStatus stepWithoutTunnelling(World& world, double dt, double fraction = 0.1,
+                                 double contactSafety = 0.9, std::int64_t* splits = nullptr);
 
 /// Counters of an adaptive run.
 struct AdaptiveStepStats {
@@ -119,8 +181,10 @@ class AdaptiveStepper {
   }
 
  private:
-  /// Relative energy error of a trial from the energy account `before` to `after`.
-  double energyError(const EnergyTally& before, const EnergyTally& after) const;
+  /// Relative energy error of a trial from the energy account `before` to
+  /// `after`, whose active energies (activeEnergy) are given.
+  double energyError(const EnergyTally& before, const EnergyTally& after, double activeBefore,
+                     double activeAfter) const;
   /// The step factor δ_next/δ that an error calls for (unclamped).
   double proposal(double error) const;
   std::string diagnose(const World& world) const;
@@ -130,8 +194,10 @@ class AdaptiveStepper {
   double step_;
   /// The error order in use (set at the first step from the integrator).
   double errorOrder_ = 0.0;
-  /// Σ m |g| × scene size (J), measured at the first step; -1 until then.
+  /// gravityEnergyScale (J), measured at the first step; -1 until then.
   double gravityScale_ = -1.0;
+  /// The step floor in use (s): minStep, or relative to the first trial step.
+  double minStep_ = 0.0;
   AdaptiveStepStats stats_;
   World::Snapshot saved_;
   /// Whether stabilityLimit_ has been refined with the first state's positions.

@@ -11,31 +11,247 @@
 
 namespace robophi {
 
-namespace {
-
-// The energy that can turn into motion: kinetic plus the elastic potentials
-// (gravity's potential depends on where the origin is, so it sets no scale).
-double activeEnergy(const EnergyTally& e) {
-  return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
+Vec3 sceneFrameVelocity(const Model& model, const State& state) {
+  // MODEL §4.1: the frame the scene's physics is at rest in. Fixed particles
+  // (a base, a palm, a kinematic robot) carry it when there are any.
+  Vec3 fixedMomentum, freeMomentum;
+  double fixedMass = 0.0, freeMass = 0.0;
+  std::int64_t fixedCount = 0;
+  Vec3 fixedSum;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (model.isFixed(i)) {
+      fixedMomentum += state.velocity[i] * model.mass[i];
+      fixedMass += model.mass[i];
+      fixedSum += state.velocity[i];
+      ++fixedCount;
+    } else {
+      freeMomentum += state.velocity[i] * model.mass[i];
+      freeMass += model.mass[i];
+    }
+  }
+  if (fixedCount > 0)
+    return fixedMass > 0.0 ? fixedMomentum / fixedMass : fixedSum / static_cast<double>(fixedCount);
+  const Environment& env = model.environment;
+  // Anything but planes (and a medium at rest) fixes the frame to the world's.
+  if (!env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty() ||
+      env.viscosity > 0.0 || !(freeMass > 0.0))
+    return {};
+  // Planes leave the motion along them free: project the centre-of-mass
+  // velocity onto the common tangent space (Gram-Schmidt on the normals).
+  Vec3 v = freeMomentum / freeMass;
+  std::vector<Vec3> basis;
+  for (const GroundPlane& plane : env.planes) {
+    Vec3 n = plane.normal;
+    for (const Vec3& b : basis) n -= b * dot(n, b);
+    const double length = norm(n);
+    if (length > 1e-9) basis.push_back(n / length);
+  }
+  for (const Vec3& b : basis) v -= b * dot(v, b);
+  return v;
 }
 
-// The energy gravity can release within the scene: Σ m_i |g| × the diagonal of
-// the box around the particles. It keeps the scale of a system that starts at
-// rest well above the round-off of the energy sums.
+double activeEnergy(const Model& model, const State& state, const EnergyTally& energy) {
+  // MODEL §4.1: kinetic energy in the scene's frame plus the elastic
+  // potentials (gravity's potential depends on the datum and sets no scale).
+  const Vec3 frame = sceneFrameVelocity(model, state);
+  double kinetic = 0.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (!model.isFixed(i)) kinetic += 0.5 * model.mass[i] * squaredNorm(state.velocity[i] - frame);
+  }
+  return kinetic + energy.linearSpring + energy.torsionSpring + energy.jointSpring + energy.contact;
+}
+
 double gravityEnergyScale(const Model& model, const State& state) {
+  // Σ m_i |g| × L: L the diagonal of the box around the particles, or the
+  // largest height of a particle above a plane that faces against gravity
+  // (a single ball above the ground has no box), whichever is larger.
   if (state.position.empty()) return 0.0;
+  const double g = norm(model.gravity);
+  if (!(g > 0.0)) return 0.0;
   Vec3 low = state.position.front(), high = low;
-  double freeMass = 0.0;
+  double freeMass = 0.0, height = 0.0;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
     const Vec3& p = state.position[i];
     low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-    if (!model.isFixed(i)) freeMass += model.mass[i];
+    if (model.isFixed(i)) continue;
+    freeMass += model.mass[i];
+    for (const GroundPlane& plane : model.environment.planes) {
+      if (dot(plane.normal, model.gravity) < 0.0)
+        height = std::max(height, dot(p - plane.point, plane.normal));
+    }
   }
-  return freeMass * norm(model.gravity) * norm(high - low);
+  return freeMass * g * std::max(norm(high - low), height);
 }
 
+double energyRoundoffScale(const EnergyTally& e) {
+  const double magnitude = std::abs(e.kinetic) + std::abs(e.linearSpring) +
+                           std::abs(e.torsionSpring) + std::abs(e.jointSpring) +
+                           std::abs(e.gravity) + std::abs(e.contact) + std::abs(e.dissipated) +
+                           std::abs(e.external);
+  return 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
+double energyAccountScale(const Model& model, const State& state, const EnergyTally& energy) {
+  return std::max({activeEnergy(model, state, energy), gravityEnergyScale(model, state),
+                   1.0e6 * energyRoundoffScale(energy)});
+}
+
+namespace {
+
+// The largest δ with w δ + ½ a δ² ≤ D: 2D / (w + √(w² + 2aD)).
+double closingStep(double w, double a, double distance) {
+  if (!(distance > 0.0)) return 0.0;
+  const double denominator = w + std::sqrt(w * w + 2.0 * a * distance);
+  return denominator > 0.0 ? 2.0 * distance / denominator : std::numeric_limits<double>::infinity();
+}
+
+// An object's particles, bounded: the sphere around them, the centres of the
+// boxes around their velocities and accelerations and the largest deviation
+// from those centres, and the smallest radius.
+struct ObjectBounds {
+  Vec3 centre, velocity, acceleration;
+  double radius = 0.0, velocitySpread = 0.0, accelerationSpread = 0.0;
+  double smallestRadius = std::numeric_limits<double>::infinity();
+  bool empty = true;
+};
+
 }  // namespace
+
+double approachStepBound(const Model& model, const State& state, const std::vector<Vec3>& force,
+                         double fraction) {
+  // MODEL §4.4. A pair closing at speed w with relative acceleration a may use
+  // δ with w δ + ½ a δ² ≤ D, D = gap + fraction × r (closingStep).
+  const ParticleIndex n = model.particleCount();
+  double step = std::numeric_limits<double>::infinity();
+  if (n == 0) return step;
+  const auto acceleration = [&](ParticleIndex i) {
+    return model.isFixed(i) ? Vec3{} : force[i] * model.inverseMass[i];
+  };
+  const Environment& env = model.environment;
+  const bool solidEnvironment =
+      !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
+  // Particles against the environment (fixed particles move kinematically and
+  // do not collide with it).
+  for (ParticleIndex i = 0; i < n; ++i) {
+    if (model.isFixed(i)) continue;
+    const double reach = fraction * model.radius[i];
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = acceleration(i);
+    // Against the planes: the speed along the normal, beyond the gap.
+    for (const GroundPlane& plane : env.planes) {
+      const double gap =
+          std::max(0.0, dot(state.position[i] - plane.point, plane.normal) - model.radius[i]);
+      const double w = -dot(v, plane.normal), an = -dot(a, plane.normal);
+      if (w <= 0.0 && an <= 0.0) continue;
+      step = std::min(step, closingStep(std::max(w, 0.0), std::max(an, 0.0), gap + reach));
+    }
+    // Against the other environment items: the full speed.
+    if (solidEnvironment) step = std::min(step, closingStep(norm(v), norm(a), reach));
+  }
+  // Objects against each other, through their bounds: two particles of objects
+  // A and B close at most at |V_A − V_B| + s_A + s_B (velocity differences
+  // only: no observer enters), beyond the gap between the objects' spheres.
+  // (Particles of one object are not bounded against each other: they are tied
+  // by connectors, and self-contacts are between neighbours.)
+  const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
+      1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
+  if (objects < 2) return step;
+  std::vector<ObjectBounds> bounds(objects);
+  std::vector<Vec3> vLow(objects), vHigh(objects), aLow(objects), aHigh(objects), pSum(objects);
+  std::vector<double> count(objects, 0.0);
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = acceleration(i);
+    if (count[o] == 0.0) {
+      vLow[o] = vHigh[o] = v;
+      aLow[o] = aHigh[o] = a;
+    }
+    vLow[o] = {std::min(vLow[o].x, v.x), std::min(vLow[o].y, v.y), std::min(vLow[o].z, v.z)};
+    vHigh[o] = {std::max(vHigh[o].x, v.x), std::max(vHigh[o].y, v.y), std::max(vHigh[o].z, v.z)};
+    aLow[o] = {std::min(aLow[o].x, a.x), std::min(aLow[o].y, a.y), std::min(aLow[o].z, a.z)};
+    aHigh[o] = {std::max(aHigh[o].x, a.x), std::max(aHigh[o].y, a.y), std::max(aHigh[o].z, a.z)};
+    pSum[o] += state.position[i];
+    count[o] += 1.0;
+  }
+  for (std::size_t o = 0; o < objects; ++o) {
+    if (count[o] == 0.0) continue;
+    bounds[o].empty = false;
+    bounds[o].centre = pSum[o] / count[o];
+    bounds[o].velocity = (vLow[o] + vHigh[o]) * 0.5;
+    bounds[o].acceleration = (aLow[o] + aHigh[o]) * 0.5;
+  }
+  for (ParticleIndex i = 0; i < n; ++i) {
+    ObjectBounds& b =
+        bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+    b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
+    b.velocitySpread = std::max(b.velocitySpread, norm(state.velocity[i] - b.velocity));
+    b.accelerationSpread = std::max(b.accelerationSpread, norm(acceleration(i) - b.acceleration));
+    b.smallestRadius = std::min(b.smallestRadius, model.radius[i]);
+  }
+  // Many objects (a pile): without the gaps, through the spread of all of them
+  // (linear); few: pair by pair, with the gaps.
+  constexpr std::size_t kPairwiseObjects = 128;
+  if (objects > kPairwiseObjects) {
+    Vec3 low = bounds[0].velocity, high = low, aLowAll = bounds[0].acceleration, aHighAll = aLowAll;
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      low = {std::min(low.x, b.velocity.x), std::min(low.y, b.velocity.y),
+             std::min(low.z, b.velocity.z)};
+      high = {std::max(high.x, b.velocity.x), std::max(high.y, b.velocity.y),
+              std::max(high.z, b.velocity.z)};
+      aLowAll = {std::min(aLowAll.x, b.acceleration.x), std::min(aLowAll.y, b.acceleration.y),
+                 std::min(aLowAll.z, b.acceleration.z)};
+      aHighAll = {std::max(aHighAll.x, b.acceleration.x), std::max(aHighAll.y, b.acceleration.y),
+                  std::max(aHighAll.z, b.acceleration.z)};
+      smallest = std::min(smallest, b.smallestRadius);
+    }
+    const Vec3 vc = (low + high) * 0.5, ac = (aLowAll + aHighAll) * 0.5;
+    double w = 0.0, acc = 0.0;
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      w = std::max(w, norm(b.velocity - vc) + b.velocitySpread);
+      acc = std::max(acc, norm(b.acceleration - ac) + b.accelerationSpread);
+    }
+    return std::min(step, closingStep(2.0 * w, 2.0 * acc, fraction * smallest));
+  }
+  for (std::size_t a = 0; a < objects; ++a) {
+    if (bounds[a].empty) continue;
+    for (std::size_t b = a + 1; b < objects; ++b) {
+      if (bounds[b].empty) continue;
+      const ObjectBounds &A = bounds[a], &B = bounds[b];
+      const double gap = std::max(0.0, norm(A.centre - B.centre) - A.radius - B.radius);
+      const double w = norm(A.velocity - B.velocity) + A.velocitySpread + B.velocitySpread;
+      const double acc =
+          norm(A.acceleration - B.acceleration) + A.accelerationSpread + B.accelerationSpread;
+      step = std::min(
+          step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius, B.smallestRadius)));
+    }
+  }
+  return step;
+}
+
+StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, double contactSafety,
+                                 std::int64_t* splits) {
+  const double end = world.state().time + dt;
+  double left = dt;
+  for (;;) {
+    const Evaluation& evaluation = world.evaluation();
+    double bound = approachStepBound(world.model(), world.state(), evaluation.force, fraction);
+    if (contactSafety > 0.0)
+      bound = std::min(bound, contactSafety * evaluation.contactCriticalStep);
+    const double pieces = bound >= left ? 1.0 : std::ceil(left / bound);
+    if (!(pieces < 1e9)) return StepStatus::kNonFinite;  // nothing finite can be done
+    const bool last = pieces <= 1.0;
+    if (!last && splits) ++*splits;
+    const StepStatus status = world.step(last ? left : left / pieces);
+    if (status != StepStatus::kOk || last) return status;
+    left = end - world.state().time;
+    if (!(left > 0.0)) return status;
+  }
+}
 
 namespace {
 
@@ -47,11 +263,12 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
           detail::text("AdaptiveStepSettings::{} = {} must be {}", name, value, range));
   };
   require(s.initialStep > 0.0, "initialStep", s.initialStep, "> 0 (s)");
-  require(s.minStep > 0.0, "minStep", s.minStep, "> 0 (s)");
-  require(s.maxStep >= s.minStep, "maxStep", s.maxStep, ">= minStep (s)");
+  require(s.minStep >= 0.0, "minStep", s.minStep, ">= 0 (s; 0: relative to the first step)");
+  require(s.maxStep >= s.minStep && s.maxStep > 0.0, "maxStep",
+          std::isinf(s.maxStep) ? 1.0 : s.maxStep, "> 0 and >= minStep (s; infinite: none)");
   require(s.energyTolerance > 0.0, "energyTolerance", s.energyTolerance, "> 0");
   require(s.lossToleranceFactor >= 0.0, "lossToleranceFactor", s.lossToleranceFactor, ">= 0");
-  require(s.energyFloor > 0.0, "energyFloor", s.energyFloor, "> 0 (J)");
+  require(s.energyFloor >= 0.0, "energyFloor", s.energyFloor, ">= 0 (J)");
   require(s.shrinkFactor > 0.0 && s.shrinkFactor < 1.0, "shrinkFactor", s.shrinkFactor,
           "in (0, 1)");
   require(s.growFactor >= 1.0, "growFactor", s.growFactor, ">= 1");
@@ -59,6 +276,7 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
   require(s.errorOrder >= 0.0, "errorOrder", s.errorOrder, ">= 0 (0: from the integrator)");
   require(s.maxPenetrationFraction >= 0.0, "maxPenetrationFraction", s.maxPenetrationFraction,
           ">= 0");
+  require(s.maxApproachFraction > 0.0, "maxApproachFraction", s.maxApproachFraction, "> 0");
   require(s.stabilitySafety > 0.0, "stabilitySafety", s.stabilitySafety, "> 0");
   require(s.maxRejectionsInARow >= 1, "maxRejectionsInARow", s.maxRejectionsInARow, ">= 1");
   return s;
@@ -69,7 +287,8 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
     : settings_(checked(settings)),
       stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
-      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})) {
+      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})),
+      minStep_(settings.minStep > 0.0 ? settings.minStep : 1.0e-8 * step_) {
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
 
@@ -78,17 +297,26 @@ double AdaptiveStepper::proposal(double error) const {
   return settings_.safety * std::pow(ratio, 1.0 / errorOrder_);
 }
 
-double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after) const {
+double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally& after,
+                                    double activeBefore, double activeAfter) const {
   // MODEL §4.1: error = (ΔE + ΔW_dissipated - ΔW_external) / scale, where
   // W_dissipated is the work of damping, friction and viscosity, W_external that
   // of fixed particles moved kinematically, and the scale is the largest of the
-  // active energy before and after, the gravity scale and the floor.
+  // active energy (in the scene's frame) before and after, the gravity scale
+  // and the optional absolute floor. Energy changes within the round-off of the
+  // sums (energyRoundoffScale) are no error: that band is taken off |created|.
+  // No term sees the observer's velocity or the datum except that band.
   const double created = (after.mechanical() - before.mechanical()) +
                          (after.dissipated - before.dissipated) -
                          (after.external - before.external);
-  const double scale =
-      std::max({activeEnergy(before), activeEnergy(after), gravityScale_, settings_.energyFloor});
-  return created / scale;
+  const double roundoff = std::max(energyRoundoffScale(before), energyRoundoffScale(after));
+  if (std::abs(created) <= roundoff) return 0.0;
+  const double beyond = created > 0.0 ? created - roundoff : created + roundoff;
+  const double scale = std::max({activeBefore, activeAfter, gravityScale_, settings_.energyFloor});
+  if (!(scale > 0.0))
+    return beyond > 0.0 ? std::numeric_limits<double>::infinity()
+                        : -std::numeric_limits<double>::infinity();
+  return beyond / scale;
 }
 
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
@@ -111,27 +339,34 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
                                                                       : 2.0;
   }
   if (gravityScale_ < 0.0) gravityScale_ = gravityEnergyScale(world.model(), world.state());
-  if (!(step_ >= settings_.minStep)) {
+  if (!(step_ >= minStep_)) {
     result.ok = false;
     result.failure = detail::text(
         "the adaptive step {:.3g} s is below its floor {:.3g} s before any trial (the "
         "stability estimate allows {:.3g} s): {}",
-        step_, settings_.minStep, stabilityLimit_, diagnose(world));
+        step_, minStep_, stabilityLimit_, diagnose(world));
     return result;
   }
   saved_ = world.snapshot();
   const EnergyTally energyBefore = saved_.energy();
+  const double activeBefore = activeEnergy(world.model(), saved_.state(), energyBefore);
   const double penetrationBefore =
       settings_.maxPenetrationFraction > 0.0
           ? deepestPenetrationFraction(world.model(), saved_.evaluation().contacts)
           : 0.0;
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
+  // No pair of approaching surfaces may pass through each other (MODEL §4.4).
+  const double approachLimit = approachStepBound(
+      world.model(), saved_.state(), saved_.evaluation().force, settings_.maxApproachFraction);
   for (;;) {
-    const double dt = std::min({step_, maxDt, contactLimit});
+    const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);
-    const double error = status == StepStatus::kOk ? energyError(energyBefore, world.energy())
-                                                   : std::numeric_limits<double>::infinity();
+    const double error =
+        status == StepStatus::kOk
+            ? energyError(energyBefore, world.energy(), activeBefore,
+                          activeEnergy(world.model(), world.state(), world.energy()))
+            : std::numeric_limits<double>::infinity();
     // Geometric control (MODEL §4): one step may not push the deepest contact
     // further in by more than the set fraction of a radius. (The depth a soft
     // contact reaches at rest is physics, set by κ_c, and is not capped.)
@@ -151,6 +386,9 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       stats_.lastEnergyError = error;
       stats_.lastStep = dt;
       // Grow when the error leaves room: δ · safety · (tol/|e|)^(1/p), at most × growFactor.
+      // (The carried step grows from at most growFactor × the trial: a cap that
+      // held the trial down for long does not leave an unbounded step behind.)
+      step_ = std::min(step_, dt * settings_.growFactor);
       step_ = std::min({step_ * std::clamp(proposal(error), 1.0, settings_.growFactor),
                         settings_.maxStep, stabilityLimit_});
       return result;
@@ -160,8 +398,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     ++result.rejections;
     step_ = dt * std::clamp(tooDeep ? settings_.shrinkFactor : proposal(error), 0.1,
                             settings_.shrinkFactor);
-    const bool stalled =
-        step_ < settings_.minStep || result.rejections >= settings_.maxRejectionsInARow;
+    const bool stalled = step_ < minStep_ || result.rejections >= settings_.maxRejectionsInARow;
     const std::string why = stalled ? diagnose(world) : std::string();  // the failed trial
     world.restore(saved_);
     if (stalled) {
@@ -169,7 +406,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       result.failure = detail::text(
           "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "
           "s: {}",
-          step_, settings_.minStep, result.rejections, saved_.state().time, why);
+          step_, minStep_, result.rejections, saved_.state().time, why);
       return result;
     }
   }

@@ -42,31 +42,14 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 
 namespace {
 
-// Energy growth (relative to the initial energy scale) above which a finite run
-// is reported as diverged.
+// Energy drift (relative to the account's scale, energyAccountScale: datum- and
+// observer-free) above which a finite run is reported as diverged.
 constexpr double kRunawayEnergyGrowth = 100.0;
 
 // Kinetic and elastic energy (connectors, contacts): what the energy scale
 // follows; gravity's potential is left out, it depends on where z = 0 is.
 double activeEnergy(const EnergyTally& e) {
   return e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact;
-}
-
-// The energy gravity can release in the scene (J): Σ m |g| over the free
-// particles × (their bounding box's diagonal + 2 × the largest radius).
-double gravityReleaseScale(const Model& model, const State& state) {
-  double weight = 0.0, largestRadius = 0.0;
-  Vec3 low{1e300, 1e300, 1e300}, high{-1e300, -1e300, -1e300};
-  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
-    if (model.isFixed(i)) continue;
-    weight += model.mass[i] * norm(model.gravity);
-    largestRadius = std::max(largestRadius, model.radius[i]);
-    const Vec3& p = state.position[i];
-    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
-    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-  }
-  if (weight == 0.0) return 0.0;
-  return weight * (norm(high - low) + 2.0 * largestRadius);
 }
 
 // Where a run went wrong: `particle` (or none), its object, the world's time.
@@ -205,8 +188,11 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       report.warnings.push_back(std::move(w));
     world.refresh();  // the energy account of the initial state
     report.initialTotal = world.energy().total();
+    // The drift's scale: the energy that can turn into motion in the scene's own
+    // frame, or that gravity can release (MODEL §4.1), never E(0), which depends
+    // on where z = 0 is.
     report.initialScale = std::max(
-        {activeEnergy(world.energy()), gravityReleaseScale(world.model(), world.state()), 1e-12});
+        energyAccountScale(world.model(), world.state(), world.energy()), 1e-300);
     report.energyScale = report.initialScale;
   }
 
@@ -315,11 +301,14 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   // Constant steps are counted, not accumulated, so the final time does not drift.
   const auto totalSteps =
       static_cast<std::int64_t>(std::ceil(settings.duration / settings.dt - 1e-9));
+  std::int64_t constantSteps = 0, constantSplits = 0;
+  // A resumed constant-step run goes on counting its steps of dt.
+  if (resume && !adaptive) constantSteps = std::llround(world.state().time / settings.dt);
   if (!resume) sample(adaptive ? stepper->nextStep() : settings.dt, false);
   for (;;) {
     const State& state = world.state();
     const bool done =
-        adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : state.stepCount >= totalSteps;
+        adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : constantSteps >= totalSteps;
     if (done) break;
     // A requested stop (a signal) ends the run between steps, with its results so far.
     if (options.stop && options.stop->load(std::memory_order_relaxed)) {
@@ -330,6 +319,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       break;
     }
     double dtUsed = settings.dt;
+    // A constant step lands on k·dt exactly (the last one clipped to the
+    // duration), so the end time is the duration and end-of-run tasks fire.
+    if (!adaptive) {
+      const double target =
+          std::min(static_cast<double>(++constantSteps) * settings.dt, settings.duration);
+      dtUsed = target - state.time;
+    }
     if (adaptive) {
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
@@ -340,7 +336,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
         break;
       }
       dtUsed = r.dt;
-    } else if (world.step(settings.dt) != StepStatus::kOk) {
+    } else if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
+                                     settings.adaptive.stabilitySafety,
+                                     &constantSplits) != StepStatus::kOk) {
       report.status = "diverged";
       // The first non-finite particle; when only the energy is, the one with the most.
       const ParticleIndex bad = world.firstNonFiniteParticle();
@@ -396,6 +394,13 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   if (!report.failed()) sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
   if (stepper) report.adaptive = stepper->stats();
+  if (constantSplits > 0) {
+    report.warnings.push_back(fmt::format(
+        "the constant step {:.3g} s was split {} times to keep approaching surfaces from "
+        "passing through each other in one step and touching contacts stable (MODEL §4.4): "
+        "a smaller --dt avoids it",
+        settings.dt, constantSplits));
+  }
 
   const State& last = world.state();
   report.wallSeconds =
