@@ -107,7 +107,7 @@ std::optional<RunSettingsProblem> checkRunSettings(const RunSettings& run, doubl
   const double steps = run.duration / (adaptive ? run.adaptive.maxStep : run.dt);
   if (!(steps <= kMaxRunSteps))
     return RunSettingsProblem{
-        "duration",
+        adaptive ? "duration" : "dt",
         adaptive ? fmt::format("the duration {} s takes at least {:.3g} adaptive steps of at most "
                                "maxStep = {} s, more than the limit of {:.0e} steps "
                                "(docs/scene-format.md#limits)",

@@ -35,8 +35,13 @@ struct BrokenCase {
   /// "" when the file has no place); command lines: a text the message quotes.
   std::string place;
   std::string fragment;
-  bool isScene() const { return target.ends_with(".json"); }
+  bool isScene() const { return target.find(' ') == std::string::npos; }
 };
+
+// For gtest's messages: the row, not its bytes.
+void PrintTo(const BrokenCase& c, std::ostream* out) {
+  *out << c.target << " | " << c.exitCode << " | " << c.place << " | " << c.fragment;
+}
 
 std::string trim(const std::string& text) {
   const auto begin = text.find_first_not_of(" \t");
@@ -156,8 +161,9 @@ TEST(BrokenSceneCorpus, EveryFileHasOneRowAndThereAreAtLeast150Cases) {
   }
   for (const auto& entry : fs::directory_iterator(kCorpus)) {
     const std::string name = entry.path().filename().string();
-    if (name.ends_with(".json"))
+    if (name.ends_with(".json")) {
       EXPECT_TRUE(listed.contains(name)) << name << " has no row in expected.txt";
+    }
   }
 }
 

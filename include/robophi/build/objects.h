@@ -52,9 +52,10 @@ inline constexpr double kDefaultNaturalFrequency = 2500.0;
 /// Every generator checks the sizes its spec asks for against it before it
 /// allocates anything (SpecError naming the field), so a spec that cannot fit
 /// gets a message, not std::bad_alloc or a build that does not end. At the
-/// budget a model and its run take about 1 GB.
-inline constexpr int kMaxParticlesPerObject = 1'000'000;
-inline constexpr std::int64_t kMaxConnectorsPerObject = 4'000'000;
+/// budget a model takes about 300 MB and `robophi validate` (its stability
+/// estimate, 200 sweeps over the connectors) a few seconds.
+inline constexpr int kMaxParticlesPerObject = 250'000;
+inline constexpr std::int64_t kMaxConnectorsPerObject = 1'000'000;
 
 /// The connector parameters of a generated object. Unset values get defaults
 /// from the particle masses and the natural frequency (see resolveSprings).

@@ -50,7 +50,8 @@ inline constexpr double kMaxRunEnergyRows = 1e7;
 
 /// A problem with a run's settings taken together (each value alone is valid).
 struct RunSettingsProblem {
-  /// The RunSettings field to blame: "dt", "duration", "fps", or "energyRate".
+  /// The RunSettings field to blame: "dt" (longer than the duration, or too many
+  /// constant steps), "duration" (too many adaptive steps), "fps" or "energyRate".
   std::string field;
   /// What is wrong, with the values and units, e.g. "the step dt = 10 s is
   /// longer than the duration 1 s".
