@@ -23,11 +23,12 @@ fi
 cmake --build "$build" --target robophi_fuzz_scene -j "${ROBOPHI_FUZZ_JOBS:-$(nproc)}"
 
 mkdir -p "$build/corpus" "$build/artifacts"
-# Defaults: a million runs, 10 s per input is a hang, 2 GB is out of memory;
+# Defaults: a million runs, 30 s per input is a hang (a scene at the size budget
+# takes a few seconds under ASan), 2 GB is out of memory;
 # arguments given later win. Heightfield seeds name their PGM files relative to
 # tests/scene/broken, so the run starts there.
 cd "$root/tests/scene/broken"
 ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}" \
-  "$build/fuzz/robophi_fuzz_scene" -runs=1000000 -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  "$build/fuzz/robophi_fuzz_scene" -runs=1000000 -timeout=30 -rss_limit_mb=2048 -max_len=65536 \
   -dict="$root/fuzz/scene.dict" -artifact_prefix="$build/artifacts/" -print_final_stats=1 "$@" \
   "$build/corpus" "$root/fuzz/seeds" "$root/scenes" "$root/tests/scene/broken"
