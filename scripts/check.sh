@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the normal build, then
-# once more under AddressSanitizer + UndefinedBehaviorSanitizer.
+# once more under AddressSanitizer + UndefinedBehaviorSanitizer, then a short
+# run of the scene loader's fuzz target.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install-deps.sh"
@@ -12,3 +13,7 @@ ctest --test-dir "$root/build" --output-on-failure -j "$jobs"
 "$root/scripts/build.sh" "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROBOPHI_SANITIZE=ON
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE "slow|package"
+
+# The scene loader's fuzz target (fuzz/README.md): a short libFuzzer run, its own
+# clang build of the libraries and the target only (scripts/fuzz.sh for the long run).
+ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" -runs=20000 -max_total_time=120

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what robophi needs on Debian 12, from Debian's packages only.
+# Installs what robophi needs on Debian 12, from Debian's packages only (clang
+# and its runtime libraries are for the fuzz target, scripts/fuzz.sh).
 # Safe to run again: apt-get skips what is already there.
 set -euo pipefail
 
@@ -23,7 +24,8 @@ install_missing \
   build-essential cmake ninja-build pkg-config \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev \
-  python3 python3-numpy python3-pytest python3-jsonschema
+  python3 python3-numpy python3-pytest python3-jsonschema \
+  clang libclang-rt-dev
 
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may

@@ -56,6 +56,18 @@ bool setFromOption(const char* option, const std::optional<std::string>& text, c
   return value.has_value();
 }
 
+// Where a RunSettings field came from: its option as typed, or the scene's key.
+std::string settingSource(const std::string& field, const RunArguments& args) {
+  const auto from = [](const char* option, const std::optional<std::string>& text,
+                       const char* key) {
+    return text ? fmt::format("{} {}", option, *text) : fmt::format("the scene's {}", key);
+  };
+  if (field == "dt") return from("--dt", args.dt, "run.dt");
+  if (field == "fps") return from("--fps", args.fps, "run.fps");
+  if (field == "energyRate") return from("--energy-rate", args.energyRate, "duration");
+  return from("--duration", args.duration, "run.duration");
+}
+
 // A progress bar on a terminal; otherwise a status line every 10 s of wall time.
 std::function<void(const RunProgress&)> makeProgress(bool quiet) {
   if (quiet) return {};
@@ -130,6 +142,12 @@ int runCommand(const RunArguments& args) {
   } else if (!args.stepMode.empty()) {
     std::fprintf(stderr, "robophi run: --step '%s': expected adaptive or constant\n",
                  args.stepMode.c_str());
+    return kExitBadInput;
+  }
+  // The numbers together: dt within the duration, and steps and rows within the limits.
+  if (const auto problem = checkRunSettings(options.settings, options.energyRate)) {
+    std::fprintf(stderr, "robophi run: %s: %s; nothing was run or written\n",
+                 settingSource(problem->field, args).c_str(), problem->message.c_str());
     return kExitBadInput;
   }
   options.outDir =

@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "robophi/build/objects.h"
+
 namespace robophi::build {
 
 SpecError::SpecError(std::string spec, std::string field, std::string message)
@@ -98,6 +100,21 @@ void atMost(const char* spec, const char* field, int value, int maximum) {
     fail(spec, field,
          "'" + std::string(field) + "' must be <= " + std::to_string(maximum) + ", got " +
              std::to_string(value));
+}
+
+void fitsBudget(const char* spec, const char* field, const std::string& what, double particles,
+                double connectors) {
+  const auto count = [](double x) {
+    return x < 1e15 ? std::to_string(static_cast<long long>(x)) : number(x);
+  };
+  const bool particlesFit = particles <= kMaxParticlesPerObject;
+  const bool connectorsFit = connectors <= static_cast<double>(kMaxConnectorsPerObject);
+  if (particlesFit && connectorsFit) return;
+  fail(spec, field,
+       what + " makes " + count(particles) + " particles and " + count(connectors) +
+           " connectors, more than the budget of " + std::to_string(kMaxParticlesPerObject) +
+           " particles and " + std::to_string(kMaxConnectorsPerObject) +
+           " connectors (docs/scene-format.md#limits)");
 }
 
 }  // namespace check

@@ -38,5 +38,11 @@ void nonZero(const char* spec, const char* field, const Vec3& value);
 void atLeast(const char* spec, const char* field, int value, int minimum);
 /// An integer <= maximum.
 void atMost(const char* spec, const char* field, int value, int maximum);
+/// The size budget (kMaxParticlesPerObject, kMaxConnectorsPerObject): `what`
+/// (e.g. "'cells' 300×300×300") makes `particles` particles and `connectors`
+/// connectors; throws SpecError on `field` when either is over the budget.
+/// Call it before allocating (doubles: the counts may be far beyond int).
+void fitsBudget(const char* spec, const char* field, const std::string& what, double particles,
+                double connectors);
 
 }  // namespace robophi::build::check

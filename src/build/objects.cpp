@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include "build/checks.h"
@@ -110,20 +111,34 @@ void basisAround(const Vec3& n, Vec3& e1, Vec3& e2) {
   e2 = cross(n, e1);
 }
 
-// A lattice's cells: each count >= 1, and no more particles than an object may have.
+// The LS and TS connectLattice makes on a full n[0]×n[1]×n[2] lattice (as doubles:
+// the counts may be far beyond int): one LS per pair of neighbours among the 13
+// forward offsets, one TS per particle with both neighbours along an axis.
+double latticeConnectors(const std::array<double, 3>& n) {
+  double count = 0.0;
+  for (int di = -1; di <= 1; ++di)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int dk = -1; dk <= 1; ++dk)
+        if (di > 0 || (di == 0 && (dj > 0 || (dj == 0 && dk > 0))))
+          count += std::max(0.0, n[0] - std::abs(di)) * std::max(0.0, n[1] - std::abs(dj)) *
+                   std::max(0.0, n[2] - std::abs(dk));
+  for (int axis = 0; axis < 3; ++axis)
+    count += std::max(0.0, n[axis] - 2.0) * n[(axis + 1) % 3] * n[(axis + 2) % 3];
+  return count;
+}
+
+// A lattice's cells: each count >= 1, and its particles and connectors within the
+// budget (checked before anything is allocated).
 template <std::size_t N>
 void checkCells(const char* spec, const std::array<int, N>& cells) {
-  double count = 1.0;
+  std::array<double, 3> n{1.0, 1.0, 1.0};
   std::string text;
   for (std::size_t i = 0; i < N; ++i) {
     check::atLeast(spec, "cells", cells[i], 1);
-    count *= cells[i];
+    n[i] = cells[i];
     text += (i == 0 ? "" : "×") + std::to_string(cells[i]);
   }
-  if (count > kMaxParticlesPerObject)
-    check::fail(
-        spec, "cells",
-        "'cells': " + text + " particles is more than " + std::to_string(kMaxParticlesPerObject));
+  check::fitsBudget(spec, "cells", "'cells' " + text, n[0] * n[1] * n[2], latticeConnectors(n));
 }
 
 }  // namespace
@@ -149,7 +164,8 @@ GeneratedObject makeRope(const RopeSpec& spec) {
   if (!(norm(spec.end - spec.start) > 0.0))
     check::fail(kSpec, "end", "'end' equals 'start': the rope's links would have rest length 0");
   check::atLeast(kSpec, "particles", spec.particles, 2);
-  check::atMost(kSpec, "particles", spec.particles, kMaxParticlesPerObject);
+  check::fitsBudget(kSpec, "particles", "'particles' " + std::to_string(spec.particles),
+                    spec.particles, 2.0 * spec.particles - 3.0);
   check::positive(kSpec, "mass", spec.mass, "kg");
   check::nonNegative(kSpec, "radius", spec.radius, "m");
   GeneratedObject rope;
@@ -224,9 +240,13 @@ GeneratedObject makeBall(const BallSpec& spec) {
   const int n = spec.cells;
   const double diameter = 2.0 * spec.radius;
   const double cell = diameter / n;
-  std::vector<Vec3> positions;
   // Keep the cells whose centre is inside the ball (with a rounding margin).
   const double limit = spec.radius * (1.0 + 1e-9);
+  // The budget before allocating: about π/6 n³ particles, each with at most 13 LS and 3 TS.
+  const double cube = static_cast<double>(n) * n * n;
+  check::fitsBudget(kSpec, "cells", "'cells' " + std::to_string(n), std::numbers::pi / 6.0 * cube,
+                    16.0 * std::numbers::pi / 6.0 * cube);
+  std::vector<Vec3> positions;
   const Lattice lattice =
       fillLattice({n, n, n}, spec.center, {diameter, diameter, diameter}, positions,
                   [&](const Vec3& offset) { return norm(offset) <= limit; });
@@ -245,7 +265,8 @@ GeneratedObject makeWheel(const WheelSpec& spec) {
   check::positive(kSpec, "width", spec.width, "m");
   check::nonZero(kSpec, "axis", spec.axis);
   check::atLeast(kSpec, "rimParticles", spec.rimParticles, 3);
-  check::atMost(kSpec, "rimParticles", spec.rimParticles, kMaxParticlesPerObject / 2);
+  check::fitsBudget(kSpec, "rimParticles", "'rimParticles' " + std::to_string(spec.rimParticles),
+                    2.0 * spec.rimParticles + 2.0, 9.0 * spec.rimParticles + 1.0);
   check::positive(kSpec, "mass", spec.mass, "kg");
   GeneratedObject wheel;
   const int n = spec.rimParticles;

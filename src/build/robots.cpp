@@ -60,12 +60,15 @@ void checkChain(const char* spec, const ChainSpec& chain) {
   check::positive(spec, "mass", chain.mass, "kg");
   check::positive(spec, "width", chain.width, "m");
   check::atLeast(spec, "particlesPerLink", chain.particlesPerLink, 2);
-  if (static_cast<double>(chain.links.size()) * (chain.particlesPerLink + 3) >
-      kMaxParticlesPerObject)
-    check::fail(spec, "particlesPerLink",
-                "'particlesPerLink' " + std::to_string(chain.particlesPerLink) + " on " +
-                    std::to_string(chain.links.size()) + " links is more than " +
-                    std::to_string(kMaxParticlesPerObject) + " particles");
+  // appendChain: m + 3 particles a link (and 3 at the base); each link is a rigid
+  // body of m + 5 particles, an LS between every pair but one, and a JS.
+  const double links = static_cast<double>(chain.links.size());
+  const double members = chain.particlesPerLink + 5.0;
+  check::fitsBudget(spec, "particlesPerLink",
+                    "'particlesPerLink' " + std::to_string(chain.particlesPerLink) + " on " +
+                        std::to_string(chain.links.size()) + " links",
+                    links * (chain.particlesPerLink + 3.0) + 3.0,
+                    links * members * (members - 1.0) / 2.0);
   check::nonNegative(spec, "radius", chain.radius, "m");
   check::nonNegative(spec, "jointStiffness", chain.jointStiffness, "N·m/rad");
   check::nonNegative(spec, "jointDamping", chain.jointDamping, "N·m·s/rad");

@@ -6,8 +6,8 @@
 
 #include "build/checks.h"
 #include "build/robot_parts.h"
-#include "robophi/connector_forces.h"
 #include "robophi/build/robots.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi::build {
 
@@ -41,7 +41,11 @@ void checkVehicle(const VehicleSpec& spec) {
   check::positive(kSpec, "wheelWidth", spec.wheelWidth, "m");
   check::positive(kSpec, "wheelMass", spec.wheelMass, "kg");
   check::atLeast(kSpec, "rimParticles", spec.rimParticles, 6);
-  check::atMost(kSpec, "rimParticles", spec.rimParticles, kMaxParticlesPerObject / 10);
+  // Four wheels (makeWheel: 2n + 2 particles, 9n + 1 LS) on a chassis, mounts and
+  // suspension of a few hundred particles and LS at most.
+  check::fitsBudget(kSpec, "rimParticles", "'rimParticles' " + std::to_string(spec.rimParticles),
+                    4.0 * (2.0 * spec.rimParticles + 2.0) + 100.0,
+                    4.0 * (9.0 * spec.rimParticles + 1.0) + 1000.0);
   if (spec.wheelbase) check::positive(kSpec, "wheelbase", *spec.wheelbase, "m");
   if (spec.track) check::positive(kSpec, "track", *spec.track, "m");
   check::positive(kSpec, "suspensionStiffness", spec.suspensionStiffness, "N/m");

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <charconv>
 #include <cstdlib>
 #include <fstream>
 #include <istream>
@@ -33,6 +34,25 @@ bool pgmToken(std::istream& in, std::string& token) {
   return !token.empty();
 }
 
+// A token of the file for a message: itself when it is short printable ASCII,
+// else its first bytes in hexadecimal (a binary file's bytes are not UTF-8 text).
+std::string shown(const std::string& token) {
+  bool printable = token.size() <= 24;
+  for (const char c : token) printable = printable && c >= 0x20 && c < 0x7F;
+  if (printable) return "'" + token + "'";
+  std::string hex = "bytes";
+  for (std::size_t k = 0; k < token.size() && k < 8; ++k)
+    hex += fmt::format(" 0x{:02X}", static_cast<unsigned char>(token[k]));
+  return hex + (token.size() > 8 ? " ..." : "");
+}
+
+// `token` as a whole decimal integer.
+bool parseWhole(const std::string& token, long& value) {
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
+  return ec == std::errc() && ptr == end;
+}
+
 }  // namespace
 
 std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
@@ -42,23 +62,40 @@ std::string loadHeightfieldPgm(const std::string& path, double originX, double o
   if (!in) return fmt::format("{}: cannot open the file", path);
   std::string magic, token;
   if (!pgmToken(in, magic) || (magic != "P2" && magic != "P5"))
-    return fmt::format("{}: not a PGM image (expected P2 or P5, got '{}')", path, magic);
+    return fmt::format("{}: not a PGM image (expected P2 or P5, got {})", path, shown(magic));
   long header[3] = {0, 0, 0};
-  for (long& value : header) {
+  const char* names[3] = {"width", "height", "maxval"};
+  for (int k = 0; k < 3; ++k) {
     if (!pgmToken(in, token)) return fmt::format("{}: truncated header", path);
-    try {
-      value = std::stol(token);
-    } catch (...) {
-      return fmt::format("{}: bad header value '{}'", path, token);
-    }
+    if (!parseWhole(token, header[k]))
+      return fmt::format("{}: bad header value {} for the {} (expected an integer)", path,
+                         shown(token), names[k]);
   }
   const long width = header[0], height = header[1], maxval = header[2];
-  if (width < 2 || height < 2 || width > 100000 || height > 100000)
+  if (width < 2 || height < 2)
     return fmt::format("{}: size {}×{} must be at least 2×2", path, width, height);
+  // The size budget, checked before anything is allocated (docs/scene-format.md#limits).
+  if (static_cast<double>(width) * static_cast<double>(height) > kMaxHeightfieldSamples)
+    return fmt::format(
+        "{}: size {}×{} is {} pixels, more than the budget of {} pixels of a heightfield "
+        "(docs/scene-format.md#limits)",
+        path, width, height, static_cast<double>(width) * static_cast<double>(height),
+        kMaxHeightfieldSamples);
   if (maxval < 1 || maxval > 65535)
     return fmt::format("{}: maxval {} must be in [1, 65535]", path, maxval);
   if (!(cellSizeX > 0.0) || !(cellSizeY > 0.0))
     return fmt::format("{}: cell sizes ({}, {}) must be > 0", path, cellSizeX, cellSizeY);
+  if (magic == "P5") {
+    // One whitespace byte ends the header; then exactly the pixels.
+    const std::streamoff start = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(start);
+    const auto needed = static_cast<std::streamoff>(width * height * (maxval < 256 ? 1 : 2));
+    if (start < 0 || size - start < needed)
+      return fmt::format("{}: truncated pixel data: {}×{} pixels need {} bytes, the file has {}",
+                         path, width, height, needed, start < 0 ? 0 : size - start);
+  }
   Heightfield field;
   field.originX = originX;
   field.originY = originY;
@@ -73,7 +110,8 @@ std::string loadHeightfieldPgm(const std::string& path, double originX, double o
       long value = 0;
       if (magic == "P2") {
         if (!pgmToken(in, token)) return fmt::format("{}: truncated pixel data", path);
-        value = std::strtol(token.c_str(), nullptr, 10);
+        if (!parseWhole(token, value))
+          return fmt::format("{}: pixel ({}, {}) is {}, not an integer", path, i, r, shown(token));
       } else if (maxval < 256) {
         const int c = in.get();
         if (c == EOF) return fmt::format("{}: truncated pixel data", path);

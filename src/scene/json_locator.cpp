@@ -11,6 +11,29 @@ namespace robophi::scene {
 
 namespace {
 
+// The length (1 to 4) of the well-formed UTF-8 sequence at text[i] (RFC 3629:
+// no overlong forms, no surrogates, nothing above U+10FFFF), or 0.
+std::size_t utf8SequenceLength(std::string_view text, std::size_t i) {
+  const auto at = [&](std::size_t k) {
+    return i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0u;
+  };
+  const unsigned lead = at(0);
+  const auto continuation = [&](std::size_t k, unsigned low = 0x80, unsigned high = 0xBF) {
+    return at(k) >= low && at(k) <= high;
+  };
+  if (lead < 0x80) return 1;
+  if (lead >= 0xC2 && lead <= 0xDF) return continuation(1) ? 2 : 0;
+  if (lead == 0xE0) return continuation(1, 0xA0) && continuation(2) ? 3 : 0;
+  if (lead == 0xED) return continuation(1, 0x80, 0x9F) && continuation(2) ? 3 : 0;
+  if (lead >= 0xE1 && lead <= 0xEF) return continuation(1) && continuation(2) ? 3 : 0;
+  if (lead == 0xF0) return continuation(1, 0x90) && continuation(2) && continuation(3) ? 4 : 0;
+  if (lead >= 0xF1 && lead <= 0xF3)
+    return continuation(1) && continuation(2) && continuation(3) ? 4 : 0;
+  if (lead == 0xF4)
+    return continuation(1, 0x80, 0x8F) && continuation(2) && continuation(3) ? 4 : 0;
+  return 0;
+}
+
 // Thrown on the first syntax error; caught by readLocatedJson.
 struct SyntaxError {
   SourcePosition where;
@@ -58,9 +81,21 @@ class Reader {
 
   std::string describeHere() const {
     if (atEnd()) return "end of file";
-    const char c = peek();
-    if (static_cast<unsigned char>(c) < 0x20) return fmt::format("control character 0x{:02x}", c);
-    return fmt::format("'{}'", c);
+    return describeCharacter();
+  }
+
+  // The character at the offset for a message: a control character or a
+  // non-ASCII one by its code (the text is UTF-8: checked before parsing), as
+  // printing one byte of a multi-byte character would put invalid UTF-8 in it.
+  std::string describeCharacter() const {
+    const auto c = static_cast<unsigned char>(peek());
+    if (c < 0x20 || c == 0x7F) return fmt::format("control character 0x{:02x}", c);
+    if (c < 0x80) return fmt::format("'{}'", static_cast<char>(c));
+    const std::size_t length = utf8SequenceLength(text_, offset_);
+    std::uint32_t code = c & (length == 2 ? 0x1Fu : length == 3 ? 0x0Fu : 0x07u);
+    for (std::size_t k = 1; k < length; ++k)
+      code = (code << 6) | (static_cast<unsigned char>(text_[offset_ + k]) & 0x3Fu);
+    return fmt::format("'{}' (U+{:04X})", text_.substr(offset_, length), code);
   }
 
   // Skips white space, `// line` and `/* block */` comments.
@@ -272,19 +307,23 @@ class Reader {
         case 'u': {
           advance();
           std::uint32_t codePoint = readHex4();
-          if (codePoint >= 0xD800 && codePoint < 0xDC00 && peek() == '\\') {
+          if (codePoint >= 0xD800 && codePoint < 0xDC00) {
+            // A high surrogate must be followed by its low half: alone it is not a character.
+            if (peek() != '\\') fail("a \\u high surrogate must be followed by a low one");
             advance();
             if (peek() != 'u') fail("expected a low surrogate \\u escape");
             advance();
             const std::uint32_t low = readHex4();
             if (low < 0xDC00 || low >= 0xE000) fail("invalid low surrogate in \\u escape");
             codePoint = 0x10000 + ((codePoint - 0xD800) << 10) + (low - 0xDC00);
+          } else if (codePoint >= 0xDC00 && codePoint < 0xE000) {
+            fail("a \\u low surrogate without its high half is not a character");
           }
           appendUtf8(result, codePoint);
           continue;
         }
         default:
-          fail(fmt::format("invalid escape \\{} in a string", e));
+          fail(fmt::format("invalid escape: \\ followed by {} in a string", describeHere()));
       }
       advance();
     }
@@ -386,11 +425,46 @@ SourcePosition LocatedJson::keyPositionOf(const std::string& pointer) const {
   return positionOf(pointer);
 }
 
+std::optional<JsonProblem> findInvalidUtf8(std::string_view text) {
+  int line = 1, column = 1;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    const std::size_t length = utf8SequenceLength(text, i);
+    if (length == 0) {
+      std::string shown;
+      for (std::size_t k = i; k < text.size() && k < i + 4; ++k)
+        shown += fmt::format("{}0x{:02X}", k == i ? "" : " ", static_cast<unsigned char>(text[k]));
+      return JsonProblem{
+          {line, column},
+          "",
+          fmt::format("invalid UTF-8 (bytes {}{}): a scene file must be UTF-8 text; {}", shown,
+                      i + 4 < text.size() ? " ..." : "",
+                      byte >= 0xA0 ? "this looks like Latin-1 or another 8-bit encoding, save "
+                                     "the file as UTF-8"
+                                   : "save the file as UTF-8")};
+    }
+    if (byte == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+    i += length;
+  }
+  return std::nullopt;
+}
+
 JsonReadResult readLocatedJson(std::string_view text) {
   JsonReadResult result;
   LocatedJson located;
   // A UTF-8 byte order mark is not part of the document.
   if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  // All text is checked first: names and comments reach messages, model.json and replay.html.
+  if (auto problem = findInvalidUtf8(text)) {
+    result.errors.push_back(std::move(*problem));
+    return result;
+  }
   try {
     Reader reader(text, located, result.errors);
     reader.readDocument();

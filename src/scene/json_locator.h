@@ -56,6 +56,10 @@ struct JsonReadResult {
 /// numbers), as is a number too large for a double; large finite numbers are fine.
 JsonReadResult readLocatedJson(std::string_view text);
 
+/// The first place where `text` is not well-formed UTF-8 (RFC 3629), with the
+/// bytes found there; nullopt when all of it is. readLocatedJson checks this first.
+std::optional<JsonProblem> findInvalidUtf8(std::string_view text);
+
 /// Escapes a key for use as a JSON pointer token (RFC 6901: ~ → ~0, / → ~1).
 std::string pointerToken(std::string_view key);
 

@@ -76,7 +76,12 @@ std::string describeJson(const nlohmann::json& value) {
   switch (value.type()) {
     case nlohmann::json::value_t::string: {
       std::string text = value.get<std::string>();
-      if (text.size() > 40) text = text.substr(0, 37) + "...";
+      if (text.size() > 40) {
+        // Cut at a character boundary: half a UTF-8 sequence is not text.
+        std::size_t cut = 37;
+        while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+        text = text.substr(0, cut) + "...";
+      }
       return fmt::format("string \"{}\"", text);
     }
     case nlohmann::json::value_t::boolean:

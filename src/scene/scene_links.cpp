@@ -60,6 +60,40 @@ std::optional<std::vector<ParticleIndex>> resolveList(DiagnosticSink& sink,
   return indices;
 }
 
+// The robot object whose joints' names "<robot>.<joint>" `name` would share, or "".
+std::string robotOwningName(const ParticleLookup& lookup, const std::string& name) {
+  const auto dot = name.find('.');
+  if (dot == std::string::npos || lookup.byName == nullptr) return {};
+  const auto it = lookup.byName->find(name.substr(0, dot));
+  if (it == lookup.byName->end()) return {};
+  const SceneObject& object = (*lookup.objects)[it->second];
+  const bool robot = object.kind == "arm" || object.kind == "vehicle" || object.kind == "hand";
+  return robot ? object.name : std::string();
+}
+
+// Below this sine of the angle between an arm and a JS's axis (or between a TS's
+// arms), the plane the connector turns in is undefined (MODEL §1.2, §1.3: no force
+// is applied there), so a connector that starts there is refused.
+constexpr double kMinSine = 1e-6;
+
+// |a × b| / (|a| |b|): the sine of the angle between a and b (both non-zero).
+double sineBetween(const Vec3& a, const Vec3& b) { return norm(cross(a, b)) / (norm(a) * norm(b)); }
+
+// A JS's angle is measured about the axis c→d between the arms' projections on the
+// plane normal to it (MODEL §1.3): undefined when an arm lies along the axis line.
+std::string armOnAxis(const Vec3& pa, const Vec3& pc, const Vec3& pb, const Vec3& pd,
+                      const char* nameA, const char* nameB) {
+  const Vec3 axis = pd - pc;
+  for (const auto& [name, p] : {std::pair{nameA, pa}, std::pair{nameB, pb}}) {
+    if (sineBetween(p - pc, axis) < kMinSine)
+      return fmt::format(
+          "particle '{}' starts on the axis line through the centre and the axis particle: "
+          "its angle about the axis is undefined; move it off that line",
+          name);
+  }
+  return {};
+}
+
 // One connector entry {"type", "particles", "stiffness", ...}.
 void readConnector(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& pointer,
                    const ParticleLookup& lookup, Model& model) {
@@ -110,10 +144,21 @@ void readConnector(DiagnosticSink& sink, const nlohmann::json& entry, const std:
     return;
   }
   if (arity == 3) {
-    const double angle = restAngle.value_or(torsionAngle(pa, pc, pb));
+    const double initial = torsionAngle(pa, pc, pb);
+    const double angle = restAngle.value_or(initial);
     if (!(angle >= 0.0 && angle <= M_PI)) {
       sink.error(r.memberPointer("restAngle"),
                  fmt::format("'restAngle' of a TS must be in [0, π] rad, got {}", angle));
+      return;
+    }
+    // Straight (or folded) arms define no plane: the TS cannot start bending
+    // towards another angle (MODEL §1.2). At its own angle, 0 or π, it is fine.
+    if (sineBetween(pa - pc, pb - pc) < kMinSine && std::abs(angle - initial) > 1e-9) {
+      sink.error(r.memberPointer("particles"),
+                 fmt::format("TS arms start collinear (angle {:.6g} rad), so the plane it would "
+                             "bend in is undefined and it cannot reach 'restAngle' {:.6g} rad; "
+                             "move the centre off the line a-b, or use restAngle {:.6g}",
+                             initial, angle, initial > 1.0 ? M_PI : 0.0));
       return;
     }
     model.torsionSprings.push_back({(*p)[0], (*p)[1], (*p)[2], angle, *stiffness, damping});
@@ -123,6 +168,10 @@ void readConnector(DiagnosticSink& sink, const nlohmann::json& entry, const std:
   if (!(norm(pd - pc) > 0.0)) {
     sink.error(r.memberPointer("particles"),
                "JS axis particle starts on the centre: the axis would be undefined");
+    return;
+  }
+  if (const std::string problem = armOnAxis(pa, pc, pb, pd, "a", "b"); !problem.empty()) {
+    sink.error(r.memberPointer("particles"), "JS " + problem);
     return;
   }
   const double angle = wrapAngle(restAngle.value_or(jointAngle(pa, pc, pb, pd)));
@@ -172,6 +221,11 @@ void readRevolute(ObjectReader& r, const std::string& name, const ParticleLookup
     r.sink().error(r.pointer(), fmt::format("{}: 'a', 'b' and 'axis' must start away from "
                                             "'center' (an arm or the axis has length 0)",
                                             r.what()));
+    return;
+  }
+  if (const std::string problem = armOnAxis(x[*a], x[*c], x[*b], x[*d], "a", "b");
+      !problem.empty()) {
+    r.sink().error(r.pointer(), fmt::format("{}: {}", r.what(), problem));
     return;
   }
   // MODEL §1 JS: θ in [0, 2π) about n = p_axis - p_center; default target: the initial angle.
@@ -308,6 +362,16 @@ void readJoints(DiagnosticSink& sink, const nlohmann::json& list, const std::str
         sink.error(
             head.memberPointer("name"),
             fmt::format("duplicate joint name '{}' (first defined at {})", name, it->second));
+      } else if (const std::string robot = robotOwningName(lookup, name); !robot.empty()) {
+        // Robots name their joints "<object>.<joint>" (joints.csv, robotics targets).
+        sink.error(head.memberPointer("name"),
+                   fmt::format("joint name '{}' is taken: names '{}.…' belong to the joints of "
+                               "robot '{}'; choose a name without the prefix '{}.'",
+                               name, robot, robot, robot));
+      } else if (findJoint(model, name)) {
+        sink.error(
+            head.memberPointer("name"),
+            fmt::format("joint name '{}' is already the name of a joint of the scene", name));
       }
     }
     ObjectReader r(sink, list[i], at, fmt::format("{} joint '{}'", type.value_or("?"), name));

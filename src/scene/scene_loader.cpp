@@ -41,8 +41,35 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
                                        scene::describeJson(*list)));
     return objects;
   }
+  // The whole scene's size budget (docs/scene-format.md#limits): each object is
+  // checked by its builder before it allocates, the sum here after each object,
+  // so no more than the budget and one object is ever held.
+  std::size_t particles = 0, connectors = 0;
   for (std::size_t i = 0; i < list->size(); ++i) {
     SceneObject object = scene::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i));
+    if (object.valid) {
+      const auto& g = object.geometry;
+      const std::size_t objectParticles = g.size();
+      const std::size_t objectConnectors =
+          g.linearSprings.size() + g.torsionSprings.size() + g.jointSprings.size();
+      if (particles + objectParticles > static_cast<std::size_t>(build::kMaxParticlesPerObject) ||
+          connectors + objectConnectors >
+              static_cast<std::size_t>(build::kMaxConnectorsPerObject)) {
+        sink.error(object.pointer,
+                   fmt::format("{} '{}' brings the scene to {} particles and {} connectors, more "
+                               "than the budget of a scene, {} particles and {} connectors "
+                               "(docs/scene-format.md#limits)",
+                               object.kind, object.name, particles + objectParticles,
+                               connectors + objectConnectors, build::kMaxParticlesPerObject,
+                               build::kMaxConnectorsPerObject));
+        object.valid = false;
+        object.geometry = {};
+        object.velocity = {};
+      } else {
+        particles += objectParticles;
+        connectors += objectConnectors;
+      }
+    }
     if (!object.name.empty()) {
       const auto [it, fresh] = byName.emplace(object.name, objects.size());
       if (!fresh) {
@@ -149,14 +176,23 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 }
 
 SceneLoadResult loadSceneFile(const std::string& path) {
+  SceneLoadResult result;
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    result.errors.push_back(Diagnostic{path, 0, 0, "", "is a folder, not a scene file"});
+    return result;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    SceneLoadResult result;
     result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot open the scene file"});
     return result;
   }
   std::ostringstream text;
   text << in.rdbuf();
+  if (in.bad()) {
+    result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot read the scene file"});
+    return result;
+  }
   return loadSceneText(text.str(), path);
 }
 

@@ -63,11 +63,7 @@ std::optional<std::array<int, 3>> readCells(ObjectReader& r, std::size_t count, 
                         describeJson(*value)));
     return std::nullopt;
   }
-  if (static_cast<double>(cells[0]) * cells[1] * cells[2] > kMaxParticlesPerObject) {
-    r.sink().error(at, fmt::format("'cells': {}×{}×{} particles is more than {}", cells[0],
-                                   cells[1], cells[2], kMaxParticlesPerObject));
-    return std::nullopt;
-  }
+  // The builder checks the lattice against the size budget before it allocates.
   return cells;
 }
 

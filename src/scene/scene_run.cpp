@@ -85,7 +85,48 @@ RunSettings readRunSettings(DiagnosticSink& sink, const nlohmann::json* value) {
   if (const auto* adaptive = r.member("adaptive"))
     readAdaptiveSettings(sink, *adaptive, r.memberPointer("adaptive"), run.adaptive);
   r.finish();
+  // The energy rate is the command line's (robophi run --energy-rate): not checked here.
+  if (const auto problem = checkRunSettings(run, 0.0)) {
+    const std::string& field = problem->field;
+    sink.error(r.memberPointer(r.member(field) ? field : "duration"), problem->message);
+  }
   return run;
 }
 
 }  // namespace robophi::scene
+
+namespace robophi {
+
+std::optional<RunSettingsProblem> checkRunSettings(const RunSettings& run, double energyRate) {
+  if (run.dt > run.duration)
+    return RunSettingsProblem{
+        "dt", fmt::format("the step dt = {} s is longer than the duration {} s (a run is at "
+                          "least one step)",
+                          run.dt, run.duration)};
+  const bool adaptive = run.stepMode == StepMode::kAdaptive;
+  const double steps = run.duration / (adaptive ? run.adaptive.maxStep : run.dt);
+  if (!(steps <= kMaxRunSteps))
+    return RunSettingsProblem{
+        adaptive ? "duration" : "dt",
+        adaptive ? fmt::format("the duration {} s takes at least {:.3g} adaptive steps of at most "
+                               "maxStep = {} s, more than the limit of {:.0e} steps "
+                               "(docs/scene-format.md#limits)",
+                               run.duration, steps, run.adaptive.maxStep, kMaxRunSteps)
+                 : fmt::format("the duration {} s in constant steps of dt = {} s is {:.3g} steps, "
+                               "more than the limit of {:.0e} steps (docs/scene-format.md#limits)",
+                               run.duration, run.dt, steps, kMaxRunSteps)};
+  if (!(run.duration * run.fps <= kMaxRunFrames))
+    return RunSettingsProblem{
+        "fps", fmt::format("the duration {} s at {} frames/s is {:.3g} frames, more than the "
+                           "limit of {:.0e} frames (docs/scene-format.md#limits)",
+                           run.duration, run.fps, run.duration * run.fps, kMaxRunFrames)};
+  if (!(run.duration * energyRate <= kMaxRunEnergyRows))
+    return RunSettingsProblem{
+        "energyRate",
+        fmt::format("the duration {} s at {} energy rows/s is {:.3g} rows of energy.csv, more "
+                    "than the limit of {:.0e} rows (docs/scene-format.md#limits)",
+                    run.duration, energyRate, run.duration * energyRate, kMaxRunEnergyRows)};
+  return std::nullopt;
+}
+
+}  // namespace robophi

@@ -120,7 +120,7 @@ const BadSpec kBad[] = {
      [] {
        makeBox({.cells = {1000, 1000, 1000}});
      },
-     "cells", "1000×1000×1000 particles is more than"},
+     "cells", "1000×1000×1000 makes 1000000000 particles"},
     {"plate thickness", [] { makePlate({.thickness = -1.0}); }, "thickness", "got -1"},
     {"ball cells", [] { makeBall({.cells = 401}); }, "cells", "must be <= 400, got 401"},
     {"wheel axis",

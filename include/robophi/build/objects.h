@@ -49,8 +49,15 @@ struct GeneratedObject {
 /// ω·δ < 2 there.
 inline constexpr double kDefaultNaturalFrequency = 2500.0;
 
-/// The most particles one generated object may have.
-inline constexpr int kMaxParticlesPerObject = 10'000'000;
+/// The size budget of a model (docs/scene-format.md#limits): the most particles
+/// and connectors (LS + TS + JS) one generated object, and one scene, may have.
+/// Every generator checks the sizes its spec asks for against it before it
+/// allocates anything (SpecError naming the field), so a spec that cannot fit
+/// gets a message, not std::bad_alloc or a build that does not end. At the
+/// budget a model takes about 300 MB and `robophi validate` (its stability
+/// estimate, 200 sweeps over the connectors) a few seconds.
+inline constexpr int kMaxParticlesPerObject = 250'000;
+inline constexpr std::int64_t kMaxConnectorsPerObject = 1'000'000;
 
 /// The connector parameters of a generated object. Unset values get defaults
 /// from the particle masses and the natural frequency (see resolveSprings).

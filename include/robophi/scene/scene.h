@@ -40,6 +40,30 @@ struct RunSettings {
   double fps = 60.0;
 };
 
+/// The limits of a run (docs/scene-format.md#limits): a run is at least one step
+/// (dt <= duration), takes at most kMaxRunSteps steps (constant steps, or the
+/// fewest adaptive steps of at most maxStep) and writes at most kMaxRunFrames
+/// frames and kMaxRunEnergyRows energy rows. Beyond them a run would overflow its
+/// step counter or its files, or not end in a lifetime.
+inline constexpr double kMaxRunSteps = 1e9;
+inline constexpr double kMaxRunFrames = 1e6;
+inline constexpr double kMaxRunEnergyRows = 1e7;
+
+/// A problem with a run's settings taken together (each value alone is valid).
+struct RunSettingsProblem {
+  /// The RunSettings field to blame: "dt" (longer than the duration, or too many
+  /// constant steps), "duration" (too many adaptive steps), "fps" or "energyRate".
+  std::string field;
+  /// What is wrong, with the values and units, e.g. "the step dt = 10 s is
+  /// longer than the duration 1 s".
+  std::string message;
+};
+
+/// Checks `run` against the limits above; `energyRate` is the rows of energy.csv
+/// per model second (RunOptions::energyRate). nullopt when it is fine.
+std::optional<RunSettingsProblem> checkRunSettings(const RunSettings& run,
+                                                   double energyRate = 1000.0);
+
 /// A loaded scene: the model, its initial state, and how to run it.
 struct Scene {
   std::string name;
