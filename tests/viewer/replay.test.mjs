@@ -33,11 +33,15 @@ function readParticles(file) {
   const lines = fs.readFileSync(file, 'utf8').split(/\r?\n/).filter((l) => l.trim() !== '');
   const t = [];
   const positions = [];
+  // Columns by name: x<i>, y<i>, z<i> (velocities vx<i>... may follow each particle).
+  const header = lines[0].split(',').map((c) => c.trim());
+  const xColumns = [];
+  header.forEach((name, column) => { if (/^x\d+$/.test(name)) xColumns.push(column); });
   for (const line of lines.slice(1)) {
     const values = line.split(',').map(Number);
     t.push(values[0]);
     const frame = [];
-    for (let v = 1; v < values.length; v += 3) frame.push([values[v], values[v + 1], values[v + 2]]);
+    for (const v of xColumns) frame.push([values[v], values[v + 1], values[v + 2]]);
     positions.push(frame);
   }
   return { t, positions };
