@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include "robophi/scene/scene.h"
@@ -30,14 +29,18 @@ std::string pendulumAt(double pivotZ) {
   std::string text = pendulumText();
   // Positions written as [x, y, z]: the pivot and the axis particle at 1.5, the
   // down reference at 0.5, the bob's centre at 1.5.
-  text = std::regex_replace(text, std::regex(R"(\[0, 0, 1\.5\])"),
-                            "[0, 0, " + std::to_string(pivotZ) + "]");
-  text = std::regex_replace(text, std::regex(R"(\[0, 0, 0\.5\])"),
-                            "[0, 0, " + std::to_string(pivotZ - 1.0) + "]");
-  text = std::regex_replace(text, std::regex(R"(\[0, 0\.2, 1\.5\])"),
-                            "[0, 0.2, " + std::to_string(pivotZ) + "]");
-  text = std::regex_replace(text, std::regex(R"(\[1, 0, 1\.5\])"),
-                            "[1, 0, " + std::to_string(pivotZ) + "]");
+  // Plain text replacement (std::regex trips GCC 12's -Wmaybe-uninitialized in
+  // the sanitizer build).
+  const auto replaceAll = [&text](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos;
+         at = text.find(from, at + to.size())) {
+      text.replace(at, from.size(), to);
+    }
+  };
+  replaceAll("[0, 0, 1.5]", "[0, 0, " + std::to_string(pivotZ) + "]");
+  replaceAll("[0, 0, 0.5]", "[0, 0, " + std::to_string(pivotZ - 1.0) + "]");
+  replaceAll("[0, 0.2, 1.5]", "[0, 0.2, " + std::to_string(pivotZ) + "]");
+  replaceAll("[1, 0, 1.5]", "[1, 0, " + std::to_string(pivotZ) + "]");
   return text;
 }
 
