@@ -24,13 +24,43 @@ GoalStatus goalStatus(const World& world, const GoalSpec& goal) {
   return status;
 }
 
+namespace {
+
+// Whether any particle of `object` touches something outside it (another
+// object or the environment): a robot blocked by an obstacle.
+bool touchesOutside(const World& world, std::int32_t object) {
+  const Model& model = world.model();
+  for (const Contact& c : world.contacts()) {
+    const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == object;
+    const bool otherIn =
+        !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == object;
+    if (aIn != otherIn) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSpec& goal) {
-  if (start_.empty())
-    for (ParticleIndex i : goal.particles) start_.push_back(world.state().position[i]);
   const GoalStatus status = goalStatus(world, goal);
   const double t = world.state().time;
-  const bool stuck =
-      status.meanSpeed < spec_.speedThreshold && status.worstDistance > goal.tolerance;
+  const State& s = world.state();
+  // MODEL §5.2: a local minimum is null speed away from the goal where an
+  // obstacle holds the robot. A robot slow near its goal (within the settle
+  // distance), or slow and touching nothing (an arm sagging under gravity to
+  // its equilibrium next to the goal), is settling, not stuck.
+  const double settleDistance =
+      spec_.settleDistance > 0.0 ? spec_.settleDistance : 5.0 * goal.tolerance;
+  // The stuck particle: the attracted one farthest from its target.
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < goal.particles.size(); ++k)
+    if (norm(s.position[goal.particles[k]] - s.position[goal.targets[k]]) >
+        norm(s.position[goal.particles[worst]] - s.position[goal.targets[worst]]))
+      worst = k;
+  const ParticleIndex i = goal.particles[worst];
+  const std::int32_t robot = world.model().objectOf[static_cast<std::size_t>(i)];
+  const bool stuck = status.meanSpeed < spec_.speedThreshold &&
+                     status.worstDistance > settleDistance && touchesOutside(world, robot);
   if (!stuck) {
     stoppedSince_ = -1.0;
     return std::nullopt;
@@ -38,46 +68,60 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   if (stoppedSince_ < 0.0) stoppedSince_ = t;
   if (t - stoppedSince_ < spec_.window || static_cast<int>(added_.size()) >= spec_.maxObstacles)
     return std::nullopt;
-  // MODEL §5.2: a virtual obstacle at the local minimum, overlapping the stuck
-  // particle (the one farthest from its goal) from one side so that it pushes
-  // it sideways, across its pull towards the goal. The side is chosen once: the
-  // way the particle has drifted sideways since the start (else a fixed
-  // perpendicular), so that successive obstacles push the same way.
-  std::size_t worst = 0;
-  double worstDistance = -1.0;
-  const State& s = world.state();
-  for (std::size_t k = 0; k < goal.particles.size(); ++k) {
-    const double d = norm(s.position[goal.particles[k]] - s.position[goal.targets[k]]);
-    if (d > worstDistance) {
-      worstDistance = d;
-      worst = k;
-    }
-  }
-  const ParticleIndex i = goal.particles[worst];
+  // A virtual obstacle at the local minimum, beside the stuck particle, so that
+  // it pushes it across its pull to the goal. The side is chosen once (the
+  // horizontal perpendicular to the pull, turned the way the robot's blocking
+  // contacts leave free), so successive obstacles push the same way and stay
+  // behind it, filling the minimum.
+  const double worstDistance = status.worstDistance;
   const Vec3 toGoal = (s.position[goal.targets[worst]] - s.position[i]) / worstDistance;
   if (!side_) {
-    const Vec3 drift = s.position[i] - start_[worst];
-    Vec3 sideways = drift - toGoal * dot(drift, toGoal);
-    if (norm(sideways) < 1e-3 * std::max(norm(drift), 1e-9)) {
-      sideways = cross(toGoal, Vec3{0.0, 0.0, 1.0});
-      if (norm(sideways) < 1e-6) sideways = cross(toGoal, Vec3{1.0, 0.0, 0.0});
+    Vec3 sideways = cross(toGoal, Vec3{0.0, 0.0, 1.0});
+    if (norm(sideways) < 1e-6) sideways = cross(toGoal, Vec3{1.0, 0.0, 0.0});
+    sideways = sideways / norm(sideways);
+    // The contacts' push on the robot, across the pull: go the way it points.
+    Vec3 contactPush;
+    const Model& model = world.model();
+    for (const Contact& c : world.contacts()) {
+      const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == robot;
+      const bool otherIn =
+          !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == robot;
+      if (aIn && !otherIn) contactPush += c.normal * c.normalForce;
+      if (otherIn && !aIn) contactPush -= c.normal * c.normalForce;
     }
-    side_ = sideways / norm(sideways);
+    if (dot(contactPush, sideways) < 0.0) sideways = sideways * -1.0;
+    side_ = sideways;
   }
   Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
   push = norm(push) > 1e-9 ? push / norm(push) : *side_;
   const double r = world.model().radius[i];
+  const double radius = spec_.obstacleRadius;
+  // The overlap with the stuck particle: half the smaller radius, less if the
+  // elastic energy it adds, ½ κ_c overlap² (κ_c the stiffest material the
+  // particle's contacts can have), would exceed the bound on the work.
+  double overlap = 0.5 * std::min(radius, r);
+  if (spec_.maxWork > 0.0) {
+    double stiffness = 0.0;
+    for (const Material& m : world.model().materials)
+      stiffness = std::max(stiffness, m.contactStiffness);
+    for (const ContactPairOverride& p : world.model().contact.pairOverrides)
+      stiffness = std::max(stiffness, p.stiffness);
+    if (stiffness > 0.0) overlap = std::min(overlap, std::sqrt(2.0 * spec_.maxWork / stiffness));
+  }
   SphereObstacle sphere;
-  sphere.center = s.position[i] - push * (spec_.obstacleRadius + r * (1.0 - kOverlap));
-  sphere.radius = spec_.obstacleRadius;
+  sphere.center = s.position[i] - push * (radius + r - overlap);
+  sphere.radius = radius;
+  world.bookExternalWork();  // what earlier edits did is not this obstacle's
   world.addSphereObstacle(sphere);
+  const double work = world.bookExternalWork();
+  work_ += work;
   added_.push_back(sphere);
   stoppedSince_ = -1.0;
   return fmt::format(
       "goal '{}': local minimum at t = {:.4g} s ({:.3g} m from the goal, speed {:.3g} m/s); "
-      "virtual obstacle {} added at [{:.4g}, {:.4g}, {:.4g}], radius {:.3g} m",
+      "virtual obstacle {} added at [{:.4g}, {:.4g}, {:.4g}], radius {:.3g} m, work {:.3g} J",
       goal.name, t, worstDistance, status.meanSpeed, added_.size(), sphere.center.x,
-      sphere.center.y, sphere.center.z, sphere.radius);
+      sphere.center.y, sphere.center.z, sphere.radius, work);
 }
 
 std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal) {
@@ -105,81 +149,225 @@ Vec3 objectCenterOfMass(const World& world, std::int32_t object) {
   return mass > 0.0 ? sum / mass : sum;
 }
 
+ObjectMotion objectMotion(const World& world, std::int32_t object) {
+  const Model& model = world.model();
+  const State& s = world.state();
+  const ObjectInfo& info = model.objects[static_cast<std::size_t>(object)];
+  ObjectMotion motion;
+  double mass = 0.0;
+  Vec3 momentum;
+  for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
+    motion.center += s.position[i] * model.mass[i];
+    momentum += s.velocity[i] * model.mass[i];
+    mass += model.mass[i];
+  }
+  if (!(mass > 0.0)) return motion;
+  motion.center = motion.center / mass;
+  motion.velocity = momentum / mass;
+  // L = Σ m r × v' and I = Σ m (|r|² 1 − r rᵀ) about the centre of mass; ω = I⁻¹ L.
+  Vec3 angular;
+  double I[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
+    const Vec3 r = s.position[i] - motion.center;
+    const double m = model.mass[i];
+    angular += cross(r, s.velocity[i] - motion.velocity) * m;
+    const double rr[3] = {r.x, r.y, r.z};
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) I[a][b] += m * ((a == b ? dot(r, r) : 0.0) - rr[a] * rr[b]);
+  }
+  const double det = I[0][0] * (I[1][1] * I[2][2] - I[1][2] * I[2][1]) -
+                     I[0][1] * (I[1][0] * I[2][2] - I[1][2] * I[2][0]) +
+                     I[0][2] * (I[1][0] * I[2][1] - I[1][1] * I[2][0]);
+  if (!(std::abs(det) > 0.0)) return motion;  // one particle, or a line: no rotation measured
+  const auto cofactor = [&I](int a, int b) {
+    const int a1 = (a + 1) % 3, a2 = (a + 2) % 3, b1 = (b + 1) % 3, b2 = (b + 2) % 3;
+    return I[a1][b1] * I[a2][b2] - I[a1][b2] * I[a2][b1];
+  };
+  const double L[3] = {angular.x, angular.y, angular.z};
+  double w[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) w[a] += cofactor(b, a) / det * L[b];
+  motion.angularVelocity = {w[0], w[1], w[2]};
+  return motion;
+}
+
+GraspCheck::GraspCheck(GraspSpec spec, const Model& model) : spec_(std::move(spec)) {
+  outcome_.object = model.objects.at(static_cast<std::size_t>(spec_.object)).name;
+  outcome_.tolerance = spec_.tolerance;
+}
+
 std::optional<std::string> GraspCheck::update(World& world) {
-  const double t = world.state().time;
-  const Vec3 com = objectCenterOfMass(world, spec_.object);
-  if (!settled_) {
-    if (t < spec_.settleTime) return std::nullopt;
-    settled_ = true;
-    rest_ = com;
-    return fmt::format("grasp: object settled at t = {:.4g} s at [{:.4g}, {:.4g}, {:.4g}]", t,
-                       com.x, com.y, com.z);
+  const Model& model = world.model();
+  const State& s = world.state();
+  const double t = s.time;
+  const ObjectInfo& info = model.objects[static_cast<std::size_t>(spec_.object)];
+  const auto inObject = [&](ParticleIndex i) {
+    return i >= info.firstParticle && i < info.firstParticle + info.particleCount;
+  };
+  const ObjectMotion motion = objectMotion(world, spec_.object);
+  // MODEL §5.3: the hand closes by its joints. Each closing joint's target moves
+  // from its start value towards the object (the way that turns the joint's
+  // moving arm towards the object's centre), by closeAngle over closeTime.
+  if (start_.empty()) {
+    for (std::size_t joint : spec_.closeJoints) {
+      const JointSpring& js = model.jointSprings[static_cast<std::size_t>(
+          model.joints[joint].connector)];
+      const Vec3 axis = s.position[js.d] - s.position[js.c];
+      const Vec3 arm = s.position[js.b] - s.position[js.c];
+      // Turning b positively about the axis (c → d) increases the joint angle.
+      const double towards = dot(cross(axis, arm), motion.center - s.position[js.b]);
+      start_.push_back(jointValue(model, s, joint));
+      direction_.push_back(towards >= 0.0 ? 1.0 : -1.0);
+    }
   }
-  largestDrift_ = std::max(largestDrift_, norm(com - rest_));
-  if (!disturbed_ && spec_.disturbanceTime >= 0.0 && t >= spec_.disturbanceTime) {
-    disturbed_ = true;
-    const ObjectInfo& info = world.model().objects[static_cast<std::size_t>(spec_.object)];
+  const double closing = spec_.closeTime > 0.0 ? std::min(1.0, t / spec_.closeTime) : 1.0;
+  for (std::size_t k = 0; k < spec_.closeJoints.size(); ++k)
+    setJointTarget(world, spec_.closeJoints[k],
+                   start_[k] + direction_[k] * closing * spec_.closeAngle);
+
+  // The hand's force on the object: the contact forces between them (normal and
+  // friction), i.e. the object's net force less gravity and its own drag (its
+  // connectors and self-contacts sum to zero); the torque about its centre of mass.
+  Vec3 force, torque;
+  for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
+    const Vec3 f = world.forces()[i] - model.gravity * model.mass[i] +
+                   s.velocity[i] * model.linearDamping[i];
+    force += f;
+    torque += cross(s.position[i] - motion.center, f);
+  }
+  int contacts = 0, fixedContacts = 0;
+  double grip = 0.0;
+  for (const Contact& c : world.contacts()) {
+    if (c.withEnvironment() || inObject(c.a) == inObject(c.other)) continue;
+    const ParticleIndex other = inObject(c.a) ? c.other : c.a;
+    if (spec_.hand >= 0 && model.objectOf[static_cast<std::size_t>(other)] != spec_.hand) continue;
+    ++contacts;
+    if (model.isFixed(other)) ++fixedContacts;
+    grip += c.normalForce;
+  }
+  outcome_.netForce = force;
+  outcome_.netTorque = torque;
+  outcome_.gripForce = grip;
+  outcome_.contacts = contacts;
+  outcome_.fixedContacts = fixedContacts;
+  outcome_.speed = norm(motion.velocity);
+  outcome_.angularSpeed = norm(motion.angularVelocity);
+
+  // Settled by velocity: slow in translation and rotation for settleHold, once closed.
+  const bool slow = closing >= 1.0 && outcome_.speed < spec_.settleSpeed &&
+                    outcome_.angularSpeed < spec_.settleAngularSpeed && contacts > 0;
+  if (!slow) slowSince_ = -1.0;
+  if (slow && slowSince_ < 0.0) slowSince_ = t;
+  const bool held = slow && t - slowSince_ >= spec_.settleHold;
+  std::optional<std::string> event;
+  if (!outcome_.settled) {
+    if (!held) return std::nullopt;
+    outcome_.settled = true;
+    outcome_.settledAt = t;
+    rest_ = motion.center;
+    event = fmt::format(
+        "grasp: object '{}' at rest in the hand at t = {:.4g} s at [{:.4g}, {:.4g}, {:.4g}] "
+        "(speed {:.2g} m/s, {:.2g} rad/s); hand's net force {:.3g} N, torque {:.3g} N·m, grip "
+        "{:.3g} N through {} contacts",
+        outcome_.object, t, rest_.x, rest_.y, rest_.z, outcome_.speed, outcome_.angularSpeed,
+        norm(force), norm(torque), grip, contacts);
+  }
+  outcome_.largestDrift = std::max(outcome_.largestDrift, norm(motion.center - rest_));
+  if (!outcome_.disturbed && spec_.disturbanceTime >= 0.0 && t >= spec_.disturbanceTime) {
+    outcome_.disturbed = true;
     for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i)
-      if (!world.model().isFixed(i))
-        world.setVelocity(i, world.state().velocity[i] + spec_.disturbance);
-    return fmt::format("grasp: disturbance of [{:.3g}, {:.3g}, {:.3g}] m/s at t = {:.4g} s",
-                       spec_.disturbance.x, spec_.disturbance.y, spec_.disturbance.z, t);
+      if (!model.isFixed(i)) world.setVelocity(i, s.velocity[i] + spec_.disturbance);
+    slowSince_ = -1.0;
+    event = fmt::format("grasp: disturbance of [{:.3g}, {:.3g}, {:.3g}] m/s at t = {:.4g} s",
+                        spec_.disturbance.x, spec_.disturbance.y, spec_.disturbance.z, t);
+  } else if (outcome_.disturbed && !outcome_.resettled && held) {
+    outcome_.resettled = true;
+    outcome_.resettledAt = t;
+    event = fmt::format("grasp: object at rest again at t = {:.4g} s, {:.3g} m from its rest "
+                        "position",
+                        t, norm(motion.center - rest_));
   }
-  return std::nullopt;
+  const bool disturbance = spec_.disturbanceTime >= 0.0;
+  outcome_.stable = outcome_.settled && outcome_.largestDrift <= spec_.tolerance &&
+                    (!disturbance || outcome_.resettled);
+  return event;
 }
 
 std::string GraspCheck::verdict() const {
-  return fmt::format("grasp {}: largest drift {:.3g} m after settling (tolerance {:.3g} m)",
-                     stable() ? "stable" : "NOT stable", largestDrift_, spec_.tolerance);
+  const GraspOutcome& o = outcome_;
+  if (!o.settled)
+    return fmt::format("grasp NOT stable: '{}' never came to rest in the hand (speed {:.3g} m/s, "
+                       "{:.3g} rad/s at the end)",
+                       o.object, o.speed, o.angularSpeed);
+  return fmt::format(
+      "grasp {}: largest drift {:.3g} m after settling (tolerance {:.3g} m){}; hand's net force "
+      "{:.3g} N and torque {:.3g} N·m on the object against a grip of {:.3g} N ({} contacts, {} "
+      "on the palm)",
+      o.stable ? "stable" : "NOT stable", o.largestDrift, o.tolerance,
+      o.disturbed ? (o.resettled ? ", at rest again after the disturbance"
+                                 : ", not at rest again after the disturbance")
+                  : "",
+      norm(o.netForce), norm(o.netTorque), o.gripForce, o.contacts, o.fixedContacts);
 }
 
-std::function<bool(World&, std::vector<std::string>&)> makeSceneTasks(const Scene& scene) {
+SceneTaskHook makeSceneTaskHook(const Scene& scene) {
   const SceneTasks& tasks = scene.robotics;
-  if (tasks.empty()) return {};
+  auto outcomes = std::make_shared<TaskOutcomes>();
+  for (const GoalSpec& g : tasks.goals) outcomes->goals.push_back({.name = g.name});
+  if (tasks.empty()) return {{}, outcomes};
   // The tasks' own state lives in a shared block the hook owns.
   struct Running {
     JointLimiter limiter;
     std::vector<GoalSpec> goals;
-    std::vector<bool> reached;
     std::vector<LocalMinimumEscape> escapes;
     std::vector<GraspCheck> grasps;
-    double duration = 0.0;
+    std::shared_ptr<TaskOutcomes> outcomes;
+    double duration = 0.0, previousTime = 0.0;
     bool reported = false;
   };
-  auto run = std::make_shared<Running>(Running{JointLimiter(tasks.limits),
-                                               tasks.goals,
-                                               std::vector<bool>(tasks.goals.size(), false),
-                                               {},
-                                               {},
-                                               scene.run.duration,
-                                               false});
+  auto run = std::make_shared<Running>(
+      Running{JointLimiter(tasks.limits), tasks.goals, {}, {}, outcomes, scene.run.duration,
+              scene.initial.time, false});
   for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e);
-  for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g);
-  return [run](World& world, std::vector<std::string>& events) {
+  for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g, scene.model);
+  for (const auto& grasp : run->grasps) outcomes->grasps.push_back(grasp.outcome());
+  auto task = [run](World& world, std::vector<std::string>& events) {
+    TaskOutcomes& out = *run->outcomes;
     run->limiter.update(world);
-    for (auto& escape : run->escapes)
+    for (auto& escape : run->escapes) {
       if (auto event = escape.update(world, run->goals[escape.goal()])) events.push_back(*event);
-    for (auto& grasp : run->grasps)
-      if (auto event = grasp.update(world)) events.push_back(*event);
+      out.goals[escape.goal()].virtualObstacles = static_cast<int>(escape.added().size());
+      out.goals[escape.goal()].escapeWork = escape.work();
+    }
+    for (std::size_t k = 0; k < run->grasps.size(); ++k) {
+      if (auto event = run->grasps[k].update(world)) events.push_back(*event);
+      out.grasps[k] = run->grasps[k].outcome();
+    }
     bool keepGoing = true;
+    const double t = world.state().time;
     for (std::size_t g = 0; g < run->goals.size(); ++g) {
       if (auto event = arriveVirtualRobot(world, run->goals[g])) events.push_back(*event);
       const GoalStatus status = goalStatus(world, run->goals[g]);
-      if (status.reached && !run->reached[g]) {
-        run->reached[g] = true;
+      out.goals[g].distance = status.worstDistance;
+      if (status.reached && !out.goals[g].reached) {
+        out.goals[g].reached = true;
+        out.goals[g].reachedAt = t;
         events.push_back(fmt::format("goal '{}' reached at t = {:.4g} s (within {:.3g} m)",
-                                     run->goals[g].name, world.state().time, status.worstDistance));
+                                     run->goals[g].name, t, status.worstDistance));
         if (run->goals[g].stopWhenReached) keepGoing = false;
       }
     }
-    const bool last = !keepGoing || world.state().time >= run->duration * (1.0 - 1e-12);
+    // The last step: the run ends within half a step of its duration (a constant
+    // step's accumulated time may fall short of it by rounding).
+    const double step = t - run->previousTime;
+    run->previousTime = t;
+    const bool last = !keepGoing || t + 0.5 * step >= run->duration;
     if (last && !run->reported) {
       run->reported = true;
       for (std::size_t g = 0; g < run->goals.size(); ++g) {
-        if (run->reached[g]) continue;
-        const GoalStatus status = goalStatus(world, run->goals[g]);
+        if (out.goals[g].reached) continue;
         events.push_back(fmt::format("goal '{}' not reached: {:.3g} m away at the end",
-                                     run->goals[g].name, status.worstDistance));
+                                     run->goals[g].name, out.goals[g].distance));
       }
       for (const auto& grasp : run->grasps) events.push_back(grasp.verdict());
       if (run->limiter.engagements() > 0)
@@ -187,6 +375,11 @@ std::function<bool(World&, std::vector<std::string>&)> makeSceneTasks(const Scen
     }
     return keepGoing;
   };
+  return {task, outcomes};
+}
+
+std::function<bool(World&, std::vector<std::string>&)> makeSceneTasks(const Scene& scene) {
+  return makeSceneTaskHook(scene).task;
 }
 
 }  // namespace robophi::robotics
