@@ -20,7 +20,8 @@ namespace {
 TEST(Grasp, SalisburyHandClosesByItsJointsAndHoldsAFreeBall) {
   const Scene scene = testing::loadSceneFromScenes("hand_grasp.json");
   ASSERT_EQ(scene.model.joints.size(), 9u);  // three fingers, three joints each
-  // The hand weighs what it declares (0.3 kg); nothing holds the ball but the hand.
+  // The hand weighs what it declares (0.3 kg); nothing holds the ball but the hand
+  // (it starts just touching the thumb).
   const ObjectInfo& hand = scene.model.objects.front();
   double handMass = 0.0;
   for (ParticleIndex i = hand.firstParticle; i < hand.firstParticle + hand.particleCount; ++i)
@@ -76,7 +77,11 @@ TEST(Grasp, SalisburyHandClosesByItsJointsAndHoldsAFreeBall) {
               0.1)
         << name;
   }
-  EXPECT_LT(std::abs(report.energyDrift), 0.01);
+  // The energy account closes: its error is a small part of the work the
+  // servos did closing the hand (the initial energy, a 0.5 mm touch of the
+  // thumb, is too small a scale for the relative drift).
+  EXPECT_GT(report.externalWork, 0.0);
+  EXPECT_LT(std::abs(report.finalTotal - report.initialTotal), 0.01 * report.externalWork);
   bool verdict = false;
   for (const std::string& e : report.events) verdict = verdict || e.rfind("grasp stable", 0) == 0;
   EXPECT_TRUE(verdict);
