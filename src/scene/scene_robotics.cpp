@@ -145,14 +145,15 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   const nlohmann::json* ref = r.member("particle");
   const auto stiffness = r.number("stiffness", Bound::kPositive, "N·m/rad or N/m", true);
   const double damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·m·s/rad or N·s/m");
-  std::optional<Vec3> from, to, center;
+  std::optional<Vec3> from, to;
   const nlohmann::json* heading = nullptr;
   std::optional<double> headingStiffness;
   if (type && *type == "line") {
     from = r.vec3("from", "m", true);
     to = r.vec3("to", "m", true);
   } else if (type && *type == "arc") {
-    center = r.vec3("center", "m", true);
+    from = r.vec3("from", "m", true);
+    to = r.vec3("to", "m", true);
     heading = r.member("heading");
     headingStiffness = r.number("headingStiffness", Bound::kPositive, "N·m/rad");
   } else if (type) {
@@ -172,7 +173,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
       build::addLinePath(scene.model, scene.initial, {name, *p, *from, *to, *stiffness, damping});
     });
   } else if (*type == "arc") {
-    if (!center) return;
+    if (!from || !to) return;
     std::optional<ParticleIndex> h;
     if (heading != nullptr) {
       h = resolveParticle(sink, *heading, r.memberPointer("heading"), lookup);
@@ -180,7 +181,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
     }
     tryBuild(sink, at, [&] {
       build::addArcPath(scene.model, scene.initial,
-                        {name, *p, *center, *stiffness, damping, h, headingStiffness});
+                        {name, *p, *from, *to, *stiffness, damping, h, headingStiffness});
     });
   }
 }
