@@ -140,7 +140,9 @@ int runCommand(const RunArguments& args) {
     return kExitBadInput;
   }
   options.progress = makeProgress(args.quiet);
-  options.tasks = {robotics::makeSceneTasks(*scene)};  // the scene's robotics section
+  // The scene's robotics section, and its outcomes (goals reached or not).
+  const robotics::SceneTaskHook sceneTasks = robotics::makeSceneTaskHook(*scene);
+  options.tasks = {sceneTasks.task};
   options.stop = &InterruptGuard::flag();
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
@@ -180,6 +182,12 @@ int runCommand(const RunArguments& args) {
     std::fprintf(stderr, "%s: error: %s\n", args.scene.c_str(), report.failure.c_str());
     return kExitDiverged;
   }
+  for (const build::GoalOutcome& goal : sceneTasks.outcomes->goals) {
+    if (goal.reached) continue;
+    std::fprintf(stderr, "%s: goal '%s' not reached: %.3g m away at the end\n", args.scene.c_str(),
+                 goal.name.c_str(), goal.distance);
+  }
+  if (!sceneTasks.outcomes->goalsReached()) return kExitGoalNotReached;
   return kExitOk;
 }
 

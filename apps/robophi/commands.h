@@ -13,6 +13,9 @@ inline constexpr int kExitFailure = 1;
 inline constexpr int kExitBadInput = 2;
 /// The run diverged (NaN or infinite state) or stalled.
 inline constexpr int kExitDiverged = 3;
+/// The run ended well but a robotics goal was not reached (docs/robotics.md;
+/// summary.json "events" says which, and how far).
+inline constexpr int kExitGoalNotReached = 4;
 /// Ended by SIGINT or SIGTERM: 128 + the signal (130, 143), exitCodeForSignal
 /// in run/interrupt.h; the results so far are written.
 

@@ -59,15 +59,41 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
       worst = k;
   const ParticleIndex i = goal.particles[worst];
   const std::int32_t robot = world.model().objectOf[static_cast<std::size_t>(i)];
-  const bool stuck = status.meanSpeed < spec_.speedThreshold &&
-                     status.worstDistance > settleDistance && touchesOutside(world, robot);
-  if (!stuck) {
-    stoppedSince_ = -1.0;
-    return std::nullopt;
+  const bool touching = touchesOutside(world, robot);
+  std::optional<std::string> event;
+  if (pushing_) {
+    // Free: nearer the goal by a tenth of where it was stuck, or touching nothing.
+    if (status.worstDistance < 0.9 * stuckDistance_ || !touching) {
+      pushing_ = false;
+      stoppedSince_ = -1.0;
+      return fmt::format(
+          "goal '{}': out of the local minimum at t = {:.4g} s after {} virtual obstacle{} "
+          "(work {:.3g} J), {:.3g} m from the goal",
+          goal.name, t, pushes_, pushes_ == 1 ? "" : "s", pushWork_, status.worstDistance);
+    }
+    const double interval = spec_.pushInterval > 0.0 ? spec_.pushInterval : spec_.window;
+    if (t - lastPush_ < interval || static_cast<int>(added_.size()) >= spec_.maxObstacles)
+      return std::nullopt;
+  } else {
+    const bool stuck = status.meanSpeed < spec_.speedThreshold &&
+                       status.worstDistance > settleDistance && touching;
+    if (!stuck) {
+      stoppedSince_ = -1.0;
+      return std::nullopt;
+    }
+    if (stoppedSince_ < 0.0) stoppedSince_ = t;
+    if (t - stoppedSince_ < spec_.window || static_cast<int>(added_.size()) >= spec_.maxObstacles)
+      return std::nullopt;
+    pushing_ = true;
+    stuckDistance_ = status.worstDistance;
+    pushStart_ = t;
+    pushes_ = 0;
+    pushWork_ = 0.0;
+    event = fmt::format(
+        "goal '{}': local minimum at t = {:.4g} s ({:.3g} m from the goal, speed {:.3g} m/s); "
+        "virtual obstacles from now on",
+        goal.name, t, status.worstDistance, status.meanSpeed);
   }
-  if (stoppedSince_ < 0.0) stoppedSince_ = t;
-  if (t - stoppedSince_ < spec_.window || static_cast<int>(added_.size()) >= spec_.maxObstacles)
-    return std::nullopt;
   // A virtual obstacle at the local minimum, beside the stuck particle, so that
   // it pushes it across its pull to the goal. The side is chosen once (the
   // horizontal perpendicular to the pull, turned the way the robot's blocking
@@ -94,34 +120,65 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   }
   Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
   push = norm(push) > 1e-9 ? push / norm(push) : *side_;
-  const double r = world.model().radius[i];
+  const Model& model = world.model();
+  const double r = model.radius[i];
   const double radius = spec_.obstacleRadius;
-  // The overlap with the stuck particle: half the smaller radius, less if the
-  // elastic energy it adds, ½ κ_c overlap² (κ_c the stiffest material the
-  // particle's contacts can have), would exceed the bound on the work.
-  double overlap = 0.5 * std::min(radius, r);
-  if (spec_.maxWork > 0.0) {
-    double stiffness = 0.0;
-    for (const Material& m : world.model().materials)
-      stiffness = std::max(stiffness, m.contactStiffness);
-    for (const ContactPairOverride& p : world.model().contact.pairOverrides)
-      stiffness = std::max(stiffness, p.stiffness);
-    if (stiffness > 0.0) overlap = std::min(overlap, std::sqrt(2.0 * spec_.maxWork / stiffness));
+  // The elastic energy (J) a sphere at `c` would add, ½ κ_c d² over every
+  // particle it overlaps (virtual ones touch nothing), with κ_c the stiffest
+  // material's: an upper bound of the work the World will book.
+  double stiffness = 0.0;
+  for (const Material& m : model.materials) stiffness = std::max(stiffness, m.contactStiffness);
+  for (const ContactPairOverride& p : model.contact.pairOverrides)
+    stiffness = std::max(stiffness, p.stiffness);
+  const auto overlapEnergy = [&](const Vec3& c) {
+    double energy = 0.0;
+    for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
+      if (model.isFixed(j)) continue;
+      const double d = norm(s.position[j] - c) - radius - model.radius[j];
+      if (d < 0.0) energy += 0.5 * stiffness * d * d;
+    }
+    return energy;
+  };
+  // Where it goes: beside the stuck particle on the pushing side, turned by up
+  // to 60° in the plane of the push and the pull if that side is taken by the
+  // robot's own particles (a sphere landing on them would inject their overlap);
+  // at the first obstacle the other side is as good, and is then kept.
+  // It then overlaps the stuck particle by half the smaller radius, halved
+  // until the work it injects is within maxWork.
+  const auto centreFor = [&](const Vec3& direction, double o) {
+    return s.position[i] - direction * (radius + r - o);
+  };
+  const double bound = spec_.maxWork > 0.0 ? spec_.maxWork : 1e300;
+  std::optional<Vec3> direction;
+  for (double degrees : {0.0, -20.0, 20.0, -40.0, 40.0, -60.0, 60.0}) {
+    for (double flip : {1.0, -1.0}) {
+      if (flip < 0.0 && !added_.empty()) break;  // the side is kept once chosen
+      const double beta = degrees * M_PI / 180.0;
+      const Vec3 d = push * (flip * std::cos(beta)) + toGoal * std::sin(beta);
+      if (overlapEnergy(centreFor(d, 0.0)) <= bound) {
+        direction = d;
+        break;
+      }
+    }
+    if (direction) break;
   }
+  if (!direction) return event;  // no free place this time; the next interval tries again
+  if (dot(*direction, *side_) < 0.0) side_ = *side_ * -1.0;
+  double overlap = 0.5 * std::min(radius, r);
+  for (int k = 0; k < 30 && overlapEnergy(centreFor(*direction, overlap)) > bound; ++k)
+    overlap *= 0.5;
   SphereObstacle sphere;
-  sphere.center = s.position[i] - push * (radius + r - overlap);
+  sphere.center = centreFor(*direction, overlap);
   sphere.radius = radius;
   world.bookExternalWork();  // what earlier edits did is not this obstacle's
   world.addSphereObstacle(sphere);
   const double work = world.bookExternalWork();
   work_ += work;
+  pushWork_ += work;
+  ++pushes_;
+  lastPush_ = t;
   added_.push_back(sphere);
-  stoppedSince_ = -1.0;
-  return fmt::format(
-      "goal '{}': local minimum at t = {:.4g} s ({:.3g} m from the goal, speed {:.3g} m/s); "
-      "virtual obstacle {} added at [{:.4g}, {:.4g}, {:.4g}], radius {:.3g} m, work {:.3g} J",
-      goal.name, t, worstDistance, status.meanSpeed, added_.size(), sphere.center.x,
-      sphere.center.y, sphere.center.z, sphere.radius, work);
+  return event;
 }
 
 std::optional<std::string> arriveVirtualRobot(World& world, GoalSpec& goal) {

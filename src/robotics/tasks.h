@@ -63,6 +63,12 @@ class LocalMinimumEscape {
   EscapeSpec spec_;
   /// Time (s) since when the robot is stopped away from the goal; < 0: moving.
   double stoppedSince_ = -1.0;
+  /// Pushing it out of a local minimum: since when, how far from the goal it
+  /// was stuck (m), when the last obstacle came, and how many this minimum took.
+  bool pushing_ = false;
+  double stuckDistance_ = 0.0, lastPush_ = 0.0, pushStart_ = 0.0;
+  int pushes_ = 0;
+  double pushWork_ = 0.0;
   std::vector<SphereObstacle> added_;
   double work_ = 0.0;
   /// The side (unit) the virtual obstacles push towards, chosen at the first one.

@@ -82,6 +82,7 @@ std::optional<build::EscapeSpec> readEscape(DiagnosticSink& sink, const nlohmann
   spec.maxObstacles = e.integer("maxObstacles", 1).value_or(spec.maxObstacles);
   spec.settleDistance = e.numberOr("settleDistance", 0.0, Bound::kNonNegative, "m");
   spec.maxWork = e.numberOr("maxWork", 0.0, Bound::kNonNegative, "J");
+  spec.pushInterval = e.numberOr("pushInterval", 0.0, Bound::kNonNegative, "s");
   e.finish();
   return spec;
 }

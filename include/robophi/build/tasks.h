@@ -65,8 +65,14 @@ struct EscapeSpec {
   /// goal's tolerance.
   double settleDistance = 0.0;
   /// Most work (J) one virtual obstacle may inject: its overlap with the robot
-  /// is cut until the elastic energy it adds is below this. 0: no bound.
+  /// is cut until the elastic energy it adds is below this. 0: no bound (the
+  /// overlap is half the smaller radius).
   double maxWork = 0.0;
+  /// Once a local minimum is found, a further obstacle every `pushInterval` (s)
+  /// while the robot is still held there (0: one per `window`), each from the
+  /// same side: small pushes one after another, until it is free (nearer its
+  /// goal by a tenth of the distance it was stuck at, or touching nothing).
+  double pushInterval = 0.0;
 };
 
 /// Grasp check (MODEL §5.3, the paper's criterion): the hand closes on a free
