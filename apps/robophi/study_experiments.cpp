@@ -160,7 +160,8 @@ ExperimentProbe barProbe(const Scene&) {
     f.values["stiffness_over_theory"] = load / deflection / theory;
     f.words.push_back(fmt::format("tip stiffness {:.2f} N/m against 3EI/L³ = {:.2f} N/m ({:.4f})",
                                   load / deflection, theory, load / deflection / theory));
-    const double traction = relaxedBarStiffness(scene, BarLoad::kTraction) / (young * h * h / length);
+    const double traction =
+        relaxedBarStiffness(scene, BarLoad::kTraction) / (young * h * h / length);
     const double torsion =
         relaxedBarStiffness(scene, BarLoad::kTorsion) / (shear * 0.1406 * h * h * h * h / length);
     f.values["traction_over_theory"] = traction;
@@ -202,8 +203,8 @@ ExperimentProbe ballProbe(const Scene&) {
     const double e = std::sqrt((watch->apex - r) / drop);
     f.values["restitution"] = e;
     f.values["rebound_m"] = watch->apex - r;
-    f.words.push_back(fmt::format("rebound {:.4f} m of {:.3f} m: restitution {:.5f}",
-                                  watch->apex - r, drop, e));
+    f.words.push_back(
+        fmt::format("rebound {:.4f} m of {:.3f} m: restitution {:.5f}", watch->apex - r, drop, e));
   };
   return probe;
 }
@@ -331,8 +332,8 @@ std::vector<Experiment> paperExperiments() {
   list.push_back({"wheel_cube_ramp", "2", "wheel and cube on a ramp, from rest",
                   "scenes/wheel_cube_ramp.json", "", wheelCubeProbe});
   list.push_back({"hand_grasp", "4", "hand grasp", "scenes/hand_grasp.json", "", graspProbe});
-  list.push_back({"ball_drop", "5", "ball falling on the ground", "scenes/ball_drop.json", "",
-                  ballProbe});
+  list.push_back(
+      {"ball_drop", "5", "ball falling on the ground", "scenes/ball_drop.json", "", ballProbe});
   list.push_back({"arm_obstacle", "§5.2", "arm around an obstacle", "scenes/arm_obstacle.json", "",
                   obstacleProbe});
   list.push_back(

@@ -6,8 +6,8 @@
 
 #include "build/checks.h"
 #include "build/robot_parts.h"
-#include "robophi/connector_forces.h"
 #include "robophi/build/robots.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi::build {
 

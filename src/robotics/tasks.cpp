@@ -267,8 +267,8 @@ std::optional<std::string> GraspCheck::update(World& world) {
   // moving arm towards the object's centre), by closeAngle over closeTime.
   if (start_.empty()) {
     for (std::size_t joint : spec_.closeJoints) {
-      const JointSpring& js = model.jointSprings[static_cast<std::size_t>(
-          model.joints[joint].connector)];
+      const JointSpring& js =
+          model.jointSprings[static_cast<std::size_t>(model.joints[joint].connector)];
       const Vec3 axis = s.position[js.d] - s.position[js.c];
       const Vec3 arm = s.position[js.b] - s.position[js.c];
       // Turning b positively about the axis (c → d) increases the joint angle.
@@ -287,8 +287,8 @@ std::optional<std::string> GraspCheck::update(World& world) {
   // connectors and self-contacts sum to zero); the torque about its centre of mass.
   Vec3 force, torque;
   for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
-    const Vec3 f = world.forces()[i] - model.gravity * model.mass[i] +
-                   s.velocity[i] * model.linearDamping[i];
+    const Vec3 f =
+        world.forces()[i] - model.gravity * model.mass[i] + s.velocity[i] * model.linearDamping[i];
     force += f;
     torque += cross(s.position[i] - motion.center, f);
   }
@@ -340,9 +340,10 @@ std::optional<std::string> GraspCheck::update(World& world) {
   } else if (outcome_.disturbed && !outcome_.resettled && held) {
     outcome_.resettled = true;
     outcome_.resettledAt = t;
-    event = fmt::format("grasp: object at rest again at t = {:.4g} s, {:.3g} m from its rest "
-                        "position",
-                        t, norm(motion.center - rest_));
+    event = fmt::format(
+        "grasp: object at rest again at t = {:.4g} s, {:.3g} m from its rest "
+        "position",
+        t, norm(motion.center - rest_));
   }
   const bool disturbance = spec_.disturbanceTime >= 0.0;
   outcome_.stable = outcome_.settled && outcome_.largestDrift <= spec_.tolerance &&
@@ -353,9 +354,10 @@ std::optional<std::string> GraspCheck::update(World& world) {
 std::string GraspCheck::verdict() const {
   const GraspOutcome& o = outcome_;
   if (!o.settled)
-    return fmt::format("grasp NOT stable: '{}' never came to rest in the hand (speed {:.3g} m/s, "
-                       "{:.3g} rad/s at the end)",
-                       o.object, o.speed, o.angularSpeed);
+    return fmt::format(
+        "grasp NOT stable: '{}' never came to rest in the hand (speed {:.3g} m/s, "
+        "{:.3g} rad/s at the end)",
+        o.object, o.speed, o.angularSpeed);
   return fmt::format(
       "grasp {}: largest drift {:.3g} m after settling (tolerance {:.3g} m){}; hand's net force "
       "{:.3g} N and torque {:.3g} N·m on the object against a grip of {:.3g} N ({} contacts, {} "
@@ -382,9 +384,14 @@ SceneTaskHook makeSceneTaskHook(const Scene& scene) {
     double duration = 0.0, previousTime = 0.0;
     bool reported = false;
   };
-  auto run = std::make_shared<Running>(
-      Running{JointLimiter(tasks.limits), tasks.goals, {}, {}, outcomes, scene.run.duration,
-              scene.initial.time, false});
+  auto run = std::make_shared<Running>(Running{JointLimiter(tasks.limits),
+                                               tasks.goals,
+                                               {},
+                                               {},
+                                               outcomes,
+                                               scene.run.duration,
+                                               scene.initial.time,
+                                               false});
   for (const EscapeSpec& e : tasks.escapes) run->escapes.emplace_back(e);
   for (const GraspSpec& g : tasks.grasps) run->grasps.emplace_back(g, scene.model);
   for (const auto& grasp : run->grasps) outcomes->grasps.push_back(grasp.outcome());

@@ -5,11 +5,10 @@
 /// limits. They observe the World and change it only through its public API.
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <memory>
 
 #include "robophi/build/tasks.h"
 #include "robophi/contact.h"
@@ -21,10 +20,10 @@ namespace robophi::robotics {
 
 // The task specs are plain data of the build layer (robophi/build/tasks.h).
 using build::EscapeSpec;
-using build::GoalSpec;
-using build::GraspSpec;
 using build::GoalOutcome;
+using build::GoalSpec;
 using build::GraspOutcome;
+using build::GraspSpec;
 using build::SceneTasks;
 using build::TaskOutcomes;
 

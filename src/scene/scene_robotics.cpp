@@ -279,7 +279,8 @@ bool readClose(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
     const std::string name = (*joints)[k].get<std::string>();
     const auto joint = findJoint(scene.model, name);
     if (!joint || scene.model.joints[*joint].kind != JointKind::kRevolute) {
-      sink.error(where, fmt::format("no revolute joint named '{}'{}", name, didYouMean(name, names)));
+      sink.error(where,
+                 fmt::format("no revolute joint named '{}'{}", name, didYouMean(name, names)));
       ok = false;
       continue;
     }

@@ -41,7 +41,9 @@ ClampedBounce clampedBounce(double stiffness, double damping, double mass, doubl
                  s = std::sin(omegaD * t);
     return e * ((b * omegaD - zeta * omega * a) * c - (a * omegaD + zeta * omega * b) * s);
   };
-  const auto force = [&](double t) { return omega * omega * depth(t) + 2.0 * zeta * omega * rate(t); };
+  const auto force = [&](double t) {
+    return omega * omega * depth(t) + 2.0 * zeta * omega * rate(t);
+  };
   // The force is positive from the start until the exit, within 1.5 half periods.
   double lo = 0.5 * M_PI / omegaD, hi = lo;
   while (force(hi) > 0.0) hi += 1e-3 * M_PI / omegaD;

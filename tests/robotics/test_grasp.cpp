@@ -30,7 +30,9 @@ TEST(Grasp, SalisburyHandClosesByItsJointsAndHoldsAFreeBall) {
   EXPECT_EQ(norm(scene.model.gravity), 0.0);
   // Salisbury layout: two fingers side by side (+x) opposing the thumb (−x).
   const State& start = scene.initial;
-  const auto tip = [&](int k) { return start.position[hand.firstParticle + hand.particleCount - 3 + k]; };
+  const auto tip = [&](int k) {
+    return start.position[hand.firstParticle + hand.particleCount - 3 + k];
+  };
   EXPECT_GT(tip(0).x, 0.0);
   EXPECT_GT(tip(1).x, 0.0);
   EXPECT_LT(tip(2).x, 0.0);
@@ -49,8 +51,8 @@ TEST(Grasp, SalisburyHandClosesByItsJointsAndHoldsAFreeBall) {
   std::printf(
       "hand grasp: settled at %.3f s, again at %.3f s after the kick; drift %.4f m; net force "
       "%.3g N, torque %.3g N·m, grip %.3g N, %d contacts (%d palm); speed %.2g m/s, %.2g rad/s\n",
-      g.settledAt, g.resettledAt, g.largestDrift, norm(g.netForce), norm(g.netTorque),
-      g.gripForce, g.contacts, g.fixedContacts, g.speed, g.angularSpeed);
+      g.settledAt, g.resettledAt, g.largestDrift, norm(g.netForce), norm(g.netTorque), g.gripForce,
+      g.contacts, g.fixedContacts, g.speed, g.angularSpeed);
   // Settled by velocity, after the hand had closed (1 s), not at a set time.
   EXPECT_TRUE(g.settled);
   EXPECT_GT(g.settledAt, 1.5);
@@ -73,8 +75,9 @@ TEST(Grasp, SalisburyHandClosesByItsJointsAndHoldsAFreeBall) {
   for (const char* name : {"hand.f1.j2", "hand.f2.j2", "hand.f3.j2"}) {
     const auto joint = findJoint(scene.model, name);
     ASSERT_TRUE(joint.has_value()) << name;
-    EXPECT_GT(std::abs(jointValue(scene.model, last, *joint) - jointValue(scene.model, start, *joint)),
-              0.1)
+    EXPECT_GT(
+        std::abs(jointValue(scene.model, last, *joint) - jointValue(scene.model, start, *joint)),
+        0.1)
         << name;
   }
   // The energy account closes: its error is a small part of the work the

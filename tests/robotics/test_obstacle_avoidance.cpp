@@ -133,21 +133,22 @@ TEST_P(ArmEscape, ReachesTheGoalWithASmallInjectedWork) {
   const robotics::SceneTaskHook hook = robotics::makeSceneTaskHook(scene);
   RunOptions options;
   options.settings = scene.run;
-  options.tasks = {hook.task, [&](World& world, std::vector<std::string>&) {
-                     for (ParticleIndex i = arm.firstParticle;
-                          i < arm.firstParticle + arm.particleCount; ++i)
-                       smallestGap = std::min(smallestGap, norm(world.state().position[i] - obstacle) -
-                                                               obstacleRadius - scene.model.radius[i]);
-                     return true;
-                   }};
+  options.tasks = {
+      hook.task, [&](World& world, std::vector<std::string>&) {
+        for (ParticleIndex i = arm.firstParticle; i < arm.firstParticle + arm.particleCount; ++i)
+          smallestGap = std::min(smallestGap, norm(world.state().position[i] - obstacle) -
+                                                  obstacleRadius - scene.model.radius[i]);
+        return true;
+      }};
   State last;
   const RunReport report = runScene(scene, options, &last);
   ASSERT_TRUE(report.ok()) << report.failure;
   const build::GoalOutcome& goal = hook.outcomes->goals.at(0);
-  std::printf("escape, virtual obstacles of %.2f m: %d of them, work %.3f J (%.1f%% of the "
-              "scene's %.3f J), goal reached at %.3f s\n",
-              GetParam(), goal.virtualObstacles, goal.escapeWork,
-              100.0 * goal.escapeWork / report.initialTotal, report.initialTotal, goal.reachedAt);
+  std::printf(
+      "escape, virtual obstacles of %.2f m: %d of them, work %.3f J (%.1f%% of the "
+      "scene's %.3f J), goal reached at %.3f s\n",
+      GetParam(), goal.virtualObstacles, goal.escapeWork,
+      100.0 * goal.escapeWork / report.initialTotal, report.initialTotal, goal.reachedAt);
   // Stuck once, pushed out, goal reached.
   EXPECT_EQ(countEvents(report, "': local minimum at"), 1);
   EXPECT_EQ(countEvents(report, "out of the local minimum"), 1);
@@ -189,8 +190,8 @@ TEST(ObstacleAvoidance, NoEscapeForAnArmSaggingNearItsGoal) {
   const RunReport report = runScene(scene, options);
   ASSERT_TRUE(report.ok()) << report.failure;
   const build::GoalOutcome& goal = hook.outcomes->goals.at(0);
-  std::printf("sagging arm: %.3f m from its goal at the end, %d virtual obstacles\n",
-              goal.distance, goal.virtualObstacles);
+  std::printf("sagging arm: %.3f m from its goal at the end, %d virtual obstacles\n", goal.distance,
+              goal.virtualObstacles);
   EXPECT_GT(goal.distance, 5.0 * scene.robotics.goals[0].tolerance);  // it sags well away
   EXPECT_LT(goal.distance, 0.3);                                      // but near its goal
   EXPECT_EQ(goal.virtualObstacles, 0);
