@@ -157,26 +157,39 @@ void addLinePath(Model& model, State& state, const LinePathSpec& spec) {
   closeVirtualObject(model, object);
 }
 
+Vec3 circleCenter(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // The circumcentre: a + (|u|² (w × (u × w)) + |w|² ((u × w) × u)) / (2 |u × w|²).
+  const Vec3 u = b - a, w = c - a, n = cross(u, w);
+  return a + (cross(w, n) * dot(u, u) + cross(n, u) * dot(w, w)) / (2.0 * dot(n, n));
+}
+
 void addArcPath(Model& model, State& state, const ArcPathSpec& spec) {
   constexpr const char* kFunction = "addArcPath";
   requireParticle(kFunction, "spec.particle", model, state, spec.particle);
-  requireFinite(kFunction, "spec.center", spec.center);
+  requireFinite(kFunction, "spec.from", spec.from);
+  requireFinite(kFunction, "spec.to", spec.to);
   requireStiffness(kFunction, "spec", spec.stiffness, spec.damping);
   if (spec.heading) requireParticle(kFunction, "spec.heading", model, state, *spec.heading);
   if (spec.headingStiffness)
     require(std::isfinite(*spec.headingStiffness) && *spec.headingStiffness > 0.0, kFunction,
             "spec.headingStiffness must be > 0, got " + describe(*spec.headingStiffness));
-  // An arc of circle: the robot keeps its distance to the fixed centre (LS), and
-  // optionally its heading tangent (TS at 90° centred on the robot).
-  const double radius = norm(state.position[spec.particle] - spec.center);
-  require(radius > 0.0, kFunction, "arc path: the particle starts on the centre");
+  const Vec3 p = state.position[spec.particle];
+  const Vec3 u = spec.from - p, w = spec.to - p;
+  require(norm(spec.to - spec.from) > 0.0 &&
+              norm(cross(u, w)) > 1e-6 * std::max(norm(u) * norm(w), 1e-18),
+          kFunction,
+          "arc path: 'from' and 'to' must differ and the particle must not start on their line");
+  // MODEL §5.1: a TS centred on the robot between the two fixed ends, at rest at
+  // the inscribed angle it starts with, holds it on the arc through them.
+  const double inscribed = std::atan2(norm(cross(u, w)), dot(u, w));
   const std::int32_t object = openVirtualObject(model, spec.name);
-  const ParticleIndex c = addVirtual(model, state, object, spec.center);
-  model.linearSprings.push_back({spec.particle, c, radius, spec.stiffness, spec.damping});
+  const ParticleIndex a = addVirtual(model, state, object, spec.from);
+  const ParticleIndex b = addVirtual(model, state, object, spec.to);
+  model.torsionSprings.push_back({a, spec.particle, b, inscribed, spec.stiffness, spec.damping});
   if (spec.heading) {
-    model.torsionSprings.push_back(
-        {c, spec.particle, *spec.heading, M_PI / 2.0,
-         spec.headingStiffness.value_or(spec.stiffness * radius * radius), 0.0});
+    const ParticleIndex c = addVirtual(model, state, object, circleCenter(spec.from, spec.to, p));
+    model.torsionSprings.push_back({c, spec.particle, *spec.heading, M_PI / 2.0,
+                                    spec.headingStiffness.value_or(spec.stiffness), 0.0});
   }
   closeVirtualObject(model, object);
 }

@@ -148,11 +148,15 @@ GeneratedObject makeHand(const HandSpec& spec) {
       if (norm(offset) <= rho + 1e-9)
         base.push_back(addParticle(g, spec.center + offset, spec.mass / 10.0, palmParticleRadius));
     }
-  // Fingers: joint 1 swings the finger sideways (axis radial), joints 2 and 3 flex
-  // it toward the middle (axis tangential): three revolute joints per finger.
+  const std::size_t palmCount = g.size();
+  // Fingers in the Salisbury layout: two fingers side by side (f1, f2, at ±45°
+  // about +x) opposing a thumb (f3, at 180°). Joint 1 swings the finger sideways
+  // (axis radial), joints 2 and 3 flex it toward the middle (axis tangential):
+  // three revolute joints per finger.
   std::vector<int> tips;
+  const double angles[3] = {M_PI / 4.0, -M_PI / 4.0, M_PI};
   for (int f = 0; f < 3; ++f) {
-    const double phi = M_PI / 2.0 + 2.0 * M_PI * f / 3.0;
+    const double phi = angles[f];
     const Vec3 radial{std::cos(phi), std::sin(phi), 0.0};
     const Vec3 tangential{-std::sin(phi), std::cos(phi), 0.0};
     ChainSpec finger;
@@ -172,6 +176,15 @@ GeneratedObject makeHand(const HandSpec& spec) {
   }
   g.fixed.assign(g.size(), false);
   for (int b : base) g.fixed[static_cast<std::size_t>(b)] = true;
+  // The hand weighs its declared mass: the palm a quarter, the fingers the rest
+  // (their fixed base particles included), each part's particles in proportion.
+  double palm = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    total += g.mass[i];
+    if (i < palmCount) palm += g.mass[i];
+  }
+  for (std::size_t i = 0; i < g.size(); ++i)
+    g.mass[i] *= i < palmCount ? 0.25 * spec.mass / palm : 0.75 * spec.mass / (total - palm);
   moveToEnd(g, tips);
   detail::resolveRobotLinks(g, spec.structure);
   detail::setJointDamping(g, spec.jointDamping, w);

@@ -90,9 +90,6 @@ Json goalsJson(const Scene& scene) {
 
 Json pathsJson(const Scene& scene) {
   Json paths = Json::array();
-  const Vec3 g = scene.model.gravity;
-  const double gn = norm(g);
-  const Vec3 up = gn > 0.0 ? g * (-1.0 / gn) : Vec3{0.0, 0.0, 1.0};
   for (const build::LinePathSpec& p : scene.linePaths) {
     paths.push_back({{"name", p.name},
                      {"type", "line"},
@@ -101,18 +98,23 @@ Json pathsJson(const Scene& scene) {
                      {"to", vec(p.to)}});
   }
   for (const build::ArcPathSpec& p : scene.arcPaths) {
-    // The circle through the particle's start about the centre, in the plane
-    // normal to "up" (the arc paths move robots over the ground).
+    // The circle through the two ends and the particle's start (the inscribed
+    // angle TS holds it there), in the plane of the three.
     const auto i = static_cast<std::size_t>(p.particle);
-    const Vec3 start = i < scene.initial.position.size() ? scene.initial.position[i] : p.center;
-    const Vec3 r = start - p.center;
-    const double radius = norm(r - up * dot(r, up));
+    if (i >= scene.initial.position.size()) continue;
+    const Vec3 start = scene.initial.position[i];
+    Vec3 normal = cross(p.to - p.from, start - p.from);
+    if (!(norm(normal) > 0.0)) continue;
+    normal = normal / norm(normal);
+    const Vec3 center = build::circleCenter(p.from, p.to, start);
     paths.push_back({{"name", p.name},
                      {"type", "arc"},
                      {"particle", p.particle},
-                     {"center", vec(p.center + up * dot(r, up))},
-                     {"radius", radius},
-                     {"normal", vec(up)}});
+                     {"center", vec(center)},
+                     {"radius", norm(start - center)},
+                     {"normal", vec(normal)},
+                     {"from", vec(p.from)},
+                     {"to", vec(p.to)}});
   }
   return paths;
 }

@@ -5,6 +5,7 @@
 /// limits. They observe the World and change it only through its public API.
 
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -21,9 +22,12 @@ namespace robophi::robotics {
 
 // The task specs are plain data of the build layer (robophi/build/tasks.h).
 using build::EscapeSpec;
+using build::GoalOutcome;
 using build::GoalSpec;
+using build::GraspOutcome;
 using build::GraspSpec;
 using build::SceneTasks;
+using build::TaskOutcomes;
 
 /// Where the robot stands with respect to a goal.
 struct GoalStatus {
@@ -53,6 +57,8 @@ class LocalMinimumEscape {
   std::size_t goal() const { return spec_.goal; }
   /// The virtual obstacles added so far, in order.
   const std::vector<SphereObstacle>& added() const { return added_; }
+  /// The work (J) the virtual obstacles injected, as booked by the World.
+  double work() const { return work_; }
   /// Its state for a checkpoint, and back (robotics/task.h).
   nlohmann::json save() const;
   void restore(const nlohmann::json& saved);
@@ -61,52 +67,76 @@ class LocalMinimumEscape {
   EscapeSpec spec_;
   /// Time (s) since when the robot is stopped away from the goal; < 0: moving.
   double stoppedSince_ = -1.0;
+  /// Pushing it out of a local minimum: since when, how far from the goal it
+  /// was stuck (m), when the last obstacle came, and how many this minimum took.
+  bool pushing_ = false;
+  double stuckDistance_ = 0.0, lastPush_ = 0.0, pushStart_ = 0.0;
+  int pushes_ = 0;
+  double pushWork_ = 0.0;
   std::vector<SphereObstacle> added_;
-  /// Where the attracted particles started (m), taken at the first update.
-  std::vector<Vec3> start_;
+  double work_ = 0.0;
   /// The side (unit) the virtual obstacles push towards, chosen at the first one.
   std::optional<Vec3> side_;
-  /// How deep a new virtual obstacle overlaps the stuck particle, as a fraction of its radius.
-  static constexpr double kOverlap = 0.5;
 };
 
-/// MODEL §5.3: watches a grasped object: rest position after settling, drift
-/// after it, and a velocity disturbance at a set time.
+/// MODEL §5.3, the paper's criterion: closes the hand by its joints, detects by
+/// velocity when the free object has come to rest in it, measures the hand's
+/// net force and torque on it, gives the disturbance, and follows its drift.
 class GraspCheck {
  public:
-  explicit GraspCheck(GraspSpec spec) : spec_(spec) {}
+  /// `model` names the object in the outcome.
+  GraspCheck(GraspSpec spec, const Model& model);
   /// Call after each step; returns a description of what happened, if anything.
   std::optional<std::string> update(World& world);
-  bool settled() const { return settled_; }
+  bool settled() const { return outcome_.settled; }
   /// Largest distance (m) of the object's centre of mass from its rest position since it settled.
-  double largestDrift() const { return largestDrift_; }
-  /// Stable so far: settled and never beyond the tolerance.
-  bool stable() const { return settled_ && largestDrift_ <= spec_.tolerance; }
+  double largestDrift() const { return outcome_.largestDrift; }
+  /// Stable so far: settled, never beyond the tolerance, settled again after a disturbance.
+  bool stable() const { return outcome_.stable; }
+  /// The figures at the last update.
+  const GraspOutcome& outcome() const { return outcome_; }
   /// A one-line verdict with the figures.
   std::string verdict() const;
-  /// The verdict as data (summary.json "outcomes"."grasps").
-  nlohmann::json outcome() const;
   /// Its state for a checkpoint, and back (robotics/task.h).
   nlohmann::json save() const;
   void restore(const nlohmann::json& saved);
 
  private:
   GraspSpec spec_;
-  bool settled_ = false, disturbed_ = false;
-  double settledAt_ = -1.0;
+  GraspOutcome outcome_;
+  /// The closing joints' start values (rad) and directions (±1), taken at the first update.
+  std::vector<double> start_, direction_;
+  /// Since when (s) the object is slow; < 0: moving.
+  double slowSince_ = -1.0;
   Vec3 rest_;
-  double largestDrift_ = 0.0;
 };
 
 /// The centre of mass (m) of object `object`.
 Vec3 objectCenterOfMass(const World& world, std::int32_t object);
 
+/// How an object moves about its centre of mass: the centre's velocity (m/s)
+/// and the angular velocity (rad/s) of the rigid motion that best fits its
+/// particles' velocities (I⁻¹ L about the centre of mass).
+struct ObjectMotion {
+  Vec3 center, velocity, angularVelocity;
+};
+ObjectMotion objectMotion(const World& world, std::int32_t object);
+
 /// The scene's robotics tasks as one task between steps (robotics/task.h; pass
 /// it first in RunOptions::tasks): it adds what happened to `events`, returns
 /// false when a goal that stops the run is reached, reports its goals' and
-/// grasps' outcomes as data (Task::outcomes: {"goals": [{"name", "reached",
-/// "time_s", "final_distance_m", "tolerance_m"}], "grasps": [...]}) and saves and
-/// restores its state for a checkpoint. Empty when the scene has none.
+/// grasps' outcomes as data (Task::outcomes, summary.json "outcomes":
+/// docs/output-format.md) and saves and restores its state for a checkpoint.
+/// `outcomes` holds the same figures as structs, current after each step.
+struct SceneTaskHook {
+  /// Empty when the scene has no robotics tasks.
+  StepTask task;
+  /// Never null; empty lists when the scene has no goals or grasps.
+  std::shared_ptr<const TaskOutcomes> outcomes;
+};
+SceneTaskHook makeSceneTaskHook(const Scene& scene);
+
+/// makeSceneTaskHook(scene).task, for callers that need no outcome structs.
 StepTask makeSceneTasks(const Scene& scene);
 
 }  // namespace robophi::robotics

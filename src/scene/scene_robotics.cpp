@@ -80,6 +80,9 @@ std::optional<build::EscapeSpec> readEscape(DiagnosticSink& sink, const nlohmann
   spec.window = e.numberOr("window", spec.window, Bound::kPositive, "s");
   spec.obstacleRadius = e.numberOr("obstacleRadius", spec.obstacleRadius, Bound::kPositive, "m");
   spec.maxObstacles = e.integer("maxObstacles", 1).value_or(spec.maxObstacles);
+  spec.settleDistance = e.numberOr("settleDistance", 0.0, Bound::kNonNegative, "m");
+  spec.maxWork = e.numberOr("maxWork", 0.0, Bound::kNonNegative, "J");
+  spec.pushInterval = e.numberOr("pushInterval", 0.0, Bound::kNonNegative, "s");
   e.finish();
   return spec;
 }
@@ -143,14 +146,15 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   const nlohmann::json* ref = r.member("particle");
   const auto stiffness = r.number("stiffness", Bound::kPositive, "N·m/rad or N/m", true);
   const double damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·m·s/rad or N·s/m");
-  std::optional<Vec3> from, to, center;
+  std::optional<Vec3> from, to;
   const nlohmann::json* heading = nullptr;
   std::optional<double> headingStiffness;
   if (type && *type == "line") {
     from = r.vec3("from", "m", true);
     to = r.vec3("to", "m", true);
   } else if (type && *type == "arc") {
-    center = r.vec3("center", "m", true);
+    from = r.vec3("from", "m", true);
+    to = r.vec3("to", "m", true);
     heading = r.member("heading");
     headingStiffness = r.number("headingStiffness", Bound::kPositive, "N·m/rad");
   } else if (type) {
@@ -171,16 +175,16 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
       scene.linePaths.push_back({name, *p, *from, *to, *stiffness, damping});
     });
   } else if (*type == "arc") {
-    if (!center) return;
+    if (!from || !to) return;
     std::optional<ParticleIndex> h;
     if (heading != nullptr) {
       h = resolveParticle(sink, *heading, r.memberPointer("heading"), lookup);
       if (!h) return;
     }
     tryBuild(sink, at, [&] {
-      build::addArcPath(scene.model, scene.initial,
-                        {name, *p, *center, *stiffness, damping, h, headingStiffness});
-      scene.arcPaths.push_back({name, *p, *center, *stiffness, damping, h, headingStiffness});
+      const build::ArcPathSpec spec{name, *p, *from, *to, *stiffness, damping, h, headingStiffness};
+      build::addArcPath(scene.model, scene.initial, spec);
+      scene.arcPaths.push_back(spec);
     });
   }
 }
@@ -239,32 +243,85 @@ void readLimit(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
   scene.robotics.limits.push_back({*joint, *min, *max, *stiffness, damping});
 }
 
+// An object's index by name, or an error at `at` with a suggestion.
+std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
+                                       const std::string& name, const std::string& at) {
+  std::vector<std::string> names;
+  for (std::size_t o = 0; o < scene.model.objects.size(); ++o) {
+    names.push_back(scene.model.objects[o].name);
+    if (scene.model.objects[o].name == name) return static_cast<std::int32_t>(o);
+  }
+  sink.error(at, fmt::format("no object named '{}'{}", name, didYouMean(name, names)));
+  return std::nullopt;
+}
+
+// "close": {"joints": [names], "angle" (rad), "time" (s)}: the hand closes by its joints.
+bool readClose(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
+               const Scene& scene, build::GraspSpec& spec) {
+  ObjectReader c(sink, entry, at, "close");
+  if (!c.valid()) return false;
+  const nlohmann::json* joints = c.member("joints");
+  const auto angle = c.number("angle", Bound::kPositive, "rad", true);
+  spec.closeTime = c.numberOr("time", 0.0, Bound::kNonNegative, "s");
+  c.finish();
+  bool ok = angle.has_value();
+  spec.closeAngle = angle.value_or(0.0);
+  if (joints == nullptr || !joints->is_array() || joints->empty()) {
+    sink.error(c.memberPointer("joints"), "'joints': expected a non-empty array of joint names");
+    return false;
+  }
+  std::vector<std::string> names;
+  for (const Joint& j : scene.model.joints) names.push_back(j.name);
+  for (std::size_t k = 0; k < joints->size(); ++k) {
+    const std::string where = fmt::format("{}/{}", c.memberPointer("joints"), k);
+    if (!(*joints)[k].is_string()) {
+      sink.error(where, fmt::format("expected a joint name, got {}", describeJson((*joints)[k])));
+      ok = false;
+      continue;
+    }
+    const std::string name = (*joints)[k].get<std::string>();
+    const auto joint = findJoint(scene.model, name);
+    if (!joint || scene.model.joints[*joint].kind != JointKind::kRevolute) {
+      sink.error(where,
+                 fmt::format("no revolute joint named '{}'{}", name, didYouMean(name, names)));
+      ok = false;
+      continue;
+    }
+    spec.closeJoints.push_back(*joint);
+  }
+  return ok;
+}
+
 void readGrasp(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
                const ParticleLookup& lookup, Scene& scene) {
   ObjectReader r(sink, entry, at, "grasp");
   if (!r.valid()) return;
   const auto objectName = r.string("object", true);
+  const auto handName = r.string("hand");
   build::GraspSpec spec;
-  spec.settleTime = r.numberOr("settleTime", spec.settleTime, Bound::kNonNegative, "s");
+  spec.settleSpeed = r.numberOr("settleSpeed", spec.settleSpeed, Bound::kPositive, "m/s");
+  spec.settleAngularSpeed =
+      r.numberOr("settleAngularSpeed", spec.settleAngularSpeed, Bound::kPositive, "rad/s");
+  spec.settleHold = r.numberOr("settleHold", spec.settleHold, Bound::kNonNegative, "s");
   spec.tolerance = r.numberOr("tolerance", spec.tolerance, Bound::kPositive, "m");
   spec.disturbance = r.vec3("disturbance", "m/s").value_or(Vec3{});
   spec.disturbanceTime = r.numberOr("disturbanceTime", -1.0, Bound::kAny, "s");
+  const nlohmann::json* close = r.member("close");
   bool ok = true;
   std::vector<ParticleIndex> tips;
   if (r.member("tips") != nullptr) tips = readRefs(r, "tips", lookup, ok);
   const double tipStiffness = r.numberOr("tipStiffness", 0.0, Bound::kNonNegative, "N/m");
   const double tipDamping = r.numberOr("tipDamping", 0.0, Bound::kNonNegative, "N·s/m");
   r.finish();
+  if (close != nullptr) ok = readClose(sink, *close, r.memberPointer("close"), scene, spec) && ok;
   if (!objectName || !ok) return;
-  std::vector<std::string> names;
-  for (std::size_t o = 0; o < scene.model.objects.size(); ++o) {
-    names.push_back(scene.model.objects[o].name);
-    if (scene.model.objects[o].name == *objectName) spec.object = static_cast<std::int32_t>(o);
-  }
-  if (spec.object < 0) {
-    sink.error(r.memberPointer("object"),
-               fmt::format("no object named '{}'{}", *objectName, didYouMean(*objectName, names)));
-    return;
+  const auto object = findObject(sink, scene, *objectName, r.memberPointer("object"));
+  if (!object) return;
+  spec.object = *object;
+  if (handName) {
+    const auto hand = findObject(sink, scene, *handName, r.memberPointer("hand"));
+    if (!hand) return;
+    spec.hand = *hand;
   }
   if (tipStiffness > 0.0 && !tryBuild(sink, at, [&] {
         build::addTipAttractors(scene.model, tips, tipStiffness, tipDamping);

@@ -100,18 +100,25 @@ TEST(BuildGoals, PathsAddTheirConnectors) {
   ASSERT_EQ(model.torsionSprings.size(), 1u);
   EXPECT_EQ(model.torsionSprings[0].c, 0);
   EXPECT_DOUBLE_EQ(model.torsionSprings[0].restAngle, M_PI);
+  // Arc (MODEL §5.1): a TS centred on the robot between two ends on the circle,
+  // at the inscribed angle: from (1, 0), the ends (0, -1) and (0, 1) of a
+  // diameter are seen at 90° (Thales).
   build::ArcPathSpec arc;
   arc.name = "arc";
   arc.particle = 0;
-  arc.center = {0, 0, 0};
+  arc.from = {0, -1, 0};
+  arc.to = {0, 1, 0};
   arc.stiffness = 10.0;
   arc.heading = 1;
   build::addArcPath(model, state, arc);
-  ASSERT_EQ(model.linearSprings.size(), 1u);
-  EXPECT_DOUBLE_EQ(model.linearSprings[0].restLength, 1.0);
-  ASSERT_EQ(model.torsionSprings.size(), 2u);
-  EXPECT_DOUBLE_EQ(model.torsionSprings[1].restAngle, M_PI / 2.0);
-  EXPECT_DOUBLE_EQ(model.torsionSprings[1].stiffness, 10.0);  // stiffness × radius²
+  EXPECT_TRUE(model.linearSprings.empty());
+  ASSERT_EQ(model.torsionSprings.size(), 3u);
+  EXPECT_EQ(model.torsionSprings[1].c, 0);
+  EXPECT_NEAR(model.torsionSprings[1].restAngle, M_PI / 2.0, 1e-12);
+  EXPECT_DOUBLE_EQ(model.torsionSprings[2].restAngle, M_PI / 2.0);
+  EXPECT_DOUBLE_EQ(model.torsionSprings[2].stiffness, 10.0);
+  // The heading TS's end is the circle's centre.
+  EXPECT_NEAR(norm(state.position[model.torsionSprings[2].a]), 0.0, 1e-12);
   EXPECT_EQ(model.objects.size(), 3u);
   EXPECT_EQ(checkModel(model), "");
 }
@@ -164,8 +171,9 @@ TEST(BuildGoals, BadArgumentsAreRefusedByNameBeforeAnythingIsAdded) {
             }).find("the particle must start on the segment"),
             std::string::npos);
   build::ArcPathSpec arc;
-  arc.center = {1, 1, 0};
-  EXPECT_NE(refusal([&] { build::addArcPath(model, state, arc); }).find("starts on the centre"),
+  arc.from = {0, 0, 0};
+  arc.to = {2, 2, 0};
+  EXPECT_NE(refusal([&] { build::addArcPath(model, state, arc); }).find("not start on their line"),
             std::string::npos);
   build::ObstacleSpec sphere;
   sphere.radius = 0.0;

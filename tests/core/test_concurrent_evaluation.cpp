@@ -14,7 +14,7 @@ namespace robophi {
 namespace {
 
 TEST(ConcurrentEvaluation, ThreadsSharingAModelGetTheSingleThreadedResults) {
-  const SceneLoadResult loaded = loadSceneFile(ROBOPHI_SOURCE_DIR "/scenes/hand_grasp.json");
+  const SceneLoadResult loaded = loadSceneFile(ROBOPHI_SOURCE_DIR "/scenes/wheel_cube_ramp.json");
   ASSERT_TRUE(loaded.ok());
   const Scene& scene = *loaded.scene;
   // Eight states along a run (contacts and friction history included).

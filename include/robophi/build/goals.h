@@ -75,24 +75,30 @@ struct LinePathSpec {
 };
 void addLinePath(Model& model, State& state, const LinePathSpec& spec);
 
-/// An arc path (MODEL §5.1): an LS to a fixed virtual centre keeps the particle
-/// at its initial distance from it; optionally a TS at 90° (centre, particle,
-/// heading particle) keeps the robot's heading tangent to the circle.
+/// An arc path (MODEL §5.1, the paper's mechanism): a TS centred on the
+/// particle, its ends two fixed virtual points A and B, at rest at the angle
+/// A-particle-B it starts with. By the inscribed angle theorem the points that
+/// see the chord AB under that angle form the arc of circle through A, B and
+/// the particle's start: the TS keeps the particle on it. Optionally a second TS
+/// at 90° (centre, particle, heading particle) keeps the robot's heading tangent.
 struct ArcPathSpec {
-  /// Names the "virtual" object holding the centre.
+  /// Names the "virtual" object holding the ends (and the centre, with a heading).
   std::string name = "path";
-  /// The guided particle; it must not start on the centre.
+  /// The guided particle; it must not start on the line through the ends.
   ParticleIndex particle = 0;
-  /// The circle's centre (m).
-  Vec3 center;
-  /// LS stiffness (N/m), > 0, and damping (N·s/m), >= 0.
+  /// The ends A and B (m), different: two points of the circle, off the stretch
+  /// of arc the particle travels (it stays on the side of AB where it starts).
+  Vec3 from, to;
+  /// TS stiffness (N·m/rad), > 0, and damping (N·m·s/rad), >= 0.
   double stiffness = 1.0;
   double damping = 0.0;
   /// The robot particle that points along the heading; none: no heading TS.
   std::optional<ParticleIndex> heading;
-  /// Heading TS stiffness (N·m/rad), > 0; default stiffness × radius².
+  /// Heading TS stiffness (N·m/rad), > 0; default `stiffness`.
   std::optional<double> headingStiffness;
 };
+/// The circle's centre (m) through three points (not on one line).
+Vec3 circleCenter(const Vec3& a, const Vec3& b, const Vec3& c);
 void addArcPath(Model& model, State& state, const ArcPathSpec& spec);
 
 /// The shape of an obstacle to avoid.

@@ -127,7 +127,8 @@ struct VehicleSpec {
 GeneratedObject makeVehicle(const VehicleSpec& spec);
 
 /// Scene type "hand": a fixed palm disc facing up with three fingers of three
-/// revolute joints each.
+/// revolute joints each, in the Salisbury layout: two fingers side by side (f1,
+/// f2 at ±45° about +x) opposing a thumb (f3, on −x). Its particles weigh `mass`.
 struct HandSpec {
   /// Palm centre (m).
   Vec3 center{0.0, 0.0, 0.0};
@@ -135,7 +136,7 @@ struct HandSpec {
   double palmRadius = 0.06;
   /// Finger link lengths [proximal, middle, distal] (m), each > 0.
   std::array<double, 3> links{0.05, 0.04, 0.03};
-  /// Total mass (kg), > 0.
+  /// Total mass (kg), > 0: a quarter in the palm, the rest in the fingers.
   double mass = 0.3;
   /// Finger width (m), > 0; unset: 0.15 × the mean link length.
   std::optional<double> width{};
