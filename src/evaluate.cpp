@@ -22,12 +22,15 @@ Workspace& Workspace::operator=(const Workspace& other) {
 Workspace::Workspace(Workspace&&) noexcept = default;
 Workspace& Workspace::operator=(Workspace&&) noexcept = default;
 
-void evaluateForces(const CompiledModel& compiled, const std::vector<Vec3>& position,
-                    const std::vector<Vec3>& velocity, const std::vector<Contact>& history,
-                    ContactScratch& scratch, Evaluation& out) {
+void evaluateForces(const CompiledModel& compiled, const State& state, ContactScratch& scratch,
+                    Evaluation& out) {
   const Model& model = compiled.model();
+  const std::vector<Vec3>& position = state.position;
+  const std::vector<Vec3>& velocity = state.velocity;
   out.force.resize(position.size());
   for (Vec3& f : out.force) f = Vec3{};
+  out.torque.resize(position.size());
+  for (Vec3& t : out.torque) t = Vec3{};
   EnergyTally& e = out.energy;
   const ForceTally gravity = accumulateGravity(model, position, out.force);
   const ForceTally damping = accumulateLinearDamping(model, velocity, out.force);
@@ -42,20 +45,24 @@ void evaluateForces(const CompiledModel& compiled, const std::vector<Vec3>& posi
                          torsion.dissipativePower + joint.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
-                     velocity, history, scratch, out);
+                     velocity, state.spin, state.frictionHistory, scratch, out);
+}
+
+void measureKinetic(const CompiledModel& model, const State& state, Evaluation& out) {
+  measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia, state, out);
 }
 
 const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace) {
   const auto n = static_cast<std::size_t>(model.model().particleCount());
-  if (state.position.size() != n || state.velocity.size() != n) {
+  if (state.position.size() != n || state.velocity.size() != n || state.spin.size() > n) {
     throw std::invalid_argument(detail::text(
-        "evaluate: the state has {} positions and {} velocities; the model has {} particles",
-        state.position.size(), state.velocity.size(), n));
+        "evaluate: the state has {} positions, {} velocities and {} spins; the model has {} "
+        "particles",
+        state.position.size(), state.velocity.size(), state.spin.size(), n));
   }
   Evaluation& out = workspace.result();
-  evaluateForces(model, state.position, state.velocity, state.frictionHistory,
-                 workspace.contactScratch(), out);
-  measureKineticAndDriving(model.model(), state.velocity, out);
+  evaluateForces(model, state, workspace.contactScratch(), out);
+  measureKinetic(model, state, out);
   out.energy.dissipated = state.dissipated;
   out.energy.external = state.external;
   return out;

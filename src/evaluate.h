@@ -10,13 +10,16 @@
 
 namespace robophi {
 
-/// Net forces and potentials at (position, velocity) with the friction history
-/// `history` (only read) into `out`: clear → gravity → linear damping → LS → TS
+/// Net forces (and the spinning particles' torques) and potentials at the
+/// state's positions, velocities and spins with its friction history (only
+/// read) into `out`: clear → gravity → linear damping → LS → TS
 /// → JS → contacts (which set out.contacts, out.releasedAnchorEnergy,
 /// out.contactCriticalStep, out.contactStats). Not the kinetic energy or the
 /// driving power (measureKineticAndDriving), which need the final velocities.
-void evaluateForces(const CompiledModel& model, const std::vector<Vec3>& position,
-                    const std::vector<Vec3>& velocity, const std::vector<Contact>& history,
-                    ContactScratch& scratch, Evaluation& out);
+void evaluateForces(const CompiledModel& model, const State& state, ContactScratch& scratch,
+                    Evaluation& out);
+
+/// The kinetic energy and driving power at the state (measureKineticAndDriving).
+void measureKinetic(const CompiledModel& model, const State& state, Evaluation& out);
 
 }  // namespace robophi

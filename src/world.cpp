@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "collision/contact_tables.h"
 #include "core/text.h"
 #include "evaluate.h"
 #include "integrate/integrators.h"
@@ -16,15 +17,20 @@ World::World(Model model, State initial, Integrator integrator)
 World::World(CompiledModel model, State initial, Integrator integrator)
     : model_(std::move(model)), integrator_(integrator) {
   const auto n = static_cast<std::size_t>(model_.model().particleCount());
-  if (initial.position.size() != n || initial.velocity.size() != n) {
+  // Spins not given (a state built before spins existed, or particles added after
+  // it was sized) are zero.
+  if (initial.spin.size() < n) initial.spin.resize(n, Vec3{});
+  if (initial.position.size() != n || initial.velocity.size() != n || initial.spin.size() != n) {
     throw std::invalid_argument(detail::text(
-        "World: the initial state has {} positions and {} velocities; the model has {} particles",
-        initial.position.size(), initial.velocity.size(), n));
+        "World: the initial state has {} positions, {} velocities and {} spins; the model has {} "
+        "particles",
+        initial.position.size(), initial.velocity.size(), initial.spin.size(), n));
   }
   if (const ParticleIndex bad =
           [&] {
             for (std::size_t i = 0; i < n; ++i) {
-              if (!isFinite(initial.position[i]) || !isFinite(initial.velocity[i]))
+              if (!isFinite(initial.position[i]) || !isFinite(initial.velocity[i]) ||
+                  !isFinite(initial.spin[i]))
                 return static_cast<ParticleIndex>(i);
             }
             return kNoParticle;
@@ -39,9 +45,8 @@ World::World(CompiledModel model, State initial, Integrator integrator)
 void World::evaluateCurrent() const {
   State& state = current_.state_;
   Evaluation& evaluation = current_.evaluation_;
-  evaluateForces(model_, state.position, state.velocity, state.frictionHistory,
-                 workspace_.contactScratch(), evaluation);
-  measureKineticAndDriving(model_.model(), state.velocity, evaluation);
+  evaluateForces(model_, state, workspace_.contactScratch(), evaluation);
+  measureKinetic(model_, state, evaluation);
 }
 
 void World::refresh() const {
@@ -108,32 +113,32 @@ StepStatus World::step(double dt) {
   const double drivingAtStart = evaluation.drivingPower;
   // The contacts found at t become the friction history the step starts from
   // (MODEL §3.3); the evaluation at t + δ reads it.
+  // Rolling (MODEL §3.3): the anchors turn with the contact points over the step.
   state.frictionHistory.swap(evaluation.contacts);
+  for (Contact& c : state.frictionHistory) c.anchor -= c.rollVelocity * dt;
   ContactScratch& scratch = workspace_.contactScratch();
+  const std::vector<double>& spinInertia = model_.contactTables().inverseSpinInertia;
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.
   switch (integrator_) {
     case Integrator::kTaylor:
-      integrateTaylor(model, dt, evaluation.force, state);
-      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
-                     evaluation);
+      integrateTaylor(model, spinInertia, dt, evaluation, state);
+      evaluateForces(model_, state, scratch, evaluation);
       break;
     case Integrator::kSymplecticEuler:
-      integrateSymplecticEuler(model, dt, evaluation.force, state);
-      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
-                     evaluation);
+      integrateSymplecticEuler(model, spinInertia, dt, evaluation, state);
+      evaluateForces(model_, state, scratch, evaluation);
       break;
     case Integrator::kVelocityVerlet:
-      integrateVerletDrift(model, dt, evaluation.force, state);
-      evaluateForces(model_, state.position, state.velocity, state.frictionHistory, scratch,
-                     evaluation);
-      integrateVerletKick(model, dt, evaluation.force, state);
+      integrateVerletDrift(model, spinInertia, dt, evaluation, state);
+      evaluateForces(model_, state, scratch, evaluation);
+      integrateVerletKick(model, spinInertia, dt, evaluation, state);
       break;
   }
 
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
-  measureKineticAndDriving(model, state.velocity, evaluation);
+  measureKinetic(model_, state, evaluation);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;
@@ -147,7 +152,8 @@ StepStatus World::step(double dt) {
 
 void World::restore(const Snapshot& saved) {
   const auto n = static_cast<std::size_t>(model().particleCount());
-  if (saved.state_.position.size() != n || saved.state_.velocity.size() != n) {
+  if (saved.state_.position.size() != n || saved.state_.velocity.size() != n ||
+      saved.state_.spin.size() != n) {
     throw std::invalid_argument(
         detail::text("World::restore: the snapshot holds {} particles; the model has {}",
                      saved.state_.position.size(), n));
@@ -159,7 +165,8 @@ ParticleIndex World::firstNonFiniteParticle() const {
   const auto n = model().particleCount();
   const State& state = current_.state_;
   for (ParticleIndex i = 0; i < n; ++i) {
-    if (!isFinite(state.position[i]) || !isFinite(state.velocity[i])) return i;
+    if (!isFinite(state.position[i]) || !isFinite(state.velocity[i]) || !isFinite(state.spin[i]))
+      return i;
   }
   return kNoParticle;
 }

@@ -114,8 +114,13 @@ struct ContactSettings {
   /// m_eff = m_a m_b / (m_a + m_b) (the particle's mass against the environment or a
   /// fixed particle). 1: a suddenly loaded sticking contact does not overshoot.
   double tangentialDampingRatio = 1.0;
-  /// MODEL §3.3 "V ≠ 0" tolerance (m/s): a sliding contact sticks again below it.
+  /// MODEL §3.3 "V ≠ 0" tolerance (m/s): a sliding contact group sticks again
+  /// below it; between 0 and it, friction falls from μ_s to μ_k (breaking away).
   double stickVelocity = 1.0e-4;
+  /// MODEL §3.3 rolling: friction acts at the contact point, single particles
+  /// spin (State::spin) and objects turn as a whole. false: friction acts at the
+  /// particle centres and nothing spins (the paper's model).
+  bool rolling = true;
   /// Most particles in a leaf of an object's sphere tree (>= 1).
   std::int32_t leafSize = 4;
   /// Overrides by object pair; looked up by binary search when not empty.
@@ -145,7 +150,22 @@ struct Contact {
   /// Friction anchor (m): p_a - p_other (pair) or p_a (environment) where the
   /// contact stuck; δ_t is the tangential part of the displacement from it.
   Vec3 anchor;
-  /// 1 while sliding (MODEL §3.3 V ≠ 0), 0 while sticking.
+  /// Velocity (m/s) of the contact point relative to the other body that the
+  /// rotation of the two bodies adds (particle spin, or an object's rotation:
+  /// MODEL §3.3 rolling), tangential. The step moves the anchor by -rollVelocity·δ,
+  /// so δ_t measures the slip of the contact points, not of the particle centres.
+  Vec3 rollVelocity;
+  /// A wheel rim's contact (Model::rims): the ring's index, or -1. Its contact
+  /// point is `arm` from the centre of particle a (the rim particle nearest to it).
+  std::int32_t rim = -1;
+  Vec3 arm;
+  /// How far (m) the anchor has given way since the contact started breaking
+  /// away: past the anchor's elastic range μ_s F_n / k_t (summed over the
+  /// contacts of its body pair) the pair slides. 0 when sticking or sliding.
+  double giveWay = 0.0;
+  /// Friction regime (MODEL §3.3), decided with the other contacts between the
+  /// same two bodies: 0 sticking, 1 sliding, 2 breaking away (the load above
+  /// μ_s F_n, friction held at μ_s F_n).
   std::int32_t sliding = 0;
 
   bool withEnvironment() const { return other < 0; }

@@ -20,6 +20,9 @@ namespace robophi {
 struct Evaluation {
   /// Net force F_i (N), (particleCount).
   std::vector<Vec3> force;
+  /// Net torque τ_i (N·m) on the particles that spin (State::spin), (particleCount);
+  /// zero for the others.
+  std::vector<Vec3> torque;
   /// Kinetic energy and potentials at the state; dissipated and external as the
   /// state holds them.
   EnergyTally energy;

@@ -83,6 +83,20 @@ struct Material {
   double staticFriction = 0.5;
   /// Kinetic friction coefficient μ_k (-), <= μ_s.
   double kineticFriction = 0.4;
+  /// Rolling resistance coefficient μ_r (-, MODEL §3.3): a rolling contact feels
+  /// a torque μ_r r F_n against its rolling, r the rolling particle's radius
+  /// (a pair takes the mean of its two materials). 0: rolls freely.
+  double rollingResistance = 0.0;
+};
+
+/// A wheel's rim ring (MODEL §3.5, docs/contact.md "Round rims"): `count`
+/// particles [first, first + count) on a circle about particle `hub`, the ring's
+/// centre on the axle. Against the environment the ring presents its true round
+/// surface, the torus its particles sweep, instead of a polygon of spheres.
+struct RimRing {
+  ParticleIndex first = 0;
+  std::int32_t count = 0;
+  ParticleIndex hub = kNoParticle;
 };
 
 /// The kind of a named joint.
@@ -128,6 +142,8 @@ struct Model {
   Vec3 gravity{0.0, 0.0, -9.81};
 
   std::vector<ObjectInfo> objects;
+  /// Wheel rims with a round contact surface (RimRing).
+  std::vector<RimRing> rims;
   std::vector<Material> materials{Material{}};
   std::vector<Joint> joints;
 

@@ -53,6 +53,11 @@ struct State {
   std::vector<Vec3> position;
   /// v_i (m/s).
   std::vector<Vec3> velocity;
+  /// Angular velocity ω_i (rad/s) of the particles that spin on their own: the
+  /// particles no LS ties to another, a ball of one particle (MODEL §3.3 rolling). Zero for the
+  /// particles an LS ties to others, which turn with their neighbours. Missing
+  /// entries (a shorter vector) are zero; World sizes it.
+  std::vector<Vec3> spin;
   /// Friction history (MODEL §3.3): the contacts, with their anchors and
   /// sliding flags, that the force evaluation at this state starts from — the
   /// contacts of the evaluation that ended the previous step, committed by the
@@ -68,7 +73,7 @@ struct State {
 };
 
 /// A 64-bit FNV-1a hash of the bits of the whole state: time, step count,
-/// positions, velocities, the friction history and the energy accumulators.
+/// positions, velocities, spins, the friction history and the energy accumulators.
 /// Equal hashes mean bit-identical states.
 std::uint64_t stateHash(const State& state);
 

@@ -308,6 +308,11 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
     s.b += offset;
     model_.torsionSprings.push_back(s);
   }
+  for (RimRing rim : g.rims) {
+    rim.first += offset;
+    rim.hub += offset;
+    model_.rims.push_back(rim);
+  }
   // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).
   const auto jointBase = static_cast<std::int32_t>(model_.jointSprings.size());
   const auto torsionBase =

@@ -306,6 +306,9 @@ GeneratedObject makeWheel(const WheelSpec& spec) {
     addLink(wheel, a1, hub1);
   }
   addLink(wheel, hub0, hub1);  // axle
+  // The rings meet the environment through their round surface (docs/contact.md).
+  wheel.rims.push_back(RimRing{0, n, hub0});
+  wheel.rims.push_back(RimRing{n, n, hub1});
   return wheel;
 }
 

@@ -24,6 +24,11 @@ int append(GeneratedObject& o, const GeneratedObject& part) {
     s.b += offset;
     o.linearSprings.push_back(s);
   }
+  for (RimRing rim : part.rims) {
+    rim.first += offset;
+    rim.hub += offset;
+    o.rims.push_back(rim);
+  }
   return offset;
 }
 

@@ -8,6 +8,7 @@
 
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
+#include "collision/rim_contact.h"
 #include "collision/sphere_tree.h"
 
 namespace robophi {
@@ -312,6 +313,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
       treeVersusEnvironment(model, position, cache, tree.rootNode, e);
     }
   }
+  rimsVersusEnvironment(model, position, cache);
   if (!cache.treeContacts.empty()) {
     const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };
     std::sort(cache.treeContacts.begin(), cache.treeContacts.end(), byKey);

@@ -1,10 +1,22 @@
 // The contact force (MODEL §3.1) and Coulomb friction (§3.3), realised for an
-// explicit integrator with a tangential anchor spring (docs/contact.md):
-//   sticking: F_t = -k_t δ_t - c_t v_t while |F_t| <= μ_s F_n (no creep: δ_t is a
-//             displacement from a fixed anchor, so it cannot grow without bound);
-//   sliding:  F_t = -μ_k F_n v̂_t, the anchor following at |δ_t| = μ_k F_n / k_t;
-//   a sliding contact sticks again when |v_t| <= stickVelocity (the tolerance
-//   that "V ≠ 0" needs in floating point).
+// explicit integrator with a tangential anchor spring at the contact point
+// (docs/contact.md):
+//   - the friction of the contacts between two bodies is decided for the pair of
+//     bodies as a whole (a contact group): the group sticks while the loads its
+//     anchors hold sum to no more than μ_s Σ F_n, whatever the share of each
+//     contact, so a block on many contacts holds until its friction angle;
+//   - sticking: F_t = -k_t δ_t - c_t V while Σ|F_t| <= μ_s Σ F_n;
+//   - breaking away (the paper's intermediate regime): the load exceeds
+//     μ_s Σ F_n, friction holds at μ_s Σ F_n, the anchors give way; a group
+//     whose anchors give way past their elastic range with the slip still
+//     growing slides;
+//   - sliding: F_t = -μ_k F_n V̂ with the anchor following at |δ_t| = μ_k F_n / k_t;
+//     a sliding group sticks again when every contact's slip is below the stick
+//     velocity or has reversed since the last evaluation;
+//   - rolling: V and δ_t are those of the contact points, which turn with a
+//     spinning particle or with the particle's LS neighbourhood; the friction
+//     force's moment about the particle centre spins the particle, or is carried
+//     by the neighbourhood as a couple.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -22,100 +34,166 @@ struct StageTally {
   double releasedEnergy = 0.0;  // anchor energy lost when slipping or opening (J)
 };
 
-// One contact: normal force, friction, energy. `previous` is the same contact at
-// the last evaluation, or nullptr for a new one. Returns the force on a.
-inline Vec3 contactForce(const Model& model, const PairParameters& k, double reducedMass,
-                         const Vec3& relative, const Vec3& relativeVelocity,
-                         const Contact* previous, Contact& c, StageTally& tally) {
-  const Vec3& n = c.normal;
-  // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
-  const double d = c.depth;
-  const double dDot = dot(relativeVelocity, n);
-  double normalForce = -k.stiffness * d - k.damping * dDot;
-  if (normalForce < 0.0) normalForce = 0.0;
-  c.normalForce = normalForce;
-  tally.potential += 0.5 * k.stiffness * d * d;
-  // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
-  tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
-  Vec3 force = n * normalForce;
+using FrictionTrial = ContactScratch::FrictionTrial;
+using FrictionGroup = ContactScratch::FrictionGroup;
 
-  if (k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0)) {
-    c.anchor = relative;
-    return force;
+// Contact::sliding: the friction regime of MODEL §3.3.
+constexpr std::int32_t kSticking = 0, kSliding = 1, kBreakingAway = 2;
+// How far (in elastic ranges μ_s F_n / k_t) a group's anchors may give way while
+// breaking away before it slides: a body set down suddenly on a slope 1° below
+// its friction angle gives way about 5 ranges while its anchors' overshoot
+// (and the lattice's own settling) dies down, then sticks.
+constexpr double kPresliding = 10.0;
+
+// I⁺ v for the packed symmetric matrix (xx, yy, zz, xy, xz, yz).
+inline Vec3 symmetricTimes(const double* m, const Vec3& v) {
+  return {m[0] * v.x + m[3] * v.y + m[4] * v.z, m[3] * v.x + m[1] * v.y + m[5] * v.z,
+          m[4] * v.x + m[5] * v.y + m[2] * v.z};
+}
+
+// The pseudo-inverse of a symmetric 3×3 matrix by Jacobi rotations; eigenvalues
+// below 1e-9 of the largest count as zero (a row of particles cannot turn about
+// its own line). Returns the largest eigenvalue of the inverse.
+double symmetricPseudoInverse(const double* packed, double* inverse) {
+  double a[3][3] = {{packed[0], packed[3], packed[4]},
+                    {packed[3], packed[1], packed[5]},
+                    {packed[4], packed[5], packed[2]}};
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    if (off <= 1e-30 * (a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2])) break;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0.0) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        const double t =
+            (theta >= 0.0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // A ← A J
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // A ← Jᵀ A
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
   }
-  // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
-  // from where the contact stuck.
-  double previousEnergy = 0.0;
-  if (previous != nullptr) {
-    c.anchor = previous->anchor;
-    c.sliding = previous->sliding;
-    previousEnergy = previous->anchorEnergy;
-  } else {
-    c.anchor = relative;
-    c.sliding = 0;
+  const double largest = std::max({a[0][0], a[1][1], a[2][2]});
+  double inv[3] = {0.0, 0.0, 0.0};
+  double largestInverse = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    if (a[k][k] > 1e-9 * largest) {
+      inv[k] = 1.0 / a[k][k];
+      largestInverse = std::max(largestInverse, inv[k]);
+    }
   }
-  const Vec3 displacement = relative - c.anchor;
-  const Vec3 delta = displacement - n * dot(displacement, n);
-  const Vec3 slip = relativeVelocity - n * dDot;
-  const double tangentialDamping =
-      k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness * reducedMass);
-  // The Coulomb test is on each part: the anchor spring (the load the contact
-  // holds) and the damper (which acts only while the anchor moves) must each stay
-  // within μ_s F_n, so |F_t| <= 2 μ_s F_n during a transient and μ_s F_n at rest.
-  // A test on their sum would break a critically damped anchor loaded suddenly at
-  // 88% of μ_s F_n: its sum overshoots the load by up to e^-2 = 13.5%.
-  const Vec3 elastic = delta * -k.tangentialStiffness;
-  const Vec3 damper = slip * -tangentialDamping;
-  const double limit = k.staticFriction * normalForce;
-  const double elasticSquared = squaredNorm(elastic);
-  const double slipSquared = squaredNorm(slip);
-  const double stickVelocity = model.contact.stickVelocity;
-  // A sliding contact sticks again when its slip has fallen below the stick
-  // velocity, or has reversed since the last evaluation: kinetic friction would
-  // have stopped it within the step (without this, μ_k F_n flips the slip back
-  // and forth every step, a chatter that never comes to rest).
-  c.slip = slip;
-  const bool reversed = previous != nullptr && dot(slip, previous->slip) < 0.0;
-  const bool stick = elasticSquared <= limit * limit &&
-                     (squaredNorm(damper) <= limit * limit || (c.sliding != 0 && reversed)) &&
-                     (c.sliding == 0 || slipSquared <= stickVelocity * stickVelocity || reversed);
-  if (stick) {
-    // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
-    c.sliding = 0;
-    c.anchor = relative - delta;
-    c.anchorEnergy = 0.5 * k.tangentialStiffness * squaredNorm(delta);
-    tally.dissipativePower -= tangentialDamping * slipSquared;
-    return force + elastic + damper;
+  const auto entry = [&](int r, int c) {
+    return v[r][0] * inv[0] * v[c][0] + v[r][1] * inv[1] * v[c][1] + v[r][2] * inv[2] * v[c][2];
+  };
+  inverse[0] = entry(0, 0);
+  inverse[1] = entry(1, 1);
+  inverse[2] = entry(2, 2);
+  inverse[3] = entry(0, 1);
+  inverse[4] = entry(0, 2);
+  inverse[5] = entry(1, 2);
+  return largestInverse;
+}
+
+// What turns the contact point of particle i (MODEL §3.3 rolling): its own spin
+// (a particle no LS ties), or the rotation of its LS neighbourhood, the
+// least-squares ω of Δv_j = ω × d_j over its neighbours j (d_j = p_j - p_i),
+// weighted by their masses: A ω = Σ m_j d_j × Δv_j, A = Σ m_j (|d_j|² 1 - d_j d_jᵀ).
+// For a rigid body it is the body's ω; a line of particles cannot turn about
+// itself (A⁺ drops that axis).
+struct Turning {
+  Vec3 omega;
+  double armInverseInertia = 0.0;  // r² × the largest eigenvalue of J⁻¹ or A⁺
+  std::int32_t kind = 0;           // 0 none, 1 spin, 2 neighbourhood
+};
+
+inline Turning turningOf(const Model& model, const ContactTables& tables,
+                         const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                         const std::vector<Vec3>& spin, std::int32_t i, double arm,
+                         double* inverse) {
+  Turning t;
+  if (!model.contact.rolling || model.inverseMass[i] == 0.0) return t;
+  if (tables.inverseSpinInertia[i] > 0.0) {
+    t.kind = 1;
+    if (static_cast<std::size_t>(i) < spin.size()) t.omega = spin[i];
+    t.armInverseInertia = arm * arm * tables.inverseSpinInertia[i];
+    return t;
   }
-  // Sliding (or breaking away): μ_k F_n against the slip velocity.
-  Vec3 direction;
-  const double slipSpeed = std::sqrt(slipSquared);
-  if (slipSpeed > 0.0) {
-    direction = slip / slipSpeed;
-  } else if (elasticSquared > 0.0) {
-    direction = elastic / -std::sqrt(elasticSquared);
+  const std::int32_t begin = tables.rollNeighbourStart[i], end = tables.rollNeighbourStart[i + 1];
+  if (begin == end) return t;
+  double a[6] = {0, 0, 0, 0, 0, 0};
+  Vec3 b;
+  for (std::int32_t k = begin; k < end; ++k) {
+    const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
+    const Vec3 d = p[j] - p[i];
+    const double w = model.mass[j];
+    a[0] += w * (d.y * d.y + d.z * d.z);
+    a[1] += w * (d.x * d.x + d.z * d.z);
+    a[2] += w * (d.x * d.x + d.y * d.y);
+    a[3] -= w * d.x * d.y;
+    a[4] -= w * d.x * d.z;
+    a[5] -= w * d.y * d.z;
+    b += cross(d, (v[j] - v[i]) * w);
   }
-  const double friction = k.kineticFriction * normalForce;
-  const Vec3 consistent = direction * (friction / k.tangentialStiffness);
-  c.sliding = 1;
-  c.anchor = relative - consistent;
-  c.anchorEnergy = 0.5 * k.tangentialStiffness * squaredNorm(consistent);
-  tally.releasedEnergy += previousEnergy - c.anchorEnergy;
-  tally.dissipativePower -= friction * slipSpeed;
-  return force - direction * friction;
+  const double largest = symmetricPseudoInverse(a, inverse);
+  if (largest == 0.0) return t;
+  t.kind = 2;
+  t.omega = symmetricTimes(inverse, b);
+  t.armInverseInertia = arm * arm * largest;
+  return t;
+}
+
+// The moment τ about particle i's centre of a force acting at its contact point:
+// to the particle's spin, or as a couple on its neighbourhood, f_j = m_j β × d_j
+// with β = A⁺ τ and -Σ f_j on i (zero net force; moment A β = τ; power τ·ω).
+inline void applyMoment(const Model& model, const ContactTables& tables, const std::vector<Vec3>& p,
+                        std::int32_t kind, const double* inverse, std::int32_t i,
+                        const Vec3& moment, std::vector<Vec3>& f, std::vector<Vec3>& torque) {
+  if (kind == 1) {
+    torque[i] += moment;
+  } else if (kind == 2) {
+    const Vec3 beta = symmetricTimes(inverse, moment);
+    Vec3 sum;
+    for (std::int32_t k = tables.rollNeighbourStart[i]; k < tables.rollNeighbourStart[i + 1]; ++k) {
+      const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
+      const Vec3 force = cross(beta, p[j] - p[i]) * model.mass[j];
+      f[j] += force;
+      sum += force;
+    }
+    f[i] -= sum;
+  }
+}
+
+// The contact group of a contact: the pair (object of a, object of the other
+// particle or the environment item). Particles outside objects are their own.
+inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
+  const std::int32_t object = tables.particleObject[particle];
+  return object >= 0 ? object : (std::int64_t{1} << 40) + particle;
 }
 
 // Adds one contact's stiffness and damping (the larger of the normal and the
-// tangential ones) to its particles' sums.
+// tangential ones, the tangential one for the contact point's effective mass)
+// to its particles' sums.
 void addContactRates(const Model& model, const PairParameters& k, const Contact& c,
-                     ContactScratch& cache) {
+                     double rotationFactor, double tangentialDamping, ContactScratch& cache) {
   const double inverseMass =
       model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
   if (inverseMass == 0.0) return;
-  const double stiffness = std::max(k.stiffness, k.tangentialStiffness);
-  const double tangentialDamping =
-      k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / inverseMass);
-  const double damping = std::max(k.damping, tangentialDamping);
+  const double stiffness = std::max(k.stiffness, k.tangentialStiffness * rotationFactor);
+  const double damping = std::max(k.damping, tangentialDamping * rotationFactor);
   cache.contactStiffnessSum[c.a] += stiffness;
   cache.contactDampingSum[c.a] += damping;
   if (c.other >= 0) {
@@ -143,12 +221,66 @@ double contactsCriticalStep(const Model& model, const std::vector<Contact>& cont
   return step;
 }
 
+// Friction of one contact once its group has decided. Returns F_t on a.
+Vec3 frictionForce(const PairParameters& k, const FrictionTrial& t, const FrictionGroup& g,
+                   Contact& c, StageTally& tally) {
+  const double stiffness = t.tangentialStiffness;
+  if (g.regime != kSliding) {
+    // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
+    // Breaking away: the load is above μ_s Σ F_n; friction holds at μ_s Σ F_n
+    // (every contact's spring and damper scaled by s = μ_s Σ F_n / Σ|F_t|) and
+    // the anchors give way to s δ_t, their energy released.
+    const double s = g.regime == kBreakingAway ? g.scale : 1.0;
+    c.sliding = g.regime;
+    c.giveWay = g.regime == kBreakingAway ? t.giveWayBefore + norm(t.delta) * (1.0 - s) : 0.0;
+    const Vec3 delta = t.delta * s;
+    c.anchor = t.relative - delta;
+    c.anchorEnergy = 0.5 * stiffness * squaredNorm(delta);
+    if (s != 1.0) tally.releasedEnergy += 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
+    tally.dissipativePower -= s * t.tangentialDamping * t.slipSpeed * t.slipSpeed;
+    return (t.elastic + t.damper) * s;
+  }
+  // Sliding: μ_k F_n against the slip (against the held load if it has stopped).
+  Vec3 direction;
+  if (t.slipSpeed > 0.0) {
+    direction = c.slip / t.slipSpeed;
+  } else if (squaredNorm(t.elastic) > 0.0) {
+    direction = t.elastic / -norm(t.elastic);
+  }
+  const double friction = k.kineticFriction * c.normalForce;
+  const Vec3 consistent = direction * (friction / stiffness);
+  c.sliding = kSliding;
+  c.giveWay = 0.0;
+  c.anchor = t.relative - consistent;
+  c.anchorEnergy = 0.5 * stiffness * squaredNorm(consistent);
+  tally.releasedEnergy += t.previousEnergy - c.anchorEnergy;
+  tally.dissipativePower -= friction * t.slipSpeed;
+  return direction * -friction;
+}
+
+// MODEL §3.3 rolling resistance: a torque μ_r F_n r against the relative
+// rolling (ω_a - ω_b) about the tangent plane, r the particle's radius (a
+// resistance μ_r F_n at the rim of a ball); linear below a rolling speed ω r of
+// 1 mm/s. Returns the moment on a.
+Vec3 rollingResistanceMoment(const PairParameters& k, const Contact& c, const Vec3& omegaA,
+                             const Vec3& omegaB, double radius, StageTally& tally) {
+  Vec3 rolling = omegaA - omegaB;
+  rolling -= c.normal * dot(rolling, c.normal);
+  const double speed = norm(rolling);
+  if (speed == 0.0 || radius <= 0.0) return {};
+  const double limit = k.rollingResistance * radius * c.normalForce;
+  const double knee = 1e-3 / radius;  // rad/s
+  const Vec3 moment = rolling * (-limit / std::max(speed, knee));
+  tally.dissipativePower += dot(moment, rolling);
+  return moment;
+}
+
 }  // namespace
 
 void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
                         const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                        const std::vector<Contact>& previous, ContactScratch& scratch,
-                        Evaluation& out) {
+                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                        ContactScratch& scratch, Evaluation& out) {
   if (!model.contact.enabled || model.particleCount() == 0) {
     out.contactCriticalStep = std::numeric_limits<double>::infinity();
     out.contacts.clear();
@@ -166,11 +298,24 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     cache.contactStiffnessSum.assign(particles, 0.0);
     cache.contactDampingSum.assign(particles, 0.0);
   }
-  std::size_t old = 0;
   std::vector<Vec3>& f = out.force;
+  std::vector<Vec3>& torque = out.torque;
   ContactStats& stats = cache.stats;
+  const double stickVelocity = model.contact.stickVelocity;
+  std::vector<Contact>& contacts = cache.freshContacts;
+  cache.trials.resize(contacts.size());
+  cache.groups.clear();
+
+  // Pass 1: geometry, normal force, the friction trial of each contact, and the
+  // group sums. Contacts are sorted by a, so a group's contacts come in runs of
+  // a's object; a group is looked up among those of the current run.
+  std::size_t old = 0;
+  std::size_t runStart = 0;
+  std::int64_t runObject = -1;
   PairParameters overrideParameters;
-  for (Contact& c : cache.freshContacts) {
+  for (std::size_t index = 0; index < contacts.size(); ++index) {
+    Contact& c = contacts[index];
+    FrictionTrial& t = cache.trials[index];
     // Carry the friction anchor of a contact that persists (both lists sorted).
     const std::uint64_t key = c.key();
     while (old < previous.size() && previous[old].key() < key) {
@@ -183,35 +328,188 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
     const std::int32_t a = c.a;
     double smallerRadius = model.radius[a];
+    Vec3 relativeVelocity;
+    double inverseMass = model.inverseMass[a];
     if (c.other >= 0) {
       const std::int32_t b = c.other;
       // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
-      const Vec3 relative = p[a] - p[b];
-      const double distance = norm(relative);
-      c.normal = distance > 0.0 ? relative / distance : Vec3{0.0, 0.0, 1.0};
+      t.relative = p[a] - p[b];
+      const double distance = norm(t.relative);
+      c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
       c.depth = distance - (model.radius[a] + model.radius[b]);
       smallerRadius = std::min(smallerRadius, model.radius[b]);
-      // Reduced mass m_a m_b / (m_a + m_b); a fixed particle counts as infinitely heavy.
-      const double inverseSum = model.inverseMass[a] + model.inverseMass[b];
-      const double reducedMass = 1.0 / inverseSum;
-      const Vec3 force =
-          contactForce(model, k, reducedMass, relative, v[a] - v[b], before, c, tally);
-      c.frictionForce = force - c.normal * c.normalForce;
-      f[a] += force;
-      f[b] -= force;
+      relativeVelocity = v[a] - v[b];
+      inverseMass += model.inverseMass[b];
+      // The contact point halfway through the overlap.
+      t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
+      t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
       ++stats.particleContacts;
     } else {
-      const Vec3 force = contactForce(model, k, model.mass[a], p[a], v[a], before, c, tally);
-      c.frictionForce = force - c.normal * c.normalForce;
-      f[a] += force;
+      t.relative = p[a];
+      relativeVelocity = v[a];
+      // The point on the surface (a rim's: found with the contact).
+      t.armA = c.rim >= 0 ? c.arm : c.normal * -(model.radius[a] + c.depth);
+      t.armB = Vec3{};
       ++stats.environmentContacts;
     }
-    tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
-    addContactRates(model, k, c, cache);
+    // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
+    const Vec3& n = c.normal;
+    const double d = c.depth;
+    const double dDot = dot(relativeVelocity, n);
+    double normalForce = -k.stiffness * d - k.damping * dDot;
+    if (normalForce < 0.0) normalForce = 0.0;
+    c.normalForce = normalForce;
+    tally.potential += 0.5 * k.stiffness * d * d;
+    // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
+    tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
+    const Vec3 normal = n * normalForce;
+    f[a] += normal;
+    if (c.other >= 0) f[c.other] -= normal;
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+
+    t.group = -1;
+    t.tangentialStiffness = k.tangentialStiffness;
+    const bool frictionless =
+        k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
+    if (frictionless && k.rollingResistance <= 0.0) {
+      c.anchor = t.relative;
+      c.anchorEnergy = 0.0;
+      if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
+      addContactRates(model, k, c, 1.0, 0.0, cache);
+      continue;
+    }
+    // The contact points' velocities: the rotation of each body adds ω × arm.
+    const Turning ta = turningOf(model, tables, p, v, spin, a, norm(t.armA), t.inverseA);
+    Turning tb;
+    if (c.other >= 0) {
+      tb = turningOf(model, tables, p, v, spin, c.other, norm(t.armB), t.inverseB);
+    }
+    t.turnA = ta.kind;
+    t.turnB = tb.kind;
+    c.rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
+    if (k.rollingResistance > 0.0) {
+      const Vec3 moment = rollingResistanceMoment(k, c, ta.omega, tb.omega, model.radius[a], tally);
+      applyMoment(model, tables, p, t.turnA, t.inverseA, a, moment, f, torque);
+      if (c.other >= 0)
+        applyMoment(model, tables, p, t.turnB, t.inverseB, c.other, moment * -1.0, f, torque);
+    }
+    if (frictionless) {
+      c.anchor = t.relative;
+      c.anchorEnergy = 0.0;
+      if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
+      addContactRates(model, k, c, 1.0, 0.0, cache);
+      continue;
+    }
+    const Vec3 pointVelocity = relativeVelocity + c.rollVelocity;
+    // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
+    const double tangentialInverse =
+        inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
+    t.tangentialDamping =
+        k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / tangentialInverse);
+    addContactRates(model, k, c, inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0,
+                    t.tangentialDamping, cache);
+    // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
+    // from where the contact stuck.
+    t.previousEnergy = 0.0;
+    t.regimeBefore = kSticking;
+    t.giveWayBefore = 0.0;
+    if (before != nullptr) {
+      c.anchor = before->anchor;
+      t.regimeBefore = before->sliding;
+      t.giveWayBefore = before->giveWay;
+      t.previousEnergy = before->anchorEnergy;
+    } else {
+      c.anchor = t.relative;
+    }
+    const Vec3 displacement = t.relative - c.anchor;
+    t.delta = displacement - n * dot(displacement, n);
+    c.slip = pointVelocity - n * dot(pointVelocity, n);
+    t.slipSpeed = norm(c.slip);
+    t.elastic = t.delta * -k.tangentialStiffness;
+    t.damper = c.slip * -t.tangentialDamping;
+    // A sliding contact may stick again when its slip has fallen below the stick
+    // velocity, or has reversed since the last evaluation: kinetic friction would
+    // have stopped it within the step (without this, μ_k F_n flips the slip back
+    // and forth every step, a chatter that never comes to rest).
+    const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
+    t.slow = t.slipSpeed <= stickVelocity || reversed;
+
+    // The group: (a's object, the other's object or the environment item).
+    const std::int64_t objectA = groupKey(tables, a);
+    if (objectA != runObject) {
+      runObject = objectA;
+      runStart = cache.groups.size();
+    }
+    const std::int64_t other = c.other >= 0 ? groupKey(tables, c.other) : c.other;
+    std::size_t g = runStart;
+    while (g < cache.groups.size() && cache.groups[g].other != other) ++g;
+    if (g == cache.groups.size()) {
+      cache.groups.push_back(FrictionGroup{});
+      cache.groups.back().other = other;
+    }
+    FrictionGroup& group = cache.groups[g];
+    t.group = static_cast<std::int32_t>(g);
+    group.normal += k.staticFriction * normalForce;  // the group's μ_s Σ F_n
+    group.total += norm(t.elastic + t.damper);
+    group.giveWay += t.giveWayBefore;
+    group.slip += t.slipSpeed;
+    if (before != nullptr) group.slipBefore += norm(before->slip);
+    group.range += k.staticFriction * normalForce / k.tangentialStiffness;
+    group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
+    group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
+    group.allSlow = group.allSlow && t.slow;
   }
   for (; old < previous.size(); ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+
+  // The groups decide (MODEL §3.3's three regimes for the body as a whole):
+  // - sticking while the anchors' springs and dampers hold Σ|F_t| <= μ_s Σ F_n;
+  // - breaking away when Σ|F_t| exceeds it: friction saturates at μ_s Σ F_n;
+  //   a transient (a body set down on a slope, whose critically damped anchors
+  //   overshoot their load by up to e^-2) slows down under it and sticks again;
+  // - sliding once, while breaking away, the anchors have given way by more
+  //   than kPresliding elastic ranges μ_s F_n / k_t and the slip still grows (the load
+  //   is more than static friction can stop; a transient slows down under it):
+  //   μ_k F_n against the slip, until every contact has slowed below the stick
+  //   velocity or reversed.
+  for (FrictionGroup& g : cache.groups) {
+    g.scale = 1.0;
+    if (g.wasSliding) {
+      g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
+    } else if (g.total <= g.normal) {
+      g.regime = kSticking;
+    } else if (g.wasBreakingAway && g.giveWay > kPresliding * g.range && g.slip > g.slipBefore) {
+      g.regime = kSliding;
+    } else {
+      g.regime = kBreakingAway;
+      g.scale = g.normal / g.total;
+    }
+  }
+  // Pass 2: the friction force of each contact, at its contact point.
+  for (std::size_t index = 0; index < contacts.size(); ++index) {
+    Contact& c = contacts[index];
+    const FrictionTrial& t = cache.trials[index];
+    if (t.group >= 0) {
+      const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
+      const Vec3 tangential =
+          frictionForce(k, t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
+      c.frictionForce = tangential;
+      f[c.a] += tangential;
+      if (c.other >= 0) f[c.other] -= tangential;
+      // A rim's contact point is off the line through a's centre: the normal
+      // force has a moment too.
+      const Vec3 atPoint = c.rim >= 0 ? tangential + c.normal * c.normalForce : tangential;
+      applyMoment(model, tables, p, t.turnA, t.inverseA, c.a, cross(t.armA, atPoint), f, torque);
+      if (c.other >= 0) {
+        applyMoment(model, tables, p, t.turnB, t.inverseB, c.other,
+                    cross(t.armB, tangential * -1.0), f, torque);
+      }
+    } else {
+      c.sliding = 0;
+      c.frictionForce = Vec3{};
+    }
+    tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+  }
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);

@@ -19,8 +19,9 @@ namespace {
 double series(double a, double b) { return a + b > 0.0 ? a * b / (a + b) : 0.0; }
 
 PairParameters combine(const ContactSettings& settings, double stiffness, double damping,
-                       double staticFriction, double kineticFriction) {
+                       double staticFriction, double kineticFriction, double rolling = 0.0) {
   PairParameters p;
+  p.rollingResistance = rolling;
   p.stiffness = stiffness;
   p.damping = damping;
   p.staticFriction = staticFriction;
@@ -89,6 +90,41 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     const std::int32_t object = cache.particleObject[i];
     if (object < 0 || objectSize[object] == 1) singles.push_back(i);
   }
+  // MODEL §3.3 rolling: a particle no LS ties to another spins on its own, a
+  // solid sphere with J = 2/5 m r²; the others turn with their LS neighbours.
+  cache.rollNeighbourStart.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (const LinearSpring& s : model.linearSprings) {
+    if (s.a < 0 || s.b < 0 || s.a >= n || s.b >= n || s.a == s.b) continue;
+    ++cache.rollNeighbourStart[static_cast<std::size_t>(s.a) + 1];
+    ++cache.rollNeighbourStart[static_cast<std::size_t>(s.b) + 1];
+  }
+  for (ParticleIndex i = 0; i < n; ++i)
+    cache.rollNeighbourStart[i + 1] += cache.rollNeighbourStart[i];
+  cache.rollNeighbour.assign(static_cast<std::size_t>(cache.rollNeighbourStart[n]), 0);
+  {
+    std::vector<std::int32_t> fill(cache.rollNeighbourStart.begin(),
+                                   cache.rollNeighbourStart.end() - 1);
+    for (const LinearSpring& s : model.linearSprings) {
+      if (s.a < 0 || s.b < 0 || s.a >= n || s.b >= n || s.a == s.b) continue;
+      cache.rollNeighbour[static_cast<std::size_t>(fill[s.a]++)] = s.b;
+      cache.rollNeighbour[static_cast<std::size_t>(fill[s.b]++)] = s.a;
+    }
+  }
+  cache.rimOf.assign(static_cast<std::size_t>(n), -1);
+  for (std::size_t r = 0; r < model.rims.size(); ++r) {
+    const RimRing& rim = model.rims[r];
+    for (std::int32_t k = 0; k < rim.count; ++k) {
+      cache.rimOf[static_cast<std::size_t>(rim.first + k)] = static_cast<std::int32_t>(r);
+    }
+  }
+  cache.inverseSpinInertia.assign(static_cast<std::size_t>(n), 0.0);
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const double inertia = 0.4 * model.mass[i] * model.radius[i] * model.radius[i];
+    if (model.contact.rolling && !isVirtual(i) && inertia > 0.0 &&
+        cache.rollNeighbourStart[i + 1] == cache.rollNeighbourStart[i]) {
+      cache.inverseSpinInertia[i] = 1.0 / inertia;
+    }
+  }
   double limit = 0.0;
   if (!singles.empty()) {
     std::vector<double> radii;
@@ -152,7 +188,8 @@ ContactTables compileContactTables(const Model& model) {
             combine(settings, series(a.contactStiffness, b.contactStiffness),
                     series(a.contactDamping, b.contactDamping),
                     std::sqrt(a.staticFriction * b.staticFriction),
-                    std::sqrt(a.kineticFriction * b.kineticFriction));
+                    std::sqrt(a.kineticFriction * b.kineticFriction),
+                    0.5 * (a.rollingResistance + b.rollingResistance));
       }
     }
     const std::int32_t items = model.environment.itemCount();

@@ -22,8 +22,11 @@ struct PairParameters {
   double staticFriction = 0.0;       // μ_s (-)
   double kineticFriction = 0.0;      // μ_k (-)
   double tangentialStiffness = 0.0;  // k_t (N/m)
-  /// c_t = tangentialDampingRatio × 2 √(k_t m_eff), m_eff the pair's reduced mass.
+  /// c_t = tangentialDampingRatio × 2 √(k_t m_eff), m_eff the pair's effective
+  /// mass at the contact point (its rotation included).
   double tangentialDampingRatio = 0.0;  // (-)
+  /// μ_r (-): rolling resistance torque μ_r r F_n against the rolling (0: none).
+  double rollingResistance = 0.0;
 };
 
 /// A node of an object's sphere tree. Its particles are
@@ -56,6 +59,16 @@ struct ContactTables {
   std::vector<std::int32_t> particleMaterial;
   /// Object of each particle, or -1, (particleCount).
   std::vector<std::int32_t> particleObject;
+  /// 1 / J_i (1/(kg·m²)) of the particles that spin on their own (those no LS
+  /// ties to another: J = 2/5 m r², a solid sphere), 0 for the others,
+  /// (particleCount). The others turn with their LS neighbours (CSR, both
+  /// directions): rollNeighbour[rollNeighbourStart[i], rollNeighbourStart[i + 1]).
+  std::vector<double> inverseSpinInertia;
+  std::vector<std::int32_t> rollNeighbourStart;  // (particleCount + 1)
+  /// The rim ring (Model::rims) each particle belongs to, or -1, (particleCount):
+  /// rim particles meet the environment through their ring's round surface.
+  std::vector<std::int32_t> rimOf;
+  std::vector<std::int32_t> rollNeighbour;
   /// Material-pair table, (materials × materials); environment uses the item's material.
   std::vector<PairParameters> materialPairs;
   std::int32_t materialCount = 0;
@@ -109,8 +122,40 @@ struct ContactScratch {
   std::vector<Contact> mergedContacts;       // merge buffer
   std::vector<Contact> treeContacts;         // unsorted finds of the tree search
   std::vector<Contact> rowContacts;          // one particle's finds (sorted per row)
-  std::vector<Vec3> objectCentroid;          // (objects) for viscosity
-  std::vector<double> objectMass;            // (objects)
+  /// Per contact: the trial tangential forces of the friction law, and per
+  /// contact group (object pair) the sums the stick/slip decision needs.
+  struct FrictionTrial {
+    Vec3 elastic, damper;  // -k_t δ_t and -c_t V (N)
+    Vec3 relative;         // p_a - p_b or p_a (m)
+    Vec3 delta;            // δ_t (m)
+    Vec3 armA, armB;       // particle centre to contact point (m)
+    /// How each side turns (MODEL §3.3 rolling): 0 not at all, 1 its own spin,
+    /// 2 with its LS neighbours, whose rotation inverse (A⁺, packed xx yy zz xy
+    /// xz yz, 1/(kg·m²)) carries the friction moment.
+    std::int32_t turnA = 0, turnB = 0;
+    double inverseA[6]{}, inverseB[6]{};
+    double tangentialStiffness = 0.0, tangentialDamping = 0.0;
+    double slipSpeed = 0.0, previousEnergy = 0.0;
+    std::int32_t group = -1;
+    bool slow = false;              // |V| <= stick velocity, or V reversed
+    std::int32_t regimeBefore = 0;  // Contact::sliding at the last evaluation
+    double giveWayBefore = 0.0;     // Contact::giveWay at the last evaluation (m)
+  };
+  struct FrictionGroup {
+    std::int64_t other = 0;
+    double normal = 0.0;                  // μ_s Σ F_n (N)
+    double total = 0.0;                   // Σ |k_t δ_t + c_t V| (N)
+    double giveWay = 0.0;                 // Σ of the anchors' give-way so far (m)
+    double slip = 0.0, slipBefore = 0.0;  // Σ |V| now and at the last evaluation (m/s)
+    double range = 0.0;                   // Σ μ_s F_n / k_t, the anchors' elastic range (m)
+    bool wasSliding = false, wasBreakingAway = false, allSlow = true;
+    std::int32_t regime = 0;  // Contact::sliding for every contact of the group
+    double scale = 1.0;       // breaking away: μ_s Σ F_n / Σ|F_t|
+  };
+  std::vector<FrictionTrial> trials;  // (contacts)
+  std::vector<FrictionGroup> groups;
+  std::vector<Vec3> objectCentroid;  // (objects) for viscosity
+  std::vector<double> objectMass;    // (objects)
   ContactStats stats;
 };
 

@@ -119,6 +119,14 @@ std::string checkModel(const Model& model) {
       return detail::text("object '{}': material {} does not exist (there are {})", info.name,
                           info.material, materials);
   }
+  for (std::size_t k = 0; k < model.rims.size(); ++k) {
+    const RimRing& rim = model.rims[k];
+    if (rim.count < 3 || rim.first < 0 || rim.first + rim.count > n || rim.hub < 0 ||
+        rim.hub >= n || (rim.hub >= rim.first && rim.hub < rim.first + rim.count))
+      return detail::text(
+          "rim {}: particles [{}, {}) about hub {} are not a ring of >= 3 particles of the {}", k,
+          rim.first, rim.first + rim.count, rim.hub, n);
+  }
   for (const ContactPairOverride& pair : model.contact.pairOverrides) {
     if (pair.objectA < 0 || pair.objectA >= objects || pair.objectB < -1 || pair.objectB >= objects)
       return detail::text("contact pair ({}, {}): object does not exist (there are {})",

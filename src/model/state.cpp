@@ -9,6 +9,7 @@ State State::sizedFor(const Model& model) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   state.position.assign(n, Vec3{});
   state.velocity.assign(n, Vec3{});
+  state.spin.assign(n, Vec3{});
   return state;
 }
 
@@ -37,6 +38,7 @@ std::uint64_t stateHash(const State& state) {
   hashValue(h, state.time);
   hashBytes(h, state.position.data(), state.position.size() * sizeof(Vec3));
   hashBytes(h, state.velocity.data(), state.velocity.size() * sizeof(Vec3));
+  hashBytes(h, state.spin.data(), state.spin.size() * sizeof(Vec3));
   hashValue(h, state.stepCount);
   hashValue(h, state.dissipated);
   hashValue(h, state.external);
@@ -50,6 +52,10 @@ std::uint64_t stateHash(const State& state) {
     hashValue(h, c.normal);
     hashValue(h, c.slip);
     hashValue(h, c.anchor);
+    hashValue(h, c.rollVelocity);
+    hashValue(h, c.rim);
+    hashValue(h, c.giveWay);
+    hashValue(h, c.arm);
     hashValue(h, c.sliding);
   }
   return h;

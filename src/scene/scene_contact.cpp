@@ -45,6 +45,8 @@ void readMaterials(DiagnosticSink& sink, const nlohmann::json& list, Model& mode
         r.numberOr("staticFriction", material.staticFriction, Bound::kNonNegative, "");
     material.kineticFriction =
         r.numberOr("kineticFriction", material.kineticFriction, Bound::kNonNegative, "");
+    material.rollingResistance =
+        r.numberOr("rollingResistance", material.rollingResistance, Bound::kNonNegative, "");
     r.finish();
     if (material.kineticFriction > material.staticFriction) {
       sink.error(r.memberPointer("kineticFriction"),
@@ -106,6 +108,7 @@ void readContactSettings(DiagnosticSink& sink, const nlohmann::json& value, Mode
   s.tangentialDampingRatio =
       r.numberOr("tangentialDampingRatio", s.tangentialDampingRatio, Bound::kNonNegative, "");
   s.stickVelocity = r.numberOr("stickVelocity", s.stickVelocity, Bound::kNonNegative, "m/s");
+  s.rolling = r.boolean("rolling").value_or(s.rolling);
   s.leafSize = r.integer("leafSize", 1).value_or(s.leafSize);
   r.finish();
 }

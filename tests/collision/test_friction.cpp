@@ -16,8 +16,11 @@ constexpr double kStaticFriction = 0.5, kKineticFriction = 0.4, kG = 9.81;
 
 // A particle resting on the ground z = 0 at its equilibrium depth, with gravity
 // tilted by `slope` (rad) about y: the ground acts as a slope rising towards -x.
+// The particle is the paper's, which does not turn (contact.rolling off): a
+// block that sticks or slides. (A particle that turns rolls: test_rolling.cpp.)
 World restingParticle(double slope, const Vec3& velocity = {}) {
   Model model;
+  model.contact.rolling = false;
   State state;
   const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kMass);  // ζ = 0.5
   model.gravity = Vec3{std::sin(slope), 0.0, -std::cos(slope)} * kG;

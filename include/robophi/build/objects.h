@@ -37,6 +37,8 @@ struct GeneratedObject {
   /// Joint::connector indexes jointSprings; placed with the name "<object>.<name>".
   std::vector<JointSpring> jointSprings{};
   std::vector<Joint> joints{};
+  /// Wheel rims with a round contact surface (local indices; robophi::RimRing).
+  std::vector<RimRing> rims{};
 
   std::size_t size() const { return position.size(); }
 };
