@@ -44,6 +44,10 @@ constexpr std::int32_t kSticking = 0, kSliding = 1, kBreakingAway = 2;
 // its friction angle gives way about 5 ranges while its anchors' overshoot
 // (and the lattice's own settling) dies down, then sticks.
 constexpr double kPresliding = 10.0;
+// A group breaking away with its contacts slipping faster than kSlidingSpeed
+// times the speed an anchor reaches within its elastic range (μ_s F_n /
+// √(k_t m_eff)) slides: a body that lands or is launched with a slip (V ≠ 0).
+constexpr double kSlidingSpeed = 2.0;
 
 // I⁺ v for the packed symmetric matrix (xx, yy, zz, xy, xz, yz).
 inline Vec3 symmetricTimes(const double* m, const Vec3& v) {
@@ -138,6 +142,7 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
   Vec3 b;
   for (std::int32_t k = begin; k < end; ++k) {
     const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
+    if (model.inverseMass[j] == 0.0) continue;  // a fixed neighbour takes no couple
     const Vec3 d = p[j] - p[i];
     const double w = model.mass[j];
     a[0] += w * (d.y * d.y + d.z * d.z);
@@ -169,6 +174,7 @@ inline void applyMoment(const Model& model, const ContactTables& tables, const s
     Vec3 sum;
     for (std::int32_t k = tables.rollNeighbourStart[i]; k < tables.rollNeighbourStart[i + 1]; ++k) {
       const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
+      if (model.inverseMass[j] == 0.0) continue;
       const Vec3 force = cross(beta, p[j] - p[i]) * model.mass[j];
       f[j] += force;
       sum += force;
@@ -456,6 +462,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     group.slip += t.slipSpeed;
     if (before != nullptr) group.slipBefore += norm(before->slip);
     group.range += k.staticFriction * normalForce / k.tangentialStiffness;
+    group.elasticSpeed +=
+        k.staticFriction * normalForce * std::sqrt(tangentialInverse / k.tangentialStiffness);
     group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
     group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
     group.allSlow = group.allSlow && t.slow;
@@ -467,8 +475,10 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // - breaking away when Σ|F_t| exceeds it: friction saturates at μ_s Σ F_n;
   //   a transient (a body set down on a slope, whose critically damped anchors
   //   overshoot their load by up to e^-2) slows down under it and sticks again;
-  // - sliding once, while breaking away, the anchors have given way by more
-  //   than kPresliding elastic ranges μ_s F_n / k_t and the slip still grows (the load
+  // - sliding once, while breaking away, the contacts slip faster than an
+  //   anchor moves within its elastic range (V ≠ 0: a body that lands or is
+  //   launched sliding), or the anchors have given way by more than kPresliding
+  //   elastic ranges μ_s F_n / k_t and the slip still grows (the load
   //   is more than static friction can stop; a transient slows down under it):
   //   μ_k F_n against the slip, until every contact has slowed below the stick
   //   velocity or reversed.
@@ -478,7 +488,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
     } else if (g.total <= g.normal) {
       g.regime = kSticking;
-    } else if (g.wasBreakingAway && g.giveWay > kPresliding * g.range && g.slip > g.slipBefore) {
+    } else if (g.wasBreakingAway && (g.slip > kSlidingSpeed * g.elasticSpeed ||
+                                     (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
       g.regime = kSliding;
     } else {
       g.regime = kBreakingAway;

@@ -92,9 +92,15 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   }
   // MODEL §3.3 rolling: a particle no LS ties to another spins on its own, a
   // solid sphere with J = 2/5 m r²; the others turn with their LS neighbours.
+  // Only LS within one object make a neighbourhood: an attractor (a goal's LS to
+  // a virtual particle) or a tie to another body does not turn the particle.
+  const auto sameBody = [&](const LinearSpring& s) {
+    return s.a >= 0 && s.b >= 0 && s.a < n && s.b < n && s.a != s.b &&
+           cache.particleObject[s.a] >= 0 && cache.particleObject[s.a] == cache.particleObject[s.b];
+  };
   cache.rollNeighbourStart.assign(static_cast<std::size_t>(n) + 1, 0);
   for (const LinearSpring& s : model.linearSprings) {
-    if (s.a < 0 || s.b < 0 || s.a >= n || s.b >= n || s.a == s.b) continue;
+    if (!sameBody(s)) continue;
     ++cache.rollNeighbourStart[static_cast<std::size_t>(s.a) + 1];
     ++cache.rollNeighbourStart[static_cast<std::size_t>(s.b) + 1];
   }
@@ -105,7 +111,7 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     std::vector<std::int32_t> fill(cache.rollNeighbourStart.begin(),
                                    cache.rollNeighbourStart.end() - 1);
     for (const LinearSpring& s : model.linearSprings) {
-      if (s.a < 0 || s.b < 0 || s.a >= n || s.b >= n || s.a == s.b) continue;
+      if (!sameBody(s)) continue;
       cache.rollNeighbour[static_cast<std::size_t>(fill[s.a]++)] = s.b;
       cache.rollNeighbour[static_cast<std::size_t>(fill[s.b]++)] = s.a;
     }

@@ -148,6 +148,7 @@ struct ContactScratch {
     double giveWay = 0.0;                 // Σ of the anchors' give-way so far (m)
     double slip = 0.0, slipBefore = 0.0;  // Σ |V| now and at the last evaluation (m/s)
     double range = 0.0;                   // Σ μ_s F_n / k_t, the anchors' elastic range (m)
+    double elasticSpeed = 0.0;  // Σ μ_s F_n / √(k_t m_eff): an anchor's speed within its range (m/s)
     bool wasSliding = false, wasBreakingAway = false, allSlow = true;
     std::int32_t regime = 0;  // Contact::sliding for every contact of the group
     double scale = 1.0;       // breaking away: μ_s Σ F_n / Σ|F_t|

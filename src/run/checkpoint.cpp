@@ -61,6 +61,10 @@ json contactToJson(const Contact& c) {
           {"normal", exactVec3(c.normal)},
           {"slip", exactVec3(c.slip)},
           {"anchor", exactVec3(c.anchor)},
+          {"roll_velocity", exactVec3(c.rollVelocity)},
+          {"rim", c.rim},
+          {"arm", exactVec3(c.arm)},
+          {"give_way", exactNumber(c.giveWay)},
           {"sliding", c.sliding}};
 }
 
@@ -75,6 +79,10 @@ Contact contactFromJson(const json& j) {
   c.normal = vec3FromJson(j.at("normal"), "normal");
   c.slip = vec3FromJson(j.at("slip"), "slip");
   c.anchor = vec3FromJson(j.at("anchor"), "anchor");
+  c.rollVelocity = vec3FromJson(j.at("roll_velocity"), "roll_velocity");
+  c.rim = j.at("rim").get<std::int32_t>();
+  c.arm = vec3FromJson(j.at("arm"), "arm");
+  c.giveWay = number(j, "give_way");
   c.sliding = j.at("sliding").get<std::int32_t>();
   return c;
 }
@@ -84,7 +92,7 @@ json stateToJson(const State& s) {
   for (const Contact& c : s.frictionHistory) history.push_back(contactToJson(c));
   return {{"time", exactNumber(s.time)},        {"step_count", s.stepCount},
           {"position", vec3Array(s.position)},  {"velocity", vec3Array(s.velocity)},
-          {"friction_history", history},        {"dissipated", exactNumber(s.dissipated)},
+          {"spin", vec3Array(s.spin)},          {"friction_history", history},        {"dissipated", exactNumber(s.dissipated)},
           {"external", exactNumber(s.external)}};
 }
 
@@ -94,6 +102,7 @@ State stateFromJson(const json& j, const Model& model) {
   s.stepCount = j.at("step_count").get<std::int64_t>();
   s.position = vec3ArrayFrom(j.at("position"), "position");
   s.velocity = vec3ArrayFrom(j.at("velocity"), "velocity");
+  s.spin = vec3ArrayFrom(j.at("spin"), "spin");
   for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
   s.dissipated = number(j, "dissipated");
   s.external = number(j, "external");
@@ -111,6 +120,7 @@ json evaluationToJson(const Evaluation& e) {
   const EnergyTally& t = e.energy;
   const ContactStats& st = e.contactStats;
   return {{"force", vec3Array(e.force)},
+          {"torque", vec3Array(e.torque)},
           {"energy",
            {{"kinetic", exactNumber(t.kinetic)},
             {"linear_spring", exactNumber(t.linearSpring)},
@@ -138,6 +148,7 @@ json evaluationToJson(const Evaluation& e) {
 Evaluation evaluationFromJson(const json& j) {
   Evaluation e;
   e.force = vec3ArrayFrom(j.at("force"), "force");
+  e.torque = vec3ArrayFrom(j.at("torque"), "torque");
   const json& t = j.at("energy");
   e.energy.kinetic = number(t, "kinetic");
   e.energy.linearSpring = number(t, "linear_spring");
@@ -203,6 +214,7 @@ json modelEditsToJson(const Model& m) {
             {"tangential_stiffness_ratio", exactNumber(c.tangentialStiffnessRatio)},
             {"tangential_damping_ratio", exactNumber(c.tangentialDampingRatio)},
             {"stick_velocity", exactNumber(c.stickVelocity)},
+            {"rolling", c.rolling},
             {"leaf_size", c.leafSize},
             {"pairs", pairs}}}};
 }
@@ -267,6 +279,7 @@ void applyModelEdits(const json& j, Model& m) {
   settings.tangentialStiffnessRatio = number(c, "tangential_stiffness_ratio");
   settings.tangentialDampingRatio = number(c, "tangential_damping_ratio");
   settings.stickVelocity = number(c, "stick_velocity");
+  settings.rolling = c.at("rolling").get<bool>();
   settings.leafSize = c.at("leaf_size").get<std::int32_t>();
   settings.pairOverrides.clear();
   for (const json& p : c.at("pairs")) {

@@ -1,5 +1,6 @@
 // The "run" section of a scene, with the adaptive step's settings (MODEL §4,
 // docs/adaptive-step.md).
+#include <cmath>
 #include "scene/scene_run.h"
 
 #include <fmt/format.h>
@@ -104,14 +105,19 @@ std::optional<RunSettingsProblem> checkRunSettings(const RunSettings& run, doubl
                           "least one step)",
                           run.dt, run.duration)};
   const bool adaptive = run.stepMode == StepMode::kAdaptive;
-  const double steps = run.duration / (adaptive ? run.adaptive.maxStep : run.dt);
+  // An adaptive step without a ceiling (maxStep ∞, the default) counts in steps
+  // of its first step dt.
+  const double adaptiveStep =
+      std::isfinite(run.adaptive.maxStep) ? run.adaptive.maxStep : run.dt;
+  const double steps = run.duration / (adaptive ? adaptiveStep : run.dt);
   if (!(steps <= kMaxRunSteps))
     return RunSettingsProblem{
         adaptive ? "duration" : "dt",
-        adaptive ? fmt::format("the duration {} s takes at least {:.3g} adaptive steps of at most "
-                               "maxStep = {} s, more than the limit of {:.0e} steps "
-                               "(docs/scene-format.md#limits)",
-                               run.duration, steps, run.adaptive.maxStep, kMaxRunSteps)
+        adaptive ? fmt::format("the duration {} s takes {:.3g} adaptive steps of {} = {} s, more "
+                               "than the limit of {:.0e} steps (docs/scene-format.md#limits)",
+                               run.duration, steps,
+                               std::isfinite(run.adaptive.maxStep) ? "maxStep" : "the first step dt",
+                               adaptiveStep, kMaxRunSteps)
                  : fmt::format("the duration {} s in constant steps of dt = {} s is {:.3g} steps, "
                                "more than the limit of {:.0e} steps (docs/scene-format.md#limits)",
                                run.duration, run.dt, steps, kMaxRunSteps)};

@@ -136,26 +136,5 @@ TEST(TrueRolling, OneParticleBallRollsAtFiveSevenths) {
   EXPECT_NEAR(a / expected, 1.0, 0.02);
 }
 
-TEST(TrueRolling, GeneratedBallRollsAtItsOwnInertia) {
-  World world = test::sceneWorld(rollingScene(
-      R"({"name": "ball", "type": "ball", "center": [0, 0, 0.05], "radius": 0.05,
-          "cells": 5, "mass": 1, "stiffness": 2e4, "material": "rubber"})",
-      kSlope));
-  // Its outer radius: the farthest particle from the centre plus its radius.
-  const Vec3 c = test::centerOfMass(world);
-  double R = 0.0;
-  for (ParticleIndex i = 0; i < world.model().particleCount(); ++i) {
-    R = std::max(R, norm(world.state().position[i] - c) + world.model().radius[i]);
-  }
-  const double m = totalMass(world), inertia = inertiaAboutY(world);
-  const double expected = kG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
-  const double a = measuredAcceleration(world);
-  std::printf(
-      "generated ball (%d particles, R = %.4f m): a = %.5f m/s^2, closed form %.5f "
-      "(%+.2f%%)\n",
-      world.model().particleCount(), R, a, expected, 100.0 * (a / expected - 1.0));
-  EXPECT_NEAR(a / expected, 1.0, 0.02);
-}
-
 }  // namespace
 }  // namespace robophi

@@ -65,8 +65,10 @@ TEST(Edits, ContactParameterFrictionAndMaterialReachTheContactStage) {
 TEST(Edits, AFrictionCoefficientEditedBetweenStepsTakesEffect) {
   // Gravity tilted to a 16.7° slope (tan α = 0.3), the ball resting at its
   // equilibrium depth. With μ_s = 0.5 it sticks; edited to μ_s = μ_k = 0.2 it
-  // slides at a = g (sin α - μ_k cos α).
+  // slides at a = g (sin α - μ_k cos α). (The paper's particle, which does not
+  // turn: a spinning ball would roll.)
   BallOnGround setup;
+  setup.model.contact.rolling = false;
   const double alpha = std::atan(0.3);
   setup.model.gravity = Vec3{std::sin(alpha), 0.0, -std::cos(alpha)} * kGravity;
   setup.model.linearDamping[0] = 0.0;

@@ -28,10 +28,13 @@ int countEvents(const RunReport& report, const std::string& part) {
 // off-centre, at an angle α from head-on with sin α = offset / (0.15 m +
 // security). It slides round it when tan α exceeds the friction coefficient
 // μ_s = 0.5 (default material), and sticks otherwise (a friction local minimum).
+// The ball is the paper's particle, which does not turn (contact.rolling off): a
+// ball that turns would roll round the obstacle whatever the friction.
 Scene ballBehindObstacle(double offset, double securityDistance, bool escape) {
   const std::string text =
       fmt::format(R"({{
   "run": {{"duration": 6.0, "dt": 1e-4, "fps": 200}}, "gravity": [0, 0, 0],
+  "contact": {{"rolling": false}},
   "objects": [{{"name": "ball", "type": "particles",
                 "particles": [{{"position": [0, 0, 0], "mass": 1, "radius": 0.05}}],
                 "linearDamping": 4}}],
