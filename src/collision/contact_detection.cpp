@@ -8,6 +8,7 @@
 
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
+#include "collision/facets.h"
 #include "collision/sphere_tree.h"
 
 namespace robophi {
@@ -281,7 +282,9 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
   cache.stats = ContactStats{};
   cache.freshContacts.clear();
   cache.treeContacts.clear();
+  cache.facetCandidates.clear();
   refitSphereTrees(model, position, cache);
+  updateSurfacePositions(model, position, cache);  // MODEL §3.8
   const GridFrame grid = buildGrid(model, position, cache);
 
   // Grid particles in ascending order: their partners sorted, then the environment.
@@ -312,6 +315,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
       treeVersusEnvironment(model, position, cache, tree.rootNode, e);
     }
   }
+  resolveFacetCandidates(model, position, cache);  // MODEL §3.8: closest triangles
   if (!cache.treeContacts.empty()) {
     const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };
     std::sort(cache.treeContacts.begin(), cache.treeContacts.end(), byKey);

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "collision/contact_stage.h"
+#include "collision/facets.h"
 #include "robophi/stability.h"
 
 namespace robophi {
@@ -172,7 +173,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   PairParameters overrideParameters;
   for (Contact& c : cache.freshContacts) {
     // Carry the friction anchor of a contact that persists (both lists sorted).
-    const std::uint64_t key = c.key();
+    const Contact::Key key = c.key();
     while (old < previous.size() && previous[old].key() < key) {
       tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
       ++old;
@@ -183,7 +184,13 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
     const std::int32_t a = c.a;
     double smallerRadius = model.radius[a];
-    if (c.other >= 0) {
+    if (c.involvesFacets()) {  // MODEL §3.8 flat faces (collision/facets.h): the same law
+      smallerRadius =
+          applyFacetContact(model, k.stiffness, p, v, before, cache, c, f,
+                            [&](double m, const Vec3& x, const Vec3& xDot, const Contact* h) {
+                              return contactForce(model, k, m, x, xDot, h, c, tally);
+                            });
+    } else if (c.other >= 0) {
       const std::int32_t b = c.other;
       // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
       const Vec3 relative = p[a] - p[b];

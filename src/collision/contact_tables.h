@@ -33,6 +33,11 @@ struct TreeNode {
   double radius = 0.0;
   std::int32_t first = 0, count = 0;
   std::int32_t firstChild = -1, childCount = 0;
+  /// The object whose tree holds the node.
+  std::int32_t object = -1;
+  /// Rigid trees (ObjectInfo::rigid): the centre in the tree's reference frame
+  /// at build (m), moved each evaluation by the frame's rigid motion.
+  Vec3 restCenter;
   bool isLeaf() const { return childCount == 0; }
 };
 
@@ -44,6 +49,15 @@ struct TreeObject {
   std::int32_t rootNode = 0;
   std::int32_t nodeBegin = 0, nodeEnd = 0;
   bool allFixed = false;
+  /// The object has a surface mesh (MODEL §3.8): its node spheres are grown by
+  /// `margin` (m) to enclose its vertices and triangles as well as its particles.
+  bool faceted = false;
+  double margin = 0.0;
+  /// Rigid (ObjectInfo::rigid): three reference particles whose frame moves the
+  /// tree (no refit), and that frame at build (origin p_ref[0], axes).
+  bool rigid = false;
+  std::int32_t reference[3] = {-1, -1, -1};
+  Vec3 restAxes[3]{};
 };
 
 /// What the contact stage derives from the model alone.
@@ -73,6 +87,17 @@ struct ContactTables {
   std::vector<TreeObject> trees;
   /// Particles of each tree object, ascending, (trees).
   std::vector<std::vector<std::int32_t>> treeMembers;
+  /// Facets (MODEL §3.8). Per object: 1 if it touches by its surface mesh.
+  std::vector<std::int8_t> objectFaceted;  // (objects)
+  /// Per object: 1 if all its particles are fixed.
+  std::vector<std::int8_t> objectFixed;  // (objects)
+  /// The particle that carries each vertex (its largest weight), (vertices).
+  std::vector<std::int32_t> vertexOwner;
+  /// Per particle, the vertices and the triangles it carries (CSR): a sphere-tree
+  /// leaf holding the particle stands for them. A triangle's carrier is the
+  /// particle of largest total weight over its three vertices.
+  std::vector<std::int32_t> ownedVertexStart, ownedVertex;      // (particles + 1), (vertices)
+  std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
   /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
   std::vector<ContactPairOverride> overrides;
 };
@@ -111,6 +136,13 @@ struct ContactScratch {
   std::vector<Contact> rowContacts;          // one particle's finds (sorted per row)
   std::vector<Vec3> objectCentroid;          // (objects) for viscosity
   std::vector<double> objectMass;            // (objects)
+  std::vector<Vec3> vertexPosition;          // (surface vertices) at this evaluation
+  /// Facet candidates of the tree search: (probe, object, triangle), probe a
+  /// particle index or -1 - vertex; reduced to one contact per (probe, object).
+  struct FacetCandidate {
+    std::int32_t probe, object, triangle;
+  };
+  std::vector<FacetCandidate> facetCandidates;
   ContactStats stats;
 };
 

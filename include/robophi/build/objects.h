@@ -37,6 +37,15 @@ struct GeneratedObject {
   /// Joint::connector indexes jointSprings; placed with the name "<object>.<name>".
   std::vector<JointSpring> jointSprings{};
   std::vector<Joint> joints{};
+  /// Surface mesh (MODEL §3.8, docs/contact.md "Flat faces"): vertices embedded
+  /// in the particles (local particle indices), triangles over them (local
+  /// vertex indices); empty: the object touches by its particles.
+  std::vector<SurfaceVertex> surfaceVertices{};
+  std::vector<SurfaceTriangle> surfaceTriangles{};
+  /// Half thickness of a sheet surface (m); 0 for a closed surface.
+  double surfaceRadius = 0.0;
+  /// Treated as rigid by the contact search (ObjectInfo::rigid).
+  bool rigid = false;
 
   std::size_t size() const { return position.size(); }
 };
@@ -94,6 +103,11 @@ struct BoxSpec {
   double mass = 1.0;
   /// Particle radius (m), >= 0; 0: half the smallest cell side.
   double radius = 0.0;
+  /// Give it a surface mesh on its true faces (MODEL §3.8), so that it touches
+  /// by flat faces and tips at its true corners. A box with one cell across an
+  /// axis gets a sheet at mid-thickness instead; one with a single cell across
+  /// two or three axes gets none.
+  bool facets = true;
 };
 GeneratedObject makeBox(const BoxSpec& spec);
 
@@ -112,6 +126,9 @@ struct PlateSpec {
   double mass = 1.0;
   /// Particle radius (m), >= 0; 0: half of min(cell side, thickness).
   double radius = 0.0;
+  /// Give it a surface mesh (MODEL §3.8): a sheet in its plane, touched from
+  /// both sides at half its thickness. Needs at least 2 cells along x and y.
+  bool facets = true;
 };
 GeneratedObject makePlate(const PlateSpec& spec);
 
