@@ -201,7 +201,7 @@ void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, cons
   const double h = cache.tables->cellSize;
   for (const TreeObject& tree : cache.trees) {
     const TreeNode& root = cache.nodes[tree.rootNode];
-    const double reach = root.radius + 0.5 * h;
+    const double reach = outerRadius(cache, root) + 0.5 * h;
     const Vec3 lo = root.center - Vec3{reach, reach, reach};
     const Vec3 hi = root.center + Vec3{reach, reach, reach};
     const auto visit = [&](std::int32_t begin, std::int32_t end, bool checkKey, std::int64_t key) {
@@ -258,7 +258,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t t = 0; t < count; ++t) order[t] = t;
   const auto minX = [&](std::int32_t t) {
     const TreeNode& root = cache.nodes[cache.trees[t].rootNode];
-    return root.center.x - root.radius;
+    return root.center.x - outerRadius(cache, root);
   };
   std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
     const double xa = minX(a), xb = minX(b);
@@ -267,7 +267,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t k = 0; k < count; ++k) {
     const TreeObject& a = cache.trees[order[k]];
     const TreeNode& rootA = cache.nodes[a.rootNode];
-    const double maxX = rootA.center.x + rootA.radius;
+    const double maxX = rootA.center.x + outerRadius(cache, rootA);
     for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
       const TreeObject& b = cache.trees[order[l]];
       if (a.allFixed && b.allFixed) continue;

@@ -49,8 +49,9 @@ struct TreeObject {
   std::int32_t rootNode = 0;
   std::int32_t nodeBegin = 0, nodeEnd = 0;
   bool allFixed = false;
-  /// The object has a surface mesh (MODEL §3.8): its node spheres are grown by
-  /// `margin` (m) to enclose its vertices and triangles as well as its particles.
+  /// The object has a surface mesh (MODEL §3.8): its node spheres, grown by
+  /// `margin` (m) (outerRadius), enclose its vertices and triangles as well as
+  /// its particles.
   bool faceted = false;
   double margin = 0.0;
   /// Rigid (ObjectInfo::rigid): three reference particles whose frame moves the
@@ -137,6 +138,9 @@ struct ContactScratch {
   std::vector<Vec3> objectCentroid;          // (objects) for viscosity
   std::vector<double> objectMass;            // (objects)
   std::vector<Vec3> vertexPosition;          // (surface vertices) at this evaluation
+  /// Per object, the facet margin (m) of its tree (TreeObject::margin), 0 when
+  /// unfaceted: added to its node spheres in tests against other objects only.
+  std::vector<double> objectMargin;  // (objects)
   /// Facet candidates of the tree search: (probe, object, triangle), probe a
   /// particle index or -1 - vertex; reduced to one contact per (probe, object).
   struct FacetCandidate {
@@ -145,6 +149,12 @@ struct ContactScratch {
   std::vector<FacetCandidate> facetCandidates;
   ContactStats stats;
 };
+
+/// The radius (m) of `node` in a test against another object or the
+/// environment: its sphere grown by its object's facet margin (MODEL §3.8).
+inline double outerRadius(const ContactScratch& scratch, const TreeNode& node) {
+  return node.object >= 0 ? node.radius + scratch.objectMargin[node.object] : node.radius;
+}
 
 /// Points the scratch at `tables` and (re)builds its sphere trees from
 /// `position` when they were built for another revision of the tables.

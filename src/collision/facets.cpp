@@ -123,7 +123,7 @@ void leavesWithFacets(const Model& model, const std::vector<Vec3>& position, Con
   // Probes of `from` against the triangles of `to` (faceted): only a probe whose
   // sphere reaches the leaf's sphere (which encloses the leaf's triangles).
   const auto reaches = [&](const Vec3& x, double r, const TreeNode& to) {
-    const double reach = r + to.radius;
+    const double reach = r + outerRadius(cache, to);
     return squaredNorm(x - to.center) < reach * reach;
   };
   const auto probe = [&](const TreeNode& from, bool fromFaceted, const TreeNode& to) {

@@ -71,6 +71,7 @@ void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
   cache.trees = cache.tables->trees;
   cache.nodes.clear();
   cache.treeParticles.clear();
+  cache.objectMargin.assign(model.objects.size(), 0.0);
   const std::int32_t leafSize = std::max(1, model.contact.leafSize);
   for (std::size_t t = 0; t < cache.trees.size(); ++t) {
     TreeObject& tree = cache.trees[t];
@@ -86,7 +87,10 @@ void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
     tree.nodeEnd = static_cast<std::int32_t>(cache.nodes.size());
     for (std::int32_t k = tree.nodeBegin; k < tree.nodeEnd; ++k)
       cache.nodes[k].object = tree.object;
-    if (tree.faceted) tree.margin = facetTreeMargin(model, position, *cache.tables, members);
+    if (tree.faceted) {
+      tree.margin = facetTreeMargin(model, position, *cache.tables, members);
+      cache.objectMargin[static_cast<std::size_t>(tree.object)] = tree.margin;
+    }
   }
   // Every tree is refitted once; rigid ones then keep their spheres in their frame.
   std::vector<bool> rigid(cache.trees.size());
@@ -197,7 +201,7 @@ void refitTree(const Model& model, const std::vector<Vec3>& position, ContactScr
         const std::int32_t i = particles[q];
         reach = std::max(reach, norm(position[i] - node.center) + model.radius[i]);
       }
-      node.radius = reach + tree.margin;  // a faceted object's surface lies within the margin
+      node.radius = reach;
     } else {
       const TreeNode* children = cache.nodes.data() + node.firstChild;
       low = children[0].center - Vec3{children[0].radius, children[0].radius, children[0].radius};
@@ -227,7 +231,9 @@ inline bool facetedNode(const ContactScratch& cache, const TreeNode& node) {
 
 inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNode& b) {
   ++cache.stats.nodeTests;
-  const double reach = a.radius + b.radius;
+  // Between two objects a faceted node reaches its surface (MODEL §3.8).
+  const double reach =
+      a.object == b.object ? a.radius + b.radius : outerRadius(cache, a) + outerRadius(cache, b);
   return squaredNorm(a.center - b.center) < reach * reach;
 }
 
@@ -289,7 +295,7 @@ void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
                         ContactScratch& cache, std::int32_t node, std::int32_t particle) {
   const TreeNode& n = cache.nodes[node];
   ++cache.stats.nodeTests;
-  const double reach = n.radius + model.radius[particle];
+  const double reach = outerRadius(cache, n) + model.radius[particle];
   if (squaredNorm(n.center - position[particle]) >= reach * reach) return;
   if (n.isLeaf()) {
     if (facetedNode(cache, n)) {
@@ -310,7 +316,7 @@ void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
 void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
                            ContactScratch& cache, std::int32_t node, std::int32_t item) {
   const TreeNode& n = cache.nodes[node];
-  if (environmentFarFrom(model.environment, item, n.center, n.radius,
+  if (environmentFarFrom(model.environment, item, n.center, outerRadius(cache, n),
                          cache.tables->environmentTops[item])) {
     return;
   }
