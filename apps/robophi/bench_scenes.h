@@ -31,7 +31,8 @@ Scene makeClothScene(int n);
 Scene makeRigidPairScene(int cellsPerSide, bool rigid);
 
 /// RIGID: contact detection cost for two rigid objects in contact from 10³ to
-/// 10⁵ particles per object (node tests, pair tests, time per evaluation), and
+/// 10⁵ particles per object (node tests, pair tests, processor time per
+/// evaluation), and
 /// the log-log slopes of tests and time against n. Returns 0.
 int runRigidScaling(bool json);
 
