@@ -3,8 +3,13 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <nlohmann/json.hpp>
 
 #include "bench_pile.h"
+#include "robophi/build/objects.h"
+#include "robophi/evaluation.h"
 
 namespace robophi::cli {
 
@@ -75,6 +80,100 @@ std::vector<BenchScene> standardBenchScenes(bool quick) {
     }
   }
   return scenes;
+}
+
+Scene makeRigidPairScene(int cellsPerSide, bool rigid) {
+  constexpr double kCell = 0.01;  // m
+  Scene scene;
+  scene.name = fmt::format("RIGID-{}", cellsPerSide);
+  Model& model = scene.model;
+  model.gravity = {};
+  const double side = kCell * cellsPerSide;
+  for (int body = 0; body < 2; ++body) {
+    build::BoxSpec spec;
+    spec.size = {side, side, side};
+    spec.cells = {cellsPerSide, cellsPerSide, cellsPerSide};
+    spec.facets = false;
+    spec.center = {body * (side - 0.2 * kCell), 0.0, 0.0};
+    build::GeneratedObject box = build::makeBox(spec);
+    if (body == 1) build::rotateObject(box, spec.center, {1.0, 0.0, 0.0}, 10.0 * M_PI / 180.0);
+    const std::int32_t object = model.addObject(body == 0 ? "a" : "b", "box");
+    model.objects[static_cast<std::size_t>(object)].rigid = rigid;
+    for (std::size_t i = 0; i < box.size(); ++i) {
+      model.addParticle(box.mass[i], box.radius[i], false, object);
+      scene.initial.position.push_back(box.position[i]);
+    }
+  }
+  model.contact.selfCollision = false;
+  scene.initial.velocity.assign(scene.initial.position.size(), Vec3{});
+  return scene;
+}
+
+namespace {
+
+// Least-squares slope of y against x.
+double slopeOf(const std::vector<double>& x, const std::vector<double>& y) {
+  double meanX = 0.0, meanY = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    meanX += x[k] / static_cast<double>(x.size());
+    meanY += y[k] / static_cast<double>(y.size());
+  }
+  double covariance = 0.0, variance = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    covariance += (x[k] - meanX) * (y[k] - meanY);
+    variance += (x[k] - meanX) * (x[k] - meanX);
+  }
+  return covariance / variance;
+}
+
+}  // namespace
+
+int runRigidScaling(bool json) {
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  for (const bool rigid : {true, false}) {
+    const char* mode = rigid ? "rigid" : "refit";
+    std::vector<double> logN, logTests, logTime;
+    for (const int cells : {10, 14, 22, 32, 46}) {
+      const Scene scene = makeRigidPairScene(cells, rigid);
+      const CompiledModel model(scene.model);
+      Workspace workspace;
+      for (int warm = 0; warm < 2; ++warm) evaluate(model, scene.initial, workspace);
+      const std::int64_t n = static_cast<std::int64_t>(cells) * cells * cells;
+      // Processor time, not wall time: steadier on a shared machine.
+      const int repeats = n >= 30000 ? 10 : 100;
+      const std::clock_t start = std::clock();
+      for (int r = 0; r < repeats; ++r) evaluate(model, scene.initial, workspace);
+      const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC / repeats;
+      const ContactStats stats = workspace.result().contactStats;
+      const double tests = static_cast<double>(stats.nodeTests + stats.pairTests);
+      logN.push_back(std::log(static_cast<double>(n)));
+      logTests.push_back(std::log(tests));
+      logTime.push_back(std::log(seconds));
+      results.push_back({{"mode", mode},
+                         {"particles_per_object", n},
+                         {"node_tests", stats.nodeTests},
+                         {"pair_tests", stats.pairTests},
+                         {"contacts", stats.particleContacts},
+                         {"evaluation_cpu_s", seconds}});
+      if (!json) {
+        std::printf(
+            "RIGID-%s particles/object=%-7lld node_tests=%-8lld pair_tests=%-8lld "
+            "contacts=%-6lld evaluation_cpu_s=%.4g\n",
+            mode, static_cast<long long>(n), static_cast<long long>(stats.nodeTests),
+            static_cast<long long>(stats.pairTests), static_cast<long long>(stats.particleContacts),
+            seconds);
+        std::fflush(stdout);
+      }
+    }
+    const double testSlope = slopeOf(logN, logTests), timeSlope = slopeOf(logN, logTime);
+    results.push_back(
+        {{"mode", mode}, {"tests_loglog_slope", testSlope}, {"time_loglog_slope", timeSlope}});
+    if (!json)
+      std::printf("RIGID-%s log-log slope (1e3..1e5): tests %.3f, time %.3f\n", mode, testSlope,
+                  timeSlope);
+  }
+  if (json) std::printf("%s\n", results.dump(2).c_str());
+  return 0;
 }
 
 }  // namespace robophi::cli

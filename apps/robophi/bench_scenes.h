@@ -24,6 +24,18 @@ struct BenchScene {
 /// 0.2·sqrt(1e4·m); gravity -z; symplectic Euler, dt = 1e-4·32/N s, 1 s.
 Scene makeClothScene(int n);
 
+/// Two rigid lattice cubes of `cellsPerSide`³ particles each (no connectors: a
+/// geometry benchmark), the second rotated 10° about x and pressed onto the
+/// first's +x face by a fifth of a cell; both flagged ObjectInfo::rigid (their
+/// sphere trees move as a whole) unless `rigid` is false.
+Scene makeRigidPairScene(int cellsPerSide, bool rigid);
+
+/// RIGID: contact detection cost for two rigid objects in contact from 10³ to
+/// 10⁵ particles per object (node tests, pair tests, processor time per
+/// evaluation), and
+/// the log-log slopes of tests and time against n. Returns 0.
+int runRigidScaling(bool json);
+
 /// The standard set: CLOTH 32, 64, 128 and the example scenes. `quick` shortens
 /// every run to a smoke test.
 std::vector<BenchScene> standardBenchScenes(bool quick);

@@ -108,6 +108,8 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
 int benchCommand(const BenchArguments& args) {
   // SCALING: contact detection cost from 1e3 to 1e6 particles (bench_pile.cpp).
   if (args.filter.find("SCALING") != std::string::npos) return runContactScaling(args.json);
+  // RIGID: detection for two rigid objects in contact, 1e3 to 1e5 particles each.
+  if (args.filter.find("RIGID") != std::string::npos) return runRigidScaling(args.json);
   // SIGINT, SIGTERM: the scene in progress stops, nothing is recorded.
   InterruptGuard interrupt;
   nlohmann::ordered_json all = nlohmann::ordered_json::array();

@@ -9,6 +9,7 @@
 /// visco-elastic normal force (§3.1) and Coulomb friction (§3.3) realised with a
 /// tangential anchor spring, and the medium's viscosity (§3.4).
 
+#include <compare>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -123,6 +124,11 @@ struct ContactSettings {
   bool rolling = true;
   /// Most particles in a leaf of an object's sphere tree (>= 1).
   std::int32_t leafSize = 4;
+  /// Objects flagged ObjectInfo::rigid move their sphere tree as a whole by the
+  /// rigid motion of three reference particles instead of refitting it; the
+  /// node spheres grow by this margin, as a fraction of the object's smallest
+  /// particle radius (-), to cover the particles' deviation from that motion.
+  double rigidTreeMargin = 0.5;
   /// Overrides by object pair; looked up by binary search when not empty.
   std::vector<ContactPairOverride> pairOverrides;
 };
@@ -155,8 +161,9 @@ struct Contact {
   /// MODEL §3.3 rolling), tangential. The step moves the anchor by -rollVelocity·δ,
   /// so δ_t measures the slip of the contact points, not of the particle centres.
   Vec3 rollVelocity;
-  /// A wheel rim's contact (Model::rims): the ring's index, or -1. Its contact
-  /// point is `arm` from the centre of particle a (the rim particle nearest to it).
+  /// A wheel rim's contact (Model::rims): the ring's index, or -1. The ring
+  /// carries it as a rigid circle (docs/contact.md "Round rims"); `a` is its
+  /// first particle, and the contact point is `arm` from the ring's mass centre.
   std::int32_t rim = -1;
   Vec3 arm;
   /// How far (m) the anchor has given way since the contact started breaking
@@ -167,13 +174,33 @@ struct Contact {
   /// same two bodies: 0 sticking, 1 sliding, 2 breaking away (the load above
   /// μ_s F_n, friction held at μ_s F_n).
   std::int32_t sliding = 0;
+  /// Facet contacts (MODEL §3.8, docs/contact.md "Flat faces"): the surface
+  /// vertex (index into Model::surfaceVertices) that touches, or -1 when the
+  /// touching side is particle a itself. A vertex contact's `a` is the vertex's
+  /// heaviest-weighted particle (a label for the key and the outputs).
+  std::int32_t vertex = -1;
+  /// The triangle (index into Model::surfaceTriangles) the contact point lies
+  /// on, or -1 when the other side is a particle or the environment. A facet
+  /// contact's `other` is the first particle of the triangle's object.
+  std::int32_t facet = -1;
+  /// Barycentric weights (-) of the contact point on `facet` (sum 1).
+  Vec3 facetWeights;
 
   bool withEnvironment() const { return other < 0; }
   std::int32_t environmentItem() const { return -1 - other; }
-  /// Sort key: (a, other) with environment contacts after a's particle contacts.
-  std::uint64_t key() const {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-           static_cast<std::uint32_t>(other);
+  /// A contact of a surface vertex or against a triangle (MODEL §3.8).
+  bool involvesFacets() const { return vertex >= 0 || facet >= 0; }
+  /// Sort key: (a, other, vertex) with environment contacts after a's particle
+  /// contacts, and a's own contacts before its vertices' contacts with the same partner.
+  struct Key {
+    std::uint64_t pair = 0;
+    std::uint32_t vertex = 0;
+    auto operator<=>(const Key&) const = default;
+  };
+  Key key() const {
+    return {(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+                static_cast<std::uint32_t>(other),
+            static_cast<std::uint32_t>(vertex + 1)};
   }
 };
 
@@ -187,6 +214,10 @@ struct ContactStats {
   std::int64_t environmentTests = 0;
   std::int64_t particleContacts = 0;
   std::int64_t environmentContacts = 0;
+  /// Contacts of surface vertices or against triangles (MODEL §3.8), and the
+  /// point-triangle distance tests that found them.
+  std::int64_t facetContacts = 0;
+  std::int64_t facetTests = 0;
   /// Deepest penetration -d (m) and as a fraction of the smaller radius (-).
   double maxPenetration = 0.0;
   double maxPenetrationFraction = 0.0;

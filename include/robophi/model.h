@@ -4,6 +4,7 @@
 /// Masses, radii, connector rest values and stiffnesses, objects and joints.
 /// The mutable part (positions, velocities, forces) is State (state.h).
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -70,6 +71,39 @@ struct ObjectInfo {
   ParticleIndex particleCount = 0;
   /// Index into Model::materials (contact properties); 0 is the default material.
   std::int32_t material = 0;
+  /// Its surface mesh (MODEL §3.8): Model::surfaceVertices[firstVertex,
+  /// firstVertex + vertexCount) and surfaceTriangles[firstTriangle, ... +
+  /// triangleCount). Without a mesh (counts 0) the object touches by its particles.
+  std::int32_t firstVertex = 0, vertexCount = 0;
+  std::int32_t firstTriangle = 0, triangleCount = 0;
+  /// Half thickness of the surface (m), >= 0: 0 for a closed surface (a box's
+  /// faces, outward normals), > 0 for a sheet (a plate's mid-surface, touched
+  /// from both sides at this distance).
+  double surfaceRadius = 0.0;
+  /// The object is stiff enough to be treated as rigid by the contact search: its
+  /// sphere tree moves as a whole (ContactSettings::rigidTreeMargin), no refit.
+  bool rigid = false;
+};
+
+/// A point of an object's outer surface embedded in its particles (MODEL §3.8):
+/// x = Σ_k weight[k] p[particle[k]], Σ weight = 1 (affine weights, exact for any
+/// affine motion, so rigid motions carry the surface exactly). A force F on the
+/// vertex acts as weight[k] F on each particle: net force, torque and power kept.
+struct SurfaceVertex {
+  static constexpr int kMaxParticles = 8;
+  /// Particles (model indices); unused slots are kNoParticle with weight 0.
+  std::array<std::int32_t, kMaxParticles> particle{-1, -1, -1, -1, -1, -1, -1, -1};
+  /// Weights (-), summing to 1; some are negative (extrapolation to the surface).
+  std::array<double, kMaxParticles> weight{};
+  /// The object the vertex belongs to.
+  std::int32_t object = -1;
+};
+
+/// A triangle of an object's surface mesh: vertices (indices into
+/// Model::surfaceVertices) counter-clockwise seen from outside.
+struct SurfaceTriangle {
+  std::array<std::int32_t, 3> vertex{-1, -1, -1};
+  std::int32_t object = -1;
 };
 
 /// Contact properties of a material (used by the contact stage, MODEL §3).
@@ -146,6 +180,9 @@ struct Model {
   std::vector<RimRing> rims;
   std::vector<Material> materials{Material{}};
   std::vector<Joint> joints;
+  /// Surface meshes of the objects that have one (MODEL §3.8; ObjectInfo ranges).
+  std::vector<SurfaceVertex> surfaceVertices;
+  std::vector<SurfaceTriangle> surfaceTriangles;
 
   /// What particles collide with besides each other, and the medium (MODEL §3).
   Environment environment;

@@ -323,6 +323,25 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
     for (ParticleIndex* p : {&s.a, &s.b, &s.c, &s.d}) *p += offset;
     model_.jointSprings.push_back(s);
   }
+  // Surface mesh (MODEL §3.8) in model indices.
+  ObjectInfo& info = model_.objects[static_cast<std::size_t>(id)];
+  info.rigid = g.rigid;
+  info.surfaceRadius = g.surfaceRadius;
+  info.firstVertex = static_cast<std::int32_t>(model_.surfaceVertices.size());
+  info.vertexCount = static_cast<std::int32_t>(g.surfaceVertices.size());
+  info.firstTriangle = static_cast<std::int32_t>(model_.surfaceTriangles.size());
+  info.triangleCount = static_cast<std::int32_t>(g.surfaceTriangles.size());
+  for (SurfaceVertex v : g.surfaceVertices) {
+    for (std::int32_t& particle : v.particle)
+      if (particle >= 0) particle += offset;
+    v.object = id;
+    model_.surfaceVertices.push_back(v);
+  }
+  for (SurfaceTriangle t : g.surfaceTriangles) {
+    for (std::int32_t& vertex : t.vertex) vertex += info.firstVertex;
+    t.object = id;
+    model_.surfaceTriangles.push_back(t);
+  }
   for (Joint joint : g.joints) {
     joint.name = object.name + "." + joint.name;
     joint.connector += joint.kind == JointKind::kRevolute ? jointBase : torsionBase;

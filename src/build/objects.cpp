@@ -1,6 +1,7 @@
 #include "robophi/build/objects.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -95,6 +96,128 @@ void connectLattice(GeneratedObject& object, const Lattice& lattice) {
       }
     }
   }
+}
+
+// MODEL §3.8: a surface mesh for a lattice of cells n (particles at cell
+// centres). Vertices sit on the cell-corner grid of the true outer faces; an axis
+// with one cell holds a sheet at mid-thickness (half thickness `sheetRadius`).
+// Each vertex is embedded in the 2×2×2 (or 2×2) block of particles nearest to
+// it by affine least-squares weights w_k = 1/N + Σ_a (u_a − ū_a) D_ka / M_aa
+// (D_k the particle's offset from the block's mean ū in cells, M = Σ D Dᵀ,
+// diagonal for a block): exact for any affine motion of the block, so rigid
+// motions carry the surface exactly, and Σ w_k = 1.
+void addLatticeSurface(GeneratedObject& object, const Lattice& lattice, double sheetRadius) {
+  const auto& n = lattice.n;
+  int sheetAxis = -1, sheets = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (n[a] == 1) {
+      sheetAxis = a;
+      ++sheets;
+    }
+  }
+  if (sheets > 1) return;  // a rod or a single particle: no surface
+  std::array<int, 3> m{};  // vertex grid size per axis
+  for (int a = 0; a < 3; ++a) m[a] = a == sheetAxis ? 1 : n[a] + 1;
+  std::vector<int> vertexAt(static_cast<std::size_t>(m[0] * m[1] * m[2]), -1);
+  const auto gridIndex = [&](int a, int b, int c) { return (a * m[1] + b) * m[2] + c; };
+  const auto onSurface = [&](const std::array<int, 3>& g) {
+    if (sheetAxis >= 0) return true;
+    for (int a = 0; a < 3; ++a)
+      if (g[a] == 0 || g[a] == n[a]) return true;
+    return false;
+  };
+  std::vector<Vec3> rest;  // vertex positions at build, for the triangles' orientation
+  for (int a = 0; a < m[0]; ++a) {
+    for (int b = 0; b < m[1]; ++b) {
+      for (int c = 0; c < m[2]; ++c) {
+        const std::array<int, 3> g{a, b, c};
+        if (!onSurface(g)) continue;
+        std::array<double, 3> u{};  // position in cells
+        std::array<std::array<int, 2>, 3> block{};
+        std::array<int, 3> blockSize{};
+        for (int k = 0; k < 3; ++k) {
+          if (k == sheetAxis) {
+            u[k] = 0.5;
+            block[k] = {0, 0};
+            blockSize[k] = 1;
+          } else {
+            u[k] = g[k];
+            const int lo = std::clamp(static_cast<int>(std::floor(u[k] - 0.5)), 0, n[k] - 2);
+            block[k] = {lo, lo + 1};
+            blockSize[k] = 2;
+          }
+        }
+        SurfaceVertex vertex;
+        const int count = blockSize[0] * blockSize[1] * blockSize[2];
+        int slot = 0;
+        Vec3 x;
+        for (int i = 0; i < blockSize[0]; ++i) {
+          for (int j = 0; j < blockSize[1]; ++j) {
+            for (int k = 0; k < blockSize[2]; ++k) {
+              const std::array<int, 3> cell{block[0][i], block[1][j], block[2][k]};
+              double w = 1.0 / count;
+              for (int axis = 0; axis < 3; ++axis) {
+                if (blockSize[axis] < 2) continue;
+                const double mean = block[axis][0] + 1.0;       // (lo + 0.5 + lo + 1.5) / 2
+                const double offset = cell[axis] + 0.5 - mean;  // ±0.5
+                w += (u[axis] - mean) * offset / (count * 0.25);
+              }
+              const int particle = lattice.at(cell[0], cell[1], cell[2]);
+              vertex.particle[slot] = particle;
+              vertex.weight[slot] = w;
+              x += object.position[particle] * w;
+              ++slot;
+            }
+          }
+        }
+        vertexAt[gridIndex(a, b, c)] = static_cast<int>(object.surfaceVertices.size());
+        object.surfaceVertices.push_back(vertex);
+        rest.push_back(x);
+      }
+    }
+  }
+  Vec3 center;
+  for (const Vec3& p : object.position) center += p / static_cast<double>(object.size());
+  // Two triangles per boundary cell of each face, wound outwards.
+  const auto addQuad = [&](int v0, int v1, int v2, int v3, const Vec3& outward) {
+    for (const std::array<int, 3> t : {std::array<int, 3>{v0, v1, v2}, {v0, v2, v3}}) {
+      SurfaceTriangle triangle{{t[0], t[1], t[2]}, -1};
+      const Vec3 normal = cross(rest[t[1]] - rest[t[0]], rest[t[2]] - rest[t[0]]);
+      if (dot(normal, outward) < 0.0) std::swap(triangle.vertex[1], triangle.vertex[2]);
+      object.surfaceTriangles.push_back(triangle);
+    }
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    if (sheetAxis >= 0 && axis != sheetAxis) continue;
+    const int e1 = (axis + 1) % 3, e2 = (axis + 2) % 3;
+    const std::array<int, 2> sides =
+        axis == sheetAxis ? std::array<int, 2>{0, -1} : std::array<int, 2>{0, n[axis]};
+    for (const int side : sides) {
+      if (side < 0) continue;
+      for (int i = 0; i < m[e1] - 1; ++i) {
+        for (int j = 0; j < m[e2] - 1; ++j) {
+          const auto at = [&](int di, int dj) {
+            std::array<int, 3> g{};
+            g[axis] = side;
+            g[e1] = i + di;
+            g[e2] = j + dj;
+            return vertexAt[gridIndex(g[0], g[1], g[2])];
+          };
+          Vec3 outward = rest[at(0, 0)] - center;
+          if (axis != sheetAxis) {
+            const Vec3 face = (rest[at(0, 0)] + rest[at(1, 1)]) * 0.5 - center;
+            const double axisComponent[3] = {face.x, face.y, face.z};
+            outward = Vec3{};
+            (axis == 0   ? outward.x
+             : axis == 1 ? outward.y
+                         : outward.z) = axisComponent[axis] >= 0.0 ? 1.0 : -1.0;
+          }
+          addQuad(at(0, 0), at(1, 0), at(1, 1), at(0, 1), outward);
+        }
+      }
+    }
+  }
+  object.surfaceRadius = sheetAxis >= 0 ? sheetRadius : 0.0;
 }
 
 // Rodrigues: R v = v cos φ + (k × v) sin φ + k (k·v)(1 - cos φ), k a unit axis.
@@ -200,6 +323,13 @@ GeneratedObject makeBox(const BoxSpec& spec) {
   addParticles(box, std::move(positions), spec.mass,
                spec.radius > 0.0 ? spec.radius : 0.5 * cellMin);
   connectLattice(box, lattice);
+  if (spec.facets) {
+    const double sizes[3] = {spec.size.x, spec.size.y, spec.size.z};
+    double sheet = 0.0;
+    for (int a = 0; a < 3; ++a)
+      if (spec.cells[a] == 1) sheet = 0.5 * sizes[a];
+    addLatticeSurface(box, lattice, sheet);
+  }
   return box;
 }
 
@@ -225,6 +355,7 @@ GeneratedObject makePlate(const PlateSpec& spec) {
   addParticles(plate, std::move(positions), spec.mass,
                spec.radius > 0.0 ? spec.radius : 0.5 * std::min(cellMin, thickness));
   connectLattice(plate, lattice);
+  if (spec.facets) addLatticeSurface(plate, lattice, 0.5 * thickness);
   return plate;
 }
 

@@ -9,6 +9,7 @@
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
 #include "collision/rim_contact.h"
+#include "collision/facets.h"
 #include "collision/sphere_tree.h"
 
 namespace robophi {
@@ -201,7 +202,7 @@ void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, cons
   const double h = cache.tables->cellSize;
   for (const TreeObject& tree : cache.trees) {
     const TreeNode& root = cache.nodes[tree.rootNode];
-    const double reach = root.radius + 0.5 * h;
+    const double reach = outerRadius(cache, root) + 0.5 * h;
     const Vec3 lo = root.center - Vec3{reach, reach, reach};
     const Vec3 hi = root.center + Vec3{reach, reach, reach};
     const auto visit = [&](std::int32_t begin, std::int32_t end, bool checkKey, std::int64_t key) {
@@ -258,7 +259,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t t = 0; t < count; ++t) order[t] = t;
   const auto minX = [&](std::int32_t t) {
     const TreeNode& root = cache.nodes[cache.trees[t].rootNode];
-    return root.center.x - root.radius;
+    return root.center.x - outerRadius(cache, root);
   };
   std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
     const double xa = minX(a), xb = minX(b);
@@ -267,7 +268,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t k = 0; k < count; ++k) {
     const TreeObject& a = cache.trees[order[k]];
     const TreeNode& rootA = cache.nodes[a.rootNode];
-    const double maxX = rootA.center.x + rootA.radius;
+    const double maxX = rootA.center.x + outerRadius(cache, rootA);
     for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
       const TreeObject& b = cache.trees[order[l]];
       if (a.allFixed && b.allFixed) continue;
@@ -282,7 +283,9 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
   cache.stats = ContactStats{};
   cache.freshContacts.clear();
   cache.treeContacts.clear();
+  cache.facetCandidates.clear();
   refitSphereTrees(model, position, cache);
+  updateSurfacePositions(model, position, cache);  // MODEL §3.8
   const GridFrame grid = buildGrid(model, position, cache);
 
   // Grid particles in ascending order: their partners sorted, then the environment.
@@ -314,6 +317,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
     }
   }
   rimsVersusEnvironment(model, position, cache);
+  resolveFacetCandidates(model, position, cache);  // MODEL §3.8: closest triangles
   if (!cache.treeContacts.empty()) {
     const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };
     std::sort(cache.treeContacts.begin(), cache.treeContacts.end(), byKey);

@@ -22,6 +22,7 @@
 #include <limits>
 
 #include "collision/contact_stage.h"
+#include "collision/facets.h"
 #include "robophi/stability.h"
 
 namespace robophi {
@@ -183,6 +184,79 @@ inline void applyMoment(const Model& model, const ContactTables& tables, const s
   }
 }
 
+// MODEL §3.1 round rims: a ring meets the environment as a rigid circle about
+// the mass centre c of its particles, of radius R = mean |p_k - c|, turning
+// with ω = A⁻¹ Σ m_k r_k × (v_k - v_c), A = Σ m_k (|r_k|² 1 - r_k r_kᵀ),
+// r_k = p_k - c. A force F at the contact point (arm from c) reaches the
+// particles as F m_k / M plus the couple f_k = m_k (A⁻¹ (arm × F)) × r_k (zero
+// net force), and a radial load S ∂R/∂p_k: their power is F·(v_c + ω × arm) +
+// S Ṙ, the rate of the contact's own variables, so the contact's energy account
+// holds exactly for any motion of the ring that keeps its shape (and its size).
+struct RingMotion {
+  Vec3 center, velocity, omega;
+  Vec3 radialSum;  // Σ r̂_k
+  double mass = 0.0, radius = 0.0, radiusRate = 0.0;
+  double inverse[6]{};
+  double largestInverse = 0.0;
+};
+
+RingMotion ringMotion(const Model& model, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                      const RimRing& rim) {
+  RingMotion ring;
+  for (std::int32_t k = 0; k < rim.count; ++k) {
+    const std::int32_t j = rim.first + k;
+    ring.center += p[j] * model.mass[j];
+    ring.velocity += v[j] * model.mass[j];
+    ring.mass += model.mass[j];
+  }
+  ring.center = ring.center / ring.mass;
+  ring.velocity = ring.velocity / ring.mass;
+  double a[6] = {0, 0, 0, 0, 0, 0};
+  Vec3 b;
+  for (std::int32_t k = 0; k < rim.count; ++k) {
+    const std::int32_t j = rim.first + k;
+    const Vec3 d = p[j] - ring.center;
+    const Vec3 dv = v[j] - ring.velocity;
+    const double w = model.mass[j];
+    const double length = norm(d);
+    ring.radius += length;
+    if (length > 0.0) {
+      ring.radialSum += d / length;
+      ring.radiusRate += dot(d, dv) / length;
+    }
+    a[0] += w * (d.y * d.y + d.z * d.z);
+    a[1] += w * (d.x * d.x + d.z * d.z);
+    a[2] += w * (d.x * d.x + d.y * d.y);
+    a[3] -= w * d.x * d.y;
+    a[4] -= w * d.x * d.z;
+    a[5] -= w * d.y * d.z;
+    b += cross(d, dv * w);
+  }
+  ring.radius /= rim.count;
+  ring.radiusRate /= rim.count;
+  ring.largestInverse = symmetricPseudoInverse(a, ring.inverse);
+  ring.omega = symmetricTimes(ring.inverse, b);
+  return ring;
+}
+
+// Adds `force` (N) at the contact point, the `moment` (N·m) about the ring's
+// centre, and the radial load `squeeze` (N: S in S ∂R/∂p_k) to the ring's particles.
+void applyRingLoad(const Model& model, const std::vector<Vec3>& p, const RimRing& rim,
+                   const RingMotion& ring, const Vec3& force, const Vec3& moment, double squeeze,
+                   std::vector<Vec3>& f) {
+  const Vec3 beta = symmetricTimes(ring.inverse, moment);
+  const double n = static_cast<double>(rim.count);
+  for (std::int32_t k = 0; k < rim.count; ++k) {
+    const std::int32_t j = rim.first + k;
+    const Vec3 d = p[j] - ring.center;
+    const double length = norm(d);
+    const double share = model.mass[j] / ring.mass;
+    // ∂R/∂p_j = (r̂_j - (m_j / M) Σ r̂_k) / N.
+    const Vec3 radial = ((length > 0.0 ? d / length : Vec3{}) - ring.radialSum * share) / n;
+    f[j] += force * share + cross(beta, d) * model.mass[j] + radial * squeeze;
+  }
+}
+
 // The contact group of a contact: the pair (object of a, object of the other
 // particle or the environment item). Particles outside objects are their own.
 inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
@@ -200,6 +274,19 @@ void addContactRates(const Model& model, const PairParameters& k, const Contact&
   if (inverseMass == 0.0) return;
   const double stiffness = std::max(k.stiffness, k.tangentialStiffness * rotationFactor);
   const double damping = std::max(k.damping, tangentialDamping * rotationFactor);
+  if (c.rim >= 0) {
+    // A rim's contact acts on the ring's mass M: each particle j takes m_j / M
+    // of it (Gershgorin row of F m_j / M), and the ring's turning (rotationFactor).
+    const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+    double mass = 0.0;
+    for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) mass += model.mass[j];
+    for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) {
+      const double share = model.mass[j] / mass;
+      cache.contactStiffnessSum[j] += stiffness * share;
+      cache.contactDampingSum[j] += damping * share;
+    }
+    return;
+  }
   cache.contactStiffnessSum[c.a] += stiffness;
   cache.contactDampingSum[c.a] += damping;
   if (c.other >= 0) {
@@ -214,15 +301,22 @@ void addContactRates(const Model& model, const PairParameters& k, const Contact&
 double contactsCriticalStep(const Model& model, const std::vector<Contact>& contacts,
                             ContactScratch& cache) {
   double step = std::numeric_limits<double>::infinity();
+  const auto visit = [&](std::int32_t i) {
+    if (i < 0 || cache.contactStiffnessSum[i] == 0.0) return;
+    const double omega = std::sqrt(2.0 * cache.contactStiffnessSum[i] * model.inverseMass[i]);
+    const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
+    cache.contactStiffnessSum[i] = 0.0;
+    cache.contactDampingSum[i] = 0.0;
+    step = std::min(step, dampedCriticalStep(omega, dampingRate));
+  };
   for (const Contact& c : contacts) {
-    for (const std::int32_t i : {c.a, c.other}) {
-      if (i < 0 || cache.contactStiffnessSum[i] == 0.0) continue;
-      const double omega = std::sqrt(2.0 * cache.contactStiffnessSum[i] * model.inverseMass[i]);
-      const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
-      cache.contactStiffnessSum[i] = 0.0;
-      cache.contactDampingSum[i] = 0.0;
-      step = std::min(step, dampedCriticalStep(omega, dampingRate));
+    if (c.rim >= 0) {  // the ring's particles share it (addContactRates)
+      const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+      for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) visit(j);
+      continue;
     }
+    visit(c.a);
+    visit(c.other);
   }
   return step;
 }
@@ -259,7 +353,9 @@ Vec3 frictionForce(const PairParameters& k, const FrictionTrial& t, const Fricti
   c.giveWay = 0.0;
   c.anchor = t.relative - consistent;
   c.anchorEnergy = 0.5 * stiffness * squaredNorm(consistent);
-  tally.releasedEnergy += t.previousEnergy - c.anchorEnergy;
+  // The spring's energy at δ_t (what its work over the last step left there)
+  // less what the sliding anchor keeps.
+  tally.releasedEnergy += 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
   tally.dissipativePower -= friction * t.slipSpeed;
   return direction * -friction;
 }
@@ -323,7 +419,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     Contact& c = contacts[index];
     FrictionTrial& t = cache.trials[index];
     // Carry the friction anchor of a contact that persists (both lists sorted).
-    const std::uint64_t key = c.key();
+    const Contact::Key key = c.key();
     while (old < previous.size() && previous[old].key() < key) {
       tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
       ++old;
@@ -336,7 +432,25 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     double smallerRadius = model.radius[a];
     Vec3 relativeVelocity;
     double inverseMass = model.inverseMass[a];
-    if (c.other >= 0) {
+    // MODEL §3.8 flat faces (collision/facets.h): a vertex or a particle against a
+    // triangle or the environment, by the same law at the touching point; the
+    // faceted side does not turn (its lattice rotates with its particles).
+    const bool faceted = c.involvesFacets();
+    FacetKinematics facet;
+    RingMotion ring;
+    double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
+    if (faceted) {
+      facetKinematics(model, p, v, before, c, facet);
+      if (before != nullptr) before = &facet.previous;
+      t.relative = facet.relative;
+      relativeVelocity = facet.relativeVelocity;
+      inverseMass = 1.0 / facet.reducedMass;
+      smallerRadius = facet.radius;
+      t.armA = c.vertex >= 0 ? Vec3{} : c.normal * -(model.radius[a] + c.depth);
+      t.armB = Vec3{};
+      addFacetRates(model, k.stiffness, c, cache);
+      ++stats.facetContacts;
+    } else if (c.other >= 0) {
       const std::int32_t b = c.other;
       // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
       t.relative = p[a] - p[b];
@@ -350,18 +464,31 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
       t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
       ++stats.particleContacts;
+    } else if (c.rim >= 0) {
+      // A round rim (rigid ring about its centre, above): the contact point on
+      // the surface is c.arm from the ring's centre.
+      ring = ringMotion(model, p, v, model.rims[static_cast<std::size_t>(c.rim)]);
+      t.relative = ring.center;
+      relativeVelocity = ring.velocity;
+      inverseMass = 1.0 / ring.mass;
+      t.armA = c.arm;
+      t.armB = Vec3{};
+      // d = n·(c + R u) - h - r: it changes with the ring's turning and size too.
+      squeezeRate = (dot(c.normal, c.arm) + model.radius[a] + c.depth) / ring.radius;
+      ++stats.environmentContacts;
     } else {
       t.relative = p[a];
       relativeVelocity = v[a];
-      // The point on the surface (a rim's: found with the contact).
-      t.armA = c.rim >= 0 ? c.arm : c.normal * -(model.radius[a] + c.depth);
+      t.armA = c.normal * -(model.radius[a] + c.depth);  // the point on the surface
       t.armB = Vec3{};
       ++stats.environmentContacts;
     }
     // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
     const Vec3& n = c.normal;
     const double d = c.depth;
-    const double dDot = dot(relativeVelocity, n);
+    const double dDot = c.rim >= 0 ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
+                                         squeezeRate * ring.radiusRate
+                                   : dot(relativeVelocity, n);
     double normalForce = -k.stiffness * d - k.damping * dDot;
     if (normalForce < 0.0) normalForce = 0.0;
     c.normalForce = normalForce;
@@ -369,8 +496,15 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
     tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
     const Vec3 normal = n * normalForce;
-    f[a] += normal;
-    if (c.other >= 0) f[c.other] -= normal;
+    if (faceted) {
+      distributeFacetForce(model, c, normal, f);
+    } else if (c.rim >= 0) {
+      applyRingLoad(model, p, model.rims[static_cast<std::size_t>(c.rim)], ring, normal,
+                    cross(t.armA, normal), normalForce * squeezeRate, f);
+    } else {
+      f[a] += normal;
+      if (c.other >= 0) f[c.other] -= normal;
+    }
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
 
@@ -386,9 +520,16 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       continue;
     }
     // The contact points' velocities: the rotation of each body adds ω × arm.
-    const Turning ta = turningOf(model, tables, p, v, spin, a, norm(t.armA), t.inverseA);
+    Turning ta;
+    if (c.rim >= 0) {  // the ring turns as a whole (kind 3)
+      ta.kind = 3;
+      ta.omega = ring.omega;
+      ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
+    } else if (c.vertex < 0) {
+      ta = turningOf(model, tables, p, v, spin, a, norm(t.armA), t.inverseA);
+    }
     Turning tb;
-    if (c.other >= 0) {
+    if (c.other >= 0 && c.facet < 0) {
       tb = turningOf(model, tables, p, v, spin, c.other, norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
@@ -396,6 +537,10 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     c.rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
     if (k.rollingResistance > 0.0) {
       const Vec3 moment = rollingResistanceMoment(k, c, ta.omega, tb.omega, model.radius[a], tally);
+      if (c.rim >= 0) {
+        applyRingLoad(model, p, model.rims[static_cast<std::size_t>(c.rim)], ring, Vec3{}, moment,
+                      0.0, f);
+      }
       applyMoment(model, tables, p, t.turnA, t.inverseA, a, moment, f, torque);
       if (c.other >= 0)
         applyMoment(model, tables, p, t.turnB, t.inverseB, c.other, moment * -1.0, f, torque);
@@ -430,6 +575,15 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     }
     const Vec3 displacement = t.relative - c.anchor;
     t.delta = displacement - n * dot(displacement, n);
+    if (t.regimeBefore == kSliding) {
+      // A sliding anchor follows the slip: over the last step the contact was
+      // loaded by kinetic friction (its work booked as dissipation), not by its
+      // spring, so the spring holds the offset it had, F_t = -k_t δ_t (MODEL §3.3);
+      // what the new normal's projection takes off is released.
+      const Vec3 held = before->frictionForce * (-1.0 / k.tangentialStiffness);
+      t.delta = held - n * dot(held, n);
+      tally.releasedEnergy += t.previousEnergy - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
+    }
     c.slip = pointVelocity - n * dot(pointVelocity, n);
     t.slipSpeed = norm(c.slip);
     t.elastic = t.delta * -k.tangentialStiffness;
@@ -488,8 +642,9 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
     } else if (g.total <= g.normal) {
       g.regime = kSticking;
-    } else if (g.wasBreakingAway && (g.slip > kSlidingSpeed * g.elasticSpeed ||
-                                     (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
+    } else if (g.wasBreakingAway &&
+               (g.slip > kSlidingSpeed * g.elasticSpeed ||
+                (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
       g.regime = kSliding;
     } else {
       g.regime = kBreakingAway;
@@ -505,12 +660,17 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       const Vec3 tangential =
           frictionForce(k, t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
       c.frictionForce = tangential;
-      f[c.a] += tangential;
-      if (c.other >= 0) f[c.other] -= tangential;
-      // A rim's contact point is off the line through a's centre: the normal
-      // force has a moment too.
-      const Vec3 atPoint = c.rim >= 0 ? tangential + c.normal * c.normalForce : tangential;
-      applyMoment(model, tables, p, t.turnA, t.inverseA, c.a, cross(t.armA, atPoint), f, torque);
+      if (c.involvesFacets()) {
+        distributeFacetForce(model, c, tangential, f);
+      } else if (c.rim >= 0) {
+        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+        applyRingLoad(model, p, rim, ringMotion(model, p, v, rim), tangential,
+                      cross(t.armA, tangential), 0.0, f);
+      } else {
+        f[c.a] += tangential;
+        if (c.other >= 0) f[c.other] -= tangential;
+      }
+      applyMoment(model, tables, p, t.turnA, t.inverseA, c.a, cross(t.armA, tangential), f, torque);
       if (c.other >= 0) {
         applyMoment(model, tables, p, t.turnB, t.inverseB, c.other,
                     cross(t.armB, tangential * -1.0), f, torque);

@@ -172,7 +172,73 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     bool allFixed = true;
     for (std::int32_t i : cache.treeMembers[t]) allFixed = allFixed && model.inverseMass[i] == 0.0;
     cache.trees[t].allFixed = allFixed;
+    const std::int32_t object = cache.trees[t].object;
+    if (object >= 0 && cache.treeMembers[t].size() >= 2) {
+      cache.trees[t].faceted = cache.objectFaceted[object] != 0;
+      cache.trees[t].rigid = model.objects[object].rigid;
+    }
   }
+}
+
+// MODEL §3.8: which objects touch by their surface mesh, and which particle
+// carries each vertex and triangle (CSR lists by particle).
+void classifySurfaces(const Model& model, ContactTables& cache) {
+  const auto objects = model.objects.size();
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  cache.objectFaceted.assign(objects, 0);
+  cache.objectFixed.assign(objects, 1);
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    const std::int32_t object = model.objectOf[i];
+    if (object >= 0 && static_cast<std::size_t>(object) < objects && model.inverseMass[i] != 0.0)
+      cache.objectFixed[static_cast<std::size_t>(object)] = 0;
+  }
+  for (std::size_t o = 0; o < objects; ++o)
+    cache.objectFaceted[o] =
+        model.objects[o].triangleCount > 0 && model.objects[o].particleCount >= 2;
+  const auto owner = [](const SurfaceVertex& v) {
+    int best = 0;
+    for (int k = 1; k < SurfaceVertex::kMaxParticles; ++k)
+      if (v.particle[k] >= 0 && v.weight[k] > v.weight[best]) best = k;
+    return v.particle[best];
+  };
+  cache.vertexOwner.resize(model.surfaceVertices.size());
+  for (std::size_t v = 0; v < model.surfaceVertices.size(); ++v)
+    cache.vertexOwner[v] = owner(model.surfaceVertices[v]);
+  std::vector<std::int32_t> triangleOwner(model.surfaceTriangles.size());
+  for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
+    // The particle of largest summed weight over the three vertices.
+    std::vector<std::pair<std::int32_t, double>> sums;
+    for (const std::int32_t vertex : model.surfaceTriangles[t].vertex) {
+      const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(vertex)];
+      for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+        if (v.particle[k] < 0) continue;
+        auto it = std::find_if(sums.begin(), sums.end(),
+                               [&](const auto& e) { return e.first == v.particle[k]; });
+        if (it == sums.end())
+          sums.emplace_back(v.particle[k], v.weight[k]);
+        else
+          it->second += v.weight[k];
+      }
+    }
+    std::sort(sums.begin(), sums.end());
+    std::size_t best = 0;
+    for (std::size_t e = 1; e < sums.size(); ++e)
+      if (sums[e].second > sums[best].second) best = e;
+    triangleOwner[t] = sums.empty() ? 0 : sums[best].first;
+  }
+  const auto csr = [n](const std::vector<std::int32_t>& ownerOf, std::vector<std::int32_t>& start,
+                       std::vector<std::int32_t>& items) {
+    start.assign(n + 1, 0);
+    for (const std::int32_t i : ownerOf) ++start[static_cast<std::size_t>(i) + 1];
+    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    items.resize(ownerOf.size());
+    std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < ownerOf.size(); ++k)
+      items[static_cast<std::size_t>(fill[static_cast<std::size_t>(ownerOf[k])]++)] =
+          static_cast<std::int32_t>(k);
+  };
+  csr(cache.vertexOwner, cache.ownedVertexStart, cache.ownedVertex);
+  csr(triangleOwner, cache.ownedTriangleStart, cache.ownedTriangle);
 }
 
 }  // namespace
@@ -225,6 +291,7 @@ ContactTables compileContactTables(const Model& model) {
                 return std::tie(x.objectA, x.objectB) < std::tie(y.objectA, y.objectB);
               });
     buildExclusions(model, *cache);
+    classifySurfaces(model, *cache);
     classifyParticles(model, *cache);
   }
   return tables;

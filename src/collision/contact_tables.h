@@ -36,6 +36,11 @@ struct TreeNode {
   double radius = 0.0;
   std::int32_t first = 0, count = 0;
   std::int32_t firstChild = -1, childCount = 0;
+  /// The object whose tree holds the node.
+  std::int32_t object = -1;
+  /// Rigid trees (ObjectInfo::rigid): the centre in the tree's reference frame
+  /// at build (m), moved each evaluation by the frame's rigid motion.
+  Vec3 restCenter;
   bool isLeaf() const { return childCount == 0; }
 };
 
@@ -47,6 +52,16 @@ struct TreeObject {
   std::int32_t rootNode = 0;
   std::int32_t nodeBegin = 0, nodeEnd = 0;
   bool allFixed = false;
+  /// The object has a surface mesh (MODEL §3.8): its node spheres, grown by
+  /// `margin` (m) (outerRadius), enclose its vertices and triangles as well as
+  /// its particles.
+  bool faceted = false;
+  double margin = 0.0;
+  /// Rigid (ObjectInfo::rigid): three reference particles whose frame moves the
+  /// tree (no refit), and that frame at build (origin p_ref[0], axes).
+  bool rigid = false;
+  std::int32_t reference[3] = {-1, -1, -1};
+  Vec3 restAxes[3]{};
 };
 
 /// What the contact stage derives from the model alone.
@@ -86,6 +101,17 @@ struct ContactTables {
   std::vector<TreeObject> trees;
   /// Particles of each tree object, ascending, (trees).
   std::vector<std::vector<std::int32_t>> treeMembers;
+  /// Facets (MODEL §3.8). Per object: 1 if it touches by its surface mesh.
+  std::vector<std::int8_t> objectFaceted;  // (objects)
+  /// Per object: 1 if all its particles are fixed.
+  std::vector<std::int8_t> objectFixed;  // (objects)
+  /// The particle that carries each vertex (its largest weight), (vertices).
+  std::vector<std::int32_t> vertexOwner;
+  /// Per particle, the vertices and the triangles it carries (CSR): a sphere-tree
+  /// leaf holding the particle stands for them. A triangle's carrier is the
+  /// particle of largest total weight over its three vertices.
+  std::vector<std::int32_t> ownedVertexStart, ownedVertex;      // (particles + 1), (vertices)
+  std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
   /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
   std::vector<ContactPairOverride> overrides;
 };
@@ -157,8 +183,24 @@ struct ContactScratch {
   std::vector<FrictionGroup> groups;
   std::vector<Vec3> objectCentroid;  // (objects) for viscosity
   std::vector<double> objectMass;    // (objects)
+  std::vector<Vec3> vertexPosition;          // (surface vertices) at this evaluation
+  /// Per object, the facet margin (m) of its tree (TreeObject::margin), 0 when
+  /// unfaceted: added to its node spheres in tests against other objects only.
+  std::vector<double> objectMargin;  // (objects)
+  /// Facet candidates of the tree search: (probe, object, triangle), probe a
+  /// particle index or -1 - vertex; reduced to one contact per (probe, object).
+  struct FacetCandidate {
+    std::int32_t probe, object, triangle;
+  };
+  std::vector<FacetCandidate> facetCandidates;
   ContactStats stats;
 };
+
+/// The radius (m) of `node` in a test against another object or the
+/// environment: its sphere grown by its object's facet margin (MODEL §3.8).
+inline double outerRadius(const ContactScratch& scratch, const TreeNode& node) {
+  return node.object >= 0 ? node.radius + scratch.objectMargin[node.object] : node.radius;
+}
 
 /// Points the scratch at `tables` and (re)builds its sphere trees from
 /// `position` when they were built for another revision of the tables.

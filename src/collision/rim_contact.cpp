@@ -18,9 +18,15 @@ struct Ring {
   double radius = 0.0;
 };
 
-Ring ringAt(const RimRing& rim, const std::vector<Vec3>& p) {
+Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
   Ring ring;
-  ring.center = p[rim.hub];
+  // The mass centre of the ring's particles (contact_force.cpp RingMotion).
+  double mass = 0.0;
+  for (std::int32_t k = 0; k < rim.count; ++k) {
+    ring.center += p[rim.first + k] * model.mass[rim.first + k];
+    mass += model.mass[rim.first + k];
+  }
+  ring.center = ring.center / mass;
   Vec3 normal;
   double radius = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
@@ -62,7 +68,7 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       free = model.inverseMass[rim.first + k] != 0.0;
     }
     if (!free) continue;
-    const Ring ring = ringAt(rim, position);
+    const Ring ring = ringAt(model, rim, position);
     for (std::int32_t e = 0; e < items; ++e) {
       if (environmentFarFrom(environment, e, ring.center, ring.radius + tube,
                              cache.tables->environmentTops[e])) {
@@ -81,24 +87,15 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       if (!reaches || !environmentDistance(environment, e, point, distance, normal)) continue;
       const double depth = distance - tube;
       if (depth >= 0.0) continue;
-      // The rim particle nearest to the contact carries it.
-      std::int32_t nearest = rim.first;
-      double best = -1e300;
-      const Vec3 toward = point - ring.center;
-      for (std::int32_t k = 0; k < rim.count; ++k) {
-        const double along = dot(position[rim.first + k] - ring.center, toward);
-        if (along > best) {
-          best = along;
-          nearest = rim.first + k;
-        }
-      }
+      // The whole ring carries it (contact_force.cpp); its first particle
+      // names it, so the contact keeps its friction anchor as the ring turns.
       Contact c;
-      c.a = nearest;
+      c.a = rim.first;
       c.other = -1 - e;
       c.depth = depth;
       c.normal = normal;
       c.rim = static_cast<std::int32_t>(r);
-      c.arm = point - normal * (tube + depth) - position[nearest];
+      c.arm = point - normal * (tube + depth) - ring.center;
       cache.treeContacts.push_back(c);
     }
   }

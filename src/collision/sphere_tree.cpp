@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "collision/environment.h"
+#include "collision/facets.h"
 
 namespace robophi {
 
@@ -70,6 +71,7 @@ void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
   cache.trees = cache.tables->trees;
   cache.nodes.clear();
   cache.treeParticles.clear();
+  cache.objectMargin.assign(model.objects.size(), 0.0);
   const std::int32_t leafSize = std::max(1, model.contact.leafSize);
   for (std::size_t t = 0; t < cache.trees.size(); ++t) {
     TreeObject& tree = cache.trees[t];
@@ -83,13 +85,103 @@ void buildSphereTrees(const Model& model, const std::vector<Vec3>& position,
     cache.nodes.push_back(root);
     buildNode(position, cache, tree.rootNode, leafSize, 0);
     tree.nodeEnd = static_cast<std::int32_t>(cache.nodes.size());
+    for (std::int32_t k = tree.nodeBegin; k < tree.nodeEnd; ++k)
+      cache.nodes[k].object = tree.object;
+    if (tree.faceted) {
+      tree.margin = facetTreeMargin(model, position, *cache.tables, members);
+      cache.objectMargin[static_cast<std::size_t>(tree.object)] = tree.margin;
+    }
+  }
+  // Every tree is refitted once; rigid ones then keep their spheres in their frame.
+  std::vector<bool> rigid(cache.trees.size());
+  for (std::size_t t = 0; t < cache.trees.size(); ++t) {
+    rigid[t] = cache.trees[t].rigid;
+    cache.trees[t].rigid = false;
   }
   refitSphereTrees(model, position, cache);
+  for (std::size_t t = 0; t < cache.trees.size(); ++t) {
+    if (rigid[t]) setUpRigidTree(model, position, cache, cache.trees[t]);
+  }
+}
+
+// MODEL §3.2 for rigid objects: the tree's frame from its three reference
+// particles, e1 along p1 - p0, e2 in the plane of p2, e3 = e1 × e2.
+void referenceFrame(const std::vector<Vec3>& position, const TreeObject& tree, Vec3 axes[3]) {
+  const Vec3& p0 = position[tree.reference[0]];
+  axes[0] = position[tree.reference[1]] - p0;
+  axes[0] = axes[0] / norm(axes[0]);
+  axes[1] = position[tree.reference[2]] - p0;
+  axes[1] = axes[1] - axes[0] * dot(axes[1], axes[0]);
+  axes[1] = axes[1] / norm(axes[1]);
+  axes[2] = cross(axes[0], axes[1]);
+}
+
+void setUpRigidTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                    TreeObject& tree) {
+  const std::int32_t first = cache.nodes[tree.rootNode].first;
+  const std::int32_t count = cache.nodes[tree.rootNode].count;
+  const std::int32_t* members = cache.treeParticles.data() + first;
+  // References: a member, the member farthest from it, the one farthest from their line.
+  std::int32_t r0 = members[0], r1 = members[0], r2 = members[0];
+  double smallest = model.radius[members[0]], far = -1.0;
+  for (std::int32_t q = 0; q < count; ++q) {
+    smallest = std::min(smallest, model.radius[members[q]]);
+    if (members[q] < r0) r0 = members[q];
+  }
+  for (std::int32_t q = 0; q < count; ++q) {
+    const double d = squaredNorm(position[members[q]] - position[r0]);
+    if (d > far) far = d, r1 = members[q];
+  }
+  const Vec3 line = (position[r1] - position[r0]) / std::max(std::sqrt(far), 1e-300);
+  far = -1.0;
+  for (std::int32_t q = 0; q < count; ++q) {
+    const Vec3 d = position[members[q]] - position[r0];
+    const double off = squaredNorm(d - line * dot(d, line));
+    if (off > far) far = off, r2 = members[q];
+  }
+  if (!(far > 0.0) || r1 == r0) return;  // collinear: stays a refitted tree
+  tree.reference[0] = r0;
+  tree.reference[1] = r1;
+  tree.reference[2] = r2;
+  referenceFrame(position, tree, tree.restAxes);
+  const double grow = model.contact.rigidTreeMargin * smallest;
+  for (std::int32_t k = tree.nodeBegin; k < tree.nodeEnd; ++k) {
+    TreeNode& node = cache.nodes[k];
+    const Vec3 r = node.center - position[r0];
+    node.restCenter = {dot(r, tree.restAxes[0]), dot(r, tree.restAxes[1]),
+                       dot(r, tree.restAxes[2])};
+    node.radius += grow;
+  }
+  tree.rigid = true;
+}
+
+// A rigid tree moves as a whole: c = p_ref0 + Σ_k c_rest,k e_k (no refit).
+void moveRigidTree(const std::vector<Vec3>& position, ContactScratch& cache,
+                   const TreeObject& tree) {
+  Vec3 axes[3];
+  referenceFrame(position, tree, axes);
+  const Vec3& origin = position[tree.reference[0]];
+  for (std::int32_t k = tree.nodeBegin; k < tree.nodeEnd; ++k) {
+    TreeNode& node = cache.nodes[k];
+    node.center = origin + axes[0] * node.restCenter.x + axes[1] * node.restCenter.y +
+                  axes[2] * node.restCenter.z;
+  }
 }
 
 void refitSphereTrees(const Model& model, const std::vector<Vec3>& position,
                       ContactScratch& cache) {
-  for (auto k = static_cast<std::int32_t>(cache.nodes.size()) - 1; k >= 0; --k) {
+  for (const TreeObject& tree : cache.trees) {
+    if (tree.rigid) {
+      moveRigidTree(position, cache, tree);
+    } else {
+      refitTree(model, position, cache, tree);
+    }
+  }
+}
+
+void refitTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+               const TreeObject& tree) {
+  for (auto k = tree.nodeEnd - 1; k >= tree.nodeBegin; --k) {
     TreeNode& node = cache.nodes[k];
     Vec3 low, high;
     if (node.isLeaf()) {
@@ -132,9 +224,16 @@ void refitSphereTrees(const Model& model, const std::vector<Vec3>& position,
 
 namespace {
 
+// Whether a node belongs to an object with a surface mesh (MODEL §3.8).
+inline bool facetedNode(const ContactScratch& cache, const TreeNode& node) {
+  return node.object >= 0 && cache.tables->objectFaceted[node.object] != 0;
+}
+
 inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNode& b) {
   ++cache.stats.nodeTests;
-  const double reach = a.radius + b.radius;
+  // Between two objects a faceted node reaches its surface (MODEL §3.8).
+  const double reach =
+      a.object == b.object ? a.radius + b.radius : outerRadius(cache, a) + outerRadius(cache, b);
   return squaredNorm(a.center - b.center) < reach * reach;
 }
 
@@ -147,6 +246,11 @@ void treeVersusTree(const Model& model, const std::vector<Vec3>& position, Conta
   const TreeNode& b = cache.nodes[nodeB];
   if (!spheresTouch(cache, a, b)) return;
   if (a.isLeaf() && b.isLeaf()) {
+    if (a.object != b.object && (facetedNode(cache, a) || facetedNode(cache, b))) {
+      leavesWithFacets(model, position, cache, a,
+                       b);  // MODEL §3.8: particles or vertices on triangles
+      return;
+    }
     for (std::int32_t p = a.first; p < a.first + a.count; ++p) {
       for (std::int32_t q = b.first; q < b.first + b.count; ++q) {
         testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
@@ -191,9 +295,13 @@ void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
                         ContactScratch& cache, std::int32_t node, std::int32_t particle) {
   const TreeNode& n = cache.nodes[node];
   ++cache.stats.nodeTests;
-  const double reach = n.radius + model.radius[particle];
+  const double reach = outerRadius(cache, n) + model.radius[particle];
   if (squaredNorm(n.center - position[particle]) >= reach * reach) return;
   if (n.isLeaf()) {
+    if (facetedNode(cache, n)) {
+      particleOnLeafFacets(cache, n, particle);  // MODEL §3.8
+      return;
+    }
     for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
       testParticlePair(model, position, cache, cache.treeParticles[p], particle);
     }
@@ -208,11 +316,15 @@ void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
 void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
                            ContactScratch& cache, std::int32_t node, std::int32_t item) {
   const TreeNode& n = cache.nodes[node];
-  if (environmentFarFrom(model.environment, item, n.center, n.radius,
+  if (environmentFarFrom(model.environment, item, n.center, outerRadius(cache, n),
                          cache.tables->environmentTops[item])) {
     return;
   }
   if (n.isLeaf()) {
+    if (facetedNode(cache, n)) {
+      leafVerticesOnEnvironment(model, cache, n, item);  // MODEL §3.8: the true surface
+      return;
+    }
     for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
       const std::int32_t i = cache.treeParticles[p];
       if (model.inverseMass[i] == 0.0 || cache.tables->rimOf[i] >= 0) continue;

@@ -16,6 +16,20 @@ void buildSphereTrees(const Model& model, const std::vector<Vec3>& position, Con
 /// sphere encloses its particles' spheres, so a deforming object misses nothing.
 void refitSphereTrees(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache);
 
+/// Refits one (non-rigid) tree's spheres, leaves first.
+void refitTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+               const TreeObject& tree);
+/// A rigid tree (ObjectInfo::rigid): chooses its three reference particles,
+/// stores every node centre in their frame and grows the spheres by
+/// ContactSettings::rigidTreeMargin × the smallest radius; refitSphereTrees
+/// then moves the nodes by the frame's motion instead of refitting them.
+void setUpRigidTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                    TreeObject& tree);
+/// The orthonormal frame of a rigid tree's reference particles at `position`.
+void referenceFrame(const std::vector<Vec3>& position, const TreeObject& tree, Vec3 axes[3]);
+void moveRigidTree(const std::vector<Vec3>& position, ContactScratch& cache,
+                   const TreeObject& tree);
+
 /// The particles a, b (a != b) that may touch: appended to cache.treeContacts
 /// as (min, max) when |p_a - p_b| < r_a + r_b and no connector ties them.
 void treeVersusTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,

@@ -57,6 +57,10 @@ std::uint64_t stateHash(const State& state) {
     hashValue(h, c.giveWay);
     hashValue(h, c.arm);
     hashValue(h, c.sliding);
+    hashValue(h, c.vertex);
+    hashValue(h, c.facet);
+    hashValue(h, c.facetWeights);
+    hashValue(h, c.frictionForce);  // a sliding anchor holds it (MODEL §3.3)
   }
   return h;
 }

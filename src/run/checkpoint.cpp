@@ -65,7 +65,10 @@ json contactToJson(const Contact& c) {
           {"rim", c.rim},
           {"arm", exactVec3(c.arm)},
           {"give_way", exactNumber(c.giveWay)},
-          {"sliding", c.sliding}};
+          {"sliding", c.sliding},
+          {"vertex", c.vertex},
+          {"facet", c.facet},
+          {"facet_weights", exactVec3(c.facetWeights)}};
 }
 
 Contact contactFromJson(const json& j) {
@@ -84,15 +87,22 @@ Contact contactFromJson(const json& j) {
   c.arm = vec3FromJson(j.at("arm"), "arm");
   c.giveWay = number(j, "give_way");
   c.sliding = j.at("sliding").get<std::int32_t>();
+  c.vertex = j.at("vertex").get<std::int32_t>();
+  c.facet = j.at("facet").get<std::int32_t>();
+  c.facetWeights = vec3FromJson(j.at("facet_weights"), "facet_weights");
   return c;
 }
 
 json stateToJson(const State& s) {
   json history = json::array();
   for (const Contact& c : s.frictionHistory) history.push_back(contactToJson(c));
-  return {{"time", exactNumber(s.time)},        {"step_count", s.stepCount},
-          {"position", vec3Array(s.position)},  {"velocity", vec3Array(s.velocity)},
-          {"spin", vec3Array(s.spin)},          {"friction_history", history},        {"dissipated", exactNumber(s.dissipated)},
+  return {{"time", exactNumber(s.time)},
+          {"step_count", s.stepCount},
+          {"position", vec3Array(s.position)},
+          {"velocity", vec3Array(s.velocity)},
+          {"spin", vec3Array(s.spin)},
+          {"friction_history", history},
+          {"dissipated", exactNumber(s.dissipated)},
           {"external", exactNumber(s.external)}};
 }
 

@@ -121,8 +121,10 @@ bool readBox(ObjectReader& r, GeneratedObject& out, bool cube) {
   // Elastic moduli instead of spring stiffness (docs/robotics.md#bar-calibration-experiment-1).
   const auto young = r.number("youngModulus", Bound::kPositive, "Pa");
   const auto shear = r.number("shearModulus", Bound::kPositive, "Pa");
+  const auto facets = r.boolean("facets");  // MODEL §3.8 flat faces, default on
   if (!center || !size || !cells || !mass) return false;
-  const build::BoxSpec spec{*center, *size, *cells, *mass, radius.value_or(0.0)};
+  build::BoxSpec spec{*center, *size, *cells, *mass, radius.value_or(0.0)};
+  spec.facets = facets.value_or(true);
   out = build::makeBox(spec);
   build::resolveSprings(out, springs);
   if (young) build::calibrateLattice(out, spec, *young, shear);
@@ -143,6 +145,7 @@ bool readPlate(ObjectReader& r, GeneratedObject& out) {
   const auto mass = r.number("mass", Bound::kPositive, kMass, true);
   const auto radius = r.number("radius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
+  const auto facets = r.boolean("facets");  // MODEL §3.8 flat faces, default on
   if (!center || !size || !cells || !mass) return false;
   out = build::makePlate({*center,
                           (*size)[0],
@@ -150,7 +153,8 @@ bool readPlate(ObjectReader& r, GeneratedObject& out) {
                           thickness.value_or(0.0),
                           {(*cells)[0], (*cells)[1]},
                           *mass,
-                          radius.value_or(0.0)});
+                          radius.value_or(0.0),
+                          facets.value_or(true)});
   // A single layer bends only through its TS: default κ_b = 0.1 κ h².
   build::resolveSprings(out, springs, 0.1);
   return applyRotation(r, out, *center);

@@ -39,6 +39,15 @@ struct GeneratedObject {
   std::vector<Joint> joints{};
   /// Wheel rims with a round contact surface (local indices; robophi::RimRing).
   std::vector<RimRing> rims{};
+  /// Surface mesh (MODEL §3.8, docs/contact.md "Flat faces"): vertices embedded
+  /// in the particles (local particle indices), triangles over them (local
+  /// vertex indices); empty: the object touches by its particles.
+  std::vector<SurfaceVertex> surfaceVertices{};
+  std::vector<SurfaceTriangle> surfaceTriangles{};
+  /// Half thickness of a sheet surface (m); 0 for a closed surface.
+  double surfaceRadius = 0.0;
+  /// Treated as rigid by the contact search (ObjectInfo::rigid).
+  bool rigid = false;
 
   std::size_t size() const { return position.size(); }
 };
@@ -103,6 +112,11 @@ struct BoxSpec {
   double mass = 1.0;
   /// Particle radius (m), >= 0; 0: half the smallest cell side.
   double radius = 0.0;
+  /// Give it a surface mesh on its true faces (MODEL §3.8), so that it touches
+  /// by flat faces and tips at its true corners. A box with one cell across an
+  /// axis gets a sheet at mid-thickness instead; one with a single cell across
+  /// two or three axes gets none.
+  bool facets = true;
 };
 GeneratedObject makeBox(const BoxSpec& spec);
 
@@ -121,6 +135,9 @@ struct PlateSpec {
   double mass = 1.0;
   /// Particle radius (m), >= 0; 0: half of min(cell side, thickness).
   double radius = 0.0;
+  /// Give it a surface mesh (MODEL §3.8): a sheet in its plane, touched from
+  /// both sides at half its thickness. Needs at least 2 cells along x and y.
+  bool facets = true;
 };
 GeneratedObject makePlate(const PlateSpec& spec);
 

@@ -1,0 +1,341 @@
+// Flat faces (MODEL §3.8): surface vertices embedded in the particles, the
+// closest-triangle search behind the sphere trees, and the facet contacts'
+// kinematics and force distribution.
+#include "collision/facets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "collision/environment.h"
+
+namespace robophi {
+
+namespace {
+
+// x = Σ w_k p_k over a vertex's particles (also for velocities).
+inline Vec3 embedded(const SurfaceVertex& v, const std::vector<Vec3>& p) {
+  Vec3 x;
+  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+    if (v.particle[k] >= 0) x += p[v.particle[k]] * v.weight[k];
+  }
+  return x;
+}
+
+// Σ w_k² / m_k: the inverse of a vertex's effective mass (1/kg).
+inline double vertexInverseMass(const Model& model, const SurfaceVertex& v) {
+  double sum = 0.0;
+  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+    if (v.particle[k] >= 0) sum += v.weight[k] * v.weight[k] * model.inverseMass[v.particle[k]];
+  }
+  return sum;
+}
+
+// The point of triangle (a, b, c) closest to p, as barycentric weights
+// (Ericson, Real-Time Collision Detection §5.1.5).
+Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return {1.0, 0.0, 0.0};
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return {0.0, 1.0, 0.0};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    const double t = d1 / (d1 - d3);
+    return {1.0 - t, t, 0.0};
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return {0.0, 0.0, 1.0};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    const double t = d2 / (d2 - d6);
+    return {1.0 - t, 0.0, t};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0.0, 1.0 - t, t};
+  }
+  const double denominator = 1.0 / (va + vb + vc);
+  const double v = vb * denominator, w = vc * denominator;
+  return {1.0 - v - w, v, w};
+}
+
+inline const SurfaceVertex& vertexOf(const Model& model, const SurfaceTriangle& t, int j) {
+  return model.surfaceVertices[static_cast<std::size_t>(t.vertex[static_cast<std::size_t>(j)])];
+}
+
+inline double weightOf(const Vec3& beta, int j) {
+  return j == 0 ? beta.x : j == 1 ? beta.y : beta.z;
+}
+
+// A triangle's point at barycentric weights beta, from vertex positions x(v).
+template <typename VertexPoint>
+inline Vec3 trianglePoint(const SurfaceTriangle& t, const Vec3& beta, VertexPoint x) {
+  return x(t.vertex[0]) * beta.x + x(t.vertex[1]) * beta.y + x(t.vertex[2]) * beta.z;
+}
+
+void addTriangles(ContactScratch& cache, std::int32_t probe, std::int32_t object,
+                  std::int32_t carrier) {
+  const ContactTables& t = *cache.tables;
+  for (std::int32_t k = t.ownedTriangleStart[carrier]; k < t.ownedTriangleStart[carrier + 1]; ++k)
+    cache.facetCandidates.push_back({probe, object, t.ownedTriangle[k]});
+}
+
+}  // namespace
+
+double facetTreeMargin(const Model& model, const std::vector<Vec3>& position,
+                       const ContactTables& tables, const std::vector<std::int32_t>& members) {
+  double margin = 0.0;
+  double sheet = 0.0;
+  for (const std::int32_t i : members) {
+    const Vec3& p = position[i];
+    for (std::int32_t k = tables.ownedVertexStart[i]; k < tables.ownedVertexStart[i + 1]; ++k) {
+      const Vec3 x = embedded(model.surfaceVertices[tables.ownedVertex[k]], position);
+      margin = std::max(margin, norm(x - p) - model.radius[i]);
+    }
+    for (std::int32_t k = tables.ownedTriangleStart[i]; k < tables.ownedTriangleStart[i + 1]; ++k) {
+      const SurfaceTriangle& t = model.surfaceTriangles[tables.ownedTriangle[k]];
+      sheet = std::max(sheet, model.objects[static_cast<std::size_t>(t.object)].surfaceRadius);
+      for (int j = 0; j < 3; ++j) {
+        const Vec3 x = embedded(vertexOf(model, t, j), position);
+        margin = std::max(margin, norm(x - p) - model.radius[i]);
+      }
+    }
+  }
+  return 1.25 * (std::max(margin, 0.0) + sheet);
+}
+
+void updateSurfacePositions(const Model& model, const std::vector<Vec3>& position,
+                            ContactScratch& cache) {
+  cache.vertexPosition.resize(model.surfaceVertices.size());
+  for (std::size_t v = 0; v < model.surfaceVertices.size(); ++v)
+    cache.vertexPosition[v] = embedded(model.surfaceVertices[v], position);
+}
+
+void leavesWithFacets(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                      const TreeNode& a, const TreeNode& b) {
+  const ContactTables& t = *cache.tables;
+  const bool facetedA = a.object >= 0 && t.objectFaceted[a.object] != 0;
+  const bool facetedB = b.object >= 0 && t.objectFaceted[b.object] != 0;
+  // Probes of `from` against the triangles of `to` (faceted): only a probe whose
+  // sphere reaches the leaf's sphere (which encloses the leaf's triangles).
+  const auto reaches = [&](const Vec3& x, double r, const TreeNode& to) {
+    const double reach = r + outerRadius(cache, to);
+    return squaredNorm(x - to.center) < reach * reach;
+  };
+  const auto probe = [&](const TreeNode& from, bool fromFaceted, const TreeNode& to) {
+    const double sheet =
+        fromFaceted ? model.objects[static_cast<std::size_t>(from.object)].surfaceRadius : 0.0;
+    for (std::int32_t p = from.first; p < from.first + from.count; ++p) {
+      const std::int32_t i = cache.treeParticles[p];
+      if (!fromFaceted) {
+        if (!reaches(position[i], model.radius[i], to)) continue;
+        for (std::int32_t q = to.first; q < to.first + to.count; ++q)
+          addTriangles(cache, i, to.object, cache.treeParticles[q]);
+        continue;
+      }
+      for (std::int32_t k = t.ownedVertexStart[i]; k < t.ownedVertexStart[i + 1]; ++k) {
+        const std::int32_t v = t.ownedVertex[k];
+        if (!reaches(cache.vertexPosition[v], sheet, to)) continue;
+        for (std::int32_t q = to.first; q < to.first + to.count; ++q)
+          addTriangles(cache, -1 - v, to.object, cache.treeParticles[q]);
+      }
+    }
+  };
+  if (facetedB) probe(a, facetedA, b);
+  if (facetedA) probe(b, facetedB, a);
+}
+
+void particleOnLeafFacets(ContactScratch& cache, const TreeNode& leaf, std::int32_t particle) {
+  // (The caller has tested the particle's sphere against the leaf's.)
+  for (std::int32_t q = leaf.first; q < leaf.first + leaf.count; ++q)
+    addTriangles(cache, particle, leaf.object, cache.treeParticles[q]);
+}
+
+void leafVerticesOnEnvironment(const Model& model, ContactScratch& cache, const TreeNode& leaf,
+                               std::int32_t item) {
+  const ContactTables& t = *cache.tables;
+  const double radius = model.objects[static_cast<std::size_t>(leaf.object)].surfaceRadius;
+  for (std::int32_t p = leaf.first; p < leaf.first + leaf.count; ++p) {
+    const std::int32_t i = cache.treeParticles[p];
+    for (std::int32_t k = t.ownedVertexStart[i]; k < t.ownedVertexStart[i + 1]; ++k) {
+      const std::int32_t v = t.ownedVertex[k];
+      ++cache.stats.environmentTests;
+      Contact c;
+      if (touchesEnvironment(model.environment, i, cache.vertexPosition[v], radius, item, c)) {
+        c.vertex = v;
+        cache.treeContacts.push_back(c);
+      }
+    }
+  }
+}
+
+void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& position,
+                            ContactScratch& cache) {
+  auto& candidates = cache.facetCandidates;
+  if (candidates.empty()) return;
+  using Candidate = ContactScratch::FacetCandidate;
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.probe != y.probe) return x.probe < y.probe;
+    if (x.object != y.object) return x.object < y.object;
+    return x.triangle < y.triangle;
+  });
+  const ContactTables& t = *cache.tables;
+  const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
+    return cache.vertexPosition[static_cast<std::size_t>(v)];
+  };
+  std::size_t k = 0;
+  while (k < candidates.size()) {
+    const std::int32_t probe = candidates[k].probe, object = candidates[k].object;
+    std::size_t end = k;
+    while (end < candidates.size() && candidates[end].probe == probe &&
+           candidates[end].object == object)
+      ++end;
+    const bool isVertex = probe < 0;
+    const std::int32_t vertex = isVertex ? -1 - probe : -1;
+    const std::int32_t probeObject =
+        isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object
+                 : t.particleObject[probe];
+    const bool probeFixed =
+        isVertex ? t.objectFixed[probeObject] != 0 : model.inverseMass[probe] == 0.0;
+    if (probeFixed && t.objectFixed[object] != 0) {
+      k = end;
+      continue;
+    }
+    const Vec3 p = isVertex ? vertexAt(vertex) : position[probe];
+    const double probeRadius =
+        isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
+                 : model.radius[probe];
+    const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
+    // The closest triangle: smallest |p - q|, the lowest index on a tie.
+    double best = std::numeric_limits<double>::infinity();
+    std::int32_t bestTriangle = -1;
+    Vec3 bestBeta, bestNormal;
+    double bestSigned = 0.0;
+    for (std::size_t c = k; c < end; ++c) {
+      if (c > k && candidates[c].triangle == candidates[c - 1].triangle) continue;
+      ++cache.stats.facetTests;
+      const SurfaceTriangle& tri = model.surfaceTriangles[candidates[c].triangle];
+      const Vec3 &x0 = vertexAt(tri.vertex[0]), &x1 = vertexAt(tri.vertex[1]),
+                 &x2 = vertexAt(tri.vertex[2]);
+      const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
+      const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
+      const double distance = norm(p - q);
+      if (!(distance < best)) continue;
+      Vec3 faceNormal = cross(x1 - x0, x2 - x0);
+      const double area = norm(faceNormal);
+      if (!(area > 0.0)) continue;
+      faceNormal = faceNormal / area;
+      best = distance;
+      bestTriangle = candidates[c].triangle;
+      bestBeta = beta;
+      if (sheet > 0.0) {
+        // A sheet is touched from either side at its half thickness.
+        bestSigned = distance - sheet;
+        bestNormal = distance > 0.0 ? (p - q) / distance : faceNormal;
+      } else {
+        // A closed surface: outside, the direction from the surface point; inside
+        // (behind the face), the face's normal.
+        const bool outside = dot(p - x0, faceNormal) >= 0.0;
+        bestSigned = outside ? distance : -distance;
+        bestNormal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
+      }
+    }
+    const double depth = bestSigned - probeRadius;
+    if (bestTriangle >= 0 && depth < 0.0) {
+      Contact c;
+      c.a = isVertex ? t.vertexOwner[static_cast<std::size_t>(vertex)] : probe;
+      c.other = model.objects[static_cast<std::size_t>(object)].firstParticle;
+      c.vertex = vertex;
+      c.facet = bestTriangle;
+      c.facetWeights = bestBeta;
+      c.depth = depth;
+      c.normal = bestNormal;
+      cache.treeContacts.push_back(c);
+    }
+    k = end;
+  }
+}
+
+void facetKinematics(const Model& model, const std::vector<Vec3>& position,
+                     const std::vector<Vec3>& velocity, const Contact* before, const Contact& c,
+                     FacetKinematics& out) {
+  // The touching side: particle a, or the vertex.
+  Vec3 x = position[c.a], xDot = velocity[c.a];
+  double inverseMass = model.inverseMass[c.a];
+  if (c.vertex >= 0) {
+    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
+    x = embedded(v, position);
+    xDot = embedded(v, velocity);
+    inverseMass = vertexInverseMass(model, v);
+  }
+  out.radius = model.radius[c.a];
+  out.hasPrevious = before != nullptr;
+  if (before != nullptr) out.previous = *before;
+  if (c.facet < 0) {  // a vertex on the environment: absolute, as a particle's
+    out.relative = x;
+    out.relativeVelocity = xDot;
+    out.reducedMass = 1.0 / std::max(inverseMass, 1e-300);
+    return;
+  }
+  const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
+  const auto at = [&](std::int32_t v) {
+    return embedded(model.surfaceVertices[static_cast<std::size_t>(v)], position);
+  };
+  const auto rate = [&](std::int32_t v) {
+    return embedded(model.surfaceVertices[static_cast<std::size_t>(v)], velocity);
+  };
+  const Vec3 q = trianglePoint(t, c.facetWeights, at);
+  const Vec3 qDot = trianglePoint(t, c.facetWeights, rate);
+  double targetInverseMass = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    const double b = weightOf(c.facetWeights, j);
+    targetInverseMass += b * b * vertexInverseMass(model, vertexOf(model, t, j));
+  }
+  out.relative = x - q;
+  out.relativeVelocity = xDot - qDot;
+  out.reducedMass = 1.0 / std::max(inverseMass + targetInverseMass, 1e-300);
+  // The anchor refers to the body point the contact had last time; carry it to
+  // the current contact point: x - q_now = (x - q_old) + (q_old - q_now).
+  if (before != nullptr && before->facet >= 0) {
+    const SurfaceTriangle& old = model.surfaceTriangles[static_cast<std::size_t>(before->facet)];
+    const Vec3 qOld = trianglePoint(old, before->facetWeights, at);
+    out.previous.anchor = before->anchor + (qOld - q);
+  }
+}
+
+void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
+                          std::vector<Vec3>& force) {
+  const auto spread = [&](const SurfaceVertex& v, const Vec3& f) {
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+      if (v.particle[k] >= 0) force[v.particle[k]] += f * v.weight[k];
+    }
+  };
+  if (c.vertex >= 0) {
+    spread(model.surfaceVertices[static_cast<std::size_t>(c.vertex)], onA);
+  } else {
+    force[c.a] += onA;
+  }
+  if (c.facet < 0) return;
+  const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
+  for (int j = 0; j < 3; ++j) spread(vertexOf(model, t, j), onA * -weightOf(c.facetWeights, j));
+}
+
+void addFacetRates(const Model& model, double stiffness, const Contact& c, ContactScratch& cache) {
+  if (c.vertex < 0 || model.inverseMass[c.a] == 0.0) return;
+  const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
+  double sum = 0.0, own = 0.0;
+  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+    if (v.particle[k] < 0) continue;
+    sum += std::abs(v.weight[k]);
+    if (v.particle[k] == c.a) own = std::abs(v.weight[k]);
+  }
+  const double extra = sum * own - 1.0;
+  if (extra > 0.0 && cache.contactStiffnessSum.size() > static_cast<std::size_t>(c.a))
+    cache.contactStiffnessSum[c.a] += extra * stiffness;
+}
+
+}  // namespace robophi
