@@ -573,18 +573,23 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     } else {
       c.anchor = t.relative;
     }
-    const Vec3 displacement = t.relative - c.anchor;
-    t.delta = displacement - n * dot(displacement, n);
+    // Tangential parts, projected twice: the displacement and the velocity are
+    // mostly normal when the contact sticks, and one projection leaves a normal
+    // residue of rounding that is not small against what is left.
+    const auto tangential = [&n](const Vec3& x) {
+      const Vec3 once = x - n * dot(x, n);
+      return once - n * dot(once, n);
+    };
+    t.delta = tangential(t.relative - c.anchor);
     if (t.regimeBefore == kSliding) {
       // A sliding anchor follows the slip: over the last step the contact was
       // loaded by kinetic friction (its work booked as dissipation), not by its
       // spring, so the spring holds the offset it had, F_t = -k_t δ_t (MODEL §3.3);
       // what the new normal's projection takes off is released.
-      const Vec3 held = before->frictionForce * (-1.0 / k.tangentialStiffness);
-      t.delta = held - n * dot(held, n);
+      t.delta = tangential(before->frictionForce * (-1.0 / k.tangentialStiffness));
       tally.releasedEnergy += t.previousEnergy - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
     }
-    c.slip = pointVelocity - n * dot(pointVelocity, n);
+    c.slip = tangential(pointVelocity);
     t.slipSpeed = norm(c.slip);
     t.elastic = t.delta * -k.tangentialStiffness;
     t.damper = c.slip * -t.tangentialDamping;

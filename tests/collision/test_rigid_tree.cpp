@@ -14,6 +14,12 @@
 namespace robophi {
 namespace {
 
+// R p + t: a rotation by `angle` about the unit `axis`, then a shift.
+Vec3 moved(const Vec3& p, const Vec3& axis, double angle, const Vec3& shift) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return p * c + cross(axis, p) * s + axis * (dot(axis, p) * (1.0 - c)) + shift;
+}
+
 // Two cubes of cells³ particles (no connectors), the second rotated 10° about x
 // and pressed onto the first's +x face by a fifth of a cell (as `robophi bench
 // --filter RIGID`).
@@ -24,29 +30,28 @@ Model rigidPair(int cells, bool rigid, State& state) {
   model.contact.selfCollision = false;
   const double side = kCell * cells;
   state = State{};
+  // The particles of a cells³ box lattice (cell centres, radius half a cell,
+  // 1 kg in all), without its connectors: the contact search is what is timed,
+  // and a 46³ lattice's connectors are above the builders' size budget.
   for (int body = 0; body < 2; ++body) {
-    build::BoxSpec spec;
-    spec.size = {side, side, side};
-    spec.cells = {cells, cells, cells};
-    spec.facets = false;
-    spec.center = {body * (side - 0.2 * kCell), 0.0, 0.0};
-    build::GeneratedObject box = build::makeBox(spec);
-    if (body == 1) build::rotateObject(box, spec.center, {1.0, 0.0, 0.0}, 10.0 * M_PI / 180.0);
+    const Vec3 center{body * (side - 0.2 * kCell), 0.0, 0.0};
     const std::int32_t object = model.addObject(body == 0 ? "a" : "b", "box");
     model.objects[static_cast<std::size_t>(object)].rigid = rigid;
-    for (std::size_t i = 0; i < box.size(); ++i) {
-      model.addParticle(box.mass[i], box.radius[i], false, object);
-      state.position.push_back(box.position[i]);
+    const double mass = 1.0 / (static_cast<double>(cells) * cells * cells);
+    for (int i = 0; i < cells; ++i) {
+      for (int j = 0; j < cells; ++j) {
+        for (int k = 0; k < cells; ++k) {
+          Vec3 p = center + Vec3{(i + 0.5) * kCell, (j + 0.5) * kCell, (k + 0.5) * kCell} -
+                   Vec3{side, side, side} * 0.5;
+          if (body == 1) p = center + moved(p - center, {1.0, 0.0, 0.0}, 10.0 * M_PI / 180.0, {});
+          model.addParticle(mass, 0.5 * kCell, false, object);
+          state.position.push_back(p);
+        }
+      }
     }
   }
   state.velocity.assign(state.position.size(), Vec3{});
   return model;
-}
-
-// R p + t: a rotation by `angle` about the unit `axis`, then a shift.
-Vec3 moved(const Vec3& p, const Vec3& axis, double angle, const Vec3& shift) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return p * c + cross(axis, p) * s + axis * (dot(axis, p) * (1.0 - c)) + shift;
 }
 
 TEST(RigidTree, FindsTheContactsOfARefittedTree) {

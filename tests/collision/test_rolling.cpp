@@ -100,7 +100,9 @@ TEST(Rolling, WheelRollsFarWhileTheCubeComesToRest) {
   ASSERT_EQ(checkModel(model), "");
   World world(model, state);
   const Vec3 wheel0 = centroid(world.state(), wheel), cube0 = centroid(world.state(), cube);
-  for (int step = 0; step < 40'000; ++step) {  // 2 s
+  // 3 s: the cube's last tumble ends at about 2.2 s (it holds from then on,
+  // speed < 1e-12 m/s by 4.6 s, without creep).
+  for (int step = 0; step < 60'000; ++step) {
     ASSERT_EQ(world.step(5e-5), StepStatus::kOk);
   }
   const double wheelDistance = centroid(world.state(), wheel).x - wheel0.x;
@@ -110,7 +112,7 @@ TEST(Rolling, WheelRollsFarWhileTheCubeComesToRest) {
       std::atan2(world.state().position[cube.first + 1].z - world.state().position[cube.first].z,
                  world.state().position[cube.first + 1].x - world.state().position[cube.first].x);
   std::printf("cube edge angle %.1f°\n", cubeTurn * 180.0 / M_PI);
-  std::printf("after 2 s: wheel %.3f m (speed %.3f m/s), cube %.3f m (speed %.2e m/s)\n",
+  std::printf("after 3 s: wheel %.3f m (speed %.3f m/s), cube %.3f m (speed %.2e m/s)\n",
               wheelDistance, speed(world.state(), wheel), cubeDistance, speed(world.state(), cube));
   EXPECT_GT(std::abs(cubeTurn), M_PI / 4.0);  // it toppled over (an edge along x is now vertical)
   EXPECT_GT(wheelDistance, 1.5);
