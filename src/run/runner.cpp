@@ -89,6 +89,55 @@ ParticleIndex mostEnergetic(const World& world) {
   return best;
 }
 
+// MODEL §3.1's contact is a small overlap of two spheres: a packing of
+// spheres touches at most about 12 neighbours per particle (the kissing number,
+// a few more for mixed sizes). Far more on average means the particles sit
+// inside one another (a heap started in one spot): every step then costs N²
+// contacts, the step shrinks to the overlap forces' time scale, and the run
+// would take hours for an explosion the model does not describe. Above this
+// mean number of touching contacts per particle the run stops (stalled).
+constexpr double kMaxMeanContacts = 24.0;
+
+// When the touching contacts overload the particles (kMaxMeanContacts): why,
+// and the particle with the most contacts in `blamed`; else empty.
+std::string contactOverload(const World& world, ParticleIndex* blamed) {
+  const Model& model = world.model();
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  const std::vector<Contact>& contacts = world.contacts();
+  // Each particle pair counts for both particles, an environment contact for one.
+  if (n == 0 || 2.0 * static_cast<double>(contacts.size()) <=
+                    kMaxMeanContacts * static_cast<double>(n))
+    return {};
+  std::vector<std::int64_t> count(n, 0);
+  double touching = 0.0;  // contact ends on particles
+  std::int64_t pairs = 0;
+  double deepest = 0.0;
+  for (const Contact& c : contacts) {
+    if (!(c.depth < 0.0)) continue;
+    ++pairs;
+    ++count[static_cast<std::size_t>(c.a)];
+    touching += 1.0;
+    double smaller = model.radius[c.a];
+    if (!c.withEnvironment()) {
+      ++count[static_cast<std::size_t>(c.other)];
+      touching += 1.0;
+      smaller = std::min(smaller, model.radius[c.other]);
+    }
+    if (smaller > 0.0) deepest = std::max(deepest, -c.depth / smaller);
+  }
+  const double mean = touching / static_cast<double>(n);
+  if (!(mean > kMaxMeanContacts)) return {};
+  const auto most = std::max_element(count.begin(), count.end());
+  *blamed = static_cast<ParticleIndex>(most - count.begin());
+  return fmt::format(
+      "the contacts overload the particles: {} touching contacts among {} particles, {:.1f} "
+      "a particle on average (a packing of spheres touches at most about 12 neighbours; the "
+      "limit is {:.0f}), particle {} touches {}, the deepest overlap is {:.0f}% of a radius: the "
+      "particles sit inside one another, beyond the contact model's small overlaps (MODEL "
+      "§3.1), and the step would collapse under their forces; start them apart",
+      pairs, n, mean, kMaxMeanContacts, *blamed, *most, 100.0 * deepest);
+}
+
 // A folder beside `target` that is renamed to it when complete.
 std::string stagingFolder(const std::string& target) {
   std::filesystem::path path(target);
@@ -318,6 +367,16 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       if (options.checkpointEvery > 0.0) writeCheckpoint();
       break;
     }
+    // Particles inside one another (a heap in one spot): stop before the step collapses.
+    if (ParticleIndex blamed = kNoParticle; true) {
+      if (const std::string why = contactOverload(world, &blamed); !why.empty()) {
+        report.status = "stalled";
+        report.failurePlace = placeOf(world, blamed);
+        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), why);
+        report.warnings.push_back(report.failure);
+        break;
+      }
+    }
     double dtUsed = settings.dt;
     // A constant step lands on k·dt exactly (the last one clipped to the
     // duration), so the end time is the duration and end-of-run tasks fire.
@@ -330,7 +389,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
         report.status = "stalled";
-        report.failurePlace = placeOf(world, world.firstNonFiniteParticle());
+        // The particle the step blames (the largest acceleration), else a non-finite one.
+        report.failurePlace = placeOf(
+            world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
         report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
         report.warnings.push_back(report.failure);
         break;
