@@ -105,8 +105,8 @@ std::string contactOverload(const World& world, ParticleIndex* blamed) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   const std::vector<Contact>& contacts = world.contacts();
   // Each particle pair counts for both particles, an environment contact for one.
-  if (n == 0 || 2.0 * static_cast<double>(contacts.size()) <=
-                    kMaxMeanContacts * static_cast<double>(n))
+  if (n == 0 ||
+      2.0 * static_cast<double>(contacts.size()) <= kMaxMeanContacts * static_cast<double>(n))
     return {};
   std::vector<std::int64_t> count(n, 0);
   double touching = 0.0;  // contact ends on particles
@@ -240,8 +240,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // The drift's scale: the energy that can turn into motion in the scene's own
     // frame, or that gravity can release (MODEL §4.1), never E(0), which depends
     // on where z = 0 is.
-    report.initialScale = std::max(
-        energyAccountScale(world.model(), world.state(), world.energy()), 1e-300);
+    report.initialScale =
+        std::max(energyAccountScale(world.model(), world.state(), world.energy()), 1e-300);
     report.energyScale = report.initialScale;
   }
 
@@ -390,8 +390,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       if (!r.ok) {
         report.status = "stalled";
         // The particle the step blames (the largest acceleration), else a non-finite one.
-        report.failurePlace = placeOf(
-            world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
+        report.failurePlace =
+            placeOf(world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
         report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
         report.warnings.push_back(report.failure);
         break;

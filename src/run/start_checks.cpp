@@ -92,7 +92,8 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
   std::stable_sort(sorted.begin(), sorted.end(),
                    [](const auto& x, const auto& y) { return x.second.pairs > y.second.pairs; });
   long long restPairs = 0;
-  for (std::size_t k = kMaxOverlapWarnings; k < sorted.size(); ++k) restPairs += sorted[k].second.pairs;
+  for (std::size_t k = kMaxOverlapWarnings; k < sorted.size(); ++k)
+    restPairs += sorted[k].second.pairs;
   if (sorted.size() > kMaxOverlapWarnings) sorted.resize(kMaxOverlapWarnings);
   for (const auto& [key, o] : sorted) {
     if (key.first == key.second) {
@@ -121,9 +122,9 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
     }
   }
   if (restPairs > 0) {
-    warnings.push_back(fmt::format(
-        "and {} more pairs of objects start overlapping ({} particle pairs)",
-        overlaps.size() - kMaxOverlapWarnings, restPairs));
+    warnings.push_back(
+        fmt::format("and {} more pairs of objects start overlapping ({} particle pairs)",
+                    overlaps.size() - kMaxOverlapWarnings, restPairs));
   }
   return warnings;
 }

@@ -226,9 +226,10 @@ class Rows {
       // Rows of objects.csv at this frame's time, one per object, then -1.
       const double t = frame.at(0);
       for (const auto& r : table.rows)
-        if (r.at(0) == t && r.at(1) == static_cast<double>(o)) return r.at(static_cast<std::size_t>(c));
-      throw std::runtime_error("objects.csv has no row for object '" + who + "' at t = " +
-                               std::to_string(t));
+        if (r.at(0) == t && r.at(1) == static_cast<double>(o))
+          return r.at(static_cast<std::size_t>(c));
+      throw std::runtime_error("objects.csv has no row for object '" + who +
+                               "' at t = " + std::to_string(t));
     }
     throw std::runtime_error("'" + who + "' is neither p<index>, P nor an object of model.json");
   }
@@ -237,7 +238,8 @@ class Rows {
   static double particleValue_(const std::vector<double>& frame, const Table& p, std::size_t i,
                                const std::string& f) {
     const int c = p.column(f + std::to_string(i));
-    if (c < 0) throw std::runtime_error("particles.csv has no column '" + f + std::to_string(i) + "'");
+    if (c < 0)
+      throw std::runtime_error("particles.csv has no column '" + f + std::to_string(i) + "'");
     return frame.at(static_cast<std::size_t>(c));
   }
   RunOutputs& run_;
@@ -473,7 +475,7 @@ std::string evaluateCheck(const std::string& check, RunOutputs& run) {
     const double right = p.expression();
     if (!p.atEnd()) p.fail("unexpected text");
     found << ", right side = " << right;
-    const bool holds = op == "<=" ? left <= right
+    const bool holds = op == "<="   ? left <= right
                        : op == ">=" ? left >= right
                        : op == "<"  ? left < right
                                     : left > right;
@@ -513,9 +515,8 @@ TEST_P(StressScene, EndsSoundOrWithANamedFailure) {
   ASSERT_TRUE(fs::exists(scene)) << scene;
   RunOutputs run;
   run.dir = scratch_ / "out";
-  const Outcome o = robophi("run " + scene.string() + " " + c.extras +
-                                " --quiet --out " + run.dir.string(),
-                            scratch_);
+  const Outcome o = robophi(
+      "run " + scene.string() + " " + c.extras + " --quiet --out " + run.dir.string(), scratch_);
   run.errors = o.errors;
   RecordProperty("wall_seconds", std::to_string(o.wallSeconds));
   ASSERT_EQ(o.exitCode, c.exitCode) << o.errors;
@@ -530,9 +531,10 @@ TEST_P(StressScene, EndsSoundOrWithANamedFailure) {
     ASSERT_NO_THROW(run.summary = json::parse(summaryText)) << summaryText;
     ASSERT_NO_THROW(run.model = json::parse(testing::readText(run.dir / "model.json")));
     const std::string status = run.summary.at("status").get<std::string>();
-    const std::map<int, std::set<std::string>> statuses = {
-        {0, {"ok"}}, {3, {"diverged", "stalled"}}, {4, {"energy_account_broken"}},
-        {5, {"goal_not_reached"}}};
+    const std::map<int, std::set<std::string>> statuses = {{0, {"ok"}},
+                                                           {3, {"diverged", "stalled"}},
+                                                           {4, {"energy_account_broken"}},
+                                                           {5, {"goal_not_reached"}}};
     ASSERT_TRUE(statuses.contains(c.exitCode)) << "no status for exit " << c.exitCode;
     EXPECT_TRUE(statuses.at(c.exitCode).contains(status)) << status;
     if (c.exitCode != 0) {
@@ -540,7 +542,8 @@ TEST_P(StressScene, EndsSoundOrWithANamedFailure) {
       const std::string failure = run.summary.value("failure", "");
       EXPECT_FALSE(failure.empty());
       EXPECT_NE(o.errors.find(failure.substr(0, 60)), std::string::npos)
-          << "stderr does not say '" << failure << "':\n" << o.errors;
+          << "stderr does not say '" << failure << "':\n"
+          << o.errors;
     }
     if (c.exitCode == 3) {
       // Where: the time, the step, the particle and its object.
@@ -568,8 +571,7 @@ TEST_P(StressScene, EndsSoundOrWithANamedFailure) {
 INSTANTIATE_TEST_SUITE_P(Corpus, StressScene, ::testing::ValuesIn(casesOf(false)),
                          test::LabelName{});
 // Rows marked `slow` (over ~5 s): ctest label "slow" (tests/CMakeLists.txt).
-INSTANTIATE_TEST_SUITE_P(Slow, StressScene, ::testing::ValuesIn(casesOf(true)),
-                         test::LabelName{});
+INSTANTIATE_TEST_SUITE_P(Slow, StressScene, ::testing::ValuesIn(casesOf(true)), test::LabelName{});
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StressScene);
 
 // The table and the folder agree, and the corpus is as large as the issue asks.
