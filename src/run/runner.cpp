@@ -207,6 +207,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   std::int64_t nextFrame = 0, nextEnergyRow = 0, nextCheckpoint = 1;
   std::int64_t lastFrameStep = -1, lastEnergyStep = -1;
   double largestAccountError = 0.0;  // J
+  std::optional<FailurePlace> accountBrokenAt;
   double priorWallSeconds = 0.0;
   if (resume) {
     const json& savedTasks = resume->at("tasks");
@@ -426,6 +427,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.energyScale = std::max(report.energyScale, activeEnergy(energy));
     largestAccountError =
         std::max(largestAccountError, std::abs(energy.total() - report.initialTotal));
+    // Where the account first went past its bound (at the scale so far): the
+    // place an energy_account_broken verdict names.
+    if (!accountBrokenAt && largestAccountError > report.accountBound * report.energyScale)
+      accountBrokenAt = placeOf(world, mostEnergetic(world));
     if (stop) break;
     const double t = world.state().time;
     const bool stopHere = options.stopAfter > 0.0 && t >= options.stopAfter * (1.0 - 1e-12) &&
@@ -499,11 +504,15 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   if (report.ok() && report.largestAccountError > report.accountBound) {
     report.status = "energy_account_broken";
+    // Where it first went past the bound, with the most energetic particle then
+    // (else, after a resume, the end and its most energetic particle).
+    report.failurePlace = accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
     report.failure = fmt::format(
         "the energy account (E + dissipated - external) drifted by up to {:.3g} of its scale "
-        "{:.3g} J (bound {:.3g}; final drift {:.3g}): the integration is not to be trusted; try "
-        "a smaller --dt or --tolerance",
-        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift);
+        "{:.3g} J (bound {:.3g}; final drift {:.3g}), first past the bound at {}: the "
+        "integration is not to be trusted; try a smaller --dt or --tolerance",
+        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift,
+        describePlace(*report.failurePlace));
     report.warnings.push_back(report.failure);
   }
   if (report.ok() && !report.goalsNotReached.empty()) {
