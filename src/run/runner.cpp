@@ -134,7 +134,8 @@ std::string contactOverload(const World& world, ParticleIndex* blamed) {
       "a particle on average (a packing of spheres touches at most about 12 neighbours; the "
       "limit is {:.0f}), particle {} touches {}, the deepest overlap is {:.0f}% of a radius: the "
       "particles sit inside one another, beyond the contact model's small overlaps (MODEL "
-      "§3.1), and the step would collapse under their forces; start them apart",
+      "§3.1), and the step would collapse under their forces; start them apart (within one "
+      "object, or turn its self-collision off: contact.selfCollision)",
       pairs, n, mean, kMaxMeanContacts, *blamed, *most, 100.0 * deepest);
 }
 
