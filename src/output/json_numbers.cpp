@@ -49,4 +49,30 @@ Vec3 vec3FromJson(const nlohmann::json& j, const std::string& what) {
   return Vec3{numberFromJson(j[0], what), numberFromJson(j[1], what), numberFromJson(j[2], what)};
 }
 
+nlohmann::json exactNumbers(const std::vector<double>& values) {
+  auto out = nlohmann::json::array();
+  for (double v : values) out.push_back(exactNumber(v));
+  return out;
+}
+
+std::vector<double> numbersFromJson(const nlohmann::json& j, const std::string& what) {
+  std::vector<double> out;
+  out.reserve(j.size());
+  for (const nlohmann::json& v : j) out.push_back(numberFromJson(v, what));
+  return out;
+}
+
+nlohmann::json exactVec3s(const std::vector<Vec3>& values) {
+  auto out = nlohmann::json::array();
+  for (const Vec3& v : values) out.push_back(exactVec3(v));
+  return out;
+}
+
+std::vector<Vec3> vec3sFromJson(const nlohmann::json& j, const std::string& what) {
+  std::vector<Vec3> out;
+  out.reserve(j.size());
+  for (const nlohmann::json& v : j) out.push_back(vec3FromJson(v, what));
+  return out;
+}
+
 }  // namespace robophi::output

@@ -35,5 +35,10 @@ nlohmann::json exactNumber(double value);
 double numberFromJson(const nlohmann::json& j, const std::string& what);
 nlohmann::json exactVec3(const Vec3& v);
 Vec3 vec3FromJson(const nlohmann::json& j, const std::string& what);
+/// Arrays of exactNumber / exactVec3, and back (throwing as numberFromJson).
+nlohmann::json exactNumbers(const std::vector<double>& values);
+std::vector<double> numbersFromJson(const nlohmann::json& j, const std::string& what);
+nlohmann::json exactVec3s(const std::vector<Vec3>& values);
+std::vector<Vec3> vec3sFromJson(const nlohmann::json& j, const std::string& what);
 
 }  // namespace robophi::output

@@ -380,18 +380,6 @@ using output::exactVec3;
 using output::numberFromJson;
 using output::vec3FromJson;
 
-json exactList(const std::vector<double>& values) {
-  auto out = json::array();
-  for (double v : values) out.push_back(exactNumber(v));
-  return out;
-}
-
-std::vector<double> listFromJson(const json& saved, const char* what) {
-  std::vector<double> out;
-  for (const json& v : saved) out.push_back(numberFromJson(v, what));
-  return out;
-}
-
 // A time (s) or a count that is "not yet" below zero, as summary.json has it: null.
 json timeOrNull(double t) { return t >= 0.0 ? json(t) : json(); }
 
@@ -408,8 +396,8 @@ json GraspCheck::save() const {
           {"resettled_at", exactNumber(o.resettledAt)},
           {"largest_drift", exactNumber(o.largestDrift)},
           {"stable", o.stable},
-          {"start", exactList(start_)},
-          {"direction", exactList(direction_)},
+          {"start", output::exactNumbers(start_)},
+          {"direction", output::exactNumbers(direction_)},
           {"slow_since", exactNumber(slowSince_)},
           {"rest", exactVec3(rest_)}};
 }
@@ -423,8 +411,8 @@ void GraspCheck::restore(const json& saved) {
   o.resettledAt = numberFromJson(saved.at("resettled_at"), "grasp resettled_at");
   o.largestDrift = numberFromJson(saved.at("largest_drift"), "grasp largest_drift");
   o.stable = saved.at("stable").get<bool>();
-  start_ = listFromJson(saved.at("start"), "grasp start");
-  direction_ = listFromJson(saved.at("direction"), "grasp direction");
+  start_ = output::numbersFromJson(saved.at("start"), "grasp start");
+  direction_ = output::numbersFromJson(saved.at("direction"), "grasp direction");
   if (direction_.size() != start_.size() ||
       (!start_.empty() && start_.size() != spec_.closeJoints.size()))
     throw std::runtime_error("grasp: the checkpoint closes other joints than the scene");

@@ -19,31 +19,10 @@ using output::exactVec3;
 using output::numberFromJson;
 using output::vec3FromJson;
 
-json vec3Array(const std::vector<Vec3>& values) {
-  json out = json::array();
-  for (const Vec3& v : values) out.push_back(exactVec3(v));
-  return out;
-}
-
-std::vector<Vec3> vec3ArrayFrom(const json& j, const char* what) {
-  std::vector<Vec3> out;
-  out.reserve(j.size());
-  for (const json& v : j) out.push_back(vec3FromJson(v, what));
-  return out;
-}
-
-json numberArray(const std::vector<double>& values) {
-  json out = json::array();
-  for (double v : values) out.push_back(exactNumber(v));
-  return out;
-}
-
-std::vector<double> numberArrayFrom(const json& j, const char* what) {
-  std::vector<double> out;
-  out.reserve(j.size());
-  for (const json& v : j) out.push_back(numberFromJson(v, what));
-  return out;
-}
+using output::exactNumbers;
+using output::exactVec3s;
+using output::numbersFromJson;
+using output::vec3sFromJson;
 
 double number(const json& j, const char* key) { return numberFromJson(j.at(key), key); }
 
@@ -98,9 +77,9 @@ json stateToJson(const State& s) {
   for (const Contact& c : s.frictionHistory) history.push_back(contactToJson(c));
   return {{"time", exactNumber(s.time)},
           {"step_count", s.stepCount},
-          {"position", vec3Array(s.position)},
-          {"velocity", vec3Array(s.velocity)},
-          {"spin", vec3Array(s.spin)},
+          {"position", exactVec3s(s.position)},
+          {"velocity", exactVec3s(s.velocity)},
+          {"spin", exactVec3s(s.spin)},
           {"friction_history", history},
           {"dissipated", exactNumber(s.dissipated)},
           {"external", exactNumber(s.external)}};
@@ -110,9 +89,9 @@ State stateFromJson(const json& j, const Model& model) {
   State s;
   s.time = number(j, "time");
   s.stepCount = j.at("step_count").get<std::int64_t>();
-  s.position = vec3ArrayFrom(j.at("position"), "position");
-  s.velocity = vec3ArrayFrom(j.at("velocity"), "velocity");
-  s.spin = vec3ArrayFrom(j.at("spin"), "spin");
+  s.position = vec3sFromJson(j.at("position"), "position");
+  s.velocity = vec3sFromJson(j.at("velocity"), "velocity");
+  s.spin = vec3sFromJson(j.at("spin"), "spin");
   for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
   s.dissipated = number(j, "dissipated");
   s.external = number(j, "external");
@@ -129,8 +108,8 @@ json evaluationToJson(const Evaluation& e) {
   for (const Contact& c : e.contacts) contacts.push_back(contactToJson(c));
   const EnergyTally& t = e.energy;
   const ContactStats& st = e.contactStats;
-  return {{"force", vec3Array(e.force)},
-          {"torque", vec3Array(e.torque)},
+  return {{"force", exactVec3s(e.force)},
+          {"torque", exactVec3s(e.torque)},
           {"energy",
            {{"kinetic", exactNumber(t.kinetic)},
             {"linear_spring", exactNumber(t.linearSpring)},
@@ -157,8 +136,8 @@ json evaluationToJson(const Evaluation& e) {
 
 Evaluation evaluationFromJson(const json& j) {
   Evaluation e;
-  e.force = vec3ArrayFrom(j.at("force"), "force");
-  e.torque = vec3ArrayFrom(j.at("torque"), "torque");
+  e.force = vec3sFromJson(j.at("force"), "force");
+  e.torque = vec3sFromJson(j.at("torque"), "torque");
   const json& t = j.at("energy");
   e.energy.kinetic = number(t, "kinetic");
   e.energy.linearSpring = number(t, "linear_spring");
@@ -212,7 +191,7 @@ json modelEditsToJson(const Model& m) {
   return {{"linear_springs", linear},
           {"torsion_springs", torsion},
           {"joint_springs", joint},
-          {"inverse_mass", numberArray(m.inverseMass)},
+          {"inverse_mass", exactNumbers(m.inverseMass)},
           {"gravity", exactVec3(m.gravity)},
           {"materials", materials},
           {"object_materials", objects},
@@ -262,7 +241,7 @@ void applyModelEdits(const json& j, Model& m) {
                          numberFromJson(s.at(4), "angle"),  numberFromJson(s.at(5), "stiffness"),
                          numberFromJson(s.at(6), "damping")};
   }
-  m.inverseMass = numberArrayFrom(inverseMass, "inverse mass");
+  m.inverseMass = numbersFromJson(inverseMass, "inverse mass");
   m.gravity = vec3FromJson(j.at("gravity"), "gravity");
   m.materials.clear();
   for (const json& mt : j.at("materials")) {
