@@ -130,7 +130,8 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
                          const std::vector<Vec3>& spin, std::int32_t i, double arm,
                          double* inverse) {
   Turning t;
-  if (!model.contact.rolling || model.inverseMass[i] == 0.0) return t;
+  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
+    return t;
   if (tables.inverseSpinInertia[i] > 0.0) {
     t.kind = 1;
     if (static_cast<std::size_t>(i) < spin.size()) t.omega = spin[i];
@@ -258,10 +259,12 @@ void applyRingLoad(const Model& model, const std::vector<Vec3>& p, const RimRing
 }
 
 // The contact group of a contact: the pair (object of a, object of the other
-// particle or the environment item). Particles outside objects are their own.
+// particle or the environment item). Particles outside objects, and a rope's
+// (ContactTables::ropeParticle), are their own.
 inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
   const std::int32_t object = tables.particleObject[particle];
-  return object >= 0 ? object : (std::int64_t{1} << 40) + particle;
+  return object >= 0 && tables.ropeParticle[particle] == 0 ? object
+                                                            : (std::int64_t{1} << 40) + particle;
 }
 
 // Adds one contact's stiffness and damping (the larger of the normal and the

@@ -67,12 +67,14 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   const ParticleIndex n = model.particleCount();
   const auto objectCount = static_cast<std::int32_t>(model.objects.size());
   cache.particleObject.assign(static_cast<std::size_t>(n), -1);
+  cache.ropeParticle.assign(static_cast<std::size_t>(n), 0);
   cache.particleMaterial.assign(static_cast<std::size_t>(n), 0);
   std::vector<std::int32_t> objectSize(static_cast<std::size_t>(objectCount), 0);
   for (ParticleIndex i = 0; i < n; ++i) {
     const std::int32_t object = model.objectOf[i];
     if (object < 0 || object >= objectCount) continue;
     cache.particleObject[i] = object;
+    cache.ropeParticle[i] = model.objects[object].kind == "rope" ? 1 : 0;
     const std::int32_t material = model.objects[object].material;
     cache.particleMaterial[i] = material >= 0 && material < cache.materialCount ? material : 0;
     ++objectSize[object];

@@ -74,6 +74,13 @@ struct ContactTables {
   std::vector<std::int32_t> particleMaterial;
   /// Object of each particle, or -1, (particleCount).
   std::vector<std::int32_t> particleObject;
+  /// 1 for a rope's particles, 0 for the others, (particleCount). Their
+  /// contacts decide friction one by one, not with their body's (a rope drapes
+  /// over edges with opposite loads on its two sides), and they do not turn
+  /// (MODEL §3.3: a rope's neighbourhood rotation is its bending, not a
+  /// rolling body's; it stiffened the contacts' tangential coupling so much
+  /// that a rope on a box edge needed 4e-8 s steps).
+  std::vector<std::uint8_t> ropeParticle;
   /// 1 / J_i (1/(kg·m²)) of the particles that spin on their own (those no LS
   /// ties to another: J = 2/5 m r², a solid sphere), 0 for the others,
   /// (particleCount). The others turn with their LS neighbours (CSR, both
