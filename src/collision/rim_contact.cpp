@@ -3,6 +3,8 @@
 // item's inward normal projected on the ring plane: exact for a plane, a few
 // iterations for a curved or stepped surface), then the torus of the particles'
 // radius around it (MODEL §3.1 depth d = distance - r).
+// Round balls: the sphere of the ball's radius R about its particles' mass
+// centre, d = distance(item, centre) - R, the contact point -n (R + d) from it.
 #include "collision/rim_contact.h"
 
 #include <cmath>
@@ -18,15 +20,20 @@ struct Ring {
   double radius = 0.0;
 };
 
-Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
-  Ring ring;
-  // The mass centre of the ring's particles (contact_force.cpp RingMotion).
+// The mass centre of the round body's particles (contact_force.cpp RingMotion).
+Vec3 massCenter(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
+  Vec3 center;
   double mass = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
-    ring.center += p[rim.first + k] * model.mass[rim.first + k];
+    center += p[rim.first + k] * model.mass[rim.first + k];
     mass += model.mass[rim.first + k];
   }
-  ring.center = ring.center / mass;
+  return center / mass;
+}
+
+Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
+  Ring ring;
+  ring.center = massCenter(model, rim, p);
   Vec3 normal;
   double radius = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
@@ -54,6 +61,34 @@ Vec3 circlePointAgainst(const Ring& ring, const Vec3& normal) {
   return ring.center + d * ring.radius;
 }
 
+// A ball's sphere against every environment item (MODEL §3.1 with r = R).
+void ballVersusEnvironment(const Model& model, const std::vector<Vec3>& position, std::int32_t r,
+                           ContactScratch& cache) {
+  const Environment& environment = model.environment;
+  const RimRing& ball = model.rims[static_cast<std::size_t>(r)];
+  const double radius = ball.sphereRadius;
+  const Vec3 center = massCenter(model, ball, position);
+  for (std::int32_t e = 0; e < environment.itemCount(); ++e) {
+    if (environmentFarFrom(environment, e, center, radius, cache.tables->environmentTops[e])) {
+      continue;
+    }
+    ++cache.stats.environmentTests;
+    double distance = 0.0;
+    Vec3 normal;
+    if (!environmentDistance(environment, e, center, distance, normal)) continue;
+    const double depth = distance - radius;
+    if (depth >= 0.0) continue;
+    Contact c;  // carried by the whole ball, named by its first particle (as a ring)
+    c.a = ball.first;
+    c.other = -1 - e;
+    c.depth = depth;
+    c.normal = normal;
+    c.rim = r;
+    c.arm = normal * -(radius + depth);
+    cache.treeContacts.push_back(c);
+  }
+}
+
 }  // namespace
 
 void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
@@ -68,6 +103,10 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       free = model.inverseMass[rim.first + k] != 0.0;
     }
     if (!free) continue;
+    if (rim.isSphere()) {
+      ballVersusEnvironment(model, position, static_cast<std::int32_t>(r), cache);
+      continue;
+    }
     const Ring ring = ringAt(model, rim, position);
     for (std::int32_t e = 0; e < items; ++e) {
       if (environmentFarFrom(environment, e, ring.center, ring.radius + tube,
