@@ -5,6 +5,8 @@
 // radius around it (MODEL §3.1 depth d = distance - r).
 // Round balls: the sphere of the ball's radius R about its particles' mass
 // centre, d = distance(item, centre) - R, the contact point -n (R + d) from it.
+// On a heightfield the distance is to the tangent plane at the contact point
+// (a fixed point from the tangent plane below the centre), as a ring's.
 #include "collision/rim_contact.h"
 
 #include <cmath>
@@ -76,6 +78,25 @@ void ballVersusEnvironment(const Model& model, const std::vector<Vec3>& position
     double distance = 0.0;
     Vec3 normal;
     if (!environmentDistance(environment, e, center, distance, normal)) continue;
+    // Planes, boxes and spheres: the centre's distance is exact. A heightfield
+    // gives the distance to its tangent plane below the query point: take the
+    // tangent plane at the contact point c - R n instead, distance(c) =
+    // n'·(c - q) + s(q) for the query point q and its distance s(q) and normal n'.
+    const auto first = static_cast<std::int32_t>(environment.planes.size());
+    if (e >= first && e < first + static_cast<std::int32_t>(environment.heightfields.size())) {
+      bool covered = true;
+      for (int iteration = 0; iteration < 3 && covered; ++iteration) {
+        const Vec3 query = center - normal * radius;
+        double at = 0.0;
+        Vec3 tangentNormal;
+        covered = environmentDistance(environment, e, query, at, tangentNormal);
+        if (covered) {
+          normal = tangentNormal;
+          distance = dot(center - query, normal) + at;
+        }
+      }
+      if (!covered) continue;
+    }
     const double depth = distance - radius;
     if (depth >= 0.0) continue;
     Contact c;  // carried by the whole ball, named by its first particle (as a ring)

@@ -297,5 +297,53 @@ TEST(TrueRolling, RoundBallModelIsChecked) {
   EXPECT_NE(checkModel(model).find("not >= 2 particles"), std::string::npos);
 }
 
+// On a curved heightfield (z = x², curvature radius 0.5 m at the bottom) the
+// ball's depth is that of its sphere against the surface, at the contact point
+// (the tangent plane there), not the tangent plane below its centre.
+TEST(TrueRolling, GeneratedBallOnCurvedTerrainTouchesAtItsContactPoint) {
+  const double x0 = 0.1, spacing = 0.001;
+  const int columns = 601, rows = 5;  // x in [-0.3, 0.3], y in [-0.002, 0.002]
+  std::string heights = "[";
+  for (int j = 0; j < rows; ++j) {
+    heights += j == 0 ? "[" : ", [";
+    for (int i = 0; i < columns; ++i) {
+      const double x = -0.3 + i * spacing;
+      heights += (i == 0 ? "" : ",") + std::to_string(x * x);
+    }
+    heights += "]";
+  }
+  heights += "]";
+  // The exact distance from a centre (x0, 0, z0) to the curve z = x².
+  const auto distanceToCurve = [](double cx, double cz) {
+    double best = 1e9;
+    for (int k = 0; k <= 600000; ++k) {
+      const double x = -0.3 + k * 1e-6;
+      best = std::min(best, std::hypot(x - cx, x * x - cz));
+    }
+    return best;
+  };
+  const double z0 = x0 * x0 + (kBallRadius - 1e-4) * std::sqrt(1.0 + 4.0 * x0 * x0);
+  const double exact = distanceToCurve(x0, z0) - kBallRadius;
+  const double belowCentre = (z0 - x0 * x0) / std::sqrt(1.0 + 4.0 * x0 * x0) - kBallRadius;
+  char text[256];
+  std::snprintf(text, sizeof text,
+                R"({"origin": [-0.3, -0.002], "cellSize": %.17g, "material": "rubber", )", spacing);
+  std::string scene = ballScene(latticeBall(5, 0.0), 0.0);
+  const std::string ground = R"("ground": {"material": "rubber"})";
+  scene.replace(scene.find(ground), ground.size(),
+                std::string(R"("heightfield": )") + text + R"("heights": )" + heights + "}");
+  World world = test::sceneWorld(scene);
+  for (ParticleIndex i = 0; i < world.model().particleCount(); ++i)
+    world.setPosition(i, world.state().position[i] + Vec3{x0, 0.0, z0});
+  ASSERT_EQ(world.contacts().size(), 1u);
+  const Contact& c = world.contacts()[0];
+  EXPECT_EQ(c.rim, 0);
+  std::printf(
+      "ball on z = x^2 at x = %.2f: depth %.4g m, exact %.4g m (tangent plane below the "
+      "centre: %.4g m)\n",
+      x0, c.depth, exact, belowCentre);
+  EXPECT_NEAR(c.depth, exact, 1e-6);
+}
+
 }  // namespace
 }  // namespace robophi
