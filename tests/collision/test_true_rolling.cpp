@@ -345,5 +345,34 @@ TEST(TrueRolling, GeneratedBallOnCurvedTerrainTouchesAtItsContactPoint) {
   EXPECT_NEAR(c.depth, exact, 1e-6);
 }
 
+// Down a ramp that is an environment box tilted 10° (gravity vertical): the same
+// rolling, through the box's distance.
+TEST(TrueRolling, GeneratedBallRollsDownABoxRamp) {
+  const Vec3 down{std::cos(kSlope), 0.0, -std::sin(kSlope)},
+      up{std::sin(kSlope), 0.0, std::cos(kSlope)};
+  const Vec3 top = Vec3{0.0, 0.0, -0.5} + up * 0.5;
+  const Vec3 start = top + up * (kBallRadius - 5e-5);
+  char ramp[256];
+  std::snprintf(ramp, sizeof ramp,
+                R"("boxes": [{"center": [0, 0, -0.5], "size": [4, 1, 1], "rpy": [0, %.17g, 0],
+                             "material": "rubber"}])",
+                kSlope);
+  std::string scene = ballScene(latticeBall(5, start.z), 0.0);
+  const std::string ground = R"("ground": {"material": "rubber"})";
+  scene.replace(scene.find(ground), ground.size(), ramp);
+  World world = test::sceneWorld(scene);
+  for (ParticleIndex i = 0; i < world.model().particleCount(); ++i)
+    world.setPosition(i, world.state().position[i] + Vec3{start.x, 0.0, 0.0});
+  const double m = totalMass(world), inertia = inertiaAboutY(world), R = kBallRadius;
+  const double expected = kG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
+  test::advance(world, 0.2, kStep);
+  const double v1 = dot(test::comVelocity(world), down);
+  test::advance(world, 1.0, kStep);
+  const double a = dot(test::comVelocity(world), down) - v1;
+  std::printf("ball of 5 cells down a box ramp: a = %.5f m/s^2, expected %.5f (%+.2f%%)\n", a,
+              expected, 100.0 * (a / expected - 1.0));
+  EXPECT_NEAR(a / expected, 1.0, 0.02);
+}
+
 }  // namespace
 }  // namespace robophi
