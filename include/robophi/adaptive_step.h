@@ -76,8 +76,9 @@ Vec3 sceneFrameVelocity(const Model& model, const State& state);
 double activeEnergy(const Model& model, const State& state, const EnergyTally& energy);
 
 /// The energy gravity can release within the scene (J): Σ_free m |g| × L, L the
-/// larger of the particles' bounding-box diagonal and their largest height
-/// above a plane that faces against gravity. Independent of the datum.
+/// largest of the particles' bounding-box diagonal, their largest height above
+/// a plane that faces against gravity and the largest free particle's
+/// diameter. Independent of the datum.
 double gravityEnergyScale(const Model& model, const State& state);
 
 /// The round-off of an energy account (J): 64 ε × the sum of the magnitudes of
@@ -140,6 +141,9 @@ struct AdaptiveStepResult {
   int rejections = 0;
   /// When !ok: what went wrong and where (particles, connectors, contacts).
   std::string failure;
+  /// When !ok: the particle the failure is blamed on (the largest acceleration
+  /// in the failed trial), or kNoParticle.
+  ParticleIndex particle = kNoParticle;
 };
 
 /// Takes accepted steps of a World, rejecting and retrying the ones that create
@@ -187,7 +191,9 @@ class AdaptiveStepper {
                      double activeAfter) const;
   /// The step factor δ_next/δ that an error calls for (unclamped).
   double proposal(double error) const;
-  std::string diagnose(const World& world) const;
+  /// What went wrong in the last trial, in words; `blamed` (if set) gets the
+  /// particle with the largest acceleration (kNoParticle when none).
+  std::string diagnose(const World& world, ParticleIndex* blamed = nullptr) const;
 
   AdaptiveStepSettings settings_;
   double stabilityLimit_;

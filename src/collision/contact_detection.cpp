@@ -121,7 +121,7 @@ GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, Conta
   return g;
 }
 
-// Appends to cache.rowContacts the grid particles j > i in slots [begin, end)
+// Appends to cache.freshContacts the grid particles j > i in slots [begin, end)
 // touching particle i (at p, radius r). In hash mode only slots of cell `key`.
 inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i, const Vec3& p,
                       double r, std::int32_t begin, std::int32_t end, bool checkKey,
@@ -138,10 +138,9 @@ inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i,
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
     if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
     if (excluded(*cache.tables, i, j)) continue;
-    Contact c;
+    Contact& c = cache.freshContacts.emplace_back();
     c.a = i;
     c.other = j;
-    cache.rowContacts.push_back(c);
   }
 }
 
@@ -291,14 +290,14 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
   // Grid particles in ascending order: their partners sorted, then the environment.
   for (const std::int32_t i : cache.tables->gridParticles) {
     const Vec3& p = position[i];
-    cache.rowContacts.clear();
+    // The row's contacts go straight to the list, then are sorted in place (a
+    // Contact is large: no second copy).
+    const auto row = static_cast<std::ptrdiff_t>(cache.freshContacts.size());
     gridNeighbours(model, grid, cache, i, p);
-    if (cache.rowContacts.size() > 1) {
-      std::sort(cache.rowContacts.begin(), cache.rowContacts.end(),
+    if (cache.freshContacts.size() > static_cast<std::size_t>(row) + 1) {
+      std::sort(cache.freshContacts.begin() + row, cache.freshContacts.end(),
                 [](const Contact& x, const Contact& y) { return x.other < y.other; });
     }
-    cache.freshContacts.insert(cache.freshContacts.end(), cache.rowContacts.begin(),
-                               cache.rowContacts.end());
     if (model.inverseMass[i] != 0.0) {
       particleVersusEnvironment(model, p, i, cache, cache.freshContacts);
     }

@@ -425,6 +425,10 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   std::size_t runStart = 0;
   std::int64_t runObject = -1;
   PairParameters overrideParameters;
+  // Per contact, filled only for facet and rim contacts (kept out of the loop:
+  // they are large, and most contacts need neither).
+  FacetKinematics facet;
+  RingMotion ring;
   for (std::size_t index = 0; index < contacts.size(); ++index) {
     Contact& c = contacts[index];
     FrictionTrial& t = cache.trials[index];
@@ -446,8 +450,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
     const bool faceted = c.involvesFacets();
-    FacetKinematics facet;
-    RingMotion ring;
     double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
     if (faceted) {
       facetKinematics(model, p, v, before, c, facet);

@@ -147,7 +147,6 @@ struct ContactScratch {
   std::vector<Contact> freshContacts;        // the new list, swapped into the evaluation
   std::vector<Contact> mergedContacts;       // merge buffer
   std::vector<Contact> treeContacts;         // unsorted finds of the tree search
-  std::vector<Contact> rowContacts;          // one particle's finds (sorted per row)
   /// Per contact: the trial tangential forces of the friction law, and per
   /// contact group (object pair) the sums the stick/slip decision needs.
   struct FrictionTrial {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace robophi {
 
@@ -178,11 +179,13 @@ bool environmentBounds(const Environment& environment, std::int32_t item, Vec3& 
       return false;
     case ItemKind::kHeightfield: {
       const Heightfield& field = environment.heightfields[local];
-      const auto [lowest, highest] =
-          std::minmax_element(field.heights.begin(), field.heights.end());
-      low = {field.originX, field.originY, *lowest};
+      // The terrain is solid below its surface (MODEL §3.5): the box reaches
+      // down without end, so that a particle under the lowest sample (one that
+      // came in from a side, or a step that went deep) still finds its contact.
+      const double highest = *std::max_element(field.heights.begin(), field.heights.end());
+      low = {field.originX, field.originY, -std::numeric_limits<double>::infinity()};
       high = {field.originX + (field.columns - 1) * field.cellSizeX,
-              field.originY + (field.rows - 1) * field.cellSizeY, *highest};
+              field.originY + (field.rows - 1) * field.cellSizeY, highest};
       return true;
     }
     case ItemKind::kBox: {

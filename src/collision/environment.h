@@ -40,7 +40,8 @@ double environmentTop(const Environment& environment, std::int32_t item);
 bool environmentFarFrom(const Environment& environment, std::int32_t item, const Vec3& center,
                         double radius, double top);
 
-/// A box containing item `item` (m); false when it has none (a plane).
+/// A box containing item `item` (m); false when it has none (a plane). A
+/// heightfield's reaches down to -infinity: the terrain is solid below its surface.
 bool environmentBounds(const Environment& environment, std::int32_t item, Vec3& low, Vec3& high);
 
 /// The material of environment item `item`.

@@ -32,9 +32,12 @@ Vec3 sceneFrameVelocity(const Model& model, const State& state) {
   if (fixedCount > 0)
     return fixedMass > 0.0 ? fixedMomentum / fixedMass : fixedSum / static_cast<double>(fixedCount);
   const Environment& env = model.environment;
-  // Anything but planes (and a medium at rest) fixes the frame to the world's.
+  // Anything but planes (and a medium at rest, or a particle's drag −c v, which
+  // acts against the world's frame) fixes the frame to the world's.
+  const bool drag = std::any_of(model.linearDamping.begin(), model.linearDamping.end(),
+                                [](double c) { return c > 0.0; });
   if (!env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty() ||
-      env.viscosity > 0.0 || !(freeMass > 0.0))
+      env.viscosity > 0.0 || drag || !(freeMass > 0.0))
     return {};
   // Planes leave the motion along them free: project the centre-of-mass
   // velocity onto the common tangent space (Gram-Schmidt on the normals).
@@ -64,7 +67,9 @@ double activeEnergy(const Model& model, const State& state, const EnergyTally& e
 double gravityEnergyScale(const Model& model, const State& state) {
   // Σ m_i |g| × L: L the diagonal of the box around the particles, or the
   // largest height of a particle above a plane that faces against gravity
-  // (a single ball above the ground has no box), whichever is larger.
+  // (a single ball above the ground has no box), or the largest free particle's
+  // diameter (a single ball on a heightfield, a box or a sphere has neither),
+  // whichever is larger.
   if (state.position.empty()) return 0.0;
   const double g = norm(model.gravity);
   if (!(g > 0.0)) return 0.0;
@@ -76,6 +81,7 @@ double gravityEnergyScale(const Model& model, const State& state) {
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
     if (model.isFixed(i)) continue;
     freeMass += model.mass[i];
+    height = std::max(height, 2.0 * model.radius[i]);
     for (const GroundPlane& plane : model.environment.planes) {
       if (dot(plane.normal, model.gravity) < 0.0)
         height = std::max(height, dot(p - plane.point, plane.normal));
@@ -344,7 +350,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     result.failure = detail::text(
         "the adaptive step {:.3g} s is below its floor {:.3g} s before any trial (the "
         "stability estimate allows {:.3g} s): {}",
-        step_, minStep_, stabilityLimit_, diagnose(world));
+        step_, minStep_, stabilityLimit_, diagnose(world, &result.particle));
     return result;
   }
   saved_ = world.snapshot();
@@ -399,7 +405,8 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     step_ = dt * std::clamp(tooDeep ? settings_.shrinkFactor : proposal(error), 0.1,
                             settings_.shrinkFactor);
     const bool stalled = step_ < minStep_ || result.rejections >= settings_.maxRejectionsInARow;
-    const std::string why = stalled ? diagnose(world) : std::string();  // the failed trial
+    // The failed trial's diagnosis, and the particle it blames.
+    const std::string why = stalled ? diagnose(world, &result.particle) : std::string();
     world.restore(saved_);
     if (stalled) {
       result.ok = false;
@@ -412,7 +419,7 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   }
 }
 
-std::string AdaptiveStepper::diagnose(const World& world) const {
+std::string AdaptiveStepper::diagnose(const World& world, ParticleIndex* blamed) const {
   // Where the trial went wrong: the particle with the largest acceleration and
   // the connector holding the most energy.
   const Model& model = world.model();
@@ -427,6 +434,7 @@ std::string AdaptiveStepper::diagnose(const World& world) const {
       worst = i;
     }
   }
+  if (blamed) *blamed = worst;
   std::string where;
   if (worst != kNoParticle) {
     const auto object = model.objectOf[worst];

@@ -29,7 +29,8 @@ struct FailurePlace {
 struct RunReport {
   /// "ok"; "diverged" when a state became NaN or infinite, or the energy grew
   /// over 100 times its initial scale (RunReport::initialScale); "stalled" when
-  /// the adaptive step fell below its floor; "interrupted" when a stop was
+  /// the adaptive step fell below its floor, or the touching contacts overload
+  /// the particles (particles inside one another); "interrupted" when a stop was
   /// requested (SIGINT, SIGTERM: RunOptions::stop) before the end: the results
   /// so far; "stopped" at RunOptions::stopAfter (a checkpoint to resume from);
   /// "energy_account_broken" when the energy account drifted past
@@ -48,8 +49,9 @@ struct RunReport {
   double finalTotal = 0.0;
   /// The energy scale the drift is relative to (J): the largest kinetic +
   /// elastic energy (connectors, contacts) seen at any step, and never below
-  /// the energy gravity can release in the scene (Σ m |g| × (the particles'
-  /// bounding-box diagonal + 2 × the largest radius) at the start) nor 1e-12 J.
+  /// the energy gravity can release in the scene (gravityEnergyScale: Σ m |g| ×
+  /// the largest of the particles' bounding-box diagonal, their height above a
+  /// plane and the largest free diameter, at the start) nor 1e-12 J.
   /// Neither depends on where z = 0 is.
   double energyScale = 0.0;
   /// The same scale at the start (J), which the runaway test uses.

@@ -89,6 +89,56 @@ ParticleIndex mostEnergetic(const World& world) {
   return best;
 }
 
+// MODEL §3.1's contact is a small overlap of two spheres: a packing of
+// spheres touches at most about 12 neighbours per particle (the kissing number,
+// a few more for mixed sizes). Far more on average means the particles sit
+// inside one another (a heap started in one spot): every step then costs N²
+// contacts, the step shrinks to the overlap forces' time scale, and the run
+// would take hours for an explosion the model does not describe. Above this
+// mean number of touching contacts per particle the run stops (stalled).
+constexpr double kMaxMeanContacts = 24.0;
+
+// When the touching contacts overload the particles (kMaxMeanContacts): why,
+// and the particle with the most contacts in `blamed`; else empty.
+std::string contactOverload(const World& world, ParticleIndex* blamed) {
+  const Model& model = world.model();
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  const std::vector<Contact>& contacts = world.contacts();
+  // Each particle pair counts for both particles, an environment contact for one.
+  if (n == 0 ||
+      2.0 * static_cast<double>(contacts.size()) <= kMaxMeanContacts * static_cast<double>(n))
+    return {};
+  std::vector<std::int64_t> count(n, 0);
+  double touching = 0.0;  // contact ends on particles
+  std::int64_t pairs = 0;
+  double deepest = 0.0;
+  for (const Contact& c : contacts) {
+    if (!(c.depth < 0.0)) continue;
+    ++pairs;
+    ++count[static_cast<std::size_t>(c.a)];
+    touching += 1.0;
+    double smaller = model.radius[c.a];
+    if (!c.withEnvironment()) {
+      ++count[static_cast<std::size_t>(c.other)];
+      touching += 1.0;
+      smaller = std::min(smaller, model.radius[c.other]);
+    }
+    if (smaller > 0.0) deepest = std::max(deepest, -c.depth / smaller);
+  }
+  const double mean = touching / static_cast<double>(n);
+  if (!(mean > kMaxMeanContacts)) return {};
+  const auto most = std::max_element(count.begin(), count.end());
+  *blamed = static_cast<ParticleIndex>(most - count.begin());
+  return fmt::format(
+      "the contacts overload the particles: {} touching contacts among {} particles, {:.1f} "
+      "a particle on average (a packing of spheres touches at most about 12 neighbours; the "
+      "limit is {:.0f}), particle {} touches {}, the deepest overlap is {:.0f}% of a radius: the "
+      "particles sit inside one another, beyond the contact model's small overlaps (MODEL "
+      "§3.1), and the step would collapse under their forces; start them apart (within one "
+      "object, or turn its self-collision off: contact.selfCollision)",
+      pairs, n, mean, kMaxMeanContacts, *blamed, *most, 100.0 * deepest);
+}
+
 // A folder beside `target` that is renamed to it when complete.
 std::string stagingFolder(const std::string& target) {
   std::filesystem::path path(target);
@@ -158,6 +208,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   std::int64_t nextFrame = 0, nextEnergyRow = 0, nextCheckpoint = 1;
   std::int64_t lastFrameStep = -1, lastEnergyStep = -1;
   double largestAccountError = 0.0;  // J
+  std::optional<FailurePlace> accountBrokenAt;
   double priorWallSeconds = 0.0;
   if (resume) {
     const json& savedTasks = resume->at("tasks");
@@ -191,8 +242,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // The drift's scale: the energy that can turn into motion in the scene's own
     // frame, or that gravity can release (MODEL §4.1), never E(0), which depends
     // on where z = 0 is.
-    report.initialScale = std::max(
-        energyAccountScale(world.model(), world.state(), world.energy()), 1e-300);
+    report.initialScale =
+        std::max(energyAccountScale(world.model(), world.state(), world.energy()), 1e-300);
     report.energyScale = report.initialScale;
   }
 
@@ -318,6 +369,16 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       if (options.checkpointEvery > 0.0) writeCheckpoint();
       break;
     }
+    // Particles inside one another (a heap in one spot): stop before the step collapses.
+    if (ParticleIndex blamed = kNoParticle; true) {
+      if (const std::string why = contactOverload(world, &blamed); !why.empty()) {
+        report.status = "stalled";
+        report.failurePlace = placeOf(world, blamed);
+        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), why);
+        report.warnings.push_back(report.failure);
+        break;
+      }
+    }
     double dtUsed = settings.dt;
     // A constant step lands on k·dt exactly (the last one clipped to the
     // duration), so the end time is the duration and end-of-run tasks fire.
@@ -330,7 +391,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
         report.status = "stalled";
-        report.failurePlace = placeOf(world, world.firstNonFiniteParticle());
+        // The particle the step blames (the largest acceleration), else a non-finite one.
+        report.failurePlace =
+            placeOf(world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
         report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
         report.warnings.push_back(report.failure);
         break;
@@ -365,6 +428,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.energyScale = std::max(report.energyScale, activeEnergy(energy));
     largestAccountError =
         std::max(largestAccountError, std::abs(energy.total() - report.initialTotal));
+    // Where the account first went past its bound (at the scale so far): the
+    // place an energy_account_broken verdict names.
+    if (!accountBrokenAt && largestAccountError > report.accountBound * report.energyScale)
+      accountBrokenAt = placeOf(world, mostEnergetic(world));
     if (stop) break;
     const double t = world.state().time;
     const bool stopHere = options.stopAfter > 0.0 && t >= options.stopAfter * (1.0 - 1e-12) &&
@@ -438,11 +505,15 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   if (report.ok() && report.largestAccountError > report.accountBound) {
     report.status = "energy_account_broken";
+    // Where it first went past the bound, with the most energetic particle then
+    // (else, after a resume, the end and its most energetic particle).
+    report.failurePlace = accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
     report.failure = fmt::format(
         "the energy account (E + dissipated - external) drifted by up to {:.3g} of its scale "
-        "{:.3g} J (bound {:.3g}; final drift {:.3g}): the integration is not to be trusted; try "
-        "a smaller --dt or --tolerance",
-        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift);
+        "{:.3g} J (bound {:.3g}; final drift {:.3g}), first past the bound at {}: the "
+        "integration is not to be trusted; try a smaller --dt or --tolerance",
+        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift,
+        describePlace(*report.failurePlace));
     report.warnings.push_back(report.failure);
   }
   if (report.ok() && !report.goalsNotReached.empty()) {

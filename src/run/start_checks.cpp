@@ -61,8 +61,10 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
     if (c.withEnvironment()) {
       key = {oa, c.other};
     } else {
+      // Pairs of one object too: the contact acts on them unless a connector
+      // ties them (excluded pairs are not contacts), e.g. particles piled in one spot.
       const std::int32_t ob = objectOf(c.other);
-      if (ob == oa || isVirtual(ob)) continue;  // within one object: its own business
+      if (isVirtual(ob)) continue;
       smaller = std::min(smaller, model.radius[c.other]);
       key = {std::min(oa, ob), std::max(oa, ob)};
     }
@@ -83,7 +85,26 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
                ? fmt::format("object '{}'", model.objects[static_cast<std::size_t>(o)].name)
                : std::string("particles without an object");
   };
-  for (const auto& [key, o] : overlaps) {
+  // The largest overlaps first (most particle pairs); a scene of many
+  // overlapping objects gets kMaxOverlapWarnings lines and a count of the rest.
+  std::vector<std::pair<std::pair<std::int32_t, std::int32_t>, Overlap>> sorted(overlaps.begin(),
+                                                                                overlaps.end());
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto& x, const auto& y) { return x.second.pairs > y.second.pairs; });
+  long long restPairs = 0;
+  for (std::size_t k = kMaxOverlapWarnings; k < sorted.size(); ++k)
+    restPairs += sorted[k].second.pairs;
+  if (sorted.size() > kMaxOverlapWarnings) sorted.resize(kMaxOverlapWarnings);
+  for (const auto& [key, o] : sorted) {
+    if (key.first == key.second) {
+      warnings.push_back(fmt::format(
+          "particles of {} start overlapping each other: {} particle pair{} not tied by a "
+          "connector, the deepest by {:.3g} m ({:.0f}% of the smaller radius {:.3g} m, particles "
+          "{} and {}); the contact force will throw them apart at the first steps",
+          objectName(key.first), o.pairs, o.pairs == 1 ? "" : "s", o.depth, 100.0 * o.fraction,
+          o.radius, std::min(o.a, o.b), std::max(o.a, o.b)));
+      continue;
+    }
     if (key.second < 0) {
       warnings.push_back(fmt::format(
           "{} starts inside {}: {} particle{} overlap it, the deepest by {:.3g} m ({:.0f}% of "
@@ -99,6 +120,11 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
           objectName(key.first), objectName(key.second), o.pairs, o.pairs == 1 ? "" : "s", o.depth,
           100.0 * o.fraction, o.radius, std::min(o.a, o.b), std::max(o.a, o.b)));
     }
+  }
+  if (restPairs > 0) {
+    warnings.push_back(
+        fmt::format("and {} more pairs of objects start overlapping ({} particle pairs)",
+                    overlaps.size() - kMaxOverlapWarnings, restPairs));
   }
   return warnings;
 }

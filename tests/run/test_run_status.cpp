@@ -95,6 +95,15 @@ TEST_F(RunStatus, AnEnergyAccountPastItsBoundIsAStatus) {
   const nlohmann::json s = summary("drift");
   EXPECT_TRUE(s["flags"]["energy_account_broken"].get<bool>());
   EXPECT_EQ(s["energy"]["account_bound"], kDefaultEnergyAccountBound);
+  // Where: the account first passes 5% of its scale (about the energy then)
+  // near E/E0 = 1/0.95, after ln(1/0.95)/1e-4 = 513 steps (t = 0.0513 s; the
+  // scale's floor, the energy gravity can release, makes it a little later).
+  ASSERT_TRUE(report.failurePlace.has_value());
+  EXPECT_GE(s["failure_at"]["time_s"].get<double>(), 0.0513) << s["failure_at"];
+  EXPECT_LE(s["failure_at"]["time_s"].get<double>(), 0.06) << s["failure_at"];
+  EXPECT_TRUE(s["failure_at"]["particle"].is_number_integer()) << s["failure_at"];
+  EXPECT_NE(report.failure.find("first past the bound at t = "), std::string::npos)
+      << report.failure;
   // A sound run stays far below the bound.
   Scene fine = stiffPair(1e-4, 0.5);
   fine.run.stepMode = StepMode::kConstant;
