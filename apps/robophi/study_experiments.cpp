@@ -174,7 +174,8 @@ ExperimentProbe barProbe(const Scene&) {
 }
 
 // Experiment 5 (the paper's): the first rebound's apex gives the restitution,
-// e = sqrt(rise / drop) for the one particle (the exit depth, microns, neglected).
+// e = sqrt(rise / drop) for the one particle (the exit depth, microns, neglected),
+// the apex from the first step in flight.
 ExperimentProbe ballProbe(const Scene&) {
   struct Watch {
     bool touched = false, left = false, done = false;
@@ -188,8 +189,12 @@ ExperimentProbe ballProbe(const Scene&) {
     if (touching && !watch->left) watch->touched = true;
     if (watch->touched && !touching) watch->left = true;
     if (watch->left && !watch->done) {
-      watch->apex = std::max(watch->apex, s.position[0].z);
-      if (s.velocity[0].z < 0.0 || touching) watch->done = true;
+      // In flight z + v_z²/(2g) is the apex whatever the step: the adaptive step
+      // takes long ones in flight, and a sampled height would miss it.
+      const double g = std::abs(world.model().gravity.z);
+      const double vz = s.velocity[0].z;
+      watch->apex = g > 0.0 ? s.position[0].z + vz * vz / (2.0 * g) : s.position[0].z;
+      watch->done = true;
     }
     return true;
   };

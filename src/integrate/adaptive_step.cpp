@@ -168,6 +168,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   std::vector<double> count(objects, 0.0);
   for (ParticleIndex i = 0; i < n; ++i) {
     const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
+    // Virtual objects (goals' copies, paths' ends) touch nothing: no bound.
+    if (model.objectOf[i] >= 0 && model.objects[o].kind == "virtual") continue;
     const Vec3& v = state.velocity[i];
     const Vec3 a = acceleration(i);
     if (count[o] == 0.0) {
