@@ -161,9 +161,9 @@ struct Contact {
   /// MODEL §3.3 rolling), tangential. The step moves the anchor by -rollVelocity·δ,
   /// so δ_t measures the slip of the contact points, not of the particle centres.
   Vec3 rollVelocity;
-  /// A wheel rim's contact (Model::rims): the ring's index, or -1. The ring
-  /// carries it as a rigid circle (docs/contact.md "Round rims"); `a` is its
-  /// first particle, and the contact point is `arm` from the ring's mass centre.
+  /// A wheel rim's or a ball's contact (Model::rims): its index, or -1. The ring
+  /// (ball) carries it as a rigid circle (sphere; docs/contact.md "Round rims");
+  /// `a` is its first particle, and the contact point is `arm` from its mass centre.
   std::int32_t rim = -1;
   Vec3 arm;
   /// How far (m) the anchor has given way since the contact started breaking

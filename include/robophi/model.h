@@ -123,14 +123,22 @@ struct Material {
   double rollingResistance = 0.0;
 };
 
-/// A wheel's rim ring (MODEL §3.5, docs/contact.md "Round rims"): `count`
-/// particles [first, first + count) on a circle about particle `hub`, the ring's
-/// centre on the axle. Against the environment the ring presents its true round
-/// surface, the torus its particles sweep, instead of a polygon of spheres.
+/// A round body (MODEL §3.5, docs/contact.md "Round rims", "Round balls"): `count`
+/// particles [first, first + count) that meet the environment as one rigid round
+/// surface about their mass centre, instead of a polygon or lattice of spheres.
+/// - A wheel's rim ring (sphereRadius 0): particles on a circle about particle
+///   `hub`, the ring's centre on the axle; the surface is the torus they sweep.
+/// - A ball (sphereRadius > 0, hub kNoParticle): the particles of a ball's
+///   lattice; the surface is the sphere of radius sphereRadius (m) about their
+///   mass centre.
 struct RimRing {
   ParticleIndex first = 0;
   std::int32_t count = 0;
   ParticleIndex hub = kNoParticle;
+  /// A ball's outer radius (m), > 0; 0 for a wheel's ring.
+  double sphereRadius = 0.0;
+
+  bool isSphere() const { return sphereRadius > 0.0; }
 };
 
 /// The kind of a named joint.
@@ -176,7 +184,7 @@ struct Model {
   Vec3 gravity{0.0, 0.0, -9.81};
 
   std::vector<ObjectInfo> objects;
-  /// Wheel rims with a round contact surface (RimRing).
+  /// Wheel rims and balls with a round contact surface (RimRing).
   std::vector<RimRing> rims;
   std::vector<Material> materials{Material{}};
   std::vector<Joint> joints;

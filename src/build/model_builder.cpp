@@ -310,7 +310,7 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
   }
   for (RimRing rim : g.rims) {
     rim.first += offset;
-    rim.hub += offset;
+    if (rim.hub != kNoParticle) rim.hub += offset;
     model_.rims.push_back(rim);
   }
   // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).

@@ -386,6 +386,10 @@ GeneratedObject makeBall(const BallSpec& spec) {
   addParticles(ball, std::move(positions), spec.mass,
                spec.particleRadius > 0.0 ? spec.particleRadius : defaultRadius);
   connectLattice(ball, lattice);
+  // MODEL §3.1 round balls: the lattice (symmetric about the centre, so its mass
+  // centre is the ball's) meets the environment as the sphere of the ball's radius.
+  const auto count = static_cast<std::int32_t>(ball.size());
+  if (spec.round && count > 1) ball.rims.push_back(RimRing{0, count, kNoParticle, spec.radius});
   return ball;
 }
 

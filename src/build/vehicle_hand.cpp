@@ -26,7 +26,7 @@ int append(GeneratedObject& o, const GeneratedObject& part) {
   }
   for (RimRing rim : part.rims) {
     rim.first += offset;
-    rim.hub += offset;
+    if (rim.hub != kNoParticle) rim.hub += offset;
     o.rims.push_back(rim);
   }
   return offset;

@@ -258,6 +258,16 @@ void applyRingLoad(const Model& model, const std::vector<Vec3>& p, const RimRing
   }
 }
 
+// The radius (m) of a's surface at a contact, which rolls and whose fraction a
+// depth is: a ball's sphere, else particle a's (a rim's tube).
+inline double surfaceRadius(const Model& model, const Contact& c) {
+  if (c.rim >= 0) {
+    const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
+    if (round.isSphere()) return round.sphereRadius;
+  }
+  return model.radius[c.a];
+}
+
 // The contact group of a contact: the pair (object of a, object of the other
 // particle or the environment item). Particles outside objects, and a rope's
 // (ContactTables::ropeParticle), are their own.
@@ -470,16 +480,22 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
       ++stats.particleContacts;
     } else if (c.rim >= 0) {
-      // A round rim (rigid ring about its centre, above): the contact point on
-      // the surface is c.arm from the ring's centre.
-      ring = ringMotion(model, p, v, model.rims[static_cast<std::size_t>(c.rim)]);
+      // A round rim or ball (rigid about its centre, above): the contact point on
+      // the surface is c.arm from the body's centre.
+      const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
+      ring = ringMotion(model, p, v, round);
       t.relative = ring.center;
       relativeVelocity = ring.velocity;
       inverseMass = 1.0 / ring.mass;
       t.armA = c.arm;
       t.armB = Vec3{};
-      // d = n·(c + R u) - h - r: it changes with the ring's turning and size too.
-      squeezeRate = (dot(c.normal, c.arm) + model.radius[a] + c.depth) / ring.radius;
+      // A ring: d = n·(c + R u) - h - r changes with its turning and size too.
+      // A ball: d = n·c - h - R with R fixed, and its turning moves no depth.
+      if (round.isSphere()) {
+        smallerRadius = round.sphereRadius;
+      } else {
+        squeezeRate = (dot(c.normal, c.arm) + model.radius[a] + c.depth) / ring.radius;
+      }
       ++stats.environmentContacts;
     } else {
       t.relative = p[a];
@@ -541,7 +557,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     t.turnB = tb.kind;
     c.rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
     if (k.rollingResistance > 0.0) {
-      const Vec3 moment = rollingResistanceMoment(k, c, ta.omega, tb.omega, model.radius[a], tally);
+      const Vec3 moment =
+          rollingResistanceMoment(k, c, ta.omega, tb.omega, surfaceRadius(model, c), tally);
       if (c.rim >= 0) {
         applyRingLoad(model, p, model.rims[static_cast<std::size_t>(c.rim)], ring, Vec3{}, moment,
                       0.0, f);
@@ -704,7 +721,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
 double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts) {
   double deepest = 0.0;
   for (const Contact& c : contacts) {
-    double r = model.radius[c.a];
+    double r = surfaceRadius(model, c);
     if (c.other >= 0) r = std::min(r, model.radius[c.other]);
     deepest = std::max(deepest, -c.depth / r);
   }

@@ -3,6 +3,10 @@
 // item's inward normal projected on the ring plane: exact for a plane, a few
 // iterations for a curved or stepped surface), then the torus of the particles'
 // radius around it (MODEL §3.1 depth d = distance - r).
+// Round balls: the sphere of the ball's radius R about its particles' mass
+// centre, d = distance(item, centre) - R, the contact point -n (R + d) from it.
+// On a heightfield the distance is to the tangent plane at the contact point
+// (a fixed point from the tangent plane below the centre), as a ring's.
 #include "collision/rim_contact.h"
 
 #include <cmath>
@@ -18,15 +22,20 @@ struct Ring {
   double radius = 0.0;
 };
 
-Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
-  Ring ring;
-  // The mass centre of the ring's particles (contact_force.cpp RingMotion).
+// The mass centre of the round body's particles (contact_force.cpp RingMotion).
+Vec3 massCenter(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
+  Vec3 center;
   double mass = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
-    ring.center += p[rim.first + k] * model.mass[rim.first + k];
+    center += p[rim.first + k] * model.mass[rim.first + k];
     mass += model.mass[rim.first + k];
   }
-  ring.center = ring.center / mass;
+  return center / mass;
+}
+
+Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
+  Ring ring;
+  ring.center = massCenter(model, rim, p);
   Vec3 normal;
   double radius = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
@@ -54,6 +63,53 @@ Vec3 circlePointAgainst(const Ring& ring, const Vec3& normal) {
   return ring.center + d * ring.radius;
 }
 
+// A ball's sphere against every environment item (MODEL §3.1 with r = R).
+void ballVersusEnvironment(const Model& model, const std::vector<Vec3>& position, std::int32_t r,
+                           ContactScratch& cache) {
+  const Environment& environment = model.environment;
+  const RimRing& ball = model.rims[static_cast<std::size_t>(r)];
+  const double radius = ball.sphereRadius;
+  const Vec3 center = massCenter(model, ball, position);
+  for (std::int32_t e = 0; e < environment.itemCount(); ++e) {
+    if (environmentFarFrom(environment, e, center, radius, cache.tables->environmentTops[e])) {
+      continue;
+    }
+    ++cache.stats.environmentTests;
+    double distance = 0.0;
+    Vec3 normal;
+    if (!environmentDistance(environment, e, center, distance, normal)) continue;
+    // Planes, boxes and spheres: the centre's distance is exact. A heightfield
+    // gives the distance to its tangent plane below the query point: take the
+    // tangent plane at the contact point c - R n instead, distance(c) =
+    // n'·(c - q) + s(q) for the query point q and its distance s(q) and normal n'.
+    const auto first = static_cast<std::int32_t>(environment.planes.size());
+    if (e >= first && e < first + static_cast<std::int32_t>(environment.heightfields.size())) {
+      bool covered = true;
+      for (int iteration = 0; iteration < 3 && covered; ++iteration) {
+        const Vec3 query = center - normal * radius;
+        double at = 0.0;
+        Vec3 tangentNormal;
+        covered = environmentDistance(environment, e, query, at, tangentNormal);
+        if (covered) {
+          normal = tangentNormal;
+          distance = dot(center - query, normal) + at;
+        }
+      }
+      if (!covered) continue;
+    }
+    const double depth = distance - radius;
+    if (depth >= 0.0) continue;
+    Contact c;  // carried by the whole ball, named by its first particle (as a ring)
+    c.a = ball.first;
+    c.other = -1 - e;
+    c.depth = depth;
+    c.normal = normal;
+    c.rim = r;
+    c.arm = normal * -(radius + depth);
+    cache.treeContacts.push_back(c);
+  }
+}
+
 }  // namespace
 
 void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
@@ -68,6 +124,10 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       free = model.inverseMass[rim.first + k] != 0.0;
     }
     if (!free) continue;
+    if (rim.isSphere()) {
+      ballVersusEnvironment(model, position, static_cast<std::int32_t>(r), cache);
+      continue;
+    }
     const Ring ring = ringAt(model, rim, position);
     for (std::int32_t e = 0; e < items; ++e) {
       if (environmentFarFrom(environment, e, ring.center, ring.radius + tube,

@@ -121,6 +121,16 @@ std::string checkModel(const Model& model) {
   }
   for (std::size_t k = 0; k < model.rims.size(); ++k) {
     const RimRing& rim = model.rims[k];
+    if (rim.sphereRadius != 0.0) {  // a ball (NaN and negative radii fail here)
+      if (!(rim.sphereRadius > 0.0 && std::isfinite(rim.sphereRadius)) || rim.count < 2 ||
+          rim.first < 0 || rim.first + rim.count > n)
+        return detail::text(
+            "rim {} (a ball): particles [{}, {}) with sphere radius {} m are not >= 2 particles of "
+            "the {} "
+            "with a finite radius > 0",
+            k, rim.first, rim.first + rim.count, rim.sphereRadius, n);
+      continue;
+    }
     if (rim.count < 3 || rim.first < 0 || rim.first + rim.count > n || rim.hub < 0 ||
         rim.hub >= n || (rim.hub >= rim.first && rim.hub < rim.first + rim.count))
       return detail::text(

@@ -167,12 +167,14 @@ bool readBall(ObjectReader& r, GeneratedObject& out) {
   const auto mass = r.number("mass", Bound::kPositive, kMass, true);
   const auto particleRadius = r.number("particleRadius", Bound::kPositive, kMetres);
   const SpringSettings springs = readSprings(r);
+  const auto round = r.boolean("round");  // MODEL §3.1 a round ball, default on
   if (cells && *cells > 400) {
     r.sink().error(r.memberPointer("cells"), fmt::format("'cells' must be <= 400, got {}", *cells));
     return false;
   }
   if (!center || !radius || !mass || (r.member("cells") && !cells)) return false;
-  out = build::makeBall({*center, *radius, cells.value_or(1), *mass, particleRadius.value_or(0.0)});
+  out = build::makeBall({*center, *radius, cells.value_or(1), *mass, particleRadius.value_or(0.0),
+                         round.value_or(true)});
   build::resolveSprings(out, springs);
   return applyRotation(r, out, *center);
 }

@@ -204,6 +204,7 @@ TEST(GeneratorBall, SingleParticleHasTheBallsRadius) {
   EXPECT_DOUBLE_EQ(ball.radius[0], 0.3);
   EXPECT_DOUBLE_EQ(ball.mass[0], 4.0);
   expectNear(ball.position[0], {0, 0, 2}, 0.0);
+  EXPECT_TRUE(ball.rims.empty());  // one particle: it spins, no round body needed
 }
 
 TEST(GeneratorBall, LatticeBallMassCentreAndSize) {
@@ -219,6 +220,13 @@ TEST(GeneratorBall, LatticeBallMassCentreAndSize) {
   EXPECT_TRUE(allTied(ball));
   expectAtRest(ball);
   EXPECT_EQ(rigidityRank(ball), 3 * static_cast<int>(ball.size()) - 6);
+  // A round body: every particle, a sphere of the ball's radius (docs/contact.md).
+  ASSERT_EQ(ball.rims.size(), 1u);
+  EXPECT_EQ(ball.rims[0].first, 0);
+  EXPECT_EQ(ball.rims[0].count, static_cast<std::int32_t>(ball.size()));
+  EXPECT_EQ(ball.rims[0].hub, kNoParticle);
+  EXPECT_DOUBLE_EQ(ball.rims[0].sphereRadius, 0.5);
+  EXPECT_TRUE(makeBall({{1, 0, 0}, 0.5, 6, 2.0, 0.0, false}).rims.empty());
 }
 
 TEST(GeneratorWheel, MassCentreSizeAndRigidity) {

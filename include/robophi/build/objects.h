@@ -37,7 +37,7 @@ struct GeneratedObject {
   /// Joint::connector indexes jointSprings; placed with the name "<object>.<name>".
   std::vector<JointSpring> jointSprings{};
   std::vector<Joint> joints{};
-  /// Wheel rims with a round contact surface (local indices; robophi::RimRing).
+  /// Wheel rims and balls with a round contact surface (local indices; robophi::RimRing).
   std::vector<RimRing> rims{};
   /// Surface mesh (MODEL §3.8, docs/contact.md "Flat faces"): vertices embedded
   /// in the particles (local particle indices), triangles over them (local
@@ -154,6 +154,9 @@ struct BallSpec {
   double mass = 1.0;
   /// Particle radius (m), >= 0; 0: half a cell (the ball's radius for cells = 1).
   double particleRadius = 0.0;
+  /// A lattice of more than one particle meets the environment as a rigid sphere of
+  /// `radius` about its mass centre (robophi::RimRing, docs/contact.md "Round balls").
+  bool round = true;
 };
 GeneratedObject makeBall(const BallSpec& spec);
 
