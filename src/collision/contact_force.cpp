@@ -113,6 +113,18 @@ double symmetricPseudoInverse(const double* packed, double* inverse) {
   return largestInverse;
 }
 
+// One point's share of a least-squares rotation fit (MODEL §3.3): A += w (|d|² 1 −
+// d dᵀ) (packed xx yy zz xy xz yz) and b += w d × Δv, so that A ω = b.
+inline void addRotationFit(const Vec3& d, const Vec3& dv, double w, double* a, Vec3& b) {
+  a[0] += w * (d.y * d.y + d.z * d.z);
+  a[1] += w * (d.x * d.x + d.z * d.z);
+  a[2] += w * (d.x * d.x + d.y * d.y);
+  a[3] -= w * d.x * d.y;
+  a[4] -= w * d.x * d.z;
+  a[5] -= w * d.y * d.z;
+  b += cross(d, dv * w);
+}
+
 // What turns the contact point of particle i (MODEL §3.3 rolling): its own spin
 // (a particle no LS ties), or the rotation of its LS neighbourhood, the
 // least-squares ω of Δv_j = ω × d_j over its neighbours j (d_j = p_j - p_i),
@@ -147,13 +159,7 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
     if (model.inverseMass[j] == 0.0) continue;  // a fixed neighbour takes no couple
     const Vec3 d = p[j] - p[i];
     const double w = model.mass[j];
-    a[0] += w * (d.y * d.y + d.z * d.z);
-    a[1] += w * (d.x * d.x + d.z * d.z);
-    a[2] += w * (d.x * d.x + d.y * d.y);
-    a[3] -= w * d.x * d.y;
-    a[4] -= w * d.x * d.z;
-    a[5] -= w * d.y * d.z;
-    b += cross(d, (v[j] - v[i]) * w);
+    addRotationFit(d, v[j] - v[i], w, a, b);
   }
   const double largest = symmetricPseudoInverse(a, inverse);
   if (largest == 0.0) return t;
@@ -225,13 +231,7 @@ RingMotion ringMotion(const Model& model, const std::vector<Vec3>& p, const std:
       ring.radialSum += d / length;
       ring.radiusRate += dot(d, dv) / length;
     }
-    a[0] += w * (d.y * d.y + d.z * d.z);
-    a[1] += w * (d.x * d.x + d.z * d.z);
-    a[2] += w * (d.x * d.x + d.y * d.y);
-    a[3] -= w * d.x * d.y;
-    a[4] -= w * d.x * d.z;
-    a[5] -= w * d.y * d.z;
-    b += cross(d, dv * w);
+    addRotationFit(d, dv, w, a, b);
   }
   ring.radius /= rim.count;
   ring.radiusRate /= rim.count;
@@ -274,7 +274,7 @@ inline double surfaceRadius(const Model& model, const Contact& c) {
 inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
   const std::int32_t object = tables.particleObject[particle];
   return object >= 0 && tables.ropeParticle[particle] == 0 ? object
-                                                            : (std::int64_t{1} << 40) + particle;
+                                                           : (std::int64_t{1} << 40) + particle;
 }
 
 // Adds one contact's stiffness and damping (the larger of the normal and the
