@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "robophi/world.h"
+#include "robotics/task.h"
 
 namespace robophi::cli {
 
@@ -29,8 +30,11 @@ struct StudyRun {
   bool finite = true;
 };
 
-/// The task a scene runs between steps (its robotics), as the runner's StepTask.
-using StudyTask = std::function<bool(World&, std::vector<std::string>&)>;
+/// The task a scene runs between steps (its robotics): the runner's StepTask
+/// handle, empty when the scene has none (a std::function wrapping an empty
+/// handle would not be empty, and calling it crashed the study on scenes
+/// without robotics).
+using StudyTask = StepTask;
 
 /// A case: how to build it, how long to run it, and how far a run is from the answer.
 struct StudyCase {
