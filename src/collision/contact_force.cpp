@@ -199,14 +199,6 @@ inline void applyMoment(const Model& model, const ContactTables& tables, const s
 // net force), and a radial load S ∂R/∂p_k: their power is F·(v_c + ω × arm) +
 // S Ṙ, the rate of the contact's own variables, so the contact's energy account
 // holds exactly for any motion of the ring that keeps its shape (and its size).
-struct RingMotion {
-  Vec3 center, velocity, omega;
-  Vec3 radialSum;  // Σ r̂_k
-  double mass = 0.0, radius = 0.0, radiusRate = 0.0;
-  double inverse[6]{};
-  double largestInverse = 0.0;
-};
-
 RingMotion ringMotion(const Model& model, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
                       const RimRing& rim) {
   RingMotion ring;
@@ -335,8 +327,7 @@ double contactsCriticalStep(const Model& model, const std::vector<Contact>& cont
 }
 
 // Friction of one contact once its group has decided. Returns F_t on a.
-Vec3 frictionForce(const PairParameters& k, const FrictionTrial& t, const FrictionGroup& g,
-                   Contact& c, StageTally& tally) {
+Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c, StageTally& tally) {
   const double stiffness = t.tangentialStiffness;
   if (g.regime != kSliding) {
     // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
@@ -360,7 +351,7 @@ Vec3 frictionForce(const PairParameters& k, const FrictionTrial& t, const Fricti
   } else if (squaredNorm(t.elastic) > 0.0) {
     direction = t.elastic / -norm(t.elastic);
   }
-  const double friction = k.kineticFriction * c.normalForce;
+  const double friction = t.kineticFriction * c.normalForce;
   const Vec3 consistent = direction * (friction / stiffness);
   c.sliding = kSliding;
   c.giveWay = 0.0;
@@ -420,6 +411,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   std::vector<Contact>& contacts = cache.freshContacts;
   cache.trials.resize(contacts.size());
   cache.groups.clear();
+  cache.rings.clear();
 
   // Pass 1: geometry, normal force, the friction trial of each contact, and the
   // group sums. Contacts are sorted by a, so a group's contacts come in runs of
@@ -431,7 +423,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // Per contact, filled only for facet and rim contacts (kept out of the loop:
   // they are large, and most contacts need neither).
   FacetKinematics facet;
-  RingMotion ring;
+  RingMotion ring;  // the current rim contact's (a copy of cache.rings.back())
   for (std::size_t index = 0; index < contacts.size(); ++index) {
     Contact& c = contacts[index];
     FrictionTrial& t = cache.trials[index];
@@ -483,7 +475,9 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       // A round rim or ball (rigid about its centre, above): the contact point on
       // the surface is c.arm from the body's centre.
       const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
-      ring = ringMotion(model, p, v, round);
+      t.ring = static_cast<std::int32_t>(cache.rings.size());
+      cache.rings.push_back(ringMotion(model, p, v, round));
+      ring = cache.rings.back();
       t.relative = ring.center;
       relativeVelocity = ring.velocity;
       inverseMass = 1.0 / ring.mass;
@@ -531,13 +525,18 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
 
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
+    t.kineticFriction = k.kineticFriction;
     const bool frictionless =
         k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
-    if (frictionless && k.rollingResistance <= 0.0) {
+    // A contact without friction holds no anchor (its old one's energy is released).
+    const auto withoutAnchor = [&] {
       c.anchor = t.relative;
       c.anchorEnergy = 0.0;
       if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
       addContactRates(model, k, c, 1.0, 0.0, cache);
+    };
+    if (frictionless && k.rollingResistance <= 0.0) {
+      withoutAnchor();
       continue;
     }
     // The contact points' velocities: the rotation of each body adds ω × arm.
@@ -568,10 +567,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         applyMoment(model, tables, p, t.turnB, t.inverseB, c.other, moment * -1.0, f, torque);
     }
     if (frictionless) {
-      c.anchor = t.relative;
-      c.anchorEnergy = 0.0;
-      if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
-      addContactRates(model, k, c, 1.0, 0.0, cache);
+      withoutAnchor();
       continue;
     }
     const Vec3 pointVelocity = relativeVelocity + c.rollVelocity;
@@ -683,15 +679,14 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     Contact& c = contacts[index];
     const FrictionTrial& t = cache.trials[index];
     if (t.group >= 0) {
-      const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
       const Vec3 tangential =
-          frictionForce(k, t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
+          frictionForce(t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
       c.frictionForce = tangential;
       if (c.involvesFacets()) {
         distributeFacetForce(model, c, tangential, f);
       } else if (c.rim >= 0) {
         const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
-        applyRingLoad(model, p, rim, ringMotion(model, p, v, rim), tangential,
+        applyRingLoad(model, p, rim, cache.rings[static_cast<std::size_t>(t.ring)], tangential,
                       cross(t.armA, tangential), 0.0, f);
       } else {
         f[c.a] += tangential;

@@ -126,6 +126,18 @@ struct ContactTables {
 /// Builds the tables of `model`.
 ContactTables compileContactTables(const Model& model);
 
+/// The rigid motion of a round rim's ring or a round ball (contact_force.cpp,
+/// MODEL §3.1): mass centre c (m), its velocity (m/s), ω (rad/s), Σ r̂_k, the
+/// mass M (kg), radius R (m) and Ṙ (m/s), and A⁻¹ (packed) with its largest
+/// eigenvalue (1/(kg·m²)).
+struct RingMotion {
+  Vec3 center, velocity, omega;
+  Vec3 radialSum;
+  double mass = 0.0, radius = 0.0, radiusRate = 0.0;
+  double inverse[6]{};
+  double largestInverse = 0.0;
+};
+
 /// What one contact evaluation works in: derived from positions, reused from
 /// evaluation to evaluation.
 struct ContactScratch {
@@ -167,6 +179,9 @@ struct ContactScratch {
     std::int32_t turnA = 0, turnB = 0;
     double inverseA[6]{}, inverseB[6]{};
     double tangentialStiffness = 0.0, tangentialDamping = 0.0;
+    double kineticFriction = 0.0;  // μ_k of the pair (-)
+    /// Rim and ball contacts: their body's motion, in ContactScratch::rings.
+    std::int32_t ring = -1;
     double slipSpeed = 0.0, previousEnergy = 0.0;
     std::int32_t group = -1;
     bool slow = false;              // |V| <= stick velocity, or V reversed
@@ -180,16 +195,20 @@ struct ContactScratch {
     double giveWay = 0.0;                 // Σ of the anchors' give-way so far (m)
     double slip = 0.0, slipBefore = 0.0;  // Σ |V| now and at the last evaluation (m/s)
     double range = 0.0;                   // Σ μ_s F_n / k_t, the anchors' elastic range (m)
-    double elasticSpeed = 0.0;  // Σ μ_s F_n / √(k_t m_eff): an anchor's speed within its range (m/s)
+    double elasticSpeed =
+        0.0;  // Σ μ_s F_n / √(k_t m_eff): an anchor's speed within its range (m/s)
     bool wasSliding = false, wasBreakingAway = false, allSlow = true;
     std::int32_t regime = 0;  // Contact::sliding for every contact of the group
     double scale = 1.0;       // breaking away: μ_s Σ F_n / Σ|F_t|
   };
   std::vector<FrictionTrial> trials;  // (contacts)
+  /// The rigid motion of each rim or ball contact's body at this evaluation,
+  /// taken in the first pass, used again by the second (contact_force.cpp).
+  std::vector<RingMotion> rings;
   std::vector<FrictionGroup> groups;
   std::vector<Vec3> objectCentroid;  // (objects) for viscosity
   std::vector<double> objectMass;    // (objects)
-  std::vector<Vec3> vertexPosition;          // (surface vertices) at this evaluation
+  std::vector<Vec3> vertexPosition;  // (surface vertices) at this evaluation
   /// Per object, the facet margin (m) of its tree (TreeObject::margin), 0 when
   /// unfaceted: added to its node spheres in tests against other objects only.
   std::vector<double> objectMargin;  // (objects)

@@ -166,10 +166,13 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   std::vector<ObjectBounds> bounds(objects);
   std::vector<Vec3> vLow(objects), vHigh(objects), aLow(objects), aHigh(objects), pSum(objects);
   std::vector<double> count(objects, 0.0);
+  // Virtual objects (goals' copies, paths' ends) touch nothing: no bound.
+  std::vector<char> virtualObject(objects, 0);
+  for (std::size_t o = 0; o < objects && o < model.objects.size(); ++o)
+    virtualObject[o] = model.objects[o].kind == "virtual" ? 1 : 0;
   for (ParticleIndex i = 0; i < n; ++i) {
     const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
-    // Virtual objects (goals' copies, paths' ends) touch nothing: no bound.
-    if (model.objectOf[i] >= 0 && model.objects[o].kind == "virtual") continue;
+    if (model.objectOf[i] >= 0 && virtualObject[o] != 0) continue;
     const Vec3& v = state.velocity[i];
     const Vec3 a = acceleration(i);
     if (count[o] == 0.0) {

@@ -473,8 +473,6 @@ class SceneTaskSet final : public Task {
     for (const EscapeSpec& e : scene.robotics.escapes) escapes_.emplace_back(e);
     for (const GraspSpec& g : scene.robotics.grasps) grasps_.emplace_back(g, scene.model);
     for (const auto& grasp : grasps_) out_->grasps.push_back(grasp.outcome());
-    tolerances_.reserve(goals_.size());
-    for (const GoalSpec& g : goals_) tolerances_.push_back(g.tolerance);
   }
 
   bool step(World& world, std::vector<std::string>& events) override {
@@ -536,7 +534,7 @@ class SceneTaskSet final : public Task {
                          {"time_s", timeOrNull(goal.reachedAt)},
                          {"final_distance_m", status.worstDistance},
                          {"final_mean_speed_m_s", status.meanSpeed},
-                         {"tolerance_m", tolerances_[g]},
+                         {"tolerance_m", goals_[g].tolerance},
                          {"virtual_obstacles", goal.virtualObstacles},
                          {"escape_work_J", goal.escapeWork}});
       }
@@ -624,7 +622,6 @@ class SceneTaskSet final : public Task {
  private:
   JointLimiter limiter_;
   std::vector<GoalSpec> goals_;
-  std::vector<double> tolerances_;
   std::vector<LocalMinimumEscape> escapes_;
   std::vector<GraspCheck> grasps_;
   std::shared_ptr<TaskOutcomes> out_;
