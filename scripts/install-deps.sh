@@ -27,6 +27,15 @@ install_missing \
   python3 python3-numpy python3-pytest python3-jsonschema \
   clang libclang-rt-dev
 
+# Robots and meshes (docs/robots.md): the URDF reader's XML with line numbers
+# (tinyxml2), collision meshes (assimp: STL, OBJ, ...), and the forward
+# kinematics the tests check the importer against (orocos-kdl, kdl-parser,
+# urdfdom); the Python package (pybind11, python3-dev).
+install_missing \
+  libtinyxml2-dev libassimp-dev libtinyobjloader-dev \
+  liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev \
+  pybind11-dev python3-dev
+
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may
 # already come from elsewhere (e.g. NodeSource); apt installs them only if not.
