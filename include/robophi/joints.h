@@ -17,7 +17,18 @@ namespace robophi {
 /// for a state not sized for the model.
 double jointValue(const Model& model, const State& state, std::size_t joint);
 
-/// The joint's rate: rad/s or m/s. Same checks as jointValue.
+/// The joint's position q, counted from Joint::zero: rad in (-π, π] for a revolute
+/// joint (jointValue − zero, wrapped), m for a prismatic one (jointValue − zero).
+/// Same checks as jointValue.
+double jointPosition(const Model& model, const State& state, std::size_t joint);
+
+/// The raw value (jointValue's: rad in [0, 2π), or m) of position q (rad or m).
+double jointRawValue(const Joint& joint, double position);
+
+/// An angle wrapped into (-π, π] (rad).
+double wrapSigned(double angle);
+
+/// The joint's rate: rad/s or m/s (also the rate of its position). Same checks as jointValue.
 double jointRate(const Model& model, const State& state, std::size_t joint);
 
 /// An angle wrapped into [0, 2π) (rad): a revolute joint's value and target range.

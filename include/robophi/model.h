@@ -159,6 +159,11 @@ struct Joint {
   /// Prismatic only: the LS (index into Model::linearSprings) that drives the
   /// slider's distance from the origin, or -1 if the joint is free along its line.
   std::int32_t driveSpring = -1;
+  /// The raw value (jointValue: rad, or m) at which the joint's position q is 0
+  /// (jointPosition). Builders set it to a revolute joint's angle as built (an
+  /// arm's straight pose, a URDF robot's zero pose); a prismatic joint's is 0
+  /// (its value is the distance from its origin) unless its builder says otherwise.
+  double zero = 0.0;
 };
 
 /// The model: particles as flat arrays, connectors as small structs.

@@ -33,8 +33,8 @@ void addJoint(GeneratedObject& o, const std::string& name, int a, int c, int b, 
   const auto& x = o.position;
   const double angle = jointAngle(x[a], x[c], x[b], x[d]);
   o.jointSprings.push_back({a, c, b, d, angle, stiffness, damping});
-  o.joints.push_back(
-      {name, JointKind::kRevolute, static_cast<std::int32_t>(o.jointSprings.size()) - 1, -1});
+  o.joints.push_back({name, JointKind::kRevolute,
+                      static_cast<std::int32_t>(o.jointSprings.size()) - 1, -1, angle});
 }
 
 // Checks what appendChain needs; `spec` names the caller in the messages.

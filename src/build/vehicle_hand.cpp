@@ -118,11 +118,10 @@ GeneratedObject makeVehicle(const VehicleSpec& spec) {
       // MODEL §1 JS: the axle, a passive revolute joint (a: a mount, b: a rim particle).
       const int a = mounts[1];
       const auto& p = g.position;
-      g.jointSprings.push_back({a, hubs[0], offset, hubs[1],
-                                jointAngle(p[a], p[hubs[0]], p[offset], p[hubs[1]]), 0.0,
-                                spec.axleDamping});
+      const double angle = jointAngle(p[a], p[hubs[0]], p[offset], p[hubs[1]]);
+      g.jointSprings.push_back({a, hubs[0], offset, hubs[1], angle, 0.0, spec.axleDamping});
       g.joints.push_back({"axle" + std::to_string(wheelIndex), JointKind::kRevolute,
-                          static_cast<std::int32_t>(g.jointSprings.size()) - 1, -1});
+                          static_cast<std::int32_t>(g.jointSprings.size()) - 1, -1, angle});
     }
   }
   g.spacing = spec.size.x / 3.0;

@@ -45,6 +45,17 @@ double jointValue(const Model& model, const State& state, std::size_t joint) {
   return prismaticValue(model.torsionSprings[j.connector], p);
 }
 
+double jointPosition(const Model& model, const State& state, std::size_t joint) {
+  const Joint& j = checkedJoint("jointPosition", model, &state, joint);
+  const double value = jointValue(model, state, joint);
+  return j.kind == JointKind::kRevolute ? wrapSigned(value - j.zero) : value - j.zero;
+}
+
+double jointRawValue(const Joint& joint, double position) {
+  return joint.kind == JointKind::kRevolute ? wrapAngle(joint.zero + position)
+                                            : joint.zero + position;
+}
+
 double jointRate(const Model& model, const State& state, std::size_t joint) {
   const Joint& j = checkedJoint("jointRate", model, &state, joint);
   const auto& p = state.position;
@@ -70,6 +81,12 @@ double wrapAngle(double angle) {
   if (wrapped < 0.0) wrapped += twoPi;
   if (wrapped >= twoPi) wrapped = 0.0;
   return wrapped;
+}
+
+double wrapSigned(double angle) {
+  const double pi = std::numbers::pi;
+  const double wrapped = wrapAngle(angle);  // [0, 2π)
+  return wrapped > pi ? wrapped - 2.0 * pi : wrapped;
 }
 
 std::optional<std::size_t> findJoint(const Model& model, const std::string& name) {

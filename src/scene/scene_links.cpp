@@ -229,10 +229,11 @@ void readRevolute(ObjectReader& r, const std::string& name, const ParticleLookup
     return;
   }
   // MODEL §1 JS: θ in [0, 2π) about n = p_axis - p_center; default target: the initial angle.
-  const double angle = wrapAngle(target.value_or(jointAngle(x[*a], x[*c], x[*b], x[*d])));
+  const double initial = wrapAngle(jointAngle(x[*a], x[*c], x[*b], x[*d]));
+  const double angle = wrapAngle(target.value_or(initial));
   model.jointSprings.push_back({*a, *c, *b, *d, angle, stiffness, damping});
-  model.joints.push_back(
-      {name, JointKind::kRevolute, static_cast<std::int32_t>(model.jointSprings.size()) - 1, -1});
+  model.joints.push_back({name, JointKind::kRevolute,
+                          static_cast<std::int32_t>(model.jointSprings.size()) - 1, -1, initial});
 }
 
 void readPrismatic(ObjectReader& r, const std::string& name, const ParticleLookup& lookup,

@@ -49,7 +49,7 @@ inline void expectSameModel(const Model& a, const Model& b) {
   for (std::size_t i = 0; i < a.joints.size(); ++i) {
     const Joint &j = a.joints[i], &k = b.joints[i];
     EXPECT_TRUE(j.name == k.name && j.kind == k.kind && j.connector == k.connector &&
-                j.driveSpring == k.driveSpring)
+                j.driveSpring == k.driveSpring && j.zero == k.zero)
         << "joint " << i;
   }
   EXPECT_TRUE(a.gravity.x == b.gravity.x && a.gravity.y == b.gravity.y &&

@@ -74,6 +74,17 @@ TEST(BuildArm, ParticlesJointsAndFixedBase) {
   EXPECT_EQ(built.model.joints[0].name, "arm.j1");
   EXPECT_NEAR(jointValue(built.model, built.initial, 0), std::numbers::pi, 1e-12);  // straight
   EXPECT_EQ(fixedCount(built.model), 3u);
+  // Positions count from the pose as built: the straight arm is q = 0, and a
+  // quarter turn either way reads ±π/2 (wrapped into (-π, π]).
+  for (std::size_t j = 0; j < 2; ++j) {
+    EXPECT_NEAR(built.model.joints[j].zero, std::numbers::pi, 1e-12);
+    EXPECT_NEAR(jointPosition(built.model, built.initial, j), 0.0, 1e-12);
+  }
+  const Joint& j1 = built.model.joints[0];
+  EXPECT_NEAR(jointRawValue(j1, 0.5 * std::numbers::pi), 1.5 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(jointRawValue(j1, -0.5 * std::numbers::pi), 0.5 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(wrapSigned(1.5 * std::numbers::pi), -0.5 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(wrapSigned(std::numbers::pi), std::numbers::pi, 1e-12);
 }
 
 TEST(BuildArm, SameSpecThroughASceneFileGivesTheIdenticalModel) {
