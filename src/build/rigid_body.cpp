@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <numeric>
 
@@ -32,6 +33,13 @@ struct Particle {
 
 bool allZero(const Inertia& i) {
   return i.xx == 0 && i.yy == 0 && i.zz == 0 && i.xy == 0 && i.xz == 0 && i.yz == 0;
+}
+
+// Three significant digits, for notes.
+std::string brief(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
 }
 
 std::string shapeField(std::size_t index, const char* field) {
@@ -151,9 +159,10 @@ std::vector<Particle> fillUnion(const std::vector<ShapeSpec>& shapes, double spa
       const std::string which = "shapes[" + std::to_string(k) + "]";
       if (r.openEdges > 0) {
         notes->push_back(which + ": mesh not closed (" + std::to_string(r.openEdges) +
-                         " open edges): inside by a 3-axis ray vote, " +
-                         std::to_string(r.enclosedCells) +
-                         " cells enclosed by its voxel shell added");
+                         " open edges): inside by a 3-axis ray vote" +
+                         (r.enclosedCells > 0 ? ", and " + std::to_string(r.enclosedCells) +
+                                                    " cells its surface encloses"
+                                              : std::string()));
       }
       if (r.thinParticles > 0) {
         notes->push_back(which + ": " + std::to_string(r.thinParticles) +
@@ -396,9 +405,9 @@ AxisReach axisReach(const std::vector<Particle>& particles, const MassProperties
 
 // Fits the masses; when the lattice cannot carry the target, adds carriers:
 // pairs outside the geometry on the principal axes whose second moment it
-// cannot reach (at `distance` × its extent from the centre of mass), and six
-// inner ones near the centre of mass that can take mass from the lattice when
-// the inertia is below the lattice's reach; then lowers the floor. Last resort:
+// cannot reach, then six inner ones near the centre of mass that can take mass
+// from the lattice when the inertia is below the lattice's reach, then eight
+// on the diagonals, each farther in turn; then lowers the floor. Last resort:
 // mass and centre exact, inertia as near as the fit got (body.fitted false).
 detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProperties& target,
                                 double floor, double spacing, RigidBody& body) {
@@ -416,15 +425,26 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     anyLess = anyLess || reach.target(k) < reach.uniform(k);
   }
   struct Plan {
-    bool inner;
-    double distance;  // 0: no outer carriers
+    bool inner;       // six near the centre of mass
+    bool corners;     // eight on the diagonals (products of inertia of either sign)
+    double distance;  // × the axis's carrier distance; 0: no outer carriers
   };
   std::vector<Plan> plans;
   if (anyMore) {
-    for (const double d : {1.25, 2.0, 3.2}) plans.push_back({false, d});
+    for (const double f : {1.0, 1.6, 2.56}) plans.push_back({false, false, f});
   }
-  for (const double d : {1.25, 2.0, 3.2, 5.12})
-    plans.push_back({true, anyMore || !anyLess ? d : 0.0});
+  const double axisPairs = anyMore || !anyLess ? 1.0 : 0.0;
+  for (const double f : {1.0, 1.6, 2.56}) plans.push_back({true, false, axisPairs * f});
+  for (const double f : {1.0, 1.6, 2.56, 4.1}) plans.push_back({true, true, f});
+  // A carrier pair's distance from the centre: 1.25 × the body's extent, or
+  // farther where a pair of mean-mass carriers (2 m̄ d² = S_k) is needed to carry
+  // the axis's second moment (URDFs with placeholder inertias ask for that).
+  const double meanMass = target.mass / static_cast<double>(base);
+  Eigen::Vector3d distance;
+  for (int k = 0; k < 3; ++k) {
+    distance(k) = std::max({1.25 * reach.extent(k), 2.5 * smallestRadius,
+                            std::sqrt(std::max(reach.target(k), 0.0) / (2.0 * meanMass))});
+  }
   int outer = 0, inner = 0;
   const auto build = [&](const Plan& plan) {
     particles.resize(base);
@@ -432,12 +452,23 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     for (int k = 0; k < 3 && plan.distance > 0.0; ++k) {
       if (anyMore && !more[k]) continue;
       const Vec3 e = column(reach.axes, k);
-      const double extent = std::max(reach.extent(k), 2.0 * smallestRadius);
       for (const double sign : {-1.0, 1.0}) {
-        particles.push_back({target.centerOfMass + e * (sign * plan.distance * extent),
+        particles.push_back({target.centerOfMass + e * (sign * plan.distance * distance(k)),
                              0.5 * smallestRadius, 0.0, Role::kCarrier});
         ++outer;
       }
+    }
+    for (int corner = 0; corner < 8 && plan.corners; ++corner) {
+      // c + d (±e1 ±e2 ±e3)/√3: a lattice off to one side of its centre of mass
+      // has products of inertia only these can cancel.
+      Vec3 direction{};
+      for (int k = 0; k < 3; ++k) {
+        direction += column(reach.axes, k) * ((corner >> k & 1) != 0 ? 1.0 : -1.0);
+      }
+      particles.push_back(
+          {target.centerOfMass + direction * (plan.distance * distance.maxCoeff() / std::sqrt(3.0)),
+           0.5 * smallestRadius, 0.0, Role::kCarrier});
+      ++outer;
     }
     for (int k = 0; k < 3 && plan.inner; ++k) {
       for (const double sign : {-1.0, 1.0}) {
@@ -451,17 +482,17 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
       }
     }
   };
-  for (const Plan& plan : plans) {
-    build(plan);
-    fit = detail::fitMasses(positionsOf(particles), target, floor);
-    if (fit.feasible) break;
-  }
-  double lowered = floor;
-  while (!fit.feasible && lowered > 0.02) {
-    lowered *= 0.5;
-    fit = detail::fitMasses(positionsOf(particles), target, lowered);
-    if (fit.feasible) {
-      body.notes.push_back("masses down to " + check::number(lowered) +
+  // Each floor with every plan (the lattice alone too, below the first floor).
+  for (double lowered = floor; !fit.feasible && lowered > 0.02; lowered *= 0.5) {
+    if (lowered < floor) plans.insert(plans.begin(), Plan{false, false, 0.0});
+    for (const Plan& plan : plans) {
+      build(plan);
+      fit = detail::fitMasses(positionsOf(particles), target, lowered);
+      if (fit.feasible) break;
+    }
+    if (lowered < floor) plans.erase(plans.begin());
+    if (fit.feasible && lowered < floor) {
+      body.notes.push_back("masses down to " + brief(lowered) +
                            " of the mean to reach the inertia");
     }
   }
@@ -473,8 +504,14 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     return fit;
   }
   if (outer > 0) {
+    double farthest = 0.0, extent = 0.0;
+    for (std::size_t i = base; i < particles.size(); ++i) {
+      farthest = std::max(farthest, norm(particles[i].position - target.centerOfMass));
+    }
+    for (int k = 0; k < 3; ++k) extent = std::max(extent, reach.extent(k));
     body.notes.push_back("inertia beyond the geometry: " + std::to_string(outer) +
-                         " carriers added");
+                         " carriers added, up to " + brief(farthest) +
+                         " m from the centre of mass (the body reaches " + brief(extent) + " m)");
   }
   if (inner > 0) {
     body.notes.push_back("inertia below the lattice's reach: " + std::to_string(inner) +
@@ -595,10 +632,9 @@ RigidBody makeRigidBody(const RigidBodySpec& spec) {
     for (int k = 0; k < 3; ++k) {
       worst = std::max(worst, std::abs(got[k] - want[k]) / std::max(want[k], 1e-300));
     }
-    body.notes.push_back(
-        "mass fit not exact: centre of mass off by " +
-        check::number(norm(body.achieved.centerOfMass - body.target.centerOfMass)) +
-        " m, principal moments by up to " + check::number(100.0 * worst) + " %");
+    body.notes.push_back("mass fit not exact: centre of mass off by " +
+                         brief(norm(body.achieved.centerOfMass - body.target.centerOfMass)) +
+                         " m, principal moments by up to " + brief(100.0 * worst) + " %");
   }
   return body;
 }
