@@ -12,7 +12,7 @@ namespace robophi::build::detail {
 
 struct MassFit {
   std::vector<double> mass;  // (n) kg
-  /// The 10 conditions hold (relative residual below 1e-12) with every mass >= the floor.
+  /// The 10 conditions hold (relative residual below 1e-10) with every mass >= the floor.
   bool feasible = false;
 };
 

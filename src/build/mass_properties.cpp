@@ -181,8 +181,8 @@ MassProperties uniformMassProperties(const std::vector<ShapeSpec>& shapes, doubl
   if (shapes.empty() || !(mass > 0.0)) return out;
   if (shapes.size() == 1 && exactShapeProperties(shapes[0], mass, out)) return out;
   // The union, sampled: the cells of a fine lattice per shape (those inside an
-  // earlier shape dropped; the lattice's stretch gives each cell its own second
-  // moments, see detail::fillShape).
+  // earlier shape dropped), each with its own second moments (by the lattice's
+  // stretch along a prism's axes, see detail::fillShape, or added).
   double volume = 0.0;
   for (const auto& shape : shapes) volume += detail::shapeVolume(shape);
   const double spacing = std::cbrt(std::max(volume, 1e-30) / 40000.0);
@@ -194,6 +194,13 @@ MassProperties uniformMassProperties(const std::vector<ShapeSpec>& shapes, doubl
     const detail::ShapeLattice lattice = detail::fillShape(shape, spacing);
     const Vec3& cell = lattice.cell;
     const double cellVolume = cell.x * cell.y * cell.z;
+    // Each cell's own second moments where the lattice is not stretched.
+    const Eigen::Matrix3d r = rotationOf(shape.frame);
+    Eigen::Matrix3d own = Eigen::Matrix3d::Zero();
+    own.diagonal() << (lattice.stretched[0] ? 0.0 : cell.x * cell.x / 12.0),
+        (lattice.stretched[1] ? 0.0 : cell.y * cell.y / 12.0),
+        (lattice.stretched[2] ? 0.0 : cell.z * cell.z / 12.0);
+    own = r * own * r.transpose();
     for (const Vec3& p : lattice.position) {
       const bool earlier = std::any_of(inside.begin(), inside.end(),
                                        [&](const detail::ShapeInside& in) { return in(p); });
@@ -201,7 +208,7 @@ MassProperties uniformMassProperties(const std::vector<ShapeSpec>& shapes, doubl
       const Eigen::Vector3d x = toEigen(p);
       weight += cellVolume;
       first += cellVolume * x;
-      second += cellVolume * x * x.transpose();
+      second += cellVolume * (x * x.transpose() + own);
     }
     inside.emplace_back(shape);
   }

@@ -173,6 +173,46 @@ std::vector<Particle> fillUnion(const std::vector<ShapeSpec>& shapes, double spa
   return out;
 }
 
+// MODEL §1 (the particles respect the object's mass, centre and volume): the
+// lattice mapped affinely, x' = c + A (x − g), so that equal masses have the
+// uniform solid's centre c and second moments S (A S_lat Aᵀ = S, A symmetric:
+// A = S^½ (S^½ S_lat S^½)^-½ S^½). Cell centres sit half a cell inside the
+// surface, so a lattice falls short of the solid's second moments by about h²/12
+// per axis; the map (a few % for a coarse lattice, a box's stretch already
+// done) gives that back, and a uniform body fits with equal masses. Skipped
+// when the map would move the lattice by more than a third of its size
+// (a lattice too coarse to stand for the shape).
+void matchUniformMoments(std::vector<Particle>& lattice, const MassProperties& uniform) {
+  if (lattice.size() < 4 || !(uniform.mass > 0.0)) return;
+  const auto n = static_cast<double>(lattice.size());
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (const auto& p : lattice) g += Eigen::Vector3d(p.position.x, p.position.y, p.position.z) / n;
+  Eigen::Matrix3d latticeS = Eigen::Matrix3d::Zero();
+  for (const auto& p : lattice) {
+    const Eigen::Vector3d d = Eigen::Vector3d(p.position.x, p.position.y, p.position.z) - g;
+    latticeS += uniform.mass / n * d * d.transpose();
+  }
+  const Inertia& i = uniform.inertia;
+  Eigen::Matrix3d inertia;
+  inertia << i.xx, i.xy, i.xz, i.xy, i.yy, i.yz, i.xz, i.yz, i.zz;
+  const Eigen::Matrix3d solidS = 0.5 * inertia.trace() * Eigen::Matrix3d::Identity() - inertia;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solid(solidS);
+  if (!(solid.eigenvalues().minCoeff() > 0.0) || !(latticeS.determinant() > 0.0)) return;
+  const Eigen::Matrix3d root = solid.operatorSqrt();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> middle(root * latticeS * root);
+  if (!(middle.eigenvalues().minCoeff() > 0.0)) return;
+  const Eigen::Matrix3d map = root * middle.operatorInverseSqrt() * root;
+  const Eigen::Vector3d stretch =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(map, Eigen::EigenvaluesOnly).eigenvalues();
+  if (stretch.minCoeff() < 0.75 || stretch.maxCoeff() > 1.33) return;
+  const Eigen::Vector3d c(uniform.centerOfMass.x, uniform.centerOfMass.y, uniform.centerOfMass.z);
+  for (auto& p : lattice) {
+    const Eigen::Vector3d x =
+        c + map * (Eigen::Vector3d(p.position.x, p.position.y, p.position.z) - g);
+    p.position = {x.x(), x.y(), x.z()};
+  }
+}
+
 // The spacing whose lattice has the particle count nearest to `count`.
 double chooseSpacing(const std::vector<ShapeSpec>& shapes, int count) {
   double volume = 0.0;
@@ -514,7 +554,7 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
                          " m from the centre of mass (the body reaches " + brief(extent) + " m)");
   }
   if (inner > 0) {
-    body.notes.push_back("inertia below the lattice's reach: " + std::to_string(inner) +
+    body.notes.push_back("inertia out of the lattice's reach: " + std::to_string(inner) +
                          " carriers added near the centre of mass");
   }
   for (std::size_t i = base; i < particles.size(); ++i)
@@ -545,8 +585,9 @@ RigidBody makeRigidBody(const RigidBodySpec& spec) {
   body.target.mass = spec.mass;
   body.target.centerOfMass = spec.centerOfMass;
   body.target.inertia = spec.inertia;
+  MassProperties uniform;
+  if (!spec.shapes.empty()) uniform = uniformMassProperties(spec.shapes, spec.mass);
   if (spec.uniformDensity || (allZero(spec.inertia) && !spec.shapes.empty())) {
-    const MassProperties uniform = uniformMassProperties(spec.shapes, spec.mass);
     if (spec.uniformDensity) body.target.centerOfMass = uniform.centerOfMass;
     body.target.inertia = uniform.inertia;
     body.notes.push_back(spec.uniformDensity
@@ -576,6 +617,7 @@ RigidBody makeRigidBody(const RigidBodySpec& spec) {
           kSpec, "shapes",
           "the shapes hold no lattice point at 'particleSize' " + check::number(spacing) + " m");
     }
+    matchUniformMoments(particles, uniform);
   } else {
     particles = cluster(body.target, body.notes);
     body.spacing = 2.0 * particles[0].radius;

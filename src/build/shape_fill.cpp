@@ -128,19 +128,34 @@ void markSurface(const TriangleMesh& mesh, VoxelGrid& grid) {
     out = grid.index(at[0], at[1], at[2]);
   };
   for (const auto& tri : mesh.triangles) {
-    const Vec3& p0 = mesh.vertices[static_cast<std::size_t>(tri[0])];
-    const Vec3& p1 = mesh.vertices[static_cast<std::size_t>(tri[1])];
-    const Vec3& p2 = mesh.vertices[static_cast<std::size_t>(tri[2])];
-    const double longest = std::max({norm(p1 - p0), norm(p2 - p1), norm(p0 - p2)});
-    const int k = std::clamp(static_cast<int>(std::ceil(longest / step)), 1, 1024);
-    for (int u = 0; u <= k; ++u) {
-      for (int v = 0; u + v <= k; ++v) {
-        const double a = static_cast<double>(u) / k, bb = static_cast<double>(v) / k;
-        const Vec3 p = p0 + (p1 - p0) * a + (p2 - p0) * bb;
+    // Rows parallel to the longest edge (a → b), at most `step` apart across
+    // it and along it: about area/step² samples, slivers included.
+    std::array<Vec3, 3> p{mesh.vertices[static_cast<std::size_t>(tri[0])],
+                          mesh.vertices[static_cast<std::size_t>(tri[1])],
+                          mesh.vertices[static_cast<std::size_t>(tri[2])]};
+    int longestEdge = 0;
+    double longest = 0.0;
+    for (int e = 0; e < 3; ++e) {
+      const double l = norm(p[(e + 1) % 3] - p[e]);
+      if (l > longest) {
+        longest = l;
+        longestEdge = e;
+      }
+    }
+    const Vec3 a = p[longestEdge], b = p[(longestEdge + 1) % 3], o = p[(longestEdge + 2) % 3];
+    const double height = longest > 0.0 ? norm(cross(b - a, o - a)) / longest : 0.0;
+    const int along = std::clamp(static_cast<int>(std::ceil(longest / step)), 1, 4096);
+    const int across = std::clamp(static_cast<int>(std::ceil(height / step)), 1, 4096);
+    for (int t = 0; t <= across; ++t) {
+      const double v = static_cast<double>(t) / across;
+      const Vec3 start = a + (o - a) * v, end = b + (o - b) * v;
+      const int samples = std::max(1, static_cast<int>(std::ceil(along * (1.0 - v))));
+      for (int u = 0; u <= samples; ++u) {
+        const Vec3 q = start + (end - start) * (static_cast<double>(u) / samples);
         std::size_t cell = 0;
-        cellOf(p, cell);
+        cellOf(q, cell);
         grid.surface[cell] = 1;
-        grid.surfacePoint[cell] += p;
+        grid.surfacePoint[cell] += q;
         ++count[cell];
       }
     }
@@ -309,16 +324,21 @@ ShapeLattice fillShape(const ShapeSpec& shape, double spacing) {
   const std::array<int, 3> n{cellsAlong(extent.x, spacing), cellsAlong(extent.y, spacing),
                              cellsAlong(extent.z, spacing)};
   out.cell = {extent.x / n[0], extent.y / n[1], extent.z / n[2]};
-  // Cell centres stretched about the box's centre by √(n²/(n² − 1)) per axis:
-  // equal point masses then have the continuum's second moments (a box's
-  // exactly: Σ ((i + ½)/n − ½)² = (n² − 1)/12n against n/12), so that a
-  // uniform body needs no mass shifted outwards.
+  // Along the axes where the shape is a prism (a box's three, a cylinder's z),
+  // cell centres are stretched about the middle by √(n²/(n² − 1)): equal point
+  // masses then have the continuum's second moment (Σ ((i + ½)/n − ½)² =
+  // (n² − 1)/12n against n/12), so that a uniform body needs no mass moved
+  // outwards. Round sections and meshes keep the cell centres.
   const Vec3 middle = (lo + hi) * 0.5;
-  Vec3 stretch{};
+  Vec3 stretch{1.0, 1.0, 1.0};
   for (int a = 0; a < 3; ++a) {
+    const bool prism =
+        shape.kind == ShapeSpec::Kind::kBox || (shape.kind == ShapeSpec::Kind::kCylinder && a == 2);
+    if (!prism) continue;
     const double nn = static_cast<double>(n[a]) * n[a];
     (a == 0 ? stretch.x : (a == 1 ? stretch.y : stretch.z)) = std::sqrt(nn / (nn - 1.0));
   }
+  out.stretched = {stretch.x != 1.0, stretch.y != 1.0, stretch.z != 1.0};
   const auto stretched = [&](const Vec3& p) {
     const Vec3 d = p - middle;
     return middle + Vec3{d.x * stretch.x, d.y * stretch.y, d.z * stretch.z};

@@ -46,10 +46,12 @@ int openEdges(const TriangleMesh& mesh);
 
 /// The lattice of one shape at spacing h, in the body frame: cell centres of a
 /// max(2, round(extent/h)) cells per axis lattice over the shape's box, those
-/// inside kept (a mesh also keeps a particle on each thin surface cell).
+/// inside kept (a mesh also keeps a particle on each thin surface cell);
+/// stretched along a prism's axes (see fillShape).
 struct ShapeLattice {
-  std::vector<Vec3> position;  // body frame (m)
-  Vec3 cell{};                 // cell sides (m), shape frame
+  std::vector<Vec3> position;       // body frame (m)
+  Vec3 cell{};                      // cell sides (m), shape frame
+  std::array<bool, 3> stretched{};  // the axes whose cell centres are stretched
   MeshReport report{};
 };
 ShapeLattice fillShape(const ShapeSpec& shape, double spacing);
