@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "build/rigid_body_cases.h"
 #include "robophi/build/rigid_body.h"
 
 namespace robophi::build {
@@ -137,13 +138,8 @@ TEST(RigidBody, BoxAtUniformDensityFitsExactly) {
 
 TEST(RigidBody, CylinderAndSphereWithGivenInertia) {
   // A URDF-like link: a cylinder along z, COM off centre, inertia with products.
-  ShapeSpec c;
-  c.kind = ShapeSpec::Kind::kCylinder;
-  c.radius = 0.05;
-  c.length = 0.3;
-  c.frame = Frame::fromXyzRpy({0, 0, 0.15}, {0, 0, 0});
   RigidBodySpec spec;
-  spec.shapes = {c};
+  spec.shapes = {test::cylinder(0.05, 0.3, Frame::fromXyzRpy({0, 0, 0.15}, {0, 0, 0}))};
   spec.mass = 3.0;
   spec.centerOfMass = {0.005, -0.003, 0.16};
   spec.inertia = {0.02, 0.021, 0.003, 0.0005, -0.0002, 0.0001};
@@ -167,16 +163,7 @@ TEST(RigidBody, CylinderAndSphereWithGivenInertia) {
 }
 
 TEST(RigidBody, InertiaBeyondTheGeometryGetsCarriers) {
-  // The KUKA iiwa's link_1 case: 4 kg, Ixx = 0.1 kg·m² in a shape that holds about half.
-  ShapeSpec c;
-  c.kind = ShapeSpec::Kind::kCylinder;
-  c.radius = 0.07;
-  c.length = 0.3;
-  RigidBodySpec spec;
-  spec.shapes = {c};
-  spec.mass = 4.0;
-  spec.centerOfMass = {0, -0.03, 0.0};
-  spec.inertia = {0.1, 0.09, 0.02, 0, 0, 0};
+  const RigidBodySpec spec = test::iiwaLink1Like();
   const RigidBody body = makeRigidBody(spec);
   EXPECT_FALSE(body.carriers.empty());
   EXPECT_TRUE(std::any_of(body.notes.begin(), body.notes.end(), [](const std::string& n) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "build/rigid_body_cases.h"
 #include "robophi/build/model_builder.h"
 #include "robophi/build/rigid_body.h"
 #include "robophi/world.h"
@@ -96,15 +97,7 @@ TEST(RigidBodyMotion, RestsOnThreeHeldCornersWithAStatedStrain) {
 
 TEST(RigidBodyMotion, SpinsFreelyKeepingShapeAndAngularMomentum) {
   // The iiwa link_1 case: inertia beyond the geometry, carried by carriers.
-  ShapeSpec c;
-  c.kind = ShapeSpec::Kind::kCylinder;
-  c.radius = 0.07;
-  c.length = 0.3;
-  RigidBodySpec spec;
-  spec.shapes = {c};
-  spec.mass = 4.0;
-  spec.centerOfMass = {0, -0.03, 0.0};
-  spec.inertia = {0.1, 0.09, 0.02, 0, 0, 0};
+  const RigidBodySpec spec = test::iiwaLink1Like();
   const RigidBody body = makeRigidBody(spec);
   ASSERT_TRUE(body.fitted);
   ASSERT_FALSE(body.carriers.empty());
