@@ -90,6 +90,7 @@ void checkSpec(const RigidBodySpec& spec) {
                 "'minMassFraction' must be in (0, 1), got " + check::number(spec.minMassFraction));
   }
   check::positive(kSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
+  check::nonNegative(kSpec, "maxCarrierDistance", spec.maxCarrierDistance, "m");
   if (spec.uniformDensity && spec.shapes.empty()) {
     check::fail(kSpec, "uniformDensity", "'uniformDensity' needs at least one shape");
   }
@@ -529,7 +530,7 @@ AxisReach axisReach(const std::vector<Particle>& particles, const MassProperties
 // on the diagonals, each farther in turn; then lowers the floor. Last resort:
 // mass and centre exact, inertia as near as the fit got (body.fitted false).
 detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProperties& target,
-                                double floor, double spacing, RigidBody& body) {
+                                double floor, double spacing, double maxDistance, RigidBody& body) {
   detail::MassFit fit = detail::fitMasses(positionsOf(particles), target, floor);
   if (fit.feasible) return fit;
   const std::size_t base = particles.size();
@@ -564,6 +565,7 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     distance(k) = std::max({1.25 * reach.extent(k), 2.5 * smallestRadius,
                             std::sqrt(std::max(reach.target(k), 0.0) / (2.0 * meanMass))});
   }
+  const auto clamp = [&](double d) { return maxDistance > 0.0 ? std::min(d, maxDistance) : d; };
   int outer = 0, inner = 0;
   const auto build = [&](const Plan& plan) {
     particles.resize(base);
@@ -572,7 +574,7 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
       if (anyMore && !more[k]) continue;
       const Vec3 e = column(reach.axes, k);
       for (const double sign : {-1.0, 1.0}) {
-        particles.push_back({target.centerOfMass + e * (sign * plan.distance * distance(k)),
+        particles.push_back({target.centerOfMass + e * (sign * clamp(plan.distance * distance(k))),
                              0.5 * smallestRadius, 0.0, Role::kCarrier});
         ++outer;
       }
@@ -585,7 +587,8 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
         direction += column(reach.axes, k) * ((corner >> k & 1) != 0 ? 1.0 : -1.0);
       }
       particles.push_back(
-          {target.centerOfMass + direction * (plan.distance * distance.maxCoeff() / std::sqrt(3.0)),
+          {target.centerOfMass +
+               direction * (clamp(plan.distance * distance.maxCoeff()) / std::sqrt(3.0)),
            0.5 * smallestRadius, 0.0, Role::kCarrier});
       ++outer;
     }
@@ -616,11 +619,59 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     }
   }
   if (!fit.feasible) {
-    particles.resize(base);
-    outer = inner = 0;
-    fit = detail::fitMasses(positionsOf(particles), target, floor, false);
-    body.notes.push_back("inertia out of reach: mass and centre of mass fitted only");
-    return fit;
+    // Out of reach: with the most capable carriers (else the lattice alone),
+    // mass and centre fitted, then the inertia as far towards the one asked for
+    // as it goes (bisection on t, I_t = I_0 + t (I − I_0), I_0 the inertia of
+    // the mass-and-centre fit); else mass and centre only.
+    const auto blend = [&](const Inertia& a, double t) {
+      MassProperties m = target;
+      const Inertia& b = target.inertia;
+      m.inertia = {a.xx + t * (b.xx - a.xx), a.yy + t * (b.yy - a.yy), a.zz + t * (b.zz - a.zz),
+                   a.xy + t * (b.xy - a.xy), a.xz + t * (b.xz - a.xz), a.yz + t * (b.yz - a.yz)};
+      return m;
+    };
+    fit.mass.clear();
+    for (const bool withCarriers : {true, false}) {
+      if (withCarriers) {
+        build(plans.back());
+      } else {
+        particles.resize(base);
+        outer = inner = 0;
+      }
+      detail::MassFit reached = detail::fitMasses(positionsOf(particles), target, floor, false);
+      if (!reached.feasible) continue;
+      const Inertia start = massProperties(positionsOf(particles), reached.mass).inertia;
+      double lo = 0.0, hi = 1.0;
+      for (int halving = 0; halving < 12; ++halving) {
+        const double t = 0.5 * (lo + hi);
+        detail::MassFit trial = detail::fitMasses(positionsOf(particles), blend(start, t), floor);
+        if (trial.feasible) {
+          lo = t;
+          reached = std::move(trial);
+        } else {
+          hi = t;
+        }
+      }
+      fit = std::move(reached);
+      fit.feasible = false;  // not the target
+      const auto got = principalMoments(massProperties(positionsOf(particles), fit.mass).inertia);
+      const auto want = principalMoments(target.inertia);
+      body.notes.push_back(
+          "inertia out of reach" +
+          (maxDistance > 0.0 ? " (carriers within " + brief(maxDistance) + " m)" : std::string()) +
+          ": principal moments " + brief(got[0]) + ", " + brief(got[1]) + ", " + brief(got[2]) +
+          " kg·m² of " + brief(want[0]) + ", " + brief(want[1]) + ", " + brief(want[2]) + " asked");
+      break;
+    }
+    if (fit.mass.size() != particles.size()) {
+      particles.resize(base);
+      outer = inner = 0;
+      fit = detail::fitMasses(positionsOf(particles), target, floor, false);
+      fit.feasible = false;
+      body.notes.push_back(
+          "inertia out of reach: mass and centre of mass fitted as near as can be");
+    }
+    if (outer + inner == 0) return fit;
   }
   if (outer > 0) {
     double farthest = 0.0, extent = 0.0;
@@ -728,8 +779,8 @@ RigidBody makeRigidBody(const RigidBodySpec& spec) {
     }
   }
 
-  const detail::MassFit fit =
-      fitWithCarriers(particles, body.target, spec.minMassFraction, body.spacing, body);
+  const detail::MassFit fit = fitWithCarriers(particles, body.target, spec.minMassFraction,
+                                              body.spacing, spec.maxCarrierDistance, body);
 
   GeneratedObject& object = body.object;
   for (std::size_t i = 0; i < particles.size(); ++i) {

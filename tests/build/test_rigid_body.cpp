@@ -173,6 +173,42 @@ TEST(RigidBody, InertiaBeyondTheGeometryGetsCarriers) {
   expectRigid(body.object);
 }
 
+TEST(RigidBody, CarriersWithinALimitReachWhatTheyCan) {
+  // The R2D2 finger's placeholder: 0.05 kg with I = 1 kg·m² on each axis (a
+  // radius of gyration of 4.5 m) in a 9 cm finger whose origin is its corner.
+  ShapeSpec finger = box({0.09, 0.04, 0.04});
+  finger.frame.origin = {0.045, 0.02, 0};
+  RigidBodySpec spec;
+  spec.shapes = {finger};
+  spec.mass = 0.05;
+  spec.inertia = {1.0, 1.0, 1.0, 0, 0, 0};
+  const RigidBody unlimited = makeRigidBody(spec);
+  EXPECT_TRUE(unlimited.fitted);  // with carriers metres away
+  spec.maxCarrierDistance = 0.5;
+  const RigidBody body = makeRigidBody(spec);
+  EXPECT_FALSE(body.fitted);
+  EXPECT_TRUE(std::any_of(body.notes.begin(), body.notes.end(), [](const std::string& n) {
+    return n.find("inertia out of reach (carriers within 0.5 m): principal moments") !=
+           std::string::npos;
+  }));
+  const MassProperties got = massProperties(body.object.position, body.object.mass);
+  EXPECT_NEAR(got.mass, spec.mass, 1e-9 * spec.mass);
+  expectNear(got.centerOfMass, spec.centerOfMass, 1e-6);
+  for (const int c : body.carriers) {
+    EXPECT_LE(norm(body.object.position[static_cast<std::size_t>(c)] - spec.centerOfMass),
+              0.5 + 1e-12);
+  }
+  // Far beyond the finger's own inertia, short of the one asked for.
+  const auto moments = principalMoments(got.inertia);
+  const auto own = principalMoments(uniformMassProperties(spec.shapes, spec.mass).inertia);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GT(moments[k], 10.0 * own[k]);
+    EXPECT_LT(moments[k], 1.0);
+  }
+  const double mean = spec.mass / static_cast<double>(body.object.size());
+  for (const double m : body.object.mass) EXPECT_GE(m, 0.2 * mean * (1 - 1e-9));
+}
+
 TEST(RigidBody, NoShapesGetsACluster) {
   RigidBodySpec spec;
   spec.mass = 0.5;

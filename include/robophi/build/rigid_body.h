@@ -111,6 +111,11 @@ struct RigidBodySpec {
   /// The smallest fitted mass as a fraction of the mean mass, in (0, 1): the
   /// default stiffness rule uses the smallest mass, so a tiny mass makes the body soft.
   double minMassFraction = 0.2;
+  /// The farthest a carrier may sit from the centre of mass (m), >= 0; 0: no
+  /// limit. Carriers carry inertia the geometry cannot (URDFs with placeholder
+  /// inertias ask for radii of gyration of metres); beyond the limit the fit
+  /// reaches what it can (RigidBody::fitted false, a note says how far).
+  double maxCarrierDistance = 0.0;
   /// Natural frequency of the body's fastest mode (rad/s), > 0: the stiffness rule (objects.h).
   double naturalFrequency = kDefaultNaturalFrequency;
 };
