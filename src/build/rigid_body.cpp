@@ -134,7 +134,8 @@ std::vector<Particle> fillUnion(const std::vector<ShapeSpec>& shapes, double spa
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const detail::ShapeLattice lattice = detail::fillShape(shapes[k], spacing);
     const Vec3& cell = lattice.cell;
-    const double radius = 0.5 * std::min({cell.x, cell.y, cell.z});
+    // Half the cell's smallest side, at least a tenth of the spacing (a sheet).
+    const double radius = std::max(0.5 * std::min({cell.x, cell.y, cell.z}), 0.1 * spacing);
     const double reach = 1.01 * norm(cell);
     for (std::size_t i = 0; i < lattice.position.size(); ++i) {
       const Vec3& p = lattice.position[i];
@@ -206,9 +207,7 @@ void matchUniformMoments(std::vector<Particle>& lattice, const MassProperties& u
 
 // The spacing whose lattice has the particle count nearest to `count`.
 double chooseSpacing(const std::vector<ShapeSpec>& shapes, int count) {
-  double volume = 0.0;
-  for (const auto& s : shapes) volume += detail::shapeVolume(s);
-  double spacing = std::cbrt(std::max(volume, 1e-30) / count);
+  double spacing = detail::spacingFor(shapes, count);
   double best = spacing;
   long bestMiss = -1;
   for (int iteration = 0; iteration < 10; ++iteration) {
@@ -415,7 +414,19 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
                    a.xy + t * (b.xy - a.xy), a.xz + t * (b.xz - a.xz), a.yz + t * (b.yz - a.yz)};
       return m;
     };
-    fit.mass.clear();
+    const auto want = principalMoments(target.inertia);
+    const auto error = [&](const detail::MassFit& f) {
+      const auto got = principalMoments(massProperties(positionsOf(particles), f.mass).inertia);
+      double worst = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        worst = std::max(worst, std::abs(got[k] - want[k]) / std::max(want[k], 1e-300));
+      }
+      return worst;
+    };
+    // The nearer of the two, with the most capable carriers or the lattice alone.
+    detail::MassFit best;
+    double bestError = 1e300;
+    bool bestWithCarriers = false;
     for (const bool withCarriers : {true, false}) {
       if (withCarriers) {
         build(plans.back());
@@ -437,24 +448,34 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
           hi = t;
         }
       }
-      fit = std::move(reached);
-      fit.feasible = false;  // not the target
-      const auto got = principalMoments(massProperties(positionsOf(particles), fit.mass).inertia);
-      const auto want = principalMoments(target.inertia);
-      body.notes.push_back(
-          "inertia out of reach" +
-          (maxDistance > 0.0 ? " (carriers within " + brief(maxDistance) + " m)" : std::string()) +
-          ": principal moments " + brief(got[0]) + ", " + brief(got[1]) + ", " + brief(got[2]) +
-          " kg·m² of " + brief(want[0]) + ", " + brief(want[1]) + ", " + brief(want[2]) + " asked");
-      break;
+      if (const double e = error(reached); e < bestError) {
+        bestError = e;
+        best = std::move(reached);
+        bestWithCarriers = withCarriers;
+      }
     }
-    if (fit.mass.size() != particles.size()) {
+    if (best.mass.empty()) {
       particles.resize(base);
       outer = inner = 0;
       fit = detail::fitMasses(positionsOf(particles), target, floor, false);
       fit.feasible = false;
       body.notes.push_back(
           "inertia out of reach: mass and centre of mass fitted as near as can be");
+    } else {
+      if (bestWithCarriers) {
+        build(plans.back());
+      } else {
+        particles.resize(base);
+        outer = inner = 0;
+      }
+      fit = std::move(best);
+      fit.feasible = false;  // not the target
+      const auto got = principalMoments(massProperties(positionsOf(particles), fit.mass).inertia);
+      body.notes.push_back(
+          "inertia out of reach" +
+          (maxDistance > 0.0 ? " (carriers within " + brief(maxDistance) + " m)" : std::string()) +
+          ": principal moments " + brief(got[0]) + ", " + brief(got[1]) + ", " + brief(got[2]) +
+          " kg·m² of " + brief(want[0]) + ", " + brief(want[1]) + ", " + brief(want[2]) + " asked");
     }
     if (outer + inner == 0) return fit;
   }

@@ -372,6 +372,34 @@ TEST(RigidBodyMesh, PartsThinnerThanACellGetParticles) {
   expectRigid(sheet.object);
 }
 
+TEST(RigidBodyMesh, AFlatMeshIsASheetOfParticles) {
+  // Two triangles, no thickness: a sheet of particles on the surface, its
+  // uniform inertia (a 0.2 × 0.1 m plate) within 1 % though not exactly.
+  TriangleMesh sheet;
+  sheet.vertices = {{0, 0, 0}, {0.2, 0, 0}, {0.2, 0.1, 0}, {0, 0.1, 0}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+  RigidBodySpec spec;
+  spec.shapes = {meshShape(sheet)};
+  spec.mass = 1.0;
+  spec.uniformDensity = true;
+  const RigidBody body = makeRigidBody(spec);
+  EXPECT_GE(body.object.size(), 20u);
+  const MassProperties got = massProperties(body.object.position, body.object.mass);
+  expectNear(got.centerOfMass, {0.1, 0.05, 0}, 1e-6);
+  const auto a = principalMoments(got.inertia);
+  const double want[3] = {0.01 / 12, 0.04 / 12, 0.05 / 12};
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], want[k], 0.01 * want[k]);
+  for (const double r : body.object.radius) EXPECT_GT(r, 0.0);
+  // A spacing far below the shape's size is refused before anything is allocated.
+  spec.particleSize = 1e-6;
+  try {
+    makeRigidBody(spec);
+    FAIL();
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.field(), "particleSize");
+  }
+}
+
 TEST(RigidBody, OverlappingShapesAreFilledOnce) {
   // Two copies of one box: the union is the box.
   RigidBodySpec one, two;
