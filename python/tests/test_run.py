@@ -1,0 +1,41 @@
+"""robophi.run writes the CLI's results folder; its state hash is the CLI run's."""
+
+import json
+import subprocess
+
+import pytest
+
+robophi = pytest.importorskip("robophi", reason="the Python module was not built")
+
+
+def test_run_gives_the_cli_state_hash(scenes, tmp_path, cli):
+    scene = scenes / "revolute_arm.json"
+    result = robophi.run(scene, out=str(tmp_path / "py"), duration=0.05)
+    assert result["status"] == "ok" and result["exit_code"] == 0
+    summary = json.loads((tmp_path / "py" / "summary.json").read_text())
+    assert summary["state_hash"] == result["state_hash"]
+    assert result["state"].hash() == int(result["state_hash"], 16)
+    assert (tmp_path / "py" / "replay.html").exists()
+    cli_run = subprocess.run([cli, "run", str(scene), "--out", str(tmp_path / "cli"),
+                              "--duration", "0.05", "--quiet"], capture_output=True, text=True)
+    assert cli_run.returncode == 0, cli_run.stderr
+    cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert cli_summary["state_hash"] == result["state_hash"]
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == \
+        sorted(p.name for p in (tmp_path / "cli").iterdir())
+
+
+def test_run_refuses_a_folder_it_did_not_write(scenes, tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    with pytest.raises(ValueError, match="robophi deletes nothing it did not write"):
+        robophi.run(scenes / "pendulum.json", out=str(out), duration=0.01)
+    assert (out / "notes.txt").read_text() == "keep me"
+
+
+def test_run_checks_its_settings(scenes, tmp_path):
+    with pytest.raises(ValueError, match="dt.*longer than the duration"):
+        robophi.run(scenes / "pendulum.json", out=str(tmp_path / "x"), duration=0.01, dt=0.1,
+                    step="constant")
+    assert not (tmp_path / "x").exists()
