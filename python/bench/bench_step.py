@@ -98,7 +98,8 @@ def main():
     rollout_steps = 20 if args.quick else 200
     lines = [f"# python/bench/bench_step.py, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
              f"{os.cpu_count()}-core {platform.machine()} machine shared with other work "
-             f"(figures move with load; best of 5), Python {platform.python_version()}, "
+             f"(figures move with load; best of 5; load average "
+             f"{os.getloadavg()[0]:.1f} at the start), Python {platform.python_version()}, "
              f"numpy {np.__version__}"]
     python_us, cpp_us = step_overhead(steps, 5)
     lines.append(f"STEP-CALL  model=rope-4 steps={steps} python_loop_us_per_step={python_us:.3f} "

@@ -11,12 +11,11 @@ namespace robophi::python {
 
 namespace {
 
-template <class Connector>
-py::array connectorView(const std::vector<Connector>& list, py::handle owner) {
-  py::array view(py::dtype::of<Connector>(), {static_cast<py::ssize_t>(list.size())},
-                 {static_cast<py::ssize_t>(sizeof(Connector))}, list.data(), owner);
-  py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return view;
+// A property getter: a read-only view of one of the model's arrays, whose base is
+// the Python Model (it keeps the model alive).
+template <auto Field>
+auto modelArray() {
+  return [](py::object self) { return vectorView(self.cast<PyModel&>().model().*Field, self); };
 }
 
 const ObjectInfo& objectByName(const Model& model, const std::string& name) {
@@ -110,47 +109,19 @@ void bindModel(py::module_& m) {
                       "A compiled model: read-only. Particle arrays are views (no copy).")
       .def_property_readonly("particle_count",
                              [](const PyModel& p) { return p.model().particleCount(); })
+      .def_property_readonly("masses", modelArray<&Model::mass>(), "(n) kg")
+      .def_property_readonly("inverse_masses", modelArray<&Model::inverseMass>(),
+                             "(n) 1/kg; 0 for a fixed particle")
+      .def_property_readonly("radii", modelArray<&Model::radius>(), "(n) m")
+      .def_property_readonly("linear_damping", modelArray<&Model::linearDamping>(), "(n) N·s/m")
+      .def_property_readonly("object_of", modelArray<&Model::objectOf>(), "(n) index into objects")
       .def_property_readonly(
-          "masses",
-          [](py::object self) { return vectorView(self.cast<PyModel&>().model().mass, self); },
-          "(n) kg")
-      .def_property_readonly(
-          "inverse_masses",
-          [](py::object self) {
-            return vectorView(self.cast<PyModel&>().model().inverseMass, self);
-          },
-          "(n) 1/kg; 0 for a fixed particle")
-      .def_property_readonly(
-          "radii",
-          [](py::object self) { return vectorView(self.cast<PyModel&>().model().radius, self); },
-          "(n) m")
-      .def_property_readonly(
-          "linear_damping",
-          [](py::object self) {
-            return vectorView(self.cast<PyModel&>().model().linearDamping, self);
-          },
-          "(n) N·s/m")
-      .def_property_readonly(
-          "object_of",
-          [](py::object self) { return vectorView(self.cast<PyModel&>().model().objectOf, self); },
-          "(n) index into objects")
-      .def_property_readonly(
-          "linear_springs",
-          [](py::object self) {
-            return connectorView(self.cast<PyModel&>().model().linearSprings, self);
-          },
+          "linear_springs", modelArray<&Model::linearSprings>(),
           "LS: structured array (a, b, rest_length m, stiffness N/m, damping N·s/m)")
+      .def_property_readonly("torsion_springs", modelArray<&Model::torsionSprings>(),
+                             "TS: structured array (a, c, b, rest_angle rad, stiffness, damping)")
       .def_property_readonly(
-          "torsion_springs",
-          [](py::object self) {
-            return connectorView(self.cast<PyModel&>().model().torsionSprings, self);
-          },
-          "TS: structured array (a, c, b, rest_angle rad, stiffness, damping)")
-      .def_property_readonly(
-          "joint_springs",
-          [](py::object self) {
-            return connectorView(self.cast<PyModel&>().model().jointSprings, self);
-          },
+          "joint_springs", modelArray<&Model::jointSprings>(),
           "JS: structured array (a, c, b, d, rest_angle rad, stiffness, damping)")
       .def_property_readonly("objects", [](const PyModel& p) { return p.model().objects; })
       .def(

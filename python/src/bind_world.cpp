@@ -197,6 +197,17 @@ py::array writableView(py::object self, bool velocities) {
 
 Vec3 toVec3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
+// A method that edits one particle of the state (World::setPosition, setVelocity):
+// writes through the views first, the copy they are compared with after.
+template <void (World::*Edit)(ParticleIndex, const Vec3&)>
+auto particleEdit() {
+  return [](PyWorld& w, ParticleIndex i, const Vec3& value) {
+    w.syncViews();
+    (w.world().*Edit)(i, value);
+    w.reshadow();
+  };
+}
+
 py::array contactArray(const World& world) {
   const std::vector<Contact>& contacts = world.contacts();
   py::array_t<ContactRecord> out(static_cast<py::ssize_t>(contacts.size()));
@@ -471,22 +482,10 @@ void bindWorld(py::module_& m) {
           py::arg("joint"), py::arg("stiffness"), py::arg("damping"),
           "Servo stiffness (N·m/rad or N/m) and damping (N·m·s/rad or N·s/m), >= 0.")
       // ---- Edits (booked as external work).
-      .def(
-          "set_position",
-          [](PyWorld& w, ParticleIndex i, const std::array<double, 3>& p) {
-            w.syncViews();
-            w.world().setPosition(i, toVec3(p));
-            w.reshadow();
-          },
-          py::arg("particle"), py::arg("position"))
-      .def(
-          "set_velocity",
-          [](PyWorld& w, ParticleIndex i, const std::array<double, 3>& v) {
-            w.syncViews();
-            w.world().setVelocity(i, toVec3(v));
-            w.reshadow();
-          },
-          py::arg("particle"), py::arg("velocity"))
+      .def("set_position", particleEdit<&World::setPosition>(), py::arg("particle"),
+           py::arg("position"), "p (m)")
+      .def("set_velocity", particleEdit<&World::setVelocity>(), py::arg("particle"),
+           py::arg("velocity"), "v (m/s)")
       .def(
           "set_gravity",
           [](PyWorld& w, const std::array<double, 3>& g) {

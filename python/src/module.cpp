@@ -19,17 +19,6 @@ py::array vec3View(const Vec3* data, std::size_t n, py::handle owner, bool writa
   return view;
 }
 
-template <class T>
-py::array vectorView(const std::vector<T>& data, py::handle owner, bool writable) {
-  py::array view(py::dtype::of<T>(), {static_cast<py::ssize_t>(data.size())},
-                 {static_cast<py::ssize_t>(sizeof(T))}, data.data(), owner);
-  if (!writable)
-    py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return view;
-}
-template py::array vectorView<double>(const std::vector<double>&, py::handle, bool);
-template py::array vectorView<std::int32_t>(const std::vector<std::int32_t>&, py::handle, bool);
-
 Integrator integratorFromName(const std::string& name) {
   Integrator integrator{};
   if (!parseIntegrator(name, integrator))

@@ -65,9 +65,15 @@ struct PyScene {
 
 /// An (n, 3) float64 view on `data` whose base is `owner`.
 py::array vec3View(const Vec3* data, std::size_t n, py::handle owner, bool writable);
-/// A 1-d view on `data` whose base is `owner`.
+/// A read-only 1-d view on `data` (numbers, or records of a registered numpy
+/// dtype) whose base is `owner`.
 template <class T>
-py::array vectorView(const std::vector<T>& data, py::handle owner, bool writable = false);
+py::array vectorView(const std::vector<T>& data, py::handle owner) {
+  py::array view(py::dtype::of<T>(), {static_cast<py::ssize_t>(data.size())},
+                 {static_cast<py::ssize_t>(sizeof(T))}, data.data(), owner);
+  py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return view;
+}
 
 /// Integrator from its name ("taylor", "symplectic", "verlet"); ValueError otherwise.
 Integrator integratorFromName(const std::string& name);
