@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <filesystem>
 #include <thread>
@@ -250,12 +251,17 @@ py::dict rollout(const PyModel& model, py::object initialStates, py::object cont
                              static_cast<py::ssize_t>(joints)});
   double* traceData = trace.mutable_data();
   std::vector<RolloutWorld> results(worlds);
+  std::vector<double> threadSeconds;  // CPU time of each thread (s)
   {
     py::gil_scoped_release release;
     // Worlds are handed out in index order to whichever thread is free; each
     // world's result depends on its inputs only.
     std::atomic<std::size_t> next{0};
-    const auto work = [&] {
+    const int extra = std::min<int>(threads, static_cast<int>(worlds)) - 1;
+    threadSeconds.assign(static_cast<std::size_t>(extra + 1), 0.0);
+    const auto work = [&](std::size_t thread) {
+      timespec start{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
       for (std::size_t w; (w = next.fetch_add(1)) < worlds;) {
         const double* c =
             u.empty() ? nullptr
@@ -264,11 +270,14 @@ py::dict rollout(const PyModel& model, py::object initialStates, py::object cont
                                 c, joints, steps, dt, substeps, adaptive,
                                 traceData + w * static_cast<std::size_t>(steps) * joints);
       }
+      timespec end{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
+      threadSeconds[thread] = static_cast<double>(end.tv_sec - start.tv_sec) +
+                              1e-9 * static_cast<double>(end.tv_nsec - start.tv_nsec);
     };
     std::vector<std::thread> pool;
-    const int extra = std::min<int>(threads, static_cast<int>(worlds)) - 1;
-    for (int t = 0; t < extra; ++t) pool.emplace_back(work);
-    work();
+    for (int t = 0; t < extra; ++t) pool.emplace_back(work, static_cast<std::size_t>(t + 1));
+    work(0);
     for (std::thread& t : pool) t.join();
   }
   for (std::size_t w = 0; w < worlds; ++w) {
@@ -285,6 +294,7 @@ py::dict rollout(const PyModel& model, py::object initialStates, py::object cont
   out["states"] = states;
   out["hashes"] = hashes;
   out["joint_positions"] = trace;
+  out["thread_cpu_seconds"] = threadSeconds;
   return out;
 }
 
@@ -333,7 +343,7 @@ void bindRun(py::module_& m) {
         py::arg("integrator") = "symplectic", py::arg("adaptive") = py::none(),
         "Steps many independent worlds of one model in parallel. Bit-identical whatever "
         "`threads`. Returns a dict: states (final State of each world), hashes, joint_positions "
-        "(worlds, steps, joints).");
+        "(worlds, steps, joints), thread_cpu_seconds (the CPU time of each thread).");
 }
 
 }  // namespace robophi::python

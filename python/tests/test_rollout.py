@@ -64,3 +64,12 @@ def test_rollout_checks_its_arguments():
         robophi.rollout(model, states, np.zeros((3, 5, 2)), dt=1e-3)
     with pytest.raises(ValueError, match="give steps, or controls"):
         robophi.rollout(model, states, dt=1e-3)
+
+
+def test_one_state_and_one_control_sequence_for_every_world():
+    model, state = vertical_arm()
+    controls = np.linspace(0.0, 0.3, 10)[:, None].repeat(2, axis=1)  # (steps, joints)
+    out = robophi.rollout(model, [state, state], controls, dt=1e-3, substeps=10, threads=2)
+    assert out["joint_positions"].shape == (2, 10, 2)
+    assert out["hashes"][0] == out["hashes"][1]
+    assert len(out["thread_cpu_seconds"]) == 2

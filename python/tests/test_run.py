@@ -39,3 +39,11 @@ def test_run_checks_its_settings(scenes, tmp_path):
         robophi.run(scenes / "pendulum.json", out=str(tmp_path / "x"), duration=0.01, dt=0.1,
                     step="constant")
     assert not (tmp_path / "x").exists()
+
+
+def test_run_takes_a_loaded_scene(scenes, tmp_path):
+    scene = robophi.load(scenes / "pendulum.json")
+    result = robophi.run(scene, out=str(tmp_path / "p"), duration=0.01, step="constant")
+    assert result["status"] == "ok" and result["steps"] == 100  # 0.01 s of the scene's 1e-4 s
+    summary = json.loads((tmp_path / "p" / "summary.json").read_text())
+    assert summary["state_hash"] == result["state_hash"]
