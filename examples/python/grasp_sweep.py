@@ -3,8 +3,9 @@
 The hand of scenes/hand_grasp.json closes its six flexion joints on the floating
 ball (as the scene's grasp task does: each target turns its finger towards the
 ball, by 0.8 rad over the first second), here for several servo stiffnesses κ of
-the fingers. For each κ the script reports the grip: the hand's normal contact
-forces on the ball, the number of contacts, and how fast the ball still moves.
+the fingers (the scene's is 0.2 N·m/rad). For each κ the script reports, after
+4 s, the grip: the number of contacts between hand and ball, the sum of their
+normal forces, and how fast the ball still moves.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/python/grasp_sweep.py
 """
@@ -18,7 +19,7 @@ import robophi
 
 QUICK = os.environ.get("ROBOPHI_EXAMPLE_QUICK") == "1"  # the test runs it short
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-SECONDS = 0.05 if QUICK else 1.5
+SECONDS = 0.05 if QUICK else 4.0
 STIFFNESSES = [0.2, 0.5] if QUICK else [0.05, 0.1, 0.2, 0.5, 1.0]  # N·m/rad
 CLOSE_ANGLE, CLOSE_TIME = 0.8, 1.0  # rad, s
 
@@ -43,8 +44,11 @@ def grasp(scene, stiffness):
     ball = model.object("ball")
     hand = model.object("hand")
     joints = [model.joint(f"hand.f{f}.j{k}") for f in (1, 2, 3) for k in (2, 3)]
+    # The scene's servo damping scales as √κ (0.05 √(κ m_min) w², docs/robotics.md).
+    springs = model.joint_springs
     for j in range(len(model.joints)):
-        world.set_joint_servo(j, stiffness, 0.05 * stiffness)
+        kappa0, mu0 = springs["stiffness"][j], springs["damping"][j]
+        world.set_joint_servo(j, stiffness, mu0 * np.sqrt(stiffness / kappa0))
     start = world.joint_positions[joints]
     direction = closing_directions(world, joints, ball)
 
