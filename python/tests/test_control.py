@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-robophi = pytest.importorskip("robophi", reason="the Python module was not built")
+robophi = pytest.importorskip("robophi", reason="the Python module was not built "
+                              "(ROBOPHI_BUILD_PYTHON=OFF, or PYTHONPATH lacks build/python)")
 from util import vertical_arm  # noqa: E402
 
 DT = 1e-4

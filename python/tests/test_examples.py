@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-pytest.importorskip("robophi", reason="the Python module was not built")
+pytest.importorskip("robophi", reason="the Python module was not built "
+                              "(ROBOPHI_BUILD_PYTHON=OFF, or PYTHONPATH lacks build/python)")
 
 EXAMPLES = sorted((pathlib.Path(__file__).resolve().parents[2] / "examples" / "python").glob("*.py"))
 

@@ -5,7 +5,8 @@ import subprocess
 
 import pytest
 
-robophi = pytest.importorskip("robophi", reason="the Python module was not built")
+robophi = pytest.importorskip("robophi", reason="the Python module was not built "
+                              "(ROBOPHI_BUILD_PYTHON=OFF, or PYTHONPATH lacks build/python)")
 
 
 def test_run_gives_the_cli_state_hash(scenes, tmp_path, cli):

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-robophi = pytest.importorskip("robophi", reason="the Python module was not built")
+robophi = pytest.importorskip("robophi", reason="the Python module was not built "
+                              "(ROBOPHI_BUILD_PYTHON=OFF, or PYTHONPATH lacks build/python)")
 from util import single_ball  # noqa: E402
 
 
