@@ -417,6 +417,17 @@ void bindWorld(py::module_& m) {
           },
           "q of every joint (rad or m)")
       .def_property_readonly(
+          "joint_values",
+          [](PyWorld& w) {
+            w.syncViews();
+            const Model& model = w.world().model();
+            std::vector<double> v(model.joints.size());
+            for (std::size_t j = 0; j < v.size(); ++j)
+              v[j] = jointValue(model, w.world().state(), j);
+            return doubles(v);
+          },
+          "The joints' raw values (jointValue: rad in [0, 2π), or m)")
+      .def_property_readonly(
           "joint_rates",
           [](PyWorld& w) {
             w.syncViews();

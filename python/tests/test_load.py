@@ -57,6 +57,7 @@ def test_builder_makes_a_model_without_json():
     assert model.masses[:8].sum() == pytest.approx(0.5)
     world = robophi.World(model, state)
     assert world.joint_positions.tolist() == pytest.approx([0.0, 0.0], abs=1e-12)  # straight: q = 0
+    assert world.joint_values.tolist() == pytest.approx([j.zero for j in model.joints], abs=1e-12)
 
 
 def test_spec_keywords_are_checked():
