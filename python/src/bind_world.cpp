@@ -111,6 +111,18 @@ void PyWorld::step(double dt) {
   if (status != StepStatus::kOk) throwDiverged();
 }
 
+void PyWorld::stepWithoutTunnelling(double dt) {
+  syncViews();
+  StepStatus status;
+  {
+    py::gil_scoped_release release;
+    status = robophi::stepWithoutTunnelling(world_, dt, adaptive_.maxPenetrationFraction,
+                                            adaptive_.stabilitySafety);
+  }
+  reshadow();
+  if (status != StepStatus::kOk) throwDiverged();
+}
+
 double PyWorld::advance(double maxDt) {
   syncViews();
   if (!stepper_) stepper_.emplace(world_.model(), adaptive_);
@@ -304,20 +316,21 @@ void bindWorld(py::module_& m) {
             if (dt && (!(*dt > 0.0) || !std::isfinite(*dt)))
               throw std::invalid_argument("run: dt = " + std::to_string(*dt) +
                                           " s must be > 0 and finite");
+            // As the runner: constant steps are counted and land on start + k dt
+            // (the last clipped to the end); adaptive steps run until t reaches the end.
             const double start = w.world().state().time;
             const double end = start + duration;
-            // Constant steps: as many as the duration holds (the last one lands on it).
             const std::int64_t constantSteps =
                 dt ? static_cast<std::int64_t>(std::ceil(duration / *dt - 1e-9)) : 0;
             std::int64_t steps = 0;
             while (true) {
               if (dt) {
                 if (steps >= constantSteps) break;
-                w.step(steps + 1 == constantSteps ? end - w.world().state().time : *dt);
+                const double target = std::min(start + static_cast<double>(steps + 1) * *dt, end);
+                w.stepWithoutTunnelling(target - w.world().state().time);
               } else {
-                const double left = end - w.world().state().time;
-                if (!(left > 1e-12 * std::max(1.0, std::abs(end)))) break;
-                w.advance(left);
+                if (w.world().state().time >= end - 1e-12 * std::abs(end)) break;
+                w.advance(end - w.world().state().time);
               }
               ++steps;
               if (!callback.is_none()) {
@@ -328,8 +341,10 @@ void bindWorld(py::module_& m) {
             return steps;
           },
           py::arg("duration"), py::arg("callback") = py::none(), py::arg("dt") = py::none(),
-          "Advances by `duration` (s): adaptive steps, or constant steps of dt. callback(world) "
-          "runs after each step; returning False ends the run. Returns the steps taken.")
+          "Advances by `duration` (s) as `robophi run` does: adaptive steps, or constant steps "
+          "of dt (split where approaching surfaces need it, landing on start + k dt). "
+          "callback(world) runs after each step; returning False ends the run. Returns the "
+          "steps taken.")
       // ---- The state.
       .def_property_readonly(
           "positions", [](py::object self) { return writableView(self, false); },

@@ -108,6 +108,11 @@ class PyWorld {
 
   /// One constant step of dt (s). DivergedError when the state becomes non-finite.
   void step(double dt);
+  /// One constant step of dt (s) as `robophi run --step constant` takes it: in
+  /// equal substeps where approaching surfaces or a touching contact need them
+  /// (stepWithoutTunnelling, with the adaptive settings' maxPenetrationFraction
+  /// and stabilitySafety), landing on t + dt.
+  void stepWithoutTunnelling(double dt);
   /// One accepted adaptive step of at most maxDt (s); returns the step taken.
   double advance(double maxDt);
   /// Replaces the state (a copy of one taken earlier): a fresh World on the

@@ -48,3 +48,22 @@ def test_run_takes_a_loaded_scene(scenes, tmp_path):
     assert result["status"] == "ok" and result["steps"] == 100  # 0.01 s of the scene's 1e-4 s
     summary = json.loads((tmp_path / "p" / "summary.json").read_text())
     assert summary["state_hash"] == result["state_hash"]
+
+
+@pytest.mark.parametrize("scene_name,duration", [("pendulum", 0.05), ("revolute_arm", 0.05),
+                                                 ("ball_drop", 0.4)])
+@pytest.mark.parametrize("step", ["constant", "adaptive"])
+def test_a_python_world_loop_gives_the_cli_state_hash(scenes, tmp_path, cli, scene_name,
+                                                      duration, step):
+    """World.run from Python takes the runner's steps: the CLI's hash, bit for bit
+    (scenes without robotics tasks; ball_drop bounces on the ground by 0.4 s)."""
+    scene = robophi.load(scenes / f"{scene_name}.json")
+    world = robophi.World(scene)
+    world.run(duration, dt=scene.dt if step == "constant" else None)
+    out = tmp_path / "cli"
+    done = subprocess.run([cli, "run", str(scenes / f"{scene_name}.json"), "--out", str(out),
+                           "--duration", str(duration), "--step", step, "--quiet"],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert robophi.format_hash(world.hash()) == summary["state_hash"]
