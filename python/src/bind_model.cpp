@@ -18,6 +18,16 @@ auto modelArray() {
   return [](py::object self) { return vectorView(self.cast<PyModel&>().model().*Field, self); };
 }
 
+// A property getter: a writable (n, 3) view of one of a State's arrays, whose
+// base is the Python State (a plain value: writing edits only that copy).
+template <auto Field>
+auto stateArray() {
+  return [](py::object self) {
+    auto& data = self.cast<State&>().*Field;
+    return vec3View(data.data(), data.size(), self, true);
+  };
+}
+
 const ObjectInfo& objectByName(const Model& model, const std::string& name) {
   for (const ObjectInfo& o : model.objects)
     if (o.name == name) return o;
@@ -155,27 +165,10 @@ void bindModel(py::module_& m) {
            py::arg("model"), "A state at rest with every particle at the origin.")
       .def_readwrite("time", &State::time, "t (s)")
       .def_readwrite("step_count", &State::stepCount)
-      .def_property_readonly(
-          "positions",
-          [](py::object self) {
-            auto& s = self.cast<State&>();
-            return vec3View(s.position.data(), s.position.size(), self, true);
-          },
-          "(n, 3) m")
-      .def_property_readonly(
-          "velocities",
-          [](py::object self) {
-            auto& s = self.cast<State&>();
-            return vec3View(s.velocity.data(), s.velocity.size(), self, true);
-          },
-          "(n, 3) m/s")
-      .def_property_readonly(
-          "spins",
-          [](py::object self) {
-            auto& s = self.cast<State&>();
-            return vec3View(s.spin.data(), s.spin.size(), self, true);
-          },
-          "(n, 3) rad/s (may be empty before the state entered a World)")
+      .def_property_readonly("positions", stateArray<&State::position>(), "(n, 3) m")
+      .def_property_readonly("velocities", stateArray<&State::velocity>(), "(n, 3) m/s")
+      .def_property_readonly("spins", stateArray<&State::spin>(),
+                             "(n, 3) rad/s (may be empty before the state entered a World)")
       .def_readonly("dissipated", &State::dissipated, "J")
       .def_readonly("external", &State::external, "J")
       .def_property_readonly("contact_count",

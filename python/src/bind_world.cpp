@@ -152,13 +152,6 @@ void PyWorld::restore(const World::Snapshot& snapshot) {
   reshadow();
 }
 
-std::vector<double> PyWorld::jointPositions() const {
-  const Model& model = world_.model();
-  std::vector<double> q(model.joints.size());
-  for (std::size_t j = 0; j < q.size(); ++j) q[j] = jointPosition(model, world_.state(), j);
-  return q;
-}
-
 double PyWorld::jointTarget(std::size_t joint) const {
   const Model& model = world_.model();
   const JointServo servo = jointServo(model, joint);
@@ -247,6 +240,18 @@ py::array doubles(const std::vector<double>& values) {
   py::array_t<double> out(static_cast<py::ssize_t>(values.size()));
   std::copy(values.begin(), values.end(), out.mutable_data());
   return out;
+}
+
+// A property getter: a numpy array of value(world, j) for every joint j, after
+// the writes through the views are booked.
+template <class Value>
+auto perJoint(Value value) {
+  return [value](PyWorld& w) {
+    w.syncViews();
+    std::vector<double> v(w.world().model().joints.size());
+    for (std::size_t j = 0; j < v.size(); ++j) v[j] = value(w, j);
+    return doubles(v);
+  };
 }
 
 AdaptiveStepSettings sceneAdaptive(const Scene& scene) {
@@ -424,52 +429,26 @@ void bindWorld(py::module_& m) {
             w.world().setIntegrator(integratorFromName(name));
           })
       // ---- Joints (q counted from Joint::zero: rad in (-π, π], or m).
-      .def_property_readonly(
-          "joint_positions",
-          [](PyWorld& w) {
-            w.syncViews();
-            return doubles(w.jointPositions());
-          },
-          "q of every joint (rad or m)")
-      .def_property_readonly(
-          "joint_values",
-          [](PyWorld& w) {
-            w.syncViews();
-            const Model& model = w.world().model();
-            std::vector<double> v(model.joints.size());
-            for (std::size_t j = 0; j < v.size(); ++j)
-              v[j] = jointValue(model, w.world().state(), j);
-            return doubles(v);
-          },
-          "The joints' raw values (jointValue: rad in [0, 2π), or m)")
-      .def_property_readonly(
-          "joint_rates",
-          [](PyWorld& w) {
-            w.syncViews();
-            const Model& model = w.world().model();
-            std::vector<double> r(model.joints.size());
-            for (std::size_t j = 0; j < r.size(); ++j)
-              r[j] = jointRate(model, w.world().state(), j);
-            return doubles(r);
-          },
-          "q̇ of every joint (rad/s or m/s)")
-      .def_property_readonly(
-          "joint_efforts",
-          [](PyWorld& w) {
-            w.syncViews();
-            std::vector<double> e(w.world().model().joints.size());
-            for (std::size_t j = 0; j < e.size(); ++j) e[j] = w.jointEffort(j);
-            return doubles(e);
-          },
-          "The servos' efforts −κ(q − q_target) − μ q̇ (N·m or N)")
-      .def_property_readonly(
-          "joint_targets",
-          [](const PyWorld& w) {
-            std::vector<double> t(w.world().model().joints.size());
-            for (std::size_t j = 0; j < t.size(); ++j) t[j] = w.jointTarget(j);
-            return doubles(t);
-          },
-          "q_target of every joint (NaN: a prismatic joint without a drive)")
+      .def_property_readonly("joint_positions", perJoint([](const PyWorld& w, std::size_t j) {
+                               return jointPosition(w.world().model(), w.world().state(), j);
+                             }),
+                             "q of every joint (rad or m)")
+      .def_property_readonly("joint_values", perJoint([](const PyWorld& w, std::size_t j) {
+                               return jointValue(w.world().model(), w.world().state(), j);
+                             }),
+                             "The joints' raw values (jointValue: rad in [0, 2π), or m)")
+      .def_property_readonly("joint_rates", perJoint([](const PyWorld& w, std::size_t j) {
+                               return jointRate(w.world().model(), w.world().state(), j);
+                             }),
+                             "q̇ of every joint (rad/s or m/s)")
+      .def_property_readonly("joint_efforts", perJoint([](const PyWorld& w, std::size_t j) {
+                               return w.jointEffort(j);
+                             }),
+                             "The servos' efforts −κ(q − q_target) − μ q̇ (N·m or N)")
+      .def_property_readonly("joint_targets", perJoint([](const PyWorld& w, std::size_t j) {
+                               return w.jointTarget(j);
+                             }),
+                             "q_target of every joint (NaN: a prismatic joint without a drive)")
       .def(
           "joint_position",
           [](PyWorld& w, py::handle joint) {

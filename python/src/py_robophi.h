@@ -121,14 +121,12 @@ class PyWorld {
   /// Puts back a snapshot of this world: undoes steps exactly.
   void restore(const World::Snapshot& snapshot);
 
-  /// Joint position q (rad or m), counted from Joint::zero, for every joint.
-  std::vector<double> jointPositions() const;
-  /// The joint's target position (rad or m, the coordinate of jointPositions).
+  /// The joint's target position (rad or m: jointPosition's q, counted from Joint::zero).
   double jointTarget(std::size_t joint) const;
   /// The servo's effort at the current state: torque (N·m) of a revolute joint,
   /// force (N) of a prismatic joint's drive, −κ (q − q_target) − μ q̇ (0 without drive).
   double jointEffort(std::size_t joint) const;
-  /// Sets a joint's target position q (rad or m, as jointPositions).
+  /// Sets a joint's target position q (rad or m, as jointPosition).
   void setJointTarget(std::size_t joint, double position);
 
   /// Throws DivergedError (robophi::python::Diverged) naming the first bad particle.
