@@ -36,6 +36,9 @@ install_missing \
   liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev \
   pybind11-dev python3-dev
 
+# robophi sweep across processes (docs/sweep.md): Open MPI.
+install_missing openmpi-bin libopenmpi-dev
+
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may
 # already come from elsewhere (e.g. NodeSource); apt installs them only if not.

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   robophi::cli::addBenchCommand(app, exitCode);
   robophi::cli::addExportCommand(app);
   robophi::cli::addStudyCommand(app, exitCode);
+  robophi::cli::addSweepCommand(app, exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {  // a subcommand's own exit code (robophi export)

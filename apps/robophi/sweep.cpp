@@ -1,0 +1,394 @@
+// robophi sweep's plan, runs and tables (docs/sweep.md).
+#include "sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "robotics/tasks.h"
+#include "run/runner.h"
+
+namespace robophi::cli {
+
+namespace {
+
+// Splits at commas outside brackets, braces and quotes.
+std::vector<std::string> splitValues(const std::string& text) {
+  std::vector<std::string> parts;
+  std::string current;
+  int depth = 0;
+  bool quoted = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '\\' && i + 1 < text.size()) {
+        current += c;
+        current += text[++i];
+        continue;
+      }
+      if (c == '"') quoted = false;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == '[' || c == '{') {
+      ++depth;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    } else if (c == ',' && depth == 0) {
+      parts.push_back(current);
+      current.clear();
+      continue;
+    }
+    current += c;
+  }
+  parts.push_back(current);
+  return parts;
+}
+
+// SplitMix64: a counter-based generator (the value depends on the counter only).
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Uniform in [-1, 1) for (seed, particle, axis).
+double uniformSigned(int seed, std::int64_t particle, int axis) {
+  const std::uint64_t counter = mix(mix(static_cast<std::uint64_t>(seed)) ^
+                                    (static_cast<std::uint64_t>(particle) * 4 + axis));
+  return static_cast<double>(counter >> 11) * 0x1.0p-52 - 1.0;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string quoted = "\"";
+  for (char c : s) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+// A cell: strings as they are, numbers at full precision, the rest as JSON.
+std::string cellText(const nlohmann::json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number_float()) return fmt::format("{:.17g}", v.get<double>());
+  return v.dump();
+}
+
+// The table's columns: the fixed ones first, then the outcomes (sorted).
+std::vector<std::string> columns(const SweepPlan& plan, const std::vector<nlohmann::json>& rows) {
+  std::vector<std::string> names = {"run"};
+  for (const SweepParameter& p : plan.parameters) names.push_back(p.pointer);
+  for (const char* fixed :
+       {"seed", "status", "steps", "simulated_time", "energy_drift", "largest_account_error",
+        "dissipated", "external_work", "state_hash", "failure"})
+    names.emplace_back(fixed);
+  std::set<std::string> outcomes;
+  for (const nlohmann::json& row : rows)
+    for (const auto& [key, value] : row.items())
+      if (key.starts_with("outcomes/")) outcomes.insert(key);
+  names.insert(names.end(), outcomes.begin(), outcomes.end());
+  return names;
+}
+
+std::string escapeHtml(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+// One scatter plot (SVG) of `y` against `x`, with the mean over equal x as a line.
+std::string scatterSvg(const std::string& xName, const std::string& yName,
+                       const std::vector<std::pair<double, double>>& points) {
+  constexpr double kW = 360, kH = 230, kLeft = 64, kRight = 12, kTop = 12, kBottom = 40;
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (const auto& [x, y] : points) {
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  if (!(x1 > x0)) x0 -= 0.5, x1 += 0.5;
+  if (!(y1 > y0)) {
+    const double pad = std::max(std::abs(y0) * 0.05, 1e-12);
+    y0 -= pad, y1 += pad;
+  }
+  const auto sx = [&](double x) { return kLeft + (x - x0) / (x1 - x0) * (kW - kLeft - kRight); };
+  const auto sy = [&](double y) {
+    return kH - kBottom - (y - y0) / (y1 - y0) * (kH - kTop - kBottom);
+  };
+  std::string svg = fmt::format(
+      "<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}'>"
+      "<rect x='{2}' y='{3}' width='{4}' height='{5}' fill='none' stroke='#999'/>",
+      kW, kH, kLeft, kTop, kW - kLeft - kRight, kH - kTop - kBottom);
+  for (int k = 0; k <= 4; ++k) {
+    const double xv = x0 + (x1 - x0) * k / 4.0, yv = y0 + (y1 - y0) * k / 4.0;
+    svg +=
+        fmt::format("<text x='{:.1f}' y='{:.1f}' font-size='10' text-anchor='middle'>{:.4g}</text>",
+                    sx(xv), kH - kBottom + 13, xv);
+    svg += fmt::format("<text x='{:.1f}' y='{:.1f}' font-size='10' text-anchor='end'>{:.4g}</text>",
+                       kLeft - 4, sy(yv) + 3, yv);
+  }
+  svg += fmt::format("<text x='{:.1f}' y='{:.1f}' font-size='11' text-anchor='middle'>{}</text>",
+                     kLeft + (kW - kLeft - kRight) / 2, kH - 6, escapeHtml(xName));
+  std::map<double, std::pair<double, int>> means;
+  for (const auto& [x, y] : points) {
+    svg += fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='3' fill='#1f77b4' fill-opacity='0.7'/>",
+                       sx(x), sy(y));
+    auto& m = means[x];
+    m.first += y;
+    ++m.second;
+  }
+  if (means.size() > 1) {
+    std::string path;
+    for (const auto& [x, m] : means)
+      path +=
+          fmt::format("{}{:.1f},{:.1f}", path.empty() ? "M" : " L", sx(x), sy(m.first / m.second));
+    svg += fmt::format("<path d='{}' fill='none' stroke='#d62728'/>", path);
+  }
+  return svg +
+         fmt::format("<title>{} against {}</title></svg>", escapeHtml(yName), escapeHtml(xName));
+}
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw std::runtime_error(fmt::format("cannot write {}", path));
+}
+
+}  // namespace
+
+SweepParameter parseSweepParameter(const std::string& option) {
+  const std::size_t eq = option.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw std::invalid_argument(
+        fmt::format("--set '{}': expected POINTER=V1,V2,... (a JSON pointer into the scene, e.g. "
+                    "/materials/0/staticFriction=0.3,0.5)",
+                    option));
+  SweepParameter p;
+  p.pointer = option.substr(0, eq);
+  if (p.pointer.front() != '/')
+    throw std::invalid_argument(
+        fmt::format("--set '{}': the pointer '{}' must start with '/' (a JSON pointer, RFC 6901)",
+                    option, p.pointer));
+  try {
+    (void)nlohmann::json::json_pointer(p.pointer);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(fmt::format("--set '{}': bad JSON pointer: {}", option, e.what()));
+  }
+  const std::string values = option.substr(eq + 1);
+  for (const std::string& text : splitValues(values)) {
+    if (text.empty())
+      throw std::invalid_argument(fmt::format("--set '{}': an empty value", option));
+    nlohmann::json v = nlohmann::json::parse(text, nullptr, false);
+    p.values.push_back(v.is_discarded() ? nlohmann::json(text) : v);
+  }
+  return p;
+}
+
+std::vector<SweepCase> sweepCases(const SweepPlan& plan) {
+  std::vector<SweepCase> cases;
+  std::vector<std::size_t> choice(plan.parameters.size(), 0);
+  const int seeds = std::max(plan.seeds, 0);
+  while (true) {
+    for (int s = seeds == 0 ? 0 : 1; s <= seeds; ++s) cases.push_back({cases.size(), choice, s});
+    // The next combination: the last parameter fastest.
+    std::size_t k = choice.size();
+    while (k > 0) {
+      --k;
+      if (++choice[k] < plan.parameters[k].values.size()) break;
+      choice[k] = 0;
+      if (k == 0) return cases;
+    }
+    if (choice.empty()) return cases;
+  }
+}
+
+std::string caseSceneText(const SweepPlan& plan, const SweepCase& c) {
+  nlohmann::json scene = plan.scene;
+  for (std::size_t k = 0; k < plan.parameters.size(); ++k) {
+    const SweepParameter& p = plan.parameters[k];
+    const nlohmann::json::json_pointer pointer(p.pointer);
+    if (!scene.contains(pointer)) {
+      const nlohmann::json::json_pointer parent = pointer.parent_pointer();
+      if (!scene.contains(parent) || !scene.at(parent).is_object())
+        throw std::invalid_argument(fmt::format(
+            "--set {}: {} has no {} (the pointer's parent {} is not an object of the scene)",
+            p.pointer, plan.scenePath, p.pointer,
+            parent.to_string().empty() ? "/" : parent.to_string()));
+    }
+    scene[pointer] = p.values[c.choice[k]];
+  }
+  return scene.dump(2);
+}
+
+void perturbInitialPositions(Scene& scene, int seed, double jitter) {
+  if (seed == 0) return;
+  const Model& m = scene.model;
+  for (ParticleIndex i = 0; i < m.particleCount(); ++i) {
+    if (m.isFixed(i)) continue;
+    const double a = jitter * m.radius[static_cast<std::size_t>(i)];
+    Vec3& p = scene.initial.position[static_cast<std::size_t>(i)];
+    p.x += a * uniformSigned(seed, i, 0);
+    p.y += a * uniformSigned(seed, i, 1);
+    p.z += a * uniformSigned(seed, i, 2);
+  }
+}
+
+nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSeconds) {
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json row = nlohmann::json::object();
+  row["run"] = c.index;
+  for (std::size_t k = 0; k < plan.parameters.size(); ++k)
+    row[plan.parameters[k].pointer] = plan.parameters[k].values[c.choice[k]];
+  row["seed"] = c.seed;
+  try {
+    SceneLoadResult loaded = loadSceneText(caseSceneText(plan, c), plan.scenePath);
+    if (!loaded.ok())
+      throw std::invalid_argument(loaded.errors.empty() ? std::string("the scene does not load")
+                                                        : loaded.errors.front().format("error"));
+    Scene& scene = *loaded.scene;
+    perturbInitialPositions(scene, c.seed, plan.jitter);
+    RunOptions options;
+    options.settings = scene.run;
+    if (plan.duration > 0.0) options.settings.duration = plan.duration;
+    options.writeReplay = false;
+    options.tasks = {robotics::makeSceneTasks(scene)};
+    const RunReport report = runScene(scene, options);
+    row["status"] = report.status;
+    row["steps"] = report.steps;
+    row["simulated_time"] = report.simulatedTime;
+    row["energy_drift"] = report.energyDrift;
+    row["largest_account_error"] = report.largestAccountError;
+    row["dissipated"] = report.dissipated;
+    row["external_work"] = report.externalWork;
+    row["state_hash"] = fmt::format("{:016x}", report.stateHash);
+    row["failure"] = report.failure;
+    // (The flattened copy is kept: a range-for over a temporary's items() dangles.)
+    const nlohmann::json flat =
+        report.outcomes.empty() ? nlohmann::json::object() : report.outcomes.flatten();
+    for (const auto& [key, value] : flat.items()) row["outcomes" + key] = value;
+  } catch (const std::exception& e) {
+    row["status"] = "error";
+    row["failure"] = e.what();
+  }
+  wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return row;
+}
+
+std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPlan& plan,
+                                          const std::vector<nlohmann::json>& rows,
+                                          const std::vector<double>& wallSeconds,
+                                          const std::string& sharing) {
+  const std::vector<std::string> names = columns(plan, rows);
+  std::string csv;
+  for (std::size_t k = 0; k < names.size(); ++k) csv += (k ? "," : "") + csvField(names[k]);
+  csv += '\n';
+  for (const nlohmann::json& row : rows) {
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const auto it = row.find(names[k]);
+      csv += (k ? "," : "") + csvField(it == row.end() ? std::string() : cellText(*it));
+    }
+    csv += '\n';
+  }
+  writeFile(dir + "/sweep.csv", csv);
+
+  nlohmann::json table;
+  table["scene"] = plan.scenePath;
+  table["parameters"] = nlohmann::json::array();
+  for (const SweepParameter& p : plan.parameters)
+    table["parameters"].push_back({{"pointer", p.pointer}, {"values", p.values}});
+  table["seeds"] = plan.seeds;
+  table["jitter"] = plan.jitter;
+  if (plan.duration > 0.0) table["duration"] = plan.duration;
+  table["columns"] = names;
+  table["runs"] = rows;
+  writeFile(dir + "/sweep.json", table.dump(2) + "\n");
+
+  std::string timing = "run,wall_seconds\n";
+  for (std::size_t i = 0; i < wallSeconds.size(); ++i)
+    timing += fmt::format("{},{:.6f}\n", i, wallSeconds[i]);
+  writeFile(dir + "/timing.csv", timing);
+
+  // The report: every numeric figure against every numeric parameter.
+  std::string html = fmt::format(
+      "<!doctype html><html><head><meta charset='utf-8'><title>robophi sweep: {0}</title>"
+      "<style>body{{font-family:sans-serif;margin:1.5em}}table{{border-collapse:collapse;"
+      "font-size:12px}}td,th{{border:1px solid #ccc;padding:2px 6px}}.plots{{display:flex;"
+      "flex-wrap:wrap;gap:12px}}figure{{margin:0}}figcaption{{font-size:12px}}</style></head>"
+      "<body><h1>robophi sweep</h1><p>Scene <code>{0}</code>: {1} runs ({2}). Seeds: {3}; "
+      "jitter {4:g} of a particle's radius.</p>",
+      escapeHtml(plan.scenePath), rows.size(), escapeHtml(sharing), plan.seeds, plan.jitter);
+  std::map<std::string, int> statusCount;
+  for (const nlohmann::json& row : rows) ++statusCount[row.value("status", std::string("?"))];
+  html += "<p>Status:";
+  for (const auto& [status, count] : statusCount) html += fmt::format(" {} {};", status, count);
+  html += "</p><h2>Figures against parameters</h2>";
+  std::vector<std::string> figures;
+  for (const std::string& name : names) {
+    if (name == "run" || name == "seed") continue;
+    if (std::any_of(plan.parameters.begin(), plan.parameters.end(),
+                    [&](const SweepParameter& p) { return p.pointer == name; }))
+      continue;
+    const bool numeric = std::any_of(rows.begin(), rows.end(), [&](const nlohmann::json& r) {
+      const auto it = r.find(name);
+      return it != r.end() && (it->is_number() || it->is_boolean());
+    });
+    if (numeric) figures.push_back(name);
+  }
+  for (const SweepParameter& p : plan.parameters) {
+    const bool numeric = std::all_of(p.values.begin(), p.values.end(),
+                                     [](const nlohmann::json& v) { return v.is_number(); });
+    if (!numeric || p.values.size() < 2) continue;
+    html += fmt::format("<h3><code>{}</code></h3><div class='plots'>", escapeHtml(p.pointer));
+    for (const std::string& figure : figures) {
+      std::vector<std::pair<double, double>> points;
+      for (const nlohmann::json& row : rows) {
+        const auto x = row.find(p.pointer);
+        const auto y = row.find(figure);
+        if (x == row.end() || y == row.end()) continue;
+        if (!(y->is_number() || y->is_boolean())) continue;
+        const double yv = y->is_boolean() ? (y->get<bool>() ? 1.0 : 0.0) : y->get<double>();
+        if (std::isfinite(yv)) points.emplace_back(x->get<double>(), yv);
+      }
+      if (points.empty()) continue;
+      html += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>",
+                          scatterSvg(p.pointer, figure, points), escapeHtml(figure));
+    }
+    html += "</div>";
+  }
+  html += "<h2>Table</h2><table><tr>";
+  for (const std::string& name : names) html += "<th>" + escapeHtml(name) + "</th>";
+  html += "</tr>";
+  for (const nlohmann::json& row : rows) {
+    html += "<tr>";
+    for (const std::string& name : names) {
+      const auto it = row.find(name);
+      html += "<td>" + escapeHtml(it == row.end() ? std::string() : cellText(*it)) + "</td>";
+    }
+    html += "</tr>";
+  }
+  html += "</table></body></html>\n";
+  writeFile(dir + "/report.html", html);
+  return {"sweep.csv", "sweep.json", "timing.csv", "report.html"};
+}
+
+}  // namespace robophi::cli

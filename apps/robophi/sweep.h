@@ -1,0 +1,76 @@
+#pragma once
+// robophi sweep: a batch study of one scene (docs/sweep.md). Every combination
+// of the --set values (JSON-pointer overrides of the scene), each with its
+// seeds (counter-based perturbations of the initial positions), is one run; the
+// runs are independent and each is sequential, so the table is the same
+// whatever the number of threads or MPI ranks that shared them out.
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "robophi/scene/scene.h"
+
+namespace robophi::cli {
+
+/// One --set: a JSON pointer into the scene and the values it takes in turn.
+struct SweepParameter {
+  std::string pointer;
+  std::vector<nlohmann::json> values;
+};
+
+/// Parses "POINTER=V1,V2,..." (values are JSON; a value that is not JSON is a
+/// string; commas inside brackets or quotes do not split). Throws
+/// std::invalid_argument naming the option and what is wrong.
+SweepParameter parseSweepParameter(const std::string& option);
+
+/// What the sweep runs.
+struct SweepPlan {
+  std::string scenePath;
+  /// The scene as read (comments allowed), before any override.
+  nlohmann::json scene;
+  std::vector<SweepParameter> parameters;
+  /// Seeds 1..seeds each perturb the initial positions; 0 seeds: one run per
+  /// combination, as the scene is written (seed 0).
+  int seeds = 0;
+  /// The perturbation's size: each free particle moves by up to this fraction
+  /// of its radius along each axis (-).
+  double jitter = 0.01;
+  /// > 0: the model time of every run (s), over the scene's run.duration.
+  double duration = 0.0;
+};
+
+/// One run of the plan: the index of each parameter's value and the seed.
+struct SweepCase {
+  std::size_t index = 0;
+  std::vector<std::size_t> choice;
+  int seed = 0;
+};
+
+/// Every case in order: parameters vary with the last one fastest, seeds innermost.
+std::vector<SweepCase> sweepCases(const SweepPlan& plan);
+
+/// The scene text of a case (the overrides applied), or a message naming the
+/// --set and the pointer that does not fit the scene (std::invalid_argument).
+std::string caseSceneText(const SweepPlan& plan, const SweepCase& c);
+
+/// Moves each free particle of `scene` by a counter-based random amount (the
+/// same for the same seed, particle and axis on every machine): uniform in
+/// ±jitter × radius per axis. Seed 0 changes nothing.
+void perturbInitialPositions(Scene& scene, int seed, double jitter);
+
+/// The row of one finished run: parameters, seed, status and figures, the
+/// task outcomes flattened ("outcomes/goals/0/reached"); no wall time, so that
+/// rows are the same however the runs were shared out.
+nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSeconds);
+
+/// Writes sweep.csv, sweep.json and report.html (plots of the figures against
+/// the parameters) into `dir`, and timing.csv (wall seconds: not part of the
+/// table). Returns the names of the files written.
+std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPlan& plan,
+                                          const std::vector<nlohmann::json>& rows,
+                                          const std::vector<double>& wallSeconds,
+                                          const std::string& sharing);
+
+}  // namespace robophi::cli
