@@ -27,9 +27,11 @@ from ._robophi import (  # noqa: F401
     ModelBuilder,
     Object,
     Plate,
+    RigidBody,
     Rope,
     Scene,
     SceneError,
+    Shape,
     Snapshot,
     SpecError,
     State,
@@ -45,8 +47,9 @@ from ._robophi import _load_scene
 
 __all__ = [
     "AdaptiveSettings", "Arm", "Ball", "Box", "DivergedError", "EnergyTally", "Error", "Hand",
-    "Joint", "Material", "Model", "ModelBuilder", "Object", "Plate", "Rope", "Scene",
-    "SceneError", "Snapshot", "SpecError", "State", "Vehicle", "Wheel", "World", "format_hash",
+    "Joint", "Material", "Model", "ModelBuilder", "Object", "Plate", "RigidBody", "Rope",
+    "Scene", "SceneError", "Shape", "Snapshot", "SpecError", "State", "Vehicle", "Wheel", "World",
+    "format_hash",
     "load", "rollout", "run", "state_hash",
 ]
 
@@ -98,6 +101,6 @@ def _keyword_init(cls):
     return cls
 
 
-for _spec in (Rope, Box, Plate, Ball, Wheel, Arm, Hand, Vehicle):
+for _spec in (Rope, Box, Plate, Ball, Wheel, RigidBody, Arm, Hand, Vehicle):
     _keyword_init(_spec)
 del _spec

@@ -4,6 +4,7 @@
 #include "py_robophi.h"
 #include "robophi/build/model_builder.h"
 #include "robophi/build/objects.h"
+#include "robophi/build/rigid_body.h"
 #include "robophi/build/robots.h"
 
 namespace robophi::python {
@@ -27,6 +28,9 @@ void robotLinks(Class& c) {
           [](Spec& s, double v) { s.structure.naturalFrequency = v; },
           "ω of the fastest mode (rad/s) when stiffness is None");
 }
+
+/// A shape's frame in the body frame from URDF-style xyz (m) and rpy (rad).
+Frame shapeFrame(const Vec3& xyz, const Vec3& rpy) { return Frame::fromXyzRpy(xyz, rpy); }
 
 /// The spring settings of a passive object (SpringSettings) from add()'s keywords.
 SpringSettings springSettings(std::optional<double> stiffness, std::optional<double> damping,
@@ -70,13 +74,19 @@ std::pair<GeneratedObject, std::string> generate(const py::handle& spec,
     resolveSprings(o, springs);
     return {std::move(o), "wheel"};
   }
+  if (py::isinstance<RigidBodySpec>(spec)) {
+    GeneratedObject o = makeRigidBody(spec.cast<const RigidBodySpec&>()).object;
+    // Spring values given: they replace the body's stiffness rule (as a scene's mesh object).
+    if (springs.stiffness || springs.damping) resolveSprings(o, springs);
+    return {std::move(o), "rigid_body"};
+  }
   if (py::isinstance<ArmSpec>(spec)) return {makeArm(spec.cast<const ArmSpec&>()), "arm"};
   if (py::isinstance<HandSpec>(spec)) return {makeHand(spec.cast<const HandSpec&>()), "hand"};
   if (py::isinstance<VehicleSpec>(spec))
     return {makeVehicle(spec.cast<const VehicleSpec&>()), "vehicle"};
   throw py::type_error(
       "ModelBuilder.add: expected a spec (robophi.Rope, Box, Plate, Ball, "
-      "Wheel, Arm, Hand, Vehicle), got " +
+      "Wheel, RigidBody, Arm, Hand, Vehicle), got " +
       std::string(py::str(spec.get_type())));
 }
 
@@ -124,6 +134,92 @@ void bindBuild(py::module_& m) {
       .def_readwrite("axis", &WheelSpec::axis)
       .def_readwrite("rim_particles", &WheelSpec::rimParticles)
       .def_readwrite("mass", &WheelSpec::mass, "kg");
+
+  // Rigid bodies from geometry (build/rigid_body.h): shapes filled with fitted particles.
+  py::class_<ShapeSpec>(m, "Shape", "One piece of a rigid body's volume (build::ShapeSpec).")
+      .def_static(
+          "box",
+          [](const Vec3& size, const Vec3& xyz, const Vec3& rpy) {
+            ShapeSpec s;
+            s.kind = ShapeSpec::Kind::kBox;
+            s.size = size;
+            s.frame = shapeFrame(xyz, rpy);
+            return s;
+          },
+          py::arg("size"), py::arg("xyz") = Vec3{}, py::arg("rpy") = Vec3{},
+          "A box of full side lengths `size` (m) at xyz (m), turned by rpy (rad).")
+      .def_static(
+          "cylinder",
+          [](double radius, double length, const Vec3& xyz, const Vec3& rpy) {
+            ShapeSpec s;
+            s.kind = ShapeSpec::Kind::kCylinder;
+            s.radius = radius;
+            s.length = length;
+            s.frame = shapeFrame(xyz, rpy);
+            return s;
+          },
+          py::arg("radius"), py::arg("length"), py::arg("xyz") = Vec3{}, py::arg("rpy") = Vec3{},
+          "A cylinder along its local z (m).")
+      .def_static(
+          "sphere",
+          [](double radius, const Vec3& xyz) {
+            ShapeSpec s;
+            s.kind = ShapeSpec::Kind::kSphere;
+            s.radius = radius;
+            s.frame = shapeFrame(xyz, Vec3{});
+            return s;
+          },
+          py::arg("radius"), py::arg("xyz") = Vec3{})
+      .def_static(
+          "mesh",
+          [](const std::string& path, const Vec3& scale, const Vec3& xyz, const Vec3& rpy) {
+            ShapeSpec s;
+            s.kind = ShapeSpec::Kind::kMesh;
+            s.mesh = loadMesh(path, scale);
+            s.frame = shapeFrame(xyz, rpy);
+            return s;
+          },
+          py::arg("path"), py::arg("scale") = Vec3{1.0, 1.0, 1.0}, py::arg("xyz") = Vec3{},
+          py::arg("rpy") = Vec3{},
+          "A triangle mesh file (STL, OBJ, DAE, ...), scaled per axis; RuntimeError naming the "
+          "file when it cannot be read.")
+      .def_property_readonly("kind", [](const ShapeSpec& s) {
+        switch (s.kind) {
+          case ShapeSpec::Kind::kBox:
+            return "box";
+          case ShapeSpec::Kind::kCylinder:
+            return "cylinder";
+          case ShapeSpec::Kind::kSphere:
+            return "sphere";
+          case ShapeSpec::Kind::kMesh:
+            return "mesh";
+        }
+        return "?";
+      });
+  py::class_<RigidBodySpec>(m, "RigidBody",
+                            "A rigid body of particles with the given mass, centre of mass and "
+                            "inertia, filling the union of its shapes (build::RigidBodySpec).")
+      .def(py::init<>())
+      .def_readwrite("shapes", &RigidBodySpec::shapes)
+      .def_readwrite("mass", &RigidBodySpec::mass, "kg")
+      .def_readwrite("center_of_mass", &RigidBodySpec::centerOfMass, "m, body frame")
+      .def_property(
+          "inertia",
+          [](const RigidBodySpec& s) {
+            const Inertia& i = s.inertia;
+            return std::array<double, 6>{i.xx, i.yy, i.zz, i.xy, i.xz, i.yz};
+          },
+          [](RigidBodySpec& s, const std::array<double, 6>& i) {
+            s.inertia = {i[0], i[1], i[2], i[3], i[4], i[5]};
+          },
+          "(xx, yy, zz, xy, xz, yz) about the centre of mass (kg·m²); zeros: uniform density")
+      .def_readwrite("uniform_density", &RigidBodySpec::uniformDensity)
+      .def_readwrite("required_points", &RigidBodySpec::requiredPoints, "m, body frame")
+      .def_readwrite("particle_size", &RigidBodySpec::particleSize, "m; 0: from particle_count")
+      .def_readwrite("particle_count", &RigidBodySpec::particleCount)
+      .def_readwrite("min_mass_fraction", &RigidBodySpec::minMassFraction)
+      .def_readwrite("max_carrier_distance", &RigidBodySpec::maxCarrierDistance, "m; 0: none")
+      .def_readwrite("natural_frequency", &RigidBodySpec::naturalFrequency, "rad/s");
 
   py::class_<ArmSpec> arm(m, "Arm", "A serial arm fixed at its base (build::ArmSpec).");
   arm.def(py::init<>())

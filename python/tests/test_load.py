@@ -72,3 +72,26 @@ def test_urdf_waits_for_the_importer(tmp_path):
         pytest.skip("this robophi has the URDF importer")
     with pytest.raises(NotImplementedError, match="no URDF importer"):
         robophi.load(tmp_path / "robot.urdf")
+
+
+def test_a_rigid_body_from_shapes_has_the_mass_properties_asked_for():
+    """build::RigidBodySpec from Python: a uniform 2 kg box, 0.2 × 0.1 × 0.1 m, at (0, 0, 0.5)."""
+    body = robophi.RigidBody(shapes=[robophi.Shape.box((0.2, 0.1, 0.1), xyz=(0.0, 0.0, 0.5))],
+                             mass=2.0, uniform_density=True, particle_count=40)
+    assert [s.kind for s in body.shapes] == ["box"]
+    b = robophi.ModelBuilder()
+    b.set_gravity((0, 0, 0))
+    b.add(body, name="body")
+    model, state = b.build()
+    assert model.objects[0].kind == "rigid_body"
+    m = model.masses
+    p = state.positions
+    assert m.sum() == pytest.approx(2.0, rel=1e-9)
+    center = (m[:, None] * p).sum(axis=0) / m.sum()
+    assert center.tolist() == pytest.approx([0.0, 0.0, 0.5], abs=1e-6)
+    # The uniform box's inertia about z: m (a² + b²) / 12.
+    d = p - center
+    izz = (m * (d[:, 0] ** 2 + d[:, 1] ** 2)).sum()
+    assert izz == pytest.approx(2.0 * (0.2 ** 2 + 0.1 ** 2) / 12, rel=1e-5)
+    with pytest.raises(RuntimeError, match="none.stl"):
+        robophi.Shape.mesh("none.stl")
