@@ -61,4 +61,10 @@ for branch in d['object']['allOf']:
         sub('objects[].'+types[0], branch['then'])
 section('`robotics`', d['robotics'])
 sub('robotics', d['robotics'])
+section('`control`', d['control'], 'docs/robots.md "Controlling joints".')
+section('`control.joints.<name>`, `sequence[].joints.<name>`', d['actuators']['additionalProperties'],
+        'A `target` is a number, `{"keyframes": [[t, value], ...], "interpolation": "linear" or "cubic"}` '
+        'or `{"sine": {"amplitude", "period", "phase", "offset"}}`.')
+sub('control', d['control'])
+section('`control.bases[]`, `sequence[].bases[]`', d['bases']['items'])
 print('\n'.join(out))

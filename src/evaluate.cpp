@@ -37,12 +37,15 @@ void evaluateForces(const CompiledModel& compiled, const State& state, ContactSc
   const ForceTally linear = accumulateLinearSprings(model, position, velocity, out.force);
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
+  const ForceTally drives = accumulateJointDrives(model, position, velocity, out.force,
+                                                  out.jointMotorEffort, out.jointLossEffort);
   e.gravity = gravity.potential;
   e.linearSpring = linear.potential;
   e.torsionSpring = torsion.potential;
   e.jointSpring = joint.potential;
   out.dissipativePower = damping.dissipativePower + linear.dissipativePower +
-                         torsion.dissipativePower + joint.dissipativePower;
+                         torsion.dissipativePower + joint.dissipativePower +
+                         drives.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
                      velocity, state.spin, state.frictionHistory, scratch, out);

@@ -13,7 +13,7 @@ namespace robophi {
 /// Net forces (and the spinning particles' torques) and potentials at the
 /// state's positions, velocities and spins with its friction history (only
 /// read) into `out`: clear → gravity → linear damping → LS → TS
-/// → JS → contacts (which set out.contacts, out.releasedAnchorEnergy,
+/// → JS → joint drives (MODEL §1.6) → contacts (which set out.contacts, out.releasedAnchorEnergy,
 /// out.contactCriticalStep, out.contactStats). Not the kinetic energy or the
 /// driving power (measureKineticAndDriving), which need the final velocities.
 void evaluateForces(const CompiledModel& model, const State& state, ContactScratch& scratch,

@@ -139,6 +139,32 @@ void World::setJointServo(std::size_t joint, double stiffness, double damping) {
   model_.changed(CompiledModel::kValues);
 }
 
+void World::setJointEffort(std::size_t joint, double effort) {
+  requireIndex("World::setJointEffort", "joint", joint, model().joints.size());
+  requireFinite("World::setJointEffort", "effort", effort);
+  double& current = model_.model_.joints[joint].drive.effort;
+  if (current == effort) return;
+  edited();
+  current = effort;
+  model_.changed(CompiledModel::kValues);
+}
+
+void World::setJointDrive(std::size_t joint, const JointDrive& drive) {
+  requireIndex("World::setJointDrive", "joint", joint, model().joints.size());
+  if (const std::string problem = checkJointDrive(drive); !problem.empty())
+    throw std::invalid_argument(
+        detail::text("World::setJointDrive: joint '{}': {}", model().joints[joint].name, problem));
+  JointDrive& d = model_.model_.joints[joint].drive;
+  const auto fields = [](const JointDrive& x) {
+    return std::tie(x.effort, x.rateGain, x.targetRate, x.effortLimit, x.velocityLimit, x.damping,
+                    x.friction, x.frictionVelocity);
+  };
+  if (fields(d) == fields(drive)) return;
+  edited();
+  d = drive;
+  model_.changed(CompiledModel::kValues);
+}
+
 namespace {
 
 bool sameEnds(const LinearSpring& a, const LinearSpring& b) { return a.a == b.a && a.b == b.b; }

@@ -39,7 +39,8 @@ function columnsOf(table) {
 }
 const energy = columnsOf(data.energy);
 const joints = data.joints ? columnsOf(data.joints) : null;
-const jointNames = data.joints ? data.joints.columns.slice(1) : [];
+// joints.csv: t, each joint's value, then "<name>:q", ":rate", ":effort" (plotted: the values).
+const jointNames = data.joints ? data.joints.columns.slice(1).filter((c) => !c.includes(':')) : [];
 
 // Contacts grouped by time: [{t, rows: [[a, b, fx, fy, fz, ...], ...]}], times increasing.
 const contactGroups = [];

@@ -50,4 +50,31 @@ double jointAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD
 double jointAngleRate(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD,
                       const Vec3& vA, const Vec3& vC, const Vec3& vB, const Vec3& vD);
 
+/// A joint coordinate q and its gradient ∂q/∂p at the joint's particles
+/// (MODEL §1.6): a generalized force Q acts as F_j = Q ∂q/∂p_j, and q̇ = Σ ∂q/∂p_j · v_j.
+/// q is unchanged by a rigid motion of the particles, so the gradients sum to
+/// zero and their torques about any point balance.
+struct CoordinateGradient {
+  /// False where q is not differentiable (an axis or arm of length 0): no force then.
+  bool valid = false;
+  /// q (rad or m).
+  double value = 0.0;
+  /// ∂q/∂p (rad/m or -) at the connector's a, c, b and d (d unused by a prismatic joint).
+  Vec3 a, c, b, d;
+  /// Σ ∂q/∂p_j · v_j (rad/s or m/s).
+  double rate(const Vec3& vA, const Vec3& vC, const Vec3& vB, const Vec3& vD) const {
+    return dot(a, vA) + dot(c, vC) + dot(b, vB) + dot(d, vD);
+  }
+};
+
+/// The JS angle θ in [0, 2π) (jointAngle) and its exact gradient.
+CoordinateGradient jointAngleGradient(const Vec3& pA, const Vec3& pC, const Vec3& pB,
+                                      const Vec3& pD);
+
+/// A prismatic joint's slider distance q = (p_c − p_a)·ê, ê = (p_b − p_a)/|p_b − p_a|
+/// (a = origin, c = slider, b = end, as its TS holds them) and its gradient:
+/// ∂q/∂p_c = ê, ∂q/∂p_b = (I − ê êᵀ)(p_c − p_a)/|p_b − p_a|, ∂q/∂p_a = −(∂q/∂p_c + ∂q/∂p_b).
+/// On the line, ∂q/∂p_b = 0: equal and opposite forces along the line.
+CoordinateGradient prismaticGradient(const Vec3& pOrigin, const Vec3& pSlider, const Vec3& pEnd);
+
 }  // namespace robophi

@@ -28,9 +28,14 @@ struct Evaluation {
   EnergyTally energy;
   /// Power of the dissipative forces (W, <= 0).
   double dissipativePower = 0.0;
-  /// Power (W) put into the system by fixed particles that move kinematically
-  /// (a fixed particle keeps its velocity): -Σ F_i·v_i over them.
+  /// Power (W) put into the system from outside: by fixed particles that move
+  /// kinematically (a fixed particle keeps its velocity), -Σ F_i·v_i over them,
+  /// and by the joints' motors (MODEL §1.6), Σ τ_j q̇_j.
   double drivingPower = 0.0;
+  /// Per joint (Model::joints): the effort (N·m or N, positive increases q) of its
+  /// motor after the limits, and of its losses (damping and friction), at the
+  /// state (MODEL §1.6); 0 for a joint without a drive.
+  std::vector<double> jointMotorEffort, jointLossEffort;
   /// Elastic energy (J) the friction anchors of the history gave up in this
   /// evaluation, by slipping or opening: dissipated once the step commits it.
   double releasedAnchorEnergy = 0.0;

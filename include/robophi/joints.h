@@ -31,6 +31,12 @@ double wrapSigned(double angle);
 /// The joint's rate: rad/s or m/s (also the rate of its position). Same checks as jointValue.
 double jointRate(const Model& model, const State& state, std::size_t joint);
 
+/// The effort (N·m or N; positive increases q) the joint's servo applies at the
+/// state (MODEL §1.5): −(κ Δθ + μ θ̇) of its JS, or −(κ Δl + μ l̇) of a prismatic
+/// joint's drive LS (0 without one); a joint limit's servo included. Same checks
+/// as jointValue.
+double jointServoEffort(const Model& model, const State& state, std::size_t joint);
+
 /// An angle wrapped into [0, 2π) (rad): a revolute joint's value and target range.
 double wrapAngle(double angle);
 

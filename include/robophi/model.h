@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,33 @@ enum class JointKind : std::uint8_t {
   kPrismatic,
 };
 
+/// A joint's motor and losses (MODEL §1.6): a generalized force Q on the joint's
+/// position q — N·m about the axis for a revolute joint, N along the line for a
+/// prismatic one; positive increases q — applied through the joint's own
+/// connector particles as F_j = Q ∂q/∂p_j, so that the forces sum to zero, their
+/// torques balance and its power is Q q̇.
+///   motor:  τ = clamp(effort + rateGain (targetRate − q̇), ±effortLimit), and no
+///           motor effort that would drive |q̇| beyond velocityLimit; its power
+///           τ q̇ is work done from outside (EnergyTally::external);
+///   losses: −damping q̇ − friction · clamp(q̇ / frictionVelocity, −1, 1), dissipated.
+/// The defaults do nothing. Units: N·m or N, rad/s or m/s.
+struct JointDrive {
+  /// Commanded effort τ0 (N·m or N), finite.
+  double effort = 0.0;
+  /// Rate drive gain k_v (N·m·s/rad or N·s/m), >= 0, and its target rate q̇* (rad/s or m/s).
+  double rateGain = 0.0, targetRate = 0.0;
+  /// Bound on |τ| (N·m or N), > 0; infinity: none.
+  double effortLimit = std::numeric_limits<double>::infinity();
+  /// Velocity limit (rad/s or m/s), > 0; infinity: none.
+  double velocityLimit = std::numeric_limits<double>::infinity();
+  /// Viscous damping b (N·m·s/rad or N·s/m), >= 0.
+  double damping = 0.0;
+  /// Coulomb friction F_c (N·m or N), >= 0, reached at |q̇| = frictionVelocity
+  /// (rad/s or m/s, > 0); below it the friction is viscous (slope F_c / frictionVelocity,
+  /// which must stay below what the step resolves).
+  double friction = 0.0, frictionVelocity = 0.01;
+};
+
 /// A named joint whose value is read at every step (joints.csv).
 struct Joint {
   std::string name;
@@ -164,6 +192,13 @@ struct Joint {
   /// arm's straight pose, a URDF robot's zero pose); a prismatic joint's is 0
   /// (its value is the distance from its origin) unless its builder says otherwise.
   double zero = 0.0;
+  /// Its motor and losses (MODEL §1.6; World::setJointEffort, setJointDrive).
+  JointDrive drive{};
+  /// Revolute only: further particles of the child body (model indices) that the
+  /// drive acts through besides the JS's b, each as the child arm of the JS's a,
+  /// c, d, sharing the effort equally (MODEL §1.6): a wheel's motor spread over
+  /// its rim, so that no single light particle carries the rate drive. Empty: b alone.
+  std::vector<ParticleIndex> motorParticles{};
 };
 
 /// The model: particles as flat arrays, connectors as small structs.
@@ -216,6 +251,11 @@ struct Model {
 /// positive masses and radii, non-negative stiffness). Returns an empty string if
 /// it holds, otherwise the first problem found, naming the item and the value.
 std::string checkModel(const Model& model);
+
+/// Checks a joint drive (MODEL §1.6): finite effort and target rate, gains and
+/// losses >= 0, limits and friction velocity > 0. Returns an empty string if it
+/// holds, otherwise the problem, naming the field and the value.
+std::string checkJointDrive(const JointDrive& drive);
 
 /// Checks connector number k against a model of `particleCount` particles
 /// (indices in range and distinct, rest value and stiffness valid). Returns an

@@ -85,6 +85,13 @@ class World {
   void setJointTarget(std::size_t joint, double target);
   /// The servo's stiffness (N·m/rad or N/m) and damping (N·m·s/rad or N·s/m), >= 0.
   void setJointServo(std::size_t joint, double stiffness, double damping);
+  /// The joint's commanded motor effort τ0 (MODEL §1.6: N·m about the axis for a
+  /// revolute joint, N along the line for a prismatic one; positive increases q),
+  /// finite. Its power is booked as external work.
+  void setJointEffort(std::size_t joint, double effort);
+  /// Replaces the joint's whole drive (motor, rate drive, limits, losses; MODEL
+  /// §1.6). Throws std::invalid_argument for a drive checkJointDrive refuses.
+  void setJointDrive(std::size_t joint, const JointDrive& drive);
   /// Replaces a connector (its ends are checked; new ends rebuild the
   /// contact exclusion lists).
   void setLinearSpring(std::size_t index, const LinearSpring& spring);

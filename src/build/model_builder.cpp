@@ -101,8 +101,10 @@ void checkGeometry(const GeneratedObject& g, const std::vector<Vec3>& velocity) 
     const bool driveOk = joint.driveSpring == -1 ||
                          (joint.driveSpring >= 0 &&
                           static_cast<std::size_t>(joint.driveSpring) < g.linearSprings.size());
+    bool motorOk = true;
+    for (ParticleIndex p : joint.motorParticles) motorOk = motorOk && p >= 0 && p < count;
     if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= connectors ||
-        !driveOk || joint.name.empty())
+        !driveOk || !motorOk || joint.name.empty())
       check::fail(kPlacement, "joints",
                   "'joints': joint '" + joint.name + "' names connector " +
                       std::to_string(joint.connector) + " (drive " +
@@ -346,6 +348,7 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
     joint.name = object.name + "." + joint.name;
     joint.connector += joint.kind == JointKind::kRevolute ? jointBase : torsionBase;
     if (joint.driveSpring >= 0) joint.driveSpring += linearBase;
+    for (ParticleIndex& p : joint.motorParticles) p += offset;
     model_.joints.push_back(std::move(joint));
   }
   return placed;

@@ -51,6 +51,11 @@ void checkVehicle(const VehicleSpec& spec) {
   check::positive(kSpec, "suspensionStiffness", spec.suspensionStiffness, "N/m");
   check::nonNegative(kSpec, "suspensionDamping", spec.suspensionDamping, "N·s/m");
   check::nonNegative(kSpec, "axleDamping", spec.axleDamping, "N·m·s/rad");
+  check::finite(kSpec, "wheelSpeed", spec.wheelSpeed, "rad/s");
+  check::nonNegative(kSpec, "wheelGain", spec.wheelGain, "N·m·s/rad");
+  check::finite(kSpec, "wheelTorque", spec.wheelTorque, "N·m");
+  if (spec.wheelTorqueLimit)
+    check::positive(kSpec, "wheelTorqueLimit", *spec.wheelTorqueLimit, "N·m");
   detail::checkRobotLinks(kSpec, spec.structure);
 }
 
@@ -122,6 +127,16 @@ GeneratedObject makeVehicle(const VehicleSpec& spec) {
       g.jointSprings.push_back({a, hubs[0], offset, hubs[1], angle, 0.0, spec.axleDamping});
       g.joints.push_back({"axle" + std::to_string(wheelIndex), JointKind::kRevolute,
                           static_cast<std::int32_t>(g.jointSprings.size()) - 1, -1, angle});
+      // MODEL §1.6 wheel motor: the axle's axis points outward, so forward is +q on
+      // the left (y > 0) and −q on the right.
+      // The motor acts through every rim particle (Joint::motorParticles), not
+      // the JS's one alone: one light particle cannot carry a stiff rate drive.
+      for (int k = 1; k < 2 * n; ++k) g.joints.back().motorParticles.push_back(offset + k);
+      JointDrive& motor = g.joints.back().drive;
+      motor.rateGain = spec.wheelGain;
+      motor.targetRate = spec.wheelGain > 0.0 ? side * spec.wheelSpeed : 0.0;
+      motor.effort = side * spec.wheelTorque;
+      if (spec.wheelTorqueLimit) motor.effortLimit = *spec.wheelTorqueLimit;
     }
   }
   g.spacing = spec.size.x / 3.0;

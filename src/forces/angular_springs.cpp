@@ -121,6 +121,35 @@ double jointRate(const JointGeometry& g, const Vec3& vA, const Vec3& vC, const V
 
 }  // namespace
 
+CoordinateGradient jointAngleGradient(const Vec3& pA, const Vec3& pC, const Vec3& pB,
+                                      const Vec3& pD) {
+  const JointGeometry g = jointGeometry(pA, pC, pB, pD);
+  CoordinateGradient out;
+  out.valid = g.valid;
+  out.value = g.angle;
+  if (!g.valid) return out;
+  out.a = g.gradA;
+  out.b = g.gradB;
+  out.c = g.gradC;
+  out.d = g.gradD;
+  return out;
+}
+
+CoordinateGradient prismaticGradient(const Vec3& pOrigin, const Vec3& pSlider, const Vec3& pEnd) {
+  CoordinateGradient out;
+  const Vec3 line = pEnd - pOrigin, r = pSlider - pOrigin;
+  const double length = norm(line);
+  if (!(length > 0.0)) return out;
+  const Vec3 e = line * (1.0 / length);
+  out.value = dot(r, e);
+  out.valid = true;
+  // MODEL §1.6: q = r·ê; through ê = line/|line|, ∂q/∂line = (I − ê êᵀ) r / |line|.
+  out.c = e;
+  out.b = (r - e * out.value) * (1.0 / length);
+  out.a = -(out.c + out.b);
+  return out;
+}
+
 double jointAngle(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD) {
   return jointGeometry(pA, pC, pB, pD).angle;
 }

@@ -29,4 +29,20 @@ ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>&
 ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,
                                   const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
 
+/// MODEL §1.6: the motor effort τ (N·m or N) of a drive at joint rate `rate`, after
+/// its effort and velocity limits, and the losses' effort (damping and friction).
+bool hasDrive(const JointDrive& drive);
+double motorEffort(const JointDrive& drive, double rate);
+double lossEffort(const JointDrive& drive, double rate);
+/// Joint motors and losses (MODEL §1.6): adds Q ∂q/∂p_j for every joint with a
+/// drive; `motor` and `loss` (resized to the joints) get each joint's efforts.
+/// Reports the losses' power (<= 0) as dissipative; the motors' power is the
+/// driving power's (jointMotorPower).
+ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& position,
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                 std::vector<double>& motor, std::vector<double>& loss);
+/// Σ τ_j q̇_j (W) of the joints' motor efforts `motor` at the given positions and velocities.
+double jointMotorPower(const Model& model, const std::vector<Vec3>& position,
+                       const std::vector<Vec3>& velocity, const std::vector<double>& motor);
+
 }  // namespace robophi

@@ -71,6 +71,27 @@ double jointRate(const Model& model, const State& state, std::size_t joint) {
   return dot(v[s.c] - v[s.a], line / length);
 }
 
+double jointServoEffort(const Model& model, const State& state, std::size_t joint) {
+  const Joint& j = checkedJoint("jointServoEffort", model, &state, joint);
+  const auto& p = state.position;
+  const auto& v = state.velocity;
+  if (j.kind == JointKind::kRevolute) {
+    const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
+    const double angle = jointAngle(p[s.a], p[s.c], p[s.b], p[s.d]);
+    const double rate =
+        jointAngleRate(p[s.a], p[s.c], p[s.b], p[s.d], v[s.a], v[s.c], v[s.b], v[s.d]);
+    return -(s.stiffness * wrapSigned(angle - s.restAngle) + s.damping * rate);
+  }
+  if (j.driveSpring < 0) return 0.0;
+  // The drive LS from the origin to the slider pulls along q (MODEL §1.4).
+  const LinearSpring& s = model.linearSprings[static_cast<std::size_t>(j.driveSpring)];
+  const Vec3 d = p[s.b] - p[s.a];
+  const double length = norm(d);
+  if (!(length > 0.0)) return 0.0;
+  const double stretchRate = dot(v[s.b] - v[s.a], d * (1.0 / length));
+  return -(s.stiffness * (length - s.restLength) + s.damping * stretchRate);
+}
+
 }  // namespace robophi
 
 namespace robophi {

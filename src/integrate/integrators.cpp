@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "forces/forces.h"
+
 namespace robophi {
 
 // Fixed particles (inverse mass 0) get no acceleration; they keep their
@@ -89,7 +91,10 @@ void measureKineticAndDriving(const Model& model, const std::vector<double>& inv
     }
   }
   evaluation.energy.kinetic = energy;
-  evaluation.drivingPower = driving;
+  // MODEL §1.6, §2.4: the motors' power τ q̇ at the state's velocities.
+  const double motorPower =
+      jointMotorPower(model, state.position, velocity, evaluation.jointMotorEffort);
+  evaluation.drivingPower = motorPower == 0.0 ? driving : driving + motorPower;
 }
 
 }  // namespace robophi

@@ -75,6 +75,25 @@ std::string checkConnector(const JointSpring& s, std::size_t k, ParticleIndex n)
   return {};
 }
 
+std::string checkJointDrive(const JointDrive& d) {
+  const auto bad = [](const char* field, double value, const char* rule) {
+    return detail::text("drive {} = {} must be {}", field, value, rule);
+  };
+  if (!std::isfinite(d.effort)) return bad("effort", d.effort, "finite");
+  if (!std::isfinite(d.targetRate)) return bad("targetRate", d.targetRate, "finite");
+  if (!(d.rateGain >= 0.0) || !std::isfinite(d.rateGain))
+    return bad("rateGain", d.rateGain, "finite and >= 0");
+  if (!(d.effortLimit > 0.0)) return bad("effortLimit", d.effortLimit, "> 0");
+  if (!(d.velocityLimit > 0.0)) return bad("velocityLimit", d.velocityLimit, "> 0");
+  if (!(d.damping >= 0.0) || !std::isfinite(d.damping))
+    return bad("damping", d.damping, "finite and >= 0");
+  if (!(d.friction >= 0.0) || !std::isfinite(d.friction))
+    return bad("friction", d.friction, "finite and >= 0");
+  if (!(d.frictionVelocity > 0.0) || !std::isfinite(d.frictionVelocity))
+    return bad("frictionVelocity", d.frictionVelocity, "finite and > 0");
+  return {};
+}
+
 std::string checkModel(const Model& model) {
   const auto n = model.particleCount();
   const auto size = static_cast<std::size_t>(n);
@@ -149,6 +168,13 @@ std::string checkModel(const Model& model) {
                                                           : model.torsionSprings.size();
     if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= count)
       return detail::text("joint '{}': connector {} does not exist", joint.name, joint.connector);
+    if (const std::string problem = checkJointDrive(joint.drive); !problem.empty())
+      return detail::text("joint '{}': {}", joint.name, problem);
+    if (!joint.motorParticles.empty() && joint.kind != JointKind::kRevolute)
+      return detail::text("joint '{}': motor particles on a prismatic joint", joint.name);
+    for (ParticleIndex p : joint.motorParticles)
+      if (p < 0 || p >= model.particleCount())
+        return detail::text("joint '{}': motor particle {} does not exist", joint.name, p);
     if (joint.driveSpring >= 0 &&
         static_cast<std::size_t>(joint.driveSpring) >= model.linearSprings.size())
       return detail::text("joint '{}': drive spring {} does not exist", joint.name,

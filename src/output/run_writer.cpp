@@ -75,12 +75,14 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), wo
   objects_ << "t,object,mass,kinetic,gravity,elastic,x,y,z,vx,vy,vz\n";
   if (scene.model.contact.enabled) {
     contacts_ = open("contacts.csv");
-    contacts_ << "t,a,b,fx,fy,fz,tx,ty,tz,sliding\n";
+    contacts_ << "t,a,b,fx,fy,fz,tx,ty,tz,sliding,fn,ft\n";
   }
   if (!scene.model.joints.empty()) {
     joints_ = open("joints.csv");
     line_ = "t";
     for (const Joint& joint : scene.model.joints) line_ += "," + joint.name;
+    for (const Joint& joint : scene.model.joints)
+      fmt::format_to(std::back_inserter(line_), ",{0}:q,{0}:rate,{0}:effort", joint.name);
     joints_ << line_ << '\n';
   }
 }
@@ -184,7 +186,10 @@ void RunWriter::writeFrame(const World& world) {
         line_ += ',';
         appendNumber(line_, value);
       }
-      fmt::format_to(std::back_inserter(line_), ",{}", c.sliding);
+      fmt::format_to(std::back_inserter(line_), ",{},", c.sliding);
+      appendNumber(line_, c.normalForce);
+      line_ += ',';
+      appendNumber(line_, norm(c.frictionForce));
       contacts_ << line_ << '\n';
     }
   }
@@ -194,6 +199,18 @@ void RunWriter::writeFrame(const World& world) {
     for (std::size_t j = 0; j < model.joints.size(); ++j) {
       line_ += ',';
       appendNumber(line_, jointValue(model, state, j));
+    }
+    // Per joint: q (rad or m), its rate, and the effort applied to it: servo (a
+    // limit's included) + motor + losses (MODEL §1.5, §1.6).
+    const Evaluation& e = world.evaluation();
+    for (std::size_t j = 0; j < model.joints.size(); ++j) {
+      const double drive = (j < e.jointMotorEffort.size() ? e.jointMotorEffort[j] : 0.0) +
+                           (j < e.jointLossEffort.size() ? e.jointLossEffort[j] : 0.0);
+      for (double value : {jointPosition(model, state, j), jointRate(model, state, j),
+                           jointServoEffort(model, state, j) + drive}) {
+        line_ += ',';
+        appendNumber(line_, value);
+      }
     }
     joints_ << line_ << '\n';
   }

@@ -22,6 +22,12 @@ namespace robophi {
 class Task {
  public:
   virtual ~Task() = default;
+  /// Called once before the first step of a run (not when it resumes from a
+  /// checkpoint): a controller's commands at t = 0.
+  virtual void start(World& world, std::vector<std::string>& events) {
+    (void)world;
+    (void)events;
+  }
   /// Called after each accepted step; false ends the run (e.g. a goal reached).
   virtual bool step(World& world, std::vector<std::string>& events) = 0;
   /// The task's state as JSON (null: it has none), bit-exact for numbers that

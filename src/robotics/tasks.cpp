@@ -473,10 +473,17 @@ class SceneTaskSet final : public Task {
     for (const EscapeSpec& e : scene.robotics.escapes) escapes_.emplace_back(e);
     for (const GraspSpec& g : scene.robotics.grasps) grasps_.emplace_back(g, scene.model);
     for (const auto& grasp : grasps_) out_->grasps.push_back(grasp.outcome());
+    if (!scene.robotics.control.empty()) controller_.emplace(scene.robotics.control, scene.model);
+  }
+
+  void start(World& world, std::vector<std::string>& events) override {
+    if (controller_) controller_->start(world, events);
   }
 
   bool step(World& world, std::vector<std::string>& events) override {
     TaskOutcomes& out = *out_;
+    // The controller first: a joint limit then overrides its servo where it must.
+    if (controller_) controller_->step(world, events);
     limiter_.update(world);
     for (auto& escape : escapes_) {
       if (auto event = escape.update(world, goals_[escape.goal()])) events.push_back(*event);
@@ -570,6 +577,9 @@ class SceneTaskSet final : public Task {
       out["escapes"] = escapes;
     }
     out["joint_limit_engagements"] = limiter_.engagements();
+    if (controller_)
+      if (const json control = controller_->outcomes(world); control.is_object())
+        out.update(control);
     return out;
   }
 
@@ -585,9 +595,13 @@ class SceneTaskSet final : public Task {
     auto escapes = json::array(), grasps = json::array();
     for (const auto& e : escapes_) escapes.push_back(e.save());
     for (const auto& g : grasps_) grasps.push_back(g.save());
-    return {{"limiter", limiter_.save()}, {"goals", goals},
-            {"escapes", escapes},         {"grasps", grasps},
-            {"reported", reported_},      {"previous_time", exactNumber(previousTime_)}};
+    return {{"limiter", limiter_.save()},
+            {"goals", goals},
+            {"escapes", escapes},
+            {"grasps", grasps},
+            {"reported", reported_},
+            {"previous_time", exactNumber(previousTime_)},
+            {"control", controller_ ? controller_->save() : json()}};
   }
 
   void restore(const json& saved) override {
@@ -617,9 +631,15 @@ class SceneTaskSet final : public Task {
     }
     reported_ = saved.at("reported").get<bool>();
     previousTime_ = numberFromJson(saved.at("previous_time"), "tasks previous_time");
+    if (controller_) {
+      if (!saved.contains("control") || saved.at("control").is_null())
+        throw std::runtime_error("robotics tasks: the checkpoint has no control state");
+      controller_->restore(saved.at("control"));
+    }
   }
 
  private:
+  std::optional<Controller> controller_;
   JointLimiter limiter_;
   std::vector<GoalSpec> goals_;
   std::vector<LocalMinimumEscape> escapes_;

@@ -15,6 +15,7 @@
 #include "robophi/contact.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "robotics/controller.h"
 #include "robotics/joint_control.h"
 #include "robotics/task.h"
 

@@ -121,6 +121,8 @@ json evaluationToJson(const Evaluation& e) {
             {"external", exactNumber(t.external)}}},
           {"dissipative_power", exactNumber(e.dissipativePower)},
           {"driving_power", exactNumber(e.drivingPower)},
+          {"joint_motor_effort", exactNumbers(e.jointMotorEffort)},
+          {"joint_loss_effort", exactNumbers(e.jointLossEffort)},
           {"released_anchor_energy", exactNumber(e.releasedAnchorEnergy)},
           {"contact_critical_step", exactNumber(e.contactCriticalStep)},
           {"contacts", contacts},
@@ -149,6 +151,10 @@ Evaluation evaluationFromJson(const json& j) {
   e.energy.external = number(t, "external");
   e.dissipativePower = number(j, "dissipative_power");
   e.drivingPower = number(j, "driving_power");
+  if (j.contains("joint_motor_effort")) {
+    e.jointMotorEffort = numbersFromJson(j.at("joint_motor_effort"), "joint_motor_effort");
+    e.jointLossEffort = numbersFromJson(j.at("joint_loss_effort"), "joint_loss_effort");
+  }
   e.releasedAnchorEnergy = number(j, "released_anchor_energy");
   e.contactCriticalStep = number(j, "contact_critical_step");
   for (const json& c : j.at("contacts")) e.contacts.push_back(contactFromJson(c));
@@ -188,9 +194,18 @@ json modelEditsToJson(const Model& m) {
   for (const ContactPairOverride& p : c.pairOverrides)
     pairs.push_back({p.objectA, p.objectB, exactNumber(p.stiffness), exactNumber(p.damping),
                      exactNumber(p.staticFriction), exactNumber(p.kineticFriction)});
+  json drives = json::array();
+  for (const Joint& jt : m.joints) {
+    const JointDrive& d = jt.drive;
+    drives.push_back({exactNumber(d.effort), exactNumber(d.rateGain), exactNumber(d.targetRate),
+                      exactNumber(d.effortLimit), exactNumber(d.velocityLimit),
+                      exactNumber(d.damping), exactNumber(d.friction),
+                      exactNumber(d.frictionVelocity)});
+  }
   return {{"linear_springs", linear},
           {"torsion_springs", torsion},
           {"joint_springs", joint},
+          {"joint_drives", drives},
           {"inverse_mass", exactNumbers(m.inverseMass)},
           {"gravity", exactVec3(m.gravity)},
           {"materials", materials},
@@ -240,6 +255,19 @@ void applyModelEdits(const json& j, Model& m) {
                          s.at(2).get<ParticleIndex>(),      s.at(3).get<ParticleIndex>(),
                          numberFromJson(s.at(4), "angle"),  numberFromJson(s.at(5), "stiffness"),
                          numberFromJson(s.at(6), "damping")};
+  }
+  // MODEL §1.6 joint drives (checkpoints written before them have none: the scene's stand).
+  if (const auto drives = j.find("joint_drives"); drives != j.end()) {
+    if (drives->size() != m.joints.size())
+      throw std::runtime_error("the checkpoint's model has other joints than the scene");
+    for (std::size_t k = 0; k < drives->size(); ++k) {
+      const json& d = (*drives)[k];
+      m.joints[k].drive = {
+          numberFromJson(d.at(0), "effort"),         numberFromJson(d.at(1), "rate gain"),
+          numberFromJson(d.at(2), "target rate"),    numberFromJson(d.at(3), "effort limit"),
+          numberFromJson(d.at(4), "velocity limit"), numberFromJson(d.at(5), "joint damping"),
+          numberFromJson(d.at(6), "joint friction"), numberFromJson(d.at(7), "friction velocity")};
+    }
   }
   m.inverseMass = numbersFromJson(inverseMass, "inverse mass");
   m.gravity = vec3FromJson(j.at("gravity"), "gravity");

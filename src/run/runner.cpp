@@ -237,6 +237,10 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.warnings = preflightWarnings(settings, report.stability);
     for (std::string& w : startingOverlapWarnings(scene.model, scene.initial))
       report.warnings.push_back(std::move(w));
+    // The tasks' commands at t = 0 (a controller's servos and drives), before the account starts.
+    for (const StepTask& task : options.tasks)
+      if (task) task->start(world, report.events);
+    world.bookExternalWork();
     world.refresh();  // the energy account of the initial state
     report.initialTotal = world.energy().total();
     // The drift's scale: the energy that can turn into motion in the scene's own

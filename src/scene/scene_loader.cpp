@@ -12,6 +12,7 @@
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
+#include "scene/scene_control.h"
 #include "scene/scene_fields.h"
 #include "scene/scene_links.h"
 #include "scene/scene_objects.h"
@@ -143,6 +144,8 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
   // Robotics before the contact keys: its obstacles are the first environment items.
   if (const auto* section = r.member("robotics"))  // goals, paths, limits (docs/robotics.md)
     scene::readRoboticsSection(sink, *section, "/robotics", lookup, scene);
+  if (const auto* section = r.member("control"))  // actuators, sequences (docs/robots.md)
+    scene::readControlSection(sink, *section, "/control", scene);
   // Materials, environment, medium, contact settings, pairs (docs/contact.md).
   scene::readContactKeys(r, sceneDirectory, scene.model);
   r.finish();

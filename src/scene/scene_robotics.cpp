@@ -243,18 +243,6 @@ void readLimit(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
   scene.robotics.limits.push_back({*joint, *min, *max, *stiffness, damping});
 }
 
-// An object's index by name, or an error at `at` with a suggestion.
-std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
-                                       const std::string& name, const std::string& at) {
-  std::vector<std::string> names;
-  for (std::size_t o = 0; o < scene.model.objects.size(); ++o) {
-    names.push_back(scene.model.objects[o].name);
-    if (scene.model.objects[o].name == name) return static_cast<std::int32_t>(o);
-  }
-  sink.error(at, fmt::format("no object named '{}'{}", name, didYouMean(name, names)));
-  return std::nullopt;
-}
-
 // "close": {"joints": [names], "angle" (rad), "time" (s)}: the hand closes by its joints.
 bool readClose(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
                const Scene& scene, build::GraspSpec& spec) {
@@ -341,6 +329,26 @@ void forEach(DiagnosticSink& sink, const nlohmann::json* list, const std::string
 }
 
 }  // namespace
+
+std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
+                                       const std::string& name, const std::string& at) {
+  std::vector<std::string> names;
+  for (std::size_t o = 0; o < scene.model.objects.size(); ++o) {
+    names.push_back(scene.model.objects[o].name);
+    if (scene.model.objects[o].name == name) return static_cast<std::int32_t>(o);
+  }
+  sink.error(at, fmt::format("no object named '{}'{}", name, didYouMean(name, names)));
+  return std::nullopt;
+}
+
+std::optional<std::size_t> findNamedJoint(DiagnosticSink& sink, const Model& model,
+                                          const std::string& name, const std::string& at) {
+  if (const auto joint = findJoint(model, name)) return joint;
+  std::vector<std::string> names;
+  for (const Joint& j : model.joints) names.push_back(j.name);
+  sink.error(at, fmt::format("no joint named '{}'{}", name, didYouMean(name, names)));
+  return std::nullopt;
+}
 
 void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,
                          const std::string& pointer, const ParticleLookup& lookup, Scene& scene) {

@@ -5,7 +5,9 @@
 // JSON into the build layer's specs (robophi/build/goals.h), builds the model's
 // part with them and fills Scene::robotics for the application's tasks.
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "robophi/scene/scene.h"
@@ -13,6 +15,13 @@
 #include "scene/scene_links.h"
 
 namespace robophi::scene {
+
+/// An object's index by name, or an error at `at` with a suggestion.
+std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
+                                       const std::string& name, const std::string& at);
+/// A joint's index by name, or an error at `at` with a suggestion.
+std::optional<std::size_t> findNamedJoint(DiagnosticSink& sink, const Model& model,
+                                          const std::string& name, const std::string& at);
 
 /// Reads the section at `pointer`; particle references resolve through `lookup`.
 void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,

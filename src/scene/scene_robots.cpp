@@ -94,6 +94,10 @@ bool readVehicle(ObjectReader& r, SceneObject& object) {
   const auto suspension = r.number("suspensionStiffness", Bound::kPositive, "N/m", true);
   spec.suspensionDamping = r.number("suspensionDamping", Bound::kNonNegative, "N·s/m");
   spec.axleDamping = r.numberOr("axleDamping", 0.0, Bound::kNonNegative, "N·m·s/rad");
+  spec.wheelSpeed = r.numberOr("wheelSpeed", 0.0, Bound::kAny, "rad/s");
+  spec.wheelGain = r.numberOr("wheelGain", 0.0, Bound::kNonNegative, "N·m·s/rad");
+  spec.wheelTorque = r.numberOr("wheelTorque", 0.0, Bound::kAny, "N·m");
+  spec.wheelTorqueLimit = r.number("wheelTorqueLimit", Bound::kPositive, "N·m");
   spec.structure = readStructure(r);
   if (!center || !size || !chassisMass || !wheelRadius || !wheelWidth || !wheelMass ||
       !suspension || (r.member("rimParticles") && !rim))

@@ -140,10 +140,13 @@ TEST_P(CheckpointRun, ResumedRunEndsAsAnUninterruptedOne) {
 
 // default: contacts with friction, velocity Verlet, adaptive step; arm_obstacle:
 // robotics tasks whose escape adds virtual obstacles (model edits); pendulum:
-// symplectic Euler with a joint; wheel_cube: rolling contacts.
+// symplectic Euler with a joint; wheel_cube: rolling contacts; hand_lift: a
+// control sequence whose phase (started by a contact force) moves the palm
+// across the checkpoint; vehicle_drive: wheel motors (joint drives).
 INSTANTIATE_TEST_SUITE_P(Scenes, CheckpointRun,
                          ::testing::Values("default.json", "arm_obstacle.json", "pendulum.json",
-                                           "wheel_cube.json"));
+                                           "wheel_cube.json", "hand_lift.json",
+                                           "vehicle_drive.json"));
 
 TEST(Checkpoint, ConstantStepResumesToo) {
   SceneLoadResult loaded = loadSceneFile(kScenes + "default.json");

@@ -121,9 +121,19 @@ struct VehicleSpec {
   std::optional<double> suspensionDamping{};
   /// Axle damping (N·m·s/rad), >= 0.
   double axleDamping = 0.0;
+  /// Wheel motors (MODEL §1.6) on the four axles, so that it drives by traction:
+  /// a rate drive of gain `wheelGain` (N·m·s/rad, >= 0; 0: none) towards the wheel
+  /// rate `wheelSpeed` (rad/s; positive drives it forward, +x), plus a constant
+  /// torque `wheelTorque` (N·m, positive forward), each motor bounded by
+  /// `wheelTorqueLimit` (N·m, > 0; unset: none). The axles' joints turn the other
+  /// way on the right side (their axes point outward): the builder gives each its sign.
+  double wheelSpeed = 0.0, wheelGain = 0.0, wheelTorque = 0.0;
+  std::optional<double> wheelTorqueLimit{};
   RobotLinks structure{};
 };
-/// The vehicle: chassis particles 0..11, joints "axle1".."axle4"; nothing fixed.
+/// The vehicle: chassis particles 0..11, joints "axle1".."axle4" (front left,
+/// front right, rear left, rear right; each axis points outward, so q̇ > 0 drives
+/// the left wheels forward and the right ones backward); nothing fixed.
 GeneratedObject makeVehicle(const VehicleSpec& spec);
 
 /// Scene type "hand": a fixed palm disc facing up with three fingers of three

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "robophi/build/control.h"
 #include "robophi/model.h"
 #include "robophi/vec3.h"
 
@@ -172,8 +173,10 @@ struct SceneTasks {
   std::vector<GoalSpec> goals;
   std::vector<EscapeSpec> escapes;
   std::vector<GraspSpec> grasps;
+  /// Actuators, mimic joints, moving bases and sequences (build/control.h).
+  ControlSpec control;
   bool empty() const {
-    return limits.empty() && goals.empty() && escapes.empty() && grasps.empty();
+    return limits.empty() && goals.empty() && escapes.empty() && grasps.empty() && control.empty();
   }
 };
 
