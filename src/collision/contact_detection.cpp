@@ -271,6 +271,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
     for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
       const TreeObject& b = cache.trees[order[l]];
       if (a.allFixed && b.allFixed) continue;
+      if (objectsExcluded(*cache.tables, a.object, b.object)) continue;
       treeVersusTree(model, position, cache, a.rootNode, b.rootNode);
     }
   }
