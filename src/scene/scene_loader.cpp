@@ -30,7 +30,8 @@ constexpr int kFormatVersion = 1;
 
 // Reads every object entry; names must be unique.
 std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list,
-                                     std::map<std::string, std::size_t>& byName) {
+                                     std::map<std::string, std::size_t>& byName,
+                                     const std::string& sceneDirectory) {
   std::vector<SceneObject> objects;
   if (list == nullptr) {
     sink.error("", "missing required key 'objects' (an array of objects)");
@@ -46,7 +47,8 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   // so no more than the budget and one object is ever held.
   std::size_t particles = 0, connectors = 0;
   for (std::size_t i = 0; i < list->size(); ++i) {
-    SceneObject object = scene::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i));
+    SceneObject object =
+        scene::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i), sceneDirectory);
     if (object.valid) {
       const auto& g = object.geometry;
       const std::size_t objectParticles = g.size();
@@ -119,7 +121,7 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
 
   // Objects first: connectors and joints refer to their particles.
   std::map<std::string, std::size_t> byName;
-  std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), byName);
+  std::vector<SceneObject> objects = readObjects(sink, r.member("objects"), byName, sceneDirectory);
   placeObjects(sink, objects, scene);
 
   scene::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};

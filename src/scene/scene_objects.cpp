@@ -6,6 +6,7 @@
 
 #include "robophi/build/calibration.h"
 #include "robophi/build/objects.h"
+#include "scene/scene_mesh.h"
 #include "scene/scene_robots.h"
 
 namespace robophi::scene {
@@ -29,6 +30,7 @@ constexpr TypeName kTypes[] = {
     {"cube", "box"},    {"plate", "plate"},         {"cloth", "plate"}, {"ball", "ball"},
     {"wheel", "wheel"}, {"particles", "particles"}, {"arm", "arm"},     {"vehicle", "vehicle"},
     {"hand", "hand"},  // io/scene_robots.cpp
+    {"mesh", "mesh"},  // scene/scene_mesh.cpp
 };
 
 // `cells`: an integer n (n in every direction) or an array of `count` integers >= 1.
@@ -65,24 +67,6 @@ std::optional<std::array<int, 3>> readCells(ObjectReader& r, std::size_t count, 
   }
   // The builder checks the lattice against the size budget before it allocates.
   return cells;
-}
-
-// Optional "rotation" [ax, ay, az, angle] or "rpy" [roll, pitch, yaw] about `pivot`.
-bool applyRotation(ObjectReader& r, GeneratedObject& object, const Vec3& pivot) {
-  const auto axisAngle = r.numbers("rotation", 4, "[ax, ay, az, angle (rad)]");
-  const auto rpy = r.vec3("rpy", "rad");
-  bool ok = true;
-  if (axisAngle) {
-    const Vec3 axis{(*axisAngle)[0], (*axisAngle)[1], (*axisAngle)[2]};
-    if (!(norm(axis) > 0.0)) {
-      r.sink().error(r.memberPointer("rotation"), "'rotation': the axis [ax, ay, az] is zero");
-      ok = false;
-    } else {
-      build::rotateObject(object, pivot, axis, (*axisAngle)[3]);
-    }
-  }
-  if (rpy) build::rotateObjectRpy(object, pivot, *rpy);
-  return ok;
 }
 
 // Each generator: reads its parameters; returns false if any is missing or bad.
@@ -292,6 +276,23 @@ SpringSettings readSprings(ObjectReader& r, bool bend) {
   return s;
 }
 
+bool applyRotation(ObjectReader& r, GeneratedObject& object, const Vec3& pivot) {
+  const auto axisAngle = r.numbers("rotation", 4, "[ax, ay, az, angle (rad)]");
+  const auto rpy = r.vec3("rpy", "rad");
+  bool ok = true;
+  if (axisAngle) {
+    const Vec3 axis{(*axisAngle)[0], (*axisAngle)[1], (*axisAngle)[2]};
+    if (!(norm(axis) > 0.0)) {
+      r.sink().error(r.memberPointer("rotation"), "'rotation': the axis [ax, ay, az] is zero");
+      ok = false;
+    } else {
+      build::rotateObject(object, pivot, axis, (*axisAngle)[3]);
+    }
+  }
+  if (rpy) build::rotateObjectRpy(object, pivot, *rpy);
+  return ok;
+}
+
 const std::vector<std::string>& objectTypeNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> list;
@@ -302,7 +303,7 @@ const std::vector<std::string>& objectTypeNames() {
 }
 
 SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
-                            const std::string& pointer) {
+                            const std::string& pointer, const std::string& sceneDirectory) {
   SceneObject object;
   object.pointer = pointer;
   const std::size_t errorsBefore = sink.errorCount();
@@ -327,7 +328,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   if (type && object.kind.empty()) {
     sink.error(r.memberPointer("type"),
                fmt::format("unknown object type \"{}\"{} (expected one of rope, chain, bar, box, "
-                           "cube, plate, cloth, ball, wheel, particles, arm, vehicle, hand)",
+                           "cube, plate, cloth, ball, wheel, particles, arm, vehicle, hand, mesh)",
                            *type, didYouMean(*type, objectTypeNames())));
   }
   const auto velocity = reader.vec3("velocity", "m/s");
@@ -344,6 +345,7 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
     if (kind == "ball") generated = readBall(reader, object.geometry);
     if (kind == "wheel") generated = readWheel(reader, object.geometry);
     if (kind == "particles") generated = readParticles(reader, object);
+    if (kind == "mesh") generated = readMesh(reader, object.geometry, sceneDirectory);
     if (isRobotKind(kind)) generated = readRobot(reader, object);
   } catch (const build::SpecError& e) {
     // The builders name the spec field, which is the scene key of the same name.

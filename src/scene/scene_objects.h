@@ -27,9 +27,13 @@ struct SceneObject : build::ObjectPlacement {
 const std::vector<std::string>& objectTypeNames();
 
 /// Reads the object entry at `pointer`. Errors go to `sink`; the result is
-/// valid only if this entry added none.
+/// valid only if this entry added none. Files an entry names (a mesh) are
+/// relative to `sceneDirectory`.
 SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
-                            const std::string& pointer);
+                            const std::string& pointer, const std::string& sceneDirectory = "");
+/// The optional "rotation" [ax, ay, az, angle] and "rpy" [roll, pitch, yaw] of
+/// an entry, applied to `object` about `pivot`; false when one is bad (reported).
+bool applyRotation(ObjectReader& r, build::GeneratedObject& object, const Vec3& pivot);
 
 /// Reads the keys every generated object shares (stiffness, damping,
 /// naturalFrequency and, when `bend`, bendStiffness and bendDamping; docs/scene-format.md).
