@@ -375,7 +375,8 @@ std::int32_t ModelBuilder::addJoint(const Joint& joint) {
   constexpr const char* kSpec = "Joint";
   if (joint.name.empty()) check::fail(kSpec, "name", "'name' must not be empty");
   for (const Joint& j : model_.joints)
-    if (j.name == joint.name) check::fail(kSpec, "name", "duplicate joint name '" + joint.name + "'");
+    if (j.name == joint.name)
+      check::fail(kSpec, "name", "duplicate joint name '" + joint.name + "'");
   const bool revolute = joint.kind == JointKind::kRevolute;
   const std::size_t connectors =
       revolute ? model_.jointSprings.size() : model_.torsionSprings.size();

@@ -170,11 +170,11 @@ std::string resolvePackage(const Reader& reader, const XMLElement* e, const std:
   for (const std::string& root : roots) {
     const fs::path base(root);
     for (const fs::path& candidate :
-         {base / name / rest, fs::path(base.lexically_normal().filename() == name ||
-                                               (base.filename().empty() &&
-                                                base.parent_path().filename() == name)
-                                           ? (base / rest)
-                                           : fs::path())}) {
+         {base / name / rest,
+          fs::path(base.lexically_normal().filename() == name ||
+                           (base.filename().empty() && base.parent_path().filename() == name)
+                       ? (base / rest)
+                       : fs::path())}) {
       if (candidate.empty()) continue;
       tried.push_back(candidate.string());
       std::error_code error;
@@ -183,8 +183,9 @@ std::string resolvePackage(const Reader& reader, const XMLElement* e, const std:
   }
   std::string message = "mesh '" + uri + "' not found: ";
   if (tried.empty()) {
-    message += "no package path to look in (give --package-path DIR or the scene's "
-               "\"packagePaths\", or set ROS_PACKAGE_PATH)";
+    message +=
+        "no package path to look in (give --package-path DIR or the scene's "
+        "\"packagePaths\", or set ROS_PACKAGE_PATH)";
   } else {
     message += "tried";
     for (std::size_t k = 0; k < tried.size(); ++k) message += (k ? ", " : " ") + tried[k];
@@ -211,13 +212,14 @@ Geometry geometry(Reader& reader, const XMLElement* owner,
   const XMLElement* g = owner->FirstChildElement("geometry");
   if (g == nullptr) reader.fail(owner, "<collision> needs a <geometry>");
   const XMLElement* shape = g->FirstChildElement();
-  if (shape == nullptr) reader.fail(g, "<geometry> is empty (expected box, cylinder, sphere or mesh)");
+  if (shape == nullptr)
+    reader.fail(g, "<geometry> is empty (expected box, cylinder, sphere or mesh)");
   Geometry out;
   const std::string kind = shape->Name();
   const auto positive = [&](double value, const char* name) {
     if (!(value > 0.0))
-      reader.fail(shape, "<" + kind + " " + name + "=\"" + check::number(value) +
-                             "\">: must be > 0 m");
+      reader.fail(shape,
+                  "<" + kind + " " + name + "=\"" + check::number(value) + "\">: must be > 0 m");
     return value;
   };
   if (kind == "box") {
@@ -242,8 +244,8 @@ Geometry geometry(Reader& reader, const XMLElement* owner,
     out.mesh = resolveMesh(reader, shape, reader.required(shape, "filename"), packagePaths);
     out.scale = reader.vector(shape, "scale", {1, 1, 1});
   } else {
-    reader.fail(shape, "<geometry>: unknown shape <" + kind +
-                           "> (expected box, cylinder, sphere or mesh)");
+    reader.fail(
+        shape, "<geometry>: unknown shape <" + kind + "> (expected box, cylinder, sphere or mesh)");
   }
   return out;
 }
@@ -374,8 +376,7 @@ Joint joint(Reader& reader, const XMLElement* e) {
       reader.ignore(item, "<" + kind + ">");
     }
   }
-  if ((out.type == Joint::Type::kRevolute || out.type == Joint::Type::kPrismatic) &&
-      !out.hasLimit)
+  if ((out.type == Joint::Type::kRevolute || out.type == Joint::Type::kPrismatic) && !out.hasLimit)
     reader.fail(e, who + ": a " + type + " joint needs <limit lower upper effort velocity>");
   return out;
 }
@@ -415,7 +416,8 @@ Description readUrdf(const std::string& path, const std::vector<std::string>& pa
   d.robotName = reader.required(robot, "name");
   std::map<std::string, int> linkIndex;
   std::vector<const XMLElement*> jointElements, linkElements;
-  for (const XMLElement* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+  for (const XMLElement* e = robot->FirstChildElement(); e != nullptr;
+       e = e->NextSiblingElement()) {
     const std::string kind = e->Name();
     if (kind == "link") {
       Link l = link(reader, e, packagePaths);
@@ -439,8 +441,8 @@ Description readUrdf(const std::string& path, const std::vector<std::string>& pa
     if (!jointIndex.emplace(j.name, static_cast<int>(joints.size())).second)
       reader.fail(e, "joint '" + j.name + "' is defined twice (first at line " +
                          std::to_string(joints[jointIndex[j.name]].line) + ")");
-    for (const auto& [role, name, index] :
-         {std::tuple{"parent", j.parent, &j.parentIndex}, std::tuple{"child", j.child, &j.childIndex}}) {
+    for (const auto& [role, name, index] : {std::tuple{"parent", j.parent, &j.parentIndex},
+                                            std::tuple{"child", j.child, &j.childIndex}}) {
       const auto found = linkIndex.find(name);
       if (found == linkIndex.end())
         reader.fail(e->FirstChildElement(role), "joint '" + j.name + "': " + role + " link '" +
@@ -452,19 +454,17 @@ Description readUrdf(const std::string& path, const std::vector<std::string>& pa
       reader.fail(e, "joint '" + j.name + "': link '" + j.child + "' is its own parent");
     int& parent = parentOf[static_cast<std::size_t>(j.childIndex)];
     if (parent >= 0)
-      reader.fail(e, "link '" + j.child + "' has two parents: joint '" + j.name +
-                         "' and joint '" + joints[parent].name + "' (line " +
-                         std::to_string(joints[parent].line) +
+      reader.fail(e, "link '" + j.child + "' has two parents: joint '" + j.name + "' and joint '" +
+                         joints[parent].name + "' (line " + std::to_string(joints[parent].line) +
                          "); a URDF is a tree (a closed loop is not supported)");
     parent = static_cast<int>(joints.size());
     joints.push_back(std::move(j));
   }
   for (const Joint& j : joints)
     if (j.hasMimic && jointIndex.find(j.mimicJoint) == jointIndex.end())
-      reader.fail(jointElements[static_cast<std::size_t>(jointIndex[j.name])]->FirstChildElement(
-                      "mimic"),
-                  "joint '" + j.name + "': <mimic joint=\"" + j.mimicJoint +
-                      "\"> names no joint");
+      reader.fail(
+          jointElements[static_cast<std::size_t>(jointIndex[j.name])]->FirstChildElement("mimic"),
+          "joint '" + j.name + "': <mimic joint=\"" + j.mimicJoint + "\"> names no joint");
   // The root: the one link without a parent.
   std::vector<int> roots;
   for (std::size_t l = 0; l < d.links.size(); ++l)

@@ -71,9 +71,9 @@ struct Description {
   std::string file{};  // as given
   std::string robotName{};
   std::vector<Link> links{};
-  std::vector<Joint> joints{};  // in tree order: a joint's parent link is the root or
-                                // the child of an earlier joint
-  int root = 0;                 // index into links
+  std::vector<Joint> joints{};     // in tree order: a joint's parent link is the root or
+                                   // the child of an earlier joint
+  int root = 0;                    // index into links
   std::vector<int> parentJoint{};  // (links) index into joints, -1 for the root
   std::vector<UrdfWarning> warnings{};
 };

@@ -8,8 +8,8 @@
 
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
-#include "collision/rim_contact.h"
 #include "collision/facets.h"
+#include "collision/rim_contact.h"
 #include "collision/sphere_tree.h"
 
 namespace robophi {

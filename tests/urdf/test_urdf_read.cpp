@@ -41,8 +41,9 @@ TEST_P(BrokenUrdf, NamesFileLineAndElement) {
 INSTANTIATE_TEST_SUITE_P(
     Corpus, BrokenUrdf,
     ::testing::Values(
-        BrokenCase{"missing_link.urdf", 9,
-                   "joint 'elbow': child link 'forearm' is not defined (no <link name=\"forearm\">)"},
+        BrokenCase{
+            "missing_link.urdf", 9,
+            "joint 'elbow': child link 'forearm' is not defined (no <link name=\"forearm\">)"},
         BrokenCase{"cycle.urdf", 14,
                    "link 'c' has two parents: joint 'a_to_c' and joint 'b_to_c' (line 13)"},
         BrokenCase{"bad_axis.urdf", 12,
@@ -52,7 +53,8 @@ INSTANTIATE_TEST_SUITE_P(
         BrokenCase{"missing_package_mesh.urdf", 6,
                    "mesh 'package://no_such_package/meshes/base.stl' not found"},
         BrokenCase{"robot.urdf.xacro", 0, "a xacro file: run xacro first: xacro "},
-        BrokenCase{"xacro_inside.urdf", 3, "<xacro:include>: a xacro file: run xacro first: xacro "},
+        BrokenCase{"xacro_inside.urdf", 3,
+                   "<xacro:include>: a xacro file: run xacro first: xacro "},
         BrokenCase{"floating.urdf", 7,
                    "joint 'free': type \"floating\" is not supported (robophi imports revolute, "
                    "continuous, prismatic and fixed joints"},
@@ -107,7 +109,8 @@ TEST(UrdfRead, KukaIiwaTreeLimitsAndWarnings) {
   EXPECT_EQ(d.links[1].collisions[0].geometry.mesh, kRobots + "/kuka_iiwa/meshes/link_1.stl");
   // One warning a kind: <visual> (and the materials).
   bool visual = false;
-  for (const UrdfWarning& w : d.warnings) visual = visual || w.message.rfind("<visual> ignored", 0) == 0;
+  for (const UrdfWarning& w : d.warnings)
+    visual = visual || w.message.rfind("<visual> ignored", 0) == 0;
   EXPECT_TRUE(visual);
   for (std::size_t a = 0; a < d.warnings.size(); ++a)
     for (std::size_t b = a + 1; b < d.warnings.size(); ++b)
@@ -143,10 +146,10 @@ TEST(UrdfRead, PandaPackagePathsAndGripper) {
 }
 
 TEST(UrdfRead, EveryShippedRobotReads) {
-  for (const char* file : {"kuka_iiwa/model.urdf", "kuka_iiwa/model_for_sdf.urdf",
-                           "kuka_iiwa/model_free_base.urdf", "kuka_iiwa/model_vr_limits.urdf",
-                           "husky/husky.urdf", "r2d2/r2d2.urdf", "pr2_gripper/pr2_gripper.urdf",
-                           "cartpole/cartpole.urdf"}) {
+  for (const char* file :
+       {"kuka_iiwa/model.urdf", "kuka_iiwa/model_for_sdf.urdf", "kuka_iiwa/model_free_base.urdf",
+        "kuka_iiwa/model_vr_limits.urdf", "husky/husky.urdf", "r2d2/r2d2.urdf",
+        "pr2_gripper/pr2_gripper.urdf", "cartpole/cartpole.urdf"}) {
     SCOPED_TRACE(file);
     const urdf::Description d = urdf::readUrdf(kRobots + "/" + file, {});
     EXPECT_EQ(d.joints.size() + 1, d.links.size());
