@@ -31,6 +31,8 @@ struct RunArguments {
   std::string integrator;
   std::string stepMode;
   bool quiet = false;
+  UrdfSceneOptions urdf;  // a bare URDF (docs/robots.md)
+  std::string base;
 };
 
 // `text` as a positive finite number, or a message on stderr and nullopt.
@@ -96,7 +98,9 @@ std::function<void(const RunProgress&)> makeProgress(bool quiet) {
 int runCommand(const RunArguments& args) {
   // From here on SIGINT and SIGTERM end the run cleanly, with its results so far.
   InterruptGuard interrupt;
-  auto scene = loadSceneOrReport(args.scene);
+  UrdfSceneOptions urdf = args.urdf;
+  if (!urdfOptionsOk("run", args.base, urdf)) return kExitBadInput;
+  auto scene = loadSceneOrReport(args.scene, urdf);
   if (!scene) return kExitBadInput;
 
   RunOptions options;
@@ -252,7 +256,8 @@ int reportRun(const std::string& label, const RunOptions& options, const RunRepo
 void addRunCommand(CLI::App& app, int& exitCode) {
   auto* cmd = app.add_subcommand("run", "Simulate a scene and write its results folder");
   auto args = std::make_shared<RunArguments>();
-  cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
+  cmd->add_option("scene", args->scene, "Scene file (JSON) or a URDF robot (.urdf)")->required();
+  addUrdfOptions(*cmd, args->urdf, args->base);
   cmd->add_option("--out", args->outDir,
                   "Results folder (default out/<scene name>); an existing one must hold nothing "
                   "but robophi's results (its robophi-results.json lists them)");

@@ -9,11 +9,19 @@
 namespace robophi::cli {
 
 void addValidateCommand(CLI::App& app, int& exitCode) {
-  auto* cmd = app.add_subcommand("validate", "Check a scene file; exit 0 if valid, 2 if not");
+  auto* cmd = app.add_subcommand("validate",
+                                 "Check a scene file or a URDF robot; exit 0 if valid, 2 if not");
   auto path = std::make_shared<std::string>();
-  cmd->add_option("scene", *path, "Scene file (JSON)")->required();
-  cmd->callback([path, &exitCode] {
-    const auto scene = loadSceneOrReport(*path);
+  auto urdf = std::make_shared<UrdfSceneOptions>();
+  auto base = std::make_shared<std::string>();
+  cmd->add_option("scene", *path, "Scene file (JSON) or a URDF robot (.urdf)")->required();
+  addUrdfOptions(*cmd, *urdf, *base);
+  cmd->callback([path, urdf, base, &exitCode] {
+    if (!urdfOptionsOk("validate", *base, *urdf)) {
+      exitCode = kExitBadInput;
+      return;
+    }
+    const auto scene = loadSceneOrReport(*path, *urdf);
     if (!scene) {
       exitCode = kExitBadInput;
       return;

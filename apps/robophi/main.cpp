@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   robophi::cli::addRunCommand(app, exitCode);
   robophi::cli::addResumeCommand(app, exitCode);
   robophi::cli::addValidateCommand(app, exitCode);
+  robophi::cli::addInfoCommand(app, exitCode);
   robophi::cli::addBenchCommand(app, exitCode);
   robophi::cli::addExportCommand(app);
   robophi::cli::addStudyCommand(app, exitCode);

@@ -6,8 +6,8 @@
 
 namespace robophi::cli {
 
-std::optional<Scene> loadSceneOrReport(const std::string& path) {
-  SceneLoadResult result = loadSceneFile(path);
+std::optional<Scene> loadSceneOrReport(const std::string& path, const UrdfSceneOptions& urdf) {
+  SceneLoadResult result = isUrdfPath(path) ? loadUrdfFile(path, urdf) : loadSceneFile(path);
   for (const Diagnostic& d : result.warnings)
     std::fprintf(stderr, "%s\n", d.format("warning").c_str());
   for (const Diagnostic& d : result.errors) std::fprintf(stderr, "%s\n", d.format("error").c_str());
@@ -17,6 +17,25 @@ std::optional<Scene> loadSceneOrReport(const std::string& path) {
     return std::nullopt;
   }
   return std::move(result.scene);
+}
+
+void addUrdfOptions(CLI::App& command, UrdfSceneOptions& urdf, std::string& base) {
+  command.add_option(
+      "--package-path", urdf.packagePaths,
+      "A bare URDF: folder for package:// meshes (repeatable; then ROS_PACKAGE_PATH)");
+  command.add_option("--base", base,
+                     "A bare URDF: fixed | free (default: free for a wheeled base, two or more "
+                     "continuous joints; fixed otherwise)");
+}
+
+bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOptions& urdf) {
+  if (base.empty()) return true;
+  if (base == "fixed" || base == "free") {
+    urdf.fixedBase = base == "fixed";
+    return true;
+  }
+  std::fprintf(stderr, "robophi %s: --base '%s': expected fixed or free\n", command, base.c_str());
+  return false;
 }
 
 std::string describeScene(const Scene& scene, const StabilityEstimate& stability) {

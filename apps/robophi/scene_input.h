@@ -1,6 +1,7 @@
 #pragma once
 // Loading a scene for a subcommand: prints every diagnostic to stderr.
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
@@ -8,8 +9,15 @@
 
 namespace robophi::cli {
 
-/// The scene, or nothing after its errors were printed.
-std::optional<Scene> loadSceneOrReport(const std::string& path);
+/// The scene (a scene file, or a bare URDF: loadUrdfFile with `urdf`), or nothing after its
+/// errors were printed.
+std::optional<Scene> loadSceneOrReport(const std::string& path, const UrdfSceneOptions& urdf = {});
+
+/// Adds the bare-URDF options to a subcommand: --package-path DIR (repeatable), --base
+/// fixed|free. `base` is checked by urdfOptionsOk.
+void addUrdfOptions(CLI::App& command, UrdfSceneOptions& urdf, std::string& base);
+/// Applies `base` ("", "fixed", "free") to `urdf`; false (and a message) for another value.
+bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOptions& urdf);
 
 /// One line: particles, connectors, joints, and the stability estimate.
 std::string describeScene(const Scene& scene, const StabilityEstimate& stability);

@@ -236,6 +236,9 @@ struct Model {
   Environment environment;
   /// How contacts are found and computed (docs/contact.md).
   ContactSettings contact;
+  /// Object pairs {a, b}, a < b, whose particles never touch each other (a
+  /// robot's links: build::ModelBuilder::excludeContact), sorted ascending.
+  std::vector<std::array<std::int32_t, 2>> noContactPairs;
 
   ParticleIndex particleCount() const { return static_cast<ParticleIndex>(mass.size()); }
   bool isFixed(ParticleIndex i) const { return inverseMass[i] == 0.0; }

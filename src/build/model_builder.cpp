@@ -2,6 +2,8 @@
 // into a Model and its initial State, every argument checked first.
 #include "robophi/build/model_builder.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -370,6 +372,42 @@ std::int32_t ModelBuilder::addConnector(const JointSpring& spring) {
   checkJoint("JointSpring", spring, model_.particleCount());
   model_.jointSprings.push_back(spring);
   return static_cast<std::int32_t>(model_.jointSprings.size()) - 1;
+}
+
+std::int32_t ModelBuilder::addJoint(const Joint& joint) {
+  constexpr const char* kSpec = "Joint";
+  if (joint.name.empty()) check::fail(kSpec, "name", "'name' must not be empty");
+  for (const Joint& j : model_.joints)
+    if (j.name == joint.name)
+      check::fail(kSpec, "name", "duplicate joint name '" + joint.name + "'");
+  const bool revolute = joint.kind == JointKind::kRevolute;
+  const std::size_t connectors =
+      revolute ? model_.jointSprings.size() : model_.torsionSprings.size();
+  if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= connectors)
+    check::fail(kSpec, "connector",
+                "'connector' " + std::to_string(joint.connector) + " is not a " +
+                    (revolute ? "JS" : "TS") + " (" + std::to_string(connectors) + " placed)");
+  if (joint.driveSpring != -1 &&
+      (revolute || joint.driveSpring < 0 ||
+       static_cast<std::size_t>(joint.driveSpring) >= model_.linearSprings.size()))
+    check::fail(kSpec, "driveSpring",
+                "'driveSpring' " + std::to_string(joint.driveSpring) +
+                    " is not an LS of a prismatic joint");
+  check::finite(kSpec, "zero", joint.zero, joint.kind == JointKind::kRevolute ? "rad" : "m");
+  model_.joints.push_back(joint);
+  return static_cast<std::int32_t>(model_.joints.size()) - 1;
+}
+
+void ModelBuilder::excludeContact(std::int32_t objectA, std::int32_t objectB) {
+  const auto objects = static_cast<std::int32_t>(model_.objects.size());
+  if (objectA < 0 || objectB < 0 || objectA >= objects || objectB >= objects || objectA == objectB)
+    check::fail("excludeContact", "objects",
+                "objects " + std::to_string(objectA) + " and " + std::to_string(objectB) +
+                    " are not two placed objects (" + std::to_string(objects) + " placed)");
+  const std::array<std::int32_t, 2> pair{std::min(objectA, objectB), std::max(objectA, objectB)};
+  auto& pairs = model_.noContactPairs;
+  const auto at = std::lower_bound(pairs.begin(), pairs.end(), pair);
+  if (at == pairs.end() || *at != pair) pairs.insert(at, pair);
 }
 
 BuiltModel ModelBuilder::build() && {

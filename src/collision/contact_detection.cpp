@@ -8,8 +8,8 @@
 
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
-#include "collision/rim_contact.h"
 #include "collision/facets.h"
+#include "collision/rim_contact.h"
 #include "collision/sphere_tree.h"
 
 namespace robophi {
@@ -271,6 +271,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
     for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
       const TreeObject& b = cache.trees[order[l]];
       if (a.allFixed && b.allFixed) continue;
+      if (objectsExcluded(*cache.tables, a.object, b.object)) continue;
       treeVersusTree(model, position, cache, a.rootNode, b.rootNode);
     }
   }

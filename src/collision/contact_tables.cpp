@@ -248,6 +248,7 @@ void classifySurfaces(const Model& model, ContactTables& cache) {
 ContactTables compileContactTables(const Model& model) {
   ContactTables tables;
   ContactTables* cache = &tables;
+  tables.noContactPairs = model.noContactPairs;
   {
     const ContactSettings& settings = model.contact;
     // Material-pair table (docs/contact.md: series κ_c and μ_c, geometric-mean friction).

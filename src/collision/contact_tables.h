@@ -7,6 +7,8 @@
 // list), owned by a Workspace. Nothing here allocates in a step once the
 // buffers have grown to the scene's size.
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -119,6 +121,8 @@ struct ContactTables {
   /// particle of largest total weight over its three vertices.
   std::vector<std::int32_t> ownedVertexStart, ownedVertex;      // (particles + 1), (vertices)
   std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
+  /// Model::noContactPairs: object pairs {a < b} that never touch (sorted).
+  std::vector<std::array<std::int32_t, 2>> noContactPairs;
   /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
   std::vector<ContactPairOverride> overrides;
 };
@@ -239,6 +243,13 @@ ContactScratch& prepareContactScratch(const Model& model, const ContactTables& t
 const PairParameters& pairParameters(const Model& model, const ContactTables& tables,
                                      std::int32_t a, std::int32_t other,
                                      PairParameters& overrideOut);
+
+/// Whether objects a and b (tree objects) never touch (Model::noContactPairs).
+inline bool objectsExcluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {
+  if (tables.noContactPairs.empty()) return false;
+  const std::array<std::int32_t, 2> key{std::min(a, b), std::max(a, b)};
+  return std::binary_search(tables.noContactPairs.begin(), tables.noContactPairs.end(), key);
+}
 
 /// Whether a connector ties particles a < b.
 inline bool excluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {

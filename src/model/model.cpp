@@ -112,6 +112,14 @@ std::string checkModel(const Model& model) {
       return detail::text("particle {}: damping {} must be >= 0 (N·s/m)", i,
                           model.linearDamping[i]);
   }
+  for (std::size_t k = 0; k < model.noContactPairs.size(); ++k) {
+    const auto& [a, b] = model.noContactPairs[k];
+    const auto objectCount = static_cast<std::int32_t>(model.objects.size());
+    if (a < 0 || a >= b || b >= objectCount ||
+        (k > 0 && !(model.noContactPairs[k - 1] < model.noContactPairs[k])))
+      return detail::text("noContactPairs {}: {{{}, {}}} must be objects a < b (of {}), sorted", k,
+                          a, b, objectCount);
+  }
   for (std::size_t k = 0; k < model.linearSprings.size(); ++k) {
     if (std::string problem = checkConnector(model.linearSprings[k], k, n); !problem.empty())
       return problem;

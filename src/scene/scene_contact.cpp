@@ -84,8 +84,11 @@ void readObjectMaterials(DiagnosticSink& sink, const nlohmann::json& list, Model
     const std::int32_t material = readMaterialName(r, model);
     const auto name = entry.find("name");
     if (name == entry.end() || !name->is_string()) continue;
+    // A URDF robot's links are "<name>.<link>" (docs/robots.md).
+    const std::string& named = name->get<std::string>();
     for (ObjectInfo& object : model.objects)
-      if (object.name == name->get<std::string>()) object.material = material;
+      if (object.name == named || (object.kind == "link" && object.name.rfind(named + ".", 0) == 0))
+        object.material = material;
   }
 }
 

@@ -18,6 +18,7 @@
 #include "scene/scene_objects.h"
 #include "scene/scene_robotics.h"
 #include "scene/scene_run.h"
+#include "scene/scene_urdf.h"
 
 namespace robophi {
 
@@ -48,13 +49,24 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   // so no more than the budget and one object is ever held.
   std::size_t particles = 0, connectors = 0;
   for (std::size_t i = 0; i < list->size(); ++i) {
-    SceneObject object =
-        scene::readSceneObject(sink, (*list)[i], fmt::format("/objects/{}", i), sceneDirectory);
+    const nlohmann::json& entry = (*list)[i];
+    const std::string pointer = fmt::format("/objects/{}", i);
+    const bool urdf = entry.is_object() && entry.contains("type") && entry["type"] == "urdf";
+    SceneObject object = urdf ? scene::readUrdfObject(sink, entry, pointer, sceneDirectory)
+                              : scene::readSceneObject(sink, entry, pointer, sceneDirectory);
     if (object.valid) {
-      const auto& g = object.geometry;
-      const std::size_t objectParticles = g.size();
-      const std::size_t objectConnectors =
-          g.linearSprings.size() + g.torsionSprings.size() + g.jointSprings.size();
+      std::size_t objectParticles = 0, objectConnectors = 0;
+      const auto count = [&](const build::GeneratedObject& g) {
+        objectParticles += g.size();
+        objectConnectors +=
+            g.linearSprings.size() + g.torsionSprings.size() + g.jointSprings.size();
+      };
+      count(object.geometry);
+      if (object.urdf) {
+        for (const auto& link : object.urdf->objects) count(link.geometry);
+        objectConnectors += object.urdf->linearSprings.size() + object.urdf->torsionSprings.size() +
+                            object.urdf->jointSprings.size();
+      }
       if (particles + objectParticles > static_cast<std::size_t>(build::kMaxParticlesPerObject) ||
           connectors + objectConnectors >
               static_cast<std::size_t>(build::kMaxConnectorsPerObject)) {
@@ -68,6 +80,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
         object.valid = false;
         object.geometry = {};
         object.velocity = {};
+        object.urdf = nullptr;
       } else {
         particles += objectParticles;
         connectors += objectConnectors;
@@ -93,7 +106,13 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
   for (auto& object : objects) {
     if (!object.valid) continue;
     try {
-      object.firstParticle = builder.addObject(object).firstParticle;
+      if (object.urdf) {  // one object per link (docs/robots.md)
+        object.firstParticle = builder.model().particleCount();
+        build::placeUrdfRobot(builder, *object.urdf);
+        scene.urdfRobots.push_back(object.urdf);
+      } else {
+        object.firstParticle = builder.addObject(object).firstParticle;
+      }
     } catch (const build::SpecError& e) {  // a duplicate name, already reported
       if (e.field() != "name") sink.error(object.pointer, e.message());
       object.valid = false;

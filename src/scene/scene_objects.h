@@ -3,11 +3,13 @@
 // (robophi/build/) → a GeneratedObject plus what the entry says about its
 // particles (fixed, initial velocity, linear damping).
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "robophi/build/model_builder.h"
+#include "robophi/build/urdf.h"
 #include "scene/scene_fields.h"
 
 namespace robophi::scene {
@@ -21,6 +23,9 @@ struct SceneObject : build::ObjectPlacement {
   bool valid = false;
   /// Index of its first particle in the model, once placed.
   ParticleIndex firstParticle = 0;
+  /// A URDF robot ({"type": "urdf"}): placed by build::placeUrdfRobot, one
+  /// object per link; `geometry` stays empty.
+  std::shared_ptr<const build::UrdfRobot> urdf{};
 };
 
 /// The generator names a scene may use (aliases included), for suggestions.

@@ -102,6 +102,12 @@ class ModelBuilder {
   std::int32_t addConnector(const TorsionSpring& spring);
   std::int32_t addConnector(const JointSpring& spring);
 
+  /// A named joint over connectors already added (model indices, Joint::connector
+  /// and driveSpring as in Model::joints): a new, non-empty name; returns its index.
+  std::int32_t addJoint(const Joint& joint);
+  /// Placed objects a and b (distinct) never touch each other (Model::noContactPairs).
+  void excludeContact(std::int32_t objectA, std::int32_t objectB);
+
   /// The model so far, and the initial positions and velocities of its particles.
   const Model& model() const { return model_; }
   const std::vector<Vec3>& positions() const { return position_; }

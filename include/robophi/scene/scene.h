@@ -4,6 +4,7 @@
 /// schema docs/scene.schema.json. Loading reports every error, never only the first,
 /// each with its file:line:column, JSON pointer and, for a misspelt name, a suggestion.
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "robophi/adaptive_step.h"
 #include "robophi/build/goals.h"
 #include "robophi/build/tasks.h"
+#include "robophi/build/urdf.h"
 #include "robophi/model.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
@@ -81,6 +83,9 @@ struct Scene {
   std::vector<build::ObstacleSpec> obstacles;
   std::vector<build::LinePathSpec> linePaths;
   std::vector<build::ArcPathSpec> arcPaths;
+  /// The URDF robots placed ({"type": "urdf"} or a bare URDF, docs/robots.md): what each
+  /// file declares, next to what was built (`robophi info`).
+  std::vector<std::shared_ptr<const build::UrdfRobot>> urdfRobots;
 };
 
 /// One problem found in a scene file.
@@ -110,5 +115,23 @@ struct SceneLoadResult {
 SceneLoadResult loadSceneFile(const std::string& path);
 /// Same, from text; `fileName` is used in the messages.
 SceneLoadResult loadSceneText(const std::string& text, const std::string& fileName);
+
+/// How a bare URDF becomes a scene (`robophi run ROBOT.urdf`, docs/robots.md "A bare URDF").
+struct UrdfSceneOptions {
+  /// Folders for package:// meshes (--package-path), before ROS_PACKAGE_PATH.
+  std::vector<std::string> packagePaths{};
+  /// The root link fixed; nullopt: fixed unless the robot has a wheeled base (two or more
+  /// continuous joints).
+  std::optional<bool> fixedBase{};
+  /// build::UrdfSpec's resolution: lattice spacing (m, 0: by count) or particles a link.
+  double particleSize = 0.0;
+  int particlesPerLink = 30;
+};
+/// A URDF robot on a ground plane (z = 0) under gravity: its lowest particle resting on it,
+/// its joints held where they are built by servos (build::UrdfSpec::holdJoints). URDF
+/// problems are errors with the URDF's file:line; its ignored elements are warnings.
+SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& options = {});
+/// Whether `path` names a URDF (or xacro) file rather than a scene: ".urdf", ".xacro".
+bool isUrdfPath(const std::string& path);
 
 }  // namespace robophi

@@ -1,0 +1,602 @@
+// The URDF importer: links → rigid particle bodies (makeRigidBody), joints → the
+// paper's connectors (MODEL §1.3, §1.4), one placed object per link.
+// docs/robots.md "Importing a URDF" says what is built and why.
+#include "robophi/build/urdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+
+#include "build/checks.h"
+#include "build/urdf_parse.h"
+#include "robophi/connector_forces.h"
+#include "robophi/joints.h"
+
+namespace robophi::build {
+
+namespace {
+
+constexpr const char* kSpec = "UrdfSpec";
+using urdf::Description;
+using UJoint = urdf::Joint;
+
+Frame originFrame(const urdf::Origin& o) { return Frame::fromXyzRpy(o.xyz, o.rpy); }
+
+Frame translation(const Vec3& t) {
+  Frame f;
+  f.origin = t;
+  return f;
+}
+
+// A unit vector normal to n.
+Vec3 normalTo(const Vec3& n) {
+  const Vec3 trial = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 u = cross(n, trial);
+  return u / norm(u);
+}
+
+UrdfJointType typeOf(UJoint::Type t) {
+  switch (t) {
+    case UJoint::Type::kRevolute:
+      return UrdfJointType::kRevolute;
+    case UJoint::Type::kContinuous:
+      return UrdfJointType::kContinuous;
+    case UJoint::Type::kPrismatic:
+      return UrdfJointType::kPrismatic;
+    case UJoint::Type::kFixed:
+      break;
+  }
+  return UrdfJointType::kFixed;
+}
+
+// The link's <inertial> in the link frame.
+MassProperties declaredOf(const urdf::Link& link) {
+  MassProperties p;
+  if (!link.inertial.present) return p;
+  const urdf::Inertial& in = link.inertial;
+  p.mass = in.mass;
+  p.centerOfMass = in.origin.xyz;
+  const Inertia local{in.inertia[0], in.inertia[1], in.inertia[2],
+                      in.inertia[3], in.inertia[4], in.inertia[5]};
+  // I_link = R I_in Rᵀ (R: the inertial frame's axes in the link frame).
+  p.inertia = rotateInertia(local, Frame::fromXyzRpy({}, in.origin.rpy).inverse());
+  return p;
+}
+
+MassProperties toWorld(const MassProperties& p, const Frame& frame) {
+  return {p.mass, frame.apply(p.centerOfMass), rotateInertia(p.inertia, frame.inverse())};
+}
+
+ShapeSpec shapeOf(const urdf::Collision& c, const std::string& file) {
+  ShapeSpec s;
+  s.frame = originFrame(c.origin);
+  const urdf::Geometry& g = c.geometry;
+  switch (g.kind) {
+    case urdf::Geometry::Kind::kBox:
+      s.kind = ShapeSpec::Kind::kBox;
+      s.size = g.size;
+      break;
+    case urdf::Geometry::Kind::kCylinder:
+      s.kind = ShapeSpec::Kind::kCylinder;
+      s.radius = g.radius;
+      s.length = g.length;
+      break;
+    case urdf::Geometry::Kind::kSphere:
+      s.kind = ShapeSpec::Kind::kSphere;
+      s.radius = g.radius;
+      break;
+    case urdf::Geometry::Kind::kMesh:
+      s.kind = ShapeSpec::Kind::kMesh;
+      try {
+        s.mesh = loadMesh(g.mesh, g.scale);
+      } catch (const std::exception& error) {
+        throw UrdfError(file, c.line, std::string("<collision> mesh: ") + error.what());
+      }
+      break;
+  }
+  return s;
+}
+
+// The corners of a shape's bounding box in the body frame (for sizes).
+void extend(const ShapeSpec& s, Vec3& low, Vec3& high) {
+  std::vector<Vec3> points;
+  if (s.kind == ShapeSpec::Kind::kMesh) {
+    points = s.mesh.vertices;
+  } else {
+    Vec3 half = s.size * 0.5;
+    if (s.kind == ShapeSpec::Kind::kCylinder) half = {s.radius, s.radius, 0.5 * s.length};
+    if (s.kind == ShapeSpec::Kind::kSphere) half = {s.radius, s.radius, s.radius};
+    for (int k = 0; k < 8; ++k)
+      points.push_back(
+          {k & 1 ? half.x : -half.x, k & 2 ? half.y : -half.y, k & 4 ? half.z : -half.z});
+  }
+  for (const Vec3& p : points) {
+    const Vec3 q = s.frame.apply(p);
+    low = {std::min(low.x, q.x), std::min(low.y, q.y), std::min(low.z, q.z)};
+    high = {std::max(high.x, q.x), std::max(high.y, q.y), std::max(high.z, q.z)};
+  }
+}
+
+// One link with particles, while it is being assembled.
+struct Body {
+  int link = -1;
+  Frame frame{};  // body frame = the link frame, world
+  RigidBodySpec spec{};
+  double spacing = 0.0;  // estimated lattice spacing (m)
+  double size = 0.0;     // bounding-box diagonal (m)
+  RigidBody built{};
+  std::vector<Vec3> world{};              // particle positions, world
+  double stiffness = 0.0, damping = 0.0;  // its LS's (N/m, N·s/m)
+  // Adds a required point given in the world; returns its index in requiredPoints.
+  int require(const Vec3& worldPoint) {
+    spec.requiredPoints.push_back(frame.inverse().apply(worldPoint));
+    return static_cast<int>(spec.requiredPoints.size()) - 1;
+  }
+};
+
+// `count` particles of `body` nearest `point` (world), not all collinear when possible.
+std::vector<int> nearest(const Body& body, const Vec3& point, std::size_t count,
+                         const std::vector<int>& skip = {}) {
+  std::vector<int> order;
+  // Not the point itself (an LS needs a rest length > 0).
+  for (int i = 0; i < static_cast<int>(body.world.size()); ++i)
+    if (std::find(skip.begin(), skip.end(), i) == skip.end() &&
+        norm(body.world[static_cast<std::size_t>(i)] - point) > 1e-6)
+      order.push_back(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return norm(body.world[a] - point) < norm(body.world[b] - point);
+  });
+  if (order.size() <= count) return order;
+  std::vector<int> out(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count));
+  // Replace the last pick until the set spans a plane (3 non-collinear points).
+  const auto spansPlane = [&](const std::vector<int>& set) {
+    for (std::size_t i = 2; i < set.size(); ++i) {
+      const Vec3 u = body.world[set[1]] - body.world[set[0]];
+      const Vec3 v = body.world[set[i]] - body.world[set[0]];
+      if (norm(cross(u, v)) > 1e-6 * (dot(u, u) + dot(v, v))) return true;
+    }
+    return false;
+  };
+  for (std::size_t k = count; k < order.size() && count >= 3 && !spansPlane(out); ++k)
+    out.back() = order[k];
+  return out;
+}
+
+}  // namespace
+
+UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
+  if (spec.path.empty()) check::fail(kSpec, "file", "'file' (the URDF's path) must not be empty");
+  check::nonNegative(kSpec, "particleSize", spec.particleSize, "m");
+  check::atLeast(kSpec, "particlesPerLink", spec.particlesPerLink, 1);
+  check::positive(kSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
+  check::finite(kSpec, "position", spec.placement.origin, "m");
+  const Description d = urdf::readUrdf(spec.path, spec.packagePaths);
+  const std::string& file = d.file;
+  const std::size_t linkCount = d.links.size();
+
+  UrdfRobot robot;
+  robot.name = d.robotName;
+  robot.file = file;
+  robot.warnings = d.warnings;
+  const std::string prefix = spec.name.empty() ? d.robotName : spec.name;
+
+  // Joint positions the robot is built at.
+  std::vector<double> q(d.joints.size(), 0.0);
+  for (const auto& [name, value] : spec.initialPositions) {
+    std::size_t k = 0;
+    while (k < d.joints.size() && d.joints[k].name != name) ++k;
+    if (k == d.joints.size() || d.joints[k].type == UJoint::Type::kFixed)
+      check::fail(kSpec, "initialPositions",
+                  "'initialPositions': '" + name + "' is not a moving joint of " + file);
+    check::finite(kSpec, "initialPositions", value, "rad or m");
+    const UJoint& j = d.joints[k];
+    if (j.type != UJoint::Type::kContinuous && (value < j.lower || value > j.upper))
+      check::fail(kSpec, "initialPositions",
+                  "'initialPositions': '" + name + "' = " + check::number(value) +
+                      " is outside its limits [" + check::number(j.lower) + ", " +
+                      check::number(j.upper) + "]");
+    q[k] = value;
+  }
+
+  // Link frames at the build pose (URDF: X_child = X_parent · origin · motion(q)).
+  std::vector<Frame> frame(linkCount);
+  frame[static_cast<std::size_t>(d.root)] = spec.placement;
+  robot.joints.resize(d.joints.size());
+  for (std::size_t k = 0; k < d.joints.size(); ++k) {
+    const UJoint& j = d.joints[k];
+    const Frame jointFrame =
+        frame[static_cast<std::size_t>(j.parentIndex)].then(originFrame(j.origin));
+    Frame motion;
+    if (j.type == UJoint::Type::kRevolute || j.type == UJoint::Type::kContinuous)
+      motion = Frame::fromAxisAngle(j.axis, q[k]);
+    if (j.type == UJoint::Type::kPrismatic) motion = translation(j.axis * q[k]);
+    frame[static_cast<std::size_t>(j.childIndex)] = jointFrame.then(motion);
+    UrdfJoint& out = robot.joints[k];
+    out.name = j.name;
+    out.line = j.line;
+    out.type = typeOf(j.type);
+    out.axis = j.axis;
+    out.worldAxis = jointFrame.rotate(j.axis);
+    out.parent = j.parentIndex;
+    out.child = j.childIndex;
+    out.hasPositionLimits =
+        j.hasLimit && (j.type == UJoint::Type::kRevolute || j.type == UJoint::Type::kPrismatic);
+    out.lower = j.lower;
+    out.upper = j.upper;
+    out.velocity = j.velocity;
+    out.effort = j.effort;
+    out.damping = j.damping;
+    out.friction = j.friction;
+    out.hasMimic = j.hasMimic;
+    out.mimicJoint = j.mimicJoint;
+    out.multiplier = j.multiplier;
+    out.offset = j.offset;
+    out.initialPosition = q[k];
+    if (j.type != UJoint::Type::kFixed) out.modelJoint = prefix + "." + j.name;
+  }
+
+  // Which links carry particles, and which move with another (MODEL §1: an
+  // object respects its reference's mass): a link of mass > 0 has its own; a
+  // massless link on a fixed joint is a frame of its parent's body; a massless
+  // link on a moving joint (or a massless root) moves with the first massive
+  // link fixed below it, and is an error without one (a fixed base without mass
+  // gets notional particles).
+  const auto massive = [&](int l) {
+    const urdf::Link& link = d.links[static_cast<std::size_t>(l)];
+    return link.inertial.present && link.inertial.mass > 0.0;
+  };
+  std::vector<std::vector<int>> fixedChildren(linkCount);
+  for (const UJoint& j : d.joints)
+    if (j.type == UJoint::Type::kFixed)
+      fixedChildren[static_cast<std::size_t>(j.parentIndex)].push_back(j.childIndex);
+  const auto massiveBelow = [&](int l) {
+    std::vector<int> queue{l};
+    for (std::size_t k = 0; k < queue.size(); ++k) {
+      if (massive(queue[k])) return queue[k];
+      for (int c : fixedChildren[static_cast<std::size_t>(queue[k])]) queue.push_back(c);
+    }
+    return -1;
+  };
+  std::vector<int> attached(linkCount, -1);
+  std::vector<bool> notional(linkCount, false);
+  std::vector<int> order{d.root};
+  for (const UJoint& j : d.joints) order.push_back(j.childIndex);
+  for (int l : order) {
+    const auto li = static_cast<std::size_t>(l);
+    const int pj = d.parentJoint[li];
+    if (massive(l)) {
+      attached[li] = l;
+    } else if (pj >= 0 && d.joints[static_cast<std::size_t>(pj)].type == UJoint::Type::kFixed &&
+               attached[static_cast<std::size_t>(
+                   d.joints[static_cast<std::size_t>(pj)].parentIndex)] >= 0) {
+      attached[li] =
+          attached[static_cast<std::size_t>(d.joints[static_cast<std::size_t>(pj)].parentIndex)];
+    } else if (const int below = massiveBelow(l); below >= 0) {
+      attached[li] = below;
+    } else if (pj < 0 && spec.fixedBase) {
+      attached[li] = l;
+      notional[li] = true;
+    } else {
+      const urdf::Link& link = d.links[li];
+      const int line = link.inertial.present ? link.inertial.line : link.line;
+      if (pj < 0)
+        throw UrdfError(file, line,
+                        "link '" + link.name +
+                            "' (the root) has no mass and nothing of mass is fixed to it: a free "
+                            "base needs mass (or import it with a fixed base)");
+      const UJoint& j = d.joints[static_cast<std::size_t>(pj)];
+      throw UrdfError(file, line,
+                      "link '" + link.name + "' has " +
+                          (link.inertial.present ? "mass " + check::number(link.inertial.mass)
+                                                 : std::string("no <inertial>")) +
+                          " but moves (" + j.typeName + " joint '" + j.name + "', line " +
+                          std::to_string(j.line) +
+                          "), and no link of mass is fixed to it: give it an <inertial> with "
+                          "mass > 0");
+    }
+  }
+
+  // Bodies: one per link with particles.
+  double massSum = 0.0;
+  int massCount = 0;
+  for (std::size_t l = 0; l < linkCount; ++l)
+    if (massive(static_cast<int>(l))) {
+      massSum += d.links[l].inertial.mass;
+      ++massCount;
+    }
+  robot.notionalMass = massCount > 0 ? massSum / massCount : 1.0;
+  std::vector<Body> bodies;
+  std::vector<int> bodyOf(linkCount, -1);
+  robot.links.resize(linkCount);
+  for (int l : order) {
+    const auto li = static_cast<std::size_t>(l);
+    const urdf::Link& link = d.links[li];
+    UrdfLink& out = robot.links[li];
+    out.name = link.name;
+    out.line = link.line;
+    out.attachedTo = attached[li];
+    out.frame = frame[li];
+    out.declared = declaredOf(link);
+    out.declaredWorld = toWorld(out.declared, frame[li]);
+    out.notional = notional[li];
+    if (attached[li] != l) continue;
+    Body body;
+    body.link = l;
+    body.frame = frame[li];
+    for (const urdf::Collision& c : link.collisions) body.spec.shapes.push_back(shapeOf(c, file));
+    if (notional[li]) {
+      body.spec.mass = robot.notionalMass;
+      body.spec.uniformDensity = !body.spec.shapes.empty();
+    } else {
+      body.spec.mass = out.declared.mass;
+      body.spec.centerOfMass = out.declared.centerOfMass;
+      body.spec.inertia = out.declared.inertia;
+    }
+    body.spec.particleSize = spec.particleSize;
+    body.spec.particleCount = spec.particlesPerLink;
+    body.spec.naturalFrequency = spec.naturalFrequency;
+    // Size and spacing estimates (the joints' arms are about a lattice spacing).
+    Vec3 low{1e300, 1e300, 1e300}, high = low * -1.0;
+    for (const ShapeSpec& s : body.spec.shapes) extend(s, low, high);
+    double volume = 0.0;
+    if (body.spec.shapes.empty()) {
+      body.size = 0.0;
+    } else {
+      const Vec3 side = high - low;
+      body.size = norm(side);
+      volume = std::max(side.x, 1e-3) * std::max(side.y, 1e-3) * std::max(side.z, 1e-3);
+    }
+    body.spacing = spec.particleSize > 0.0
+                       ? spec.particleSize
+                       : (volume > 0.0 ? std::cbrt(volume / spec.particlesPerLink) : 0.02);
+    bodyOf[li] = static_cast<int>(bodies.size());
+    bodies.push_back(std::move(body));
+  }
+  for (std::size_t l = 0; l < linkCount; ++l)
+    if (bodyOf[l] < 0) bodyOf[l] = bodyOf[static_cast<std::size_t>(attached[l])];
+
+  // Joint particles (required points of the bodies), before the bodies are built.
+  struct Plan {
+    int joint = -1, parent = -1, child = -1;  // joint index, body indices
+    double arm = 0.0;
+    std::vector<int> parentPoints, childPoints;  // indices into requiredPoints
+    Vec3 axis{};
+  };
+  std::vector<Plan> plans;
+  for (std::size_t k = 0; k < d.joints.size(); ++k) {
+    const UJoint& j = d.joints[k];
+    Plan plan;
+    plan.joint = static_cast<int>(k);
+    plan.parent = bodyOf[static_cast<std::size_t>(j.parentIndex)];
+    plan.child = bodyOf[static_cast<std::size_t>(j.childIndex)];
+    if (plan.parent == plan.child) continue;  // a frame on its parent's body
+    Body& parent = bodies[static_cast<std::size_t>(plan.parent)];
+    Body& child = bodies[static_cast<std::size_t>(plan.child)];
+    const Frame jointFrame =
+        frame[static_cast<std::size_t>(j.parentIndex)].then(originFrame(j.origin));
+    const Vec3 n = jointFrame.rotate(j.axis);
+    plan.axis = n;
+    plan.arm = std::max({1.5 * std::min(parent.spacing, child.spacing), 0.01});
+    const double w = plan.arm;
+    const Vec3 u = normalTo(n), v = cross(n, u);
+    const Vec3 c = jointFrame.origin;
+    if (j.type == UJoint::Type::kRevolute || j.type == UJoint::Type::kContinuous) {
+      // MODEL §1.4 revolute: c, d on the axis and b in the plane through c (child); a (parent).
+      plan.childPoints = {child.require(c), child.require(c + n * w), child.require(c + u * w)};
+      plan.parentPoints = {parent.require(c + v * w)};
+    } else if (j.type == UJoint::Type::kPrismatic) {
+      // Two sliders s1, s2 on the line and a roll arm b (child); origin, end and
+      // the roll lock's arm a (parent), the line covering the whole stroke.
+      const double lower = std::min(j.lower, q[k]), upper = std::max(j.upper, q[k]);
+      const Vec3 s1 = c + n * q[k];
+      plan.childPoints = {child.require(s1), child.require(s1 + n * (2 * w)),
+                          child.require(s1 + u * w)};
+      plan.parentPoints = {parent.require(c + n * (lower - w)),
+                           parent.require(c + n * (upper + 3 * w)), parent.require(c + v * w)};
+    }
+    plans.push_back(plan);
+  }
+
+  // Fill the bodies (makeRigidBody: mass, centre and inertia fitted).
+  for (Body& body : bodies) {
+    const urdf::Link& link = d.links[static_cast<std::size_t>(body.link)];
+    try {
+      body.built = makeRigidBody(body.spec);
+    } catch (const SpecError& error) {
+      throw UrdfError(file, link.line,
+                      "link '" + link.name + "' cannot be filled: " + error.message());
+    }
+    for (const Vec3& p : body.built.object.position) body.world.push_back(body.frame.apply(p));
+    const auto& springs = body.built.object.linearSprings;
+    if (!springs.empty()) {
+      body.stiffness = springs.front().stiffness;
+      body.damping = springs.front().damping;
+    }
+    UrdfLink& out = robot.links[static_cast<std::size_t>(body.link)];
+    out.achieved = body.built.achieved;
+    out.notes = body.built.notes;
+    if (out.notional)
+      out.notes.push_back("notional base: the URDF gives it no mass; " +
+                          check::number(robot.notionalMass) +
+                          " kg (the mean link mass) of uniform density");
+  }
+  // Connector stiffness between two bodies: the softer body's LS (N/m, N·s/m).
+  const auto tie = [&](int a, int b) {
+    const Body& x = bodies[static_cast<std::size_t>(a)];
+    const Body& y = bodies[static_cast<std::size_t>(b)];
+    const double kx = x.stiffness > 0.0 ? x.stiffness : y.stiffness;
+    const double ky = y.stiffness > 0.0 ? y.stiffness : x.stiffness;
+    const double dx = x.stiffness > 0.0 ? x.damping : y.damping;
+    const double dy = y.stiffness > 0.0 ? y.damping : x.damping;
+    return kx <= ky ? std::pair{kx, dx} : std::pair{ky, dy};
+  };
+  const auto at = [&](int body, int local) { return UrdfParticle{body, local}; };
+  const auto position = [&](const UrdfParticle& p) {
+    return bodies[static_cast<std::size_t>(p.object)].world[static_cast<std::size_t>(p.local)];
+  };
+  const auto link = [&](const UrdfParticle& a, const UrdfParticle& b, double k, double mu) {
+    robot.linearSprings.push_back({a, b, norm(position(a) - position(b)), k, mu});
+    return static_cast<int>(robot.linearSprings.size()) - 1;
+  };
+  for (const Plan& plan : plans) {
+    const UJoint& j = d.joints[static_cast<std::size_t>(plan.joint)];
+    UrdfJoint& out = robot.joints[static_cast<std::size_t>(plan.joint)];
+    const Body& parent = bodies[static_cast<std::size_t>(plan.parent)];
+    const Body& child = bodies[static_cast<std::size_t>(plan.child)];
+    const auto [k, mu] = tie(plan.parent, plan.child);
+    const double w = plan.arm;
+    const auto childPoint = [&](int r) {
+      return at(plan.child, child.built.required[static_cast<std::size_t>(plan.childPoints[r])]);
+    };
+    const auto parentPoint = [&](int r) {
+      return at(plan.parent, parent.built.required[static_cast<std::size_t>(plan.parentPoints[r])]);
+    };
+    if (j.type == UJoint::Type::kFixed) {
+      // The child tied rigidly to its parent: its particles nearest the parent to
+      // the parent's three nearest, and the other way round.
+      for (const auto& [from, to] :
+           {std::pair{plan.child, plan.parent}, std::pair{plan.parent, plan.child}}) {
+        const Body& a = bodies[static_cast<std::size_t>(from)];
+        const Body& b = bodies[static_cast<std::size_t>(to)];
+        std::vector<std::pair<double, int>> distance;
+        for (int i = 0; i < static_cast<int>(a.world.size()); ++i) {
+          double best = std::numeric_limits<double>::infinity();
+          for (const Vec3& p : b.world)
+            best = std::min(best, norm(p - a.world[static_cast<std::size_t>(i)]));
+          distance.emplace_back(best, i);
+        }
+        std::stable_sort(distance.begin(), distance.end());
+        for (std::size_t m = 0; m < std::min<std::size_t>(4, distance.size()); ++m) {
+          const int i = distance[m].second;
+          for (int partner : nearest(b, a.world[static_cast<std::size_t>(i)], 3))
+            link(at(from, i), at(to, partner), k, mu);
+        }
+      }
+      continue;
+    }
+    if (j.type == UJoint::Type::kPrismatic) {
+      const UrdfParticle s1 = childPoint(0), s2 = childPoint(1), b = childPoint(2);
+      const UrdfParticle o = parentPoint(0), e = parentPoint(1), a = parentPoint(2);
+      // MODEL §1.2: a TS at 180° acts on its centre like a lateral spring of
+      // κ (1/|u| + 1/|w|)²; each slider's is made the links' κ at the build pose.
+      for (const UrdfParticle& slider : {s1, s2}) {
+        const double lateral =
+            1.0 / norm(position(o) - position(slider)) + 1.0 / norm(position(e) - position(slider));
+        robot.torsionSprings.push_back(
+            {o, slider, e, std::numbers::pi, k / (lateral * lateral), mu / (lateral * lateral)});
+      }
+      const int connector = static_cast<int>(robot.torsionSprings.size()) - 2;
+      // The roll lock: a JS about the slider line, as stiff as the links at its arm.
+      robot.jointSprings.push_back(
+          {a, s1, b, s2, jointAngle(position(a), position(s1), position(b), position(s2)),
+           k * w * w, mu * w * w});
+      const int drive =
+          link(o, s1, spec.holdJoints ? k : 0.0, std::max(j.damping, spec.holdJoints ? mu : 0.0));
+      const double lowerEnd = std::min(j.lower, q[static_cast<std::size_t>(plan.joint)]) - w;
+      robot.modelJoints.push_back(
+          {out.modelJoint, JointKind::kPrismatic, connector, drive, -lowerEnd});
+    } else {
+      const UrdfParticle c = childPoint(0), dd = childPoint(1), b = childPoint(2);
+      const UrdfParticle a = parentPoint(0);
+      // The parent holds the axis: c and d each tied to 4 parent particles (a among them).
+      for (const UrdfParticle& axisPoint : {c, dd}) {
+        std::vector<int> partners = nearest(parent, position(axisPoint), 3, {a.local});
+        partners.push_back(a.local);
+        for (int partner : partners) link(at(plan.parent, partner), axisPoint, k, mu);
+      }
+      // MODEL §1.3 JS a-c-b-d: passive (the URDF's damping) or held (holdJoints).
+      const double angle = jointAngle(position(a), position(c), position(b), position(dd));
+      robot.jointSprings.push_back({a, c, b, dd, angle, spec.holdJoints ? k * w * w : 0.0,
+                                    std::max(j.damping, spec.holdJoints ? mu * w * w : 0.0)});
+      robot.modelJoints.push_back({out.modelJoint, JointKind::kRevolute,
+                                   static_cast<int>(robot.jointSprings.size()) - 1, -1,
+                                   wrapAngle(angle - q[static_cast<std::size_t>(plan.joint)])});
+    }
+  }
+
+  // The objects, in the world, and who touches whom.
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    Body& body = bodies[b];
+    robot.links[static_cast<std::size_t>(body.link)].object = static_cast<int>(b);
+    ObjectPlacement placement;
+    placement.name = prefix + "." + d.links[static_cast<std::size_t>(body.link)].name;
+    placement.kind = "link";
+    placement.geometry = std::move(body.built.object);
+    placement.geometry.position = body.world;
+    placement.geometry.rigid = true;
+    if (spec.fixedBase && body.link == attached[static_cast<std::size_t>(d.root)])
+      placement.geometry.fixed.assign(placement.geometry.size(), true);
+    robot.objects.push_back(std::move(placement));
+  }
+  for (UrdfLink& each : robot.links)
+    if (each.object < 0)
+      each.object = robot.links[static_cast<std::size_t>(each.attachedTo)].object;
+  const auto objectCount = static_cast<int>(bodies.size());
+  if (!spec.selfCollision) {
+    for (int a = 0; a < objectCount; ++a)
+      for (int b = a + 1; b < objectCount; ++b) robot.noContact.push_back({a, b});
+  } else {
+    std::set<std::array<int, 2>> pairs;
+    for (const Plan& plan : plans)
+      pairs.insert({std::min(plan.parent, plan.child), std::max(plan.parent, plan.child)});
+    robot.noContact.assign(pairs.begin(), pairs.end());
+  }
+  return robot;
+}
+
+void translateUrdfRobot(UrdfRobot& robot, const Vec3& offset) {
+  check::finite("translateUrdfRobot", "offset", offset, "m");
+  for (ObjectPlacement& object : robot.objects)
+    for (Vec3& p : object.geometry.position) p = p + offset;
+  for (UrdfLink& link : robot.links) {
+    link.frame.origin = link.frame.origin + offset;
+    link.declaredWorld.centerOfMass = link.declaredWorld.centerOfMass + offset;
+  }
+}
+
+PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
+  PlacedUrdfRobot placed;
+  for (const ObjectPlacement& object : robot.objects)
+    placed.objects.push_back(builder.addObject(object));
+  const auto index = [&](const UrdfParticle& p) {
+    return placed.objects[static_cast<std::size_t>(p.object)].particle(p.local);
+  };
+  std::vector<std::int32_t> linear, torsion, joint;
+  for (const UrdfLinearSpring& s : robot.linearSprings)
+    linear.push_back(builder.addConnector(
+        LinearSpring{index(s.a), index(s.b), s.restLength, s.stiffness, s.damping}));
+  for (const UrdfTorsionSpring& s : robot.torsionSprings)
+    torsion.push_back(builder.addConnector(
+        TorsionSpring{index(s.a), index(s.c), index(s.b), s.restAngle, s.stiffness, s.damping}));
+  for (const UrdfJointSpring& s : robot.jointSprings)
+    joint.push_back(builder.addConnector(JointSpring{index(s.a), index(s.c), index(s.b), index(s.d),
+                                                     s.restAngle, s.stiffness, s.damping}));
+  std::vector<std::int32_t> modelJointOf;
+  for (const UrdfModelJoint& j : robot.modelJoints) {
+    Joint model;
+    model.name = j.name;
+    model.kind = j.kind;
+    model.connector = j.kind == JointKind::kRevolute
+                          ? joint[static_cast<std::size_t>(j.connector)]
+                          : torsion[static_cast<std::size_t>(j.connector)];
+    model.driveSpring = j.driveSpring >= 0 ? linear[static_cast<std::size_t>(j.driveSpring)] : -1;
+    model.zero = j.zero;
+    modelJointOf.push_back(builder.addJoint(model));
+  }
+  for (const UrdfJoint& j : robot.joints) {
+    std::int32_t found = -1;
+    for (std::size_t k = 0; k < robot.modelJoints.size(); ++k)
+      if (!j.modelJoint.empty() && robot.modelJoints[k].name == j.modelJoint)
+        found = modelJointOf[k];
+    placed.modelJoint.push_back(found);
+  }
+  for (const auto& [a, b] : robot.noContact)
+    builder.excludeContact(placed.objects[static_cast<std::size_t>(a)].object,
+                           placed.objects[static_cast<std::size_t>(b)].object);
+  return placed;
+}
+
+}  // namespace robophi::build

@@ -1,0 +1,207 @@
+// Scene objects {"type": "urdf"}: the keys → build::UrdfSpec → build::makeUrdfRobot.
+#include "scene/scene_urdf.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+
+#include "robophi/build/urdf.h"
+
+namespace robophi::scene {
+
+namespace {
+
+// "orientation": [roll, pitch, yaw] (rad) or a quaternion [x, y, z, w].
+std::optional<build::Frame> readOrientation(ObjectReader& r) {
+  const nlohmann::json* value = r.member("orientation");
+  if (value == nullptr) return build::Frame{};
+  const auto bad = [&] {
+    r.sink().error(r.memberPointer("orientation"),
+                   fmt::format("'orientation': expected [roll, pitch, yaw] (rad) or a quaternion "
+                               "[x, y, z, w], got {}",
+                               describeJson(*value)));
+    return std::optional<build::Frame>{};
+  };
+  if (!value->is_array() || (value->size() != 3 && value->size() != 4)) return bad();
+  std::vector<double> v;
+  for (const auto& x : *value) {
+    if (!x.is_number() || !std::isfinite(x.get<double>())) return bad();
+    v.push_back(x.get<double>());
+  }
+  if (v.size() == 3) return build::Frame::fromXyzRpy({}, {v[0], v[1], v[2]});
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+  if (!(n > 0.0)) return bad();
+  const double x = v[0] / n, y = v[1] / n, z = v[2] / n, w = v[3] / n;
+  build::Frame f;
+  f.axes[0] = {1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)};
+  f.axes[1] = {2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)};
+  f.axes[2] = {2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)};
+  return f;
+}
+
+std::optional<std::vector<std::string>> readPaths(ObjectReader& r, const std::string& directory) {
+  std::vector<std::string> paths;
+  const nlohmann::json* value = r.member("packagePaths");
+  if (value == nullptr) return paths;
+  if (!value->is_array()) {
+    r.sink().error(r.memberPointer("packagePaths"),
+                   "'packagePaths': expected an array of folder paths (strings)");
+    return std::nullopt;
+  }
+  for (std::size_t i = 0; i < value->size(); ++i) {
+    const auto& item = (*value)[i];
+    if (!item.is_string()) {
+      r.sink().error(
+          fmt::format("{}/{}", r.memberPointer("packagePaths"), i),
+          fmt::format("'packagePaths': expected a folder path, got {}", describeJson(item)));
+      return std::nullopt;
+    }
+    std::filesystem::path p(item.get<std::string>());
+    if (p.is_relative() && !directory.empty()) p = std::filesystem::path(directory) / p;
+    paths.push_back(p.string());
+  }
+  return paths;
+}
+
+}  // namespace
+
+SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
+                           const std::string& pointer, const std::string& sceneDirectory) {
+  SceneObject object;
+  object.pointer = pointer;
+  object.kind = "urdf";
+  const std::size_t errorsBefore = sink.errorCount();
+  ObjectReader r(sink, entry, pointer, fmt::format("object {}", pointer));
+  if (!r.valid()) return object;
+  object.name = r.string("name", true).value_or("");
+  ObjectReader reader(sink, entry, pointer, fmt::format("urdf '{}'", object.name));
+  reader.allow({"name", "type", "material"});  // "material": scene_contact.cpp
+  if (object.name.find(':') != std::string::npos || (entry.contains("name") && object.name.empty()))
+    sink.error(r.memberPointer("name"),
+               fmt::format("'name' \"{}\" must be non-empty, without ':'", object.name));
+  build::UrdfSpec spec;
+  const auto file = reader.string("file", true);
+  const auto position = reader.vec3("position", "m");
+  const auto orientation = readOrientation(reader);
+  const auto fixedBase = reader.boolean("fixedBase");
+  const auto paths = readPaths(reader, sceneDirectory);
+  const auto size = reader.number("particleSize", Bound::kPositive, "m");
+  const auto perLink = reader.integer("particlesPerLink", 1);
+  const auto omega = reader.number("naturalFrequency", Bound::kPositive, "rad/s");
+  const auto self = reader.boolean("selfCollision");
+  const auto hold = reader.boolean("holdJoints");
+  if (const nlohmann::json* initial = reader.member("initialPositions")) {
+    if (!initial->is_object()) {
+      sink.error(reader.memberPointer("initialPositions"),
+                 "'initialPositions': expected an object {\"joint\": q (rad or m)}");
+    } else {
+      for (const auto& [joint, q] : initial->items()) {
+        if (!q.is_number() || !std::isfinite(q.get<double>()))
+          sink.error(reader.memberPointer("initialPositions") + "/" + joint,
+                     fmt::format("'initialPositions': '{}' must be a number (rad or m), got {}",
+                                 joint, describeJson(q)));
+        else
+          spec.initialPositions[joint] = q.get<double>();
+      }
+    }
+  }
+  reader.finish();
+  if (!file || !orientation || !paths || sink.errorCount() != errorsBefore) return object;
+  std::filesystem::path path(*file);
+  if (path.is_relative() && !sceneDirectory.empty())
+    path = std::filesystem::path(sceneDirectory) / path;
+  spec.path = path.string();
+  spec.name = object.name;
+  spec.placement = *orientation;
+  spec.placement.origin = position.value_or(Vec3{});
+  spec.fixedBase = fixedBase.value_or(true);
+  spec.packagePaths = *paths;
+  spec.particleSize = size.value_or(0.0);
+  spec.particlesPerLink = perLink.value_or(spec.particlesPerLink);
+  spec.naturalFrequency = omega.value_or(spec.naturalFrequency);
+  spec.selfCollision = self.value_or(false);
+  spec.holdJoints = hold.value_or(false);
+  try {
+    auto robot = std::make_shared<build::UrdfRobot>(build::makeUrdfRobot(spec));
+    for (const build::UrdfWarning& w : robot->warnings)
+      sink.warning(reader.memberPointer("file"),
+                   fmt::format("{}:{}: {}", w.file, w.line, w.message));
+    object.urdf = std::move(robot);
+  } catch (const build::UrdfError& e) {
+    sink.error(reader.memberPointer("file"), e.what());
+  } catch (const build::SpecError& e) {
+    sink.error(reader.memberPointer(e.field()), e.message());
+  }
+  object.valid = object.urdf != nullptr && sink.errorCount() == errorsBefore;
+  return object;
+}
+
+}  // namespace robophi::scene
+
+namespace robophi {
+
+bool isUrdfPath(const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  return extension == ".urdf" || extension == ".xacro" || extension == ".URDF";
+}
+
+SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& options) {
+  SceneLoadResult result;
+  build::UrdfSpec spec;
+  spec.path = path;
+  spec.packagePaths = options.packagePaths;
+  spec.particleSize = options.particleSize;
+  spec.particlesPerLink = options.particlesPerLink;
+  spec.holdJoints = true;
+  const auto fail = [&](std::string where, std::string message) {
+    result.errors.push_back(Diagnostic{std::move(where), 0, 0, "", std::move(message)});
+    return result;
+  };
+  build::UrdfRobot robot;
+  try {
+    spec.fixedBase = options.fixedBase.value_or(true);
+    robot = build::makeUrdfRobot(spec);
+    if (!options.fixedBase) {
+      // A wheeled base (two or more continuous joints) stands free on its wheels.
+      int continuous = 0;
+      for (const build::UrdfJoint& j : robot.joints)
+        continuous += j.type == build::UrdfJointType::kContinuous ? 1 : 0;
+      if (continuous >= 2) {
+        spec.fixedBase = false;
+        robot = build::makeUrdfRobot(spec);
+      }
+    }
+  } catch (const build::UrdfError& e) {
+    return fail(e.line() > 0 ? fmt::format("{}:{}", e.file(), e.line()) : e.file(), e.message());
+  } catch (const build::SpecError& e) {
+    return fail(path, e.what());
+  }
+  // On the ground: the lowest particle's bottom at z = 0.
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const build::ObjectPlacement& object : robot.objects)
+    for (std::size_t i = 0; i < object.geometry.size(); ++i)
+      lowest = std::min(lowest, object.geometry.position[i].z - object.geometry.radius[i]);
+  build::translateUrdfRobot(robot, {0.0, 0.0, -lowest});
+  for (const build::UrdfWarning& w : robot.warnings)
+    result.warnings.push_back(
+        Diagnostic{fmt::format("{}:{}", w.file, w.line), 0, 0, "", w.message});
+  Scene scene;
+  scene.name = robot.name;
+  scene.sourcePath = path;
+  build::ModelBuilder builder;
+  builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
+  build::placeUrdfRobot(builder, robot);
+  build::BuiltModel built = std::move(builder).build();
+  scene.model = std::move(built.model);
+  scene.initial = std::move(built.initial);
+  scene.run.duration = 2.0;
+  scene.urdfRobots.push_back(std::make_shared<const build::UrdfRobot>(std::move(robot)));
+  result.scene = std::move(scene);
+  return result;
+}
+
+}  // namespace robophi

@@ -1,0 +1,19 @@
+#pragma once
+// Reading a scene's URDF robots ({"type": "urdf"}, docs/robots.md "In a scene")
+// into build::UrdfSpec → build::makeUrdfRobot.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "scene/scene_fields.h"
+#include "scene/scene_objects.h"
+
+namespace robophi::scene {
+
+/// Reads the "urdf" entry at `pointer` and imports its robot into `object.urdf`
+/// (the file relative to `sceneDirectory`). URDF problems are reported at the
+/// entry's "file" with the URDF's file:line; the URDF's warnings as warnings.
+SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
+                           const std::string& pointer, const std::string& sceneDirectory);
+
+}  // namespace robophi::scene
