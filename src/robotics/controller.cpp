@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "output/json_numbers.h"
+#include "robophi/build/goals.h"
 #include "robophi/joints.h"
 
 namespace robophi::robotics {
@@ -90,7 +91,11 @@ ActuatorSpec actuatorFromJson(const json& j) {
 json baseToJson(const BaseMotionSpec& b) {
   json axes = json::array();
   for (const Trajectory& t : b.translation) axes.push_back(trajectoryToJson(t));
-  return {{"name", b.name}, {"particles", b.particles}, {"translation", axes}};
+  return {{"name", b.name},
+          {"particles", b.particles},
+          {"translation", axes},
+          {"axis", output::exactVec3(b.axis)},
+          {"angle", trajectoryToJson(b.angle)}};
 }
 
 BaseMotionSpec baseFromJson(const json& j) {
@@ -98,6 +103,8 @@ BaseMotionSpec baseFromJson(const json& j) {
   b.name = j.at("name").get<std::string>();
   b.particles = j.at("particles").get<std::vector<ParticleIndex>>();
   for (std::size_t k = 0; k < 3; ++k) b.translation[k] = trajectoryFromJson(j.at("translation")[k]);
+  b.axis = output::vec3FromJson(j.at("axis"), "base axis");
+  b.angle = trajectoryFromJson(j.at("angle"));
   return b;
 }
 
@@ -147,6 +154,8 @@ Controller::Controller(ControlSpec spec, const Model& model)
         throw std::invalid_argument(fmt::format("{}: particle {} does not exist (the model has {})",
                                                 where, p, model.particleCount()));
     for (const Trajectory& t : b.translation) require(build::checkTrajectory(t), where);
+    require(build::checkTrajectory(b.angle), where + " angle");
+    if (!isFinite(b.axis)) throw std::invalid_argument(where + ": the axis must be finite");
   };
   for (const BaseMotionSpec& b : spec_.bases) checkBase(b, "base '" + b.name + "'");
   for (std::size_t p = 0; p < spec_.phases.size(); ++p) {
@@ -331,9 +340,29 @@ void Controller::applyBase(Base& b, World& world, double t) {
                   build::trajectoryRate(b.spec.translation[2], s)};
   // MODEL §2.3: fixed particles keep their velocity, so between two applies they
   // move on at the trajectory's rate; the position is put back on it each time.
+  // MODEL §2.3: fixed particles keep their velocity, so between two applies they
+  // move on at the trajectory's rate; the position is put back on it each time.
+  const double angle = build::trajectoryValue(b.spec.angle, s);
+  const double angleRate = build::trajectoryRate(b.spec.angle, s);
+  const double axisLength = norm(b.spec.axis);
+  if (!(axisLength > 0.0) || (angle == 0.0 && angleRate == 0.0)) {
+    for (std::size_t k = 0; k < b.spec.particles.size(); ++k) {
+      world.setPosition(b.spec.particles[k], b.origin[k] + offset);
+      world.setVelocity(b.spec.particles[k], rate);
+    }
+    return;
+  }
+  // Turning about the axis through the centroid (build::movedPose): v = ṫ + ω × (p − c).
+  std::vector<ParticleIndex> local(b.origin.size());
+  for (std::size_t k = 0; k < local.size(); ++k) local[k] = static_cast<ParticleIndex>(k);
+  const std::vector<Vec3> moved = build::movedPose(b.origin, local, offset, b.spec.axis, angle);
+  Vec3 center{};
+  for (const Vec3& o : b.origin) center += o;
+  center = center / static_cast<double>(b.origin.size()) + offset;
+  const Vec3 spin = b.spec.axis * (angleRate / axisLength);
   for (std::size_t k = 0; k < b.spec.particles.size(); ++k) {
-    world.setPosition(b.spec.particles[k], b.origin[k] + offset);
-    world.setVelocity(b.spec.particles[k], rate);
+    world.setPosition(b.spec.particles[k], moved[k]);
+    world.setVelocity(b.spec.particles[k], rate + cross(spin, moved[k] - center));
   }
 }
 

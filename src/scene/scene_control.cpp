@@ -32,9 +32,11 @@ build::Interpolation readInterpolation(ObjectReader& r) {
 }
 
 // [[t, v], ...] with `width` values per keyframe (1: numbers, 3: [x, y, z]).
+// With `angles`, a keyframe may end with an angle (rad): [t, [x, y, z], angle].
 bool readKeyframes(DiagnosticSink& sink, const nlohmann::json& list, const std::string& at,
                    std::size_t width, std::vector<double>& times,
-                   std::vector<std::vector<double>>& values) {
+                   std::vector<std::vector<double>>& values,
+                   std::vector<double>* angles = nullptr) {
   if (!list.is_array() || list.empty()) {
     sink.error(at, fmt::format("'keyframes': expected a non-empty array of [t, {}], got {}",
                                width == 1 ? "value" : "[x, y, z]", describeJson(list)));
@@ -44,13 +46,16 @@ bool readKeyframes(DiagnosticSink& sink, const nlohmann::json& list, const std::
   for (std::size_t k = 0; k < list.size(); ++k) {
     const std::string where = fmt::format("{}/{}", at, k);
     const nlohmann::json& e = list[k];
-    const bool shape = e.is_array() && e.size() == 2 && e[0].is_number() &&
+    const bool withAngle = angles != nullptr && e.is_array() && e.size() == 3 && e[2].is_number();
+    const bool shape = e.is_array() && (e.size() == 2 || withAngle) && e[0].is_number() &&
                        (width == 1 ? e[1].is_number()
                                    : e[1].is_array() && e[1].size() == 3 && e[1][0].is_number() &&
                                          e[1][1].is_number() && e[1][2].is_number());
     if (!shape) {
-      sink.error(where, fmt::format("expected a keyframe [t, {}], got {}",
-                                    width == 1 ? "value" : "[x, y, z]", describeJson(e)));
+      sink.error(
+          where,
+          fmt::format("expected a keyframe [t, {}{}], got {}", width == 1 ? "value" : "[x, y, z]",
+                      angles != nullptr ? "] or [t, [x, y, z], angle" : "", describeJson(e)));
       ok = false;
       continue;
     }
@@ -65,6 +70,7 @@ bool readKeyframes(DiagnosticSink& sink, const nlohmann::json& list, const std::
       ok = false;
     }
     times.push_back(t);
+    if (angles != nullptr) angles->push_back(withAngle ? e[2].get<double>() : 0.0);
     if (width == 1) {
       values.push_back({e[1].get<double>()});
     } else {
@@ -215,8 +221,10 @@ std::optional<BaseMotionSpec> readBase(DiagnosticSink& sink, const nlohmann::jso
   b.name = r.string("name").value_or(objectName.value_or("base"));
   const build::Interpolation interpolation = readInterpolation(r);
   const nlohmann::json* keyframes = r.member("keyframes");
+  const auto axis = r.vec3("axis", "-");
   r.finish();
   if (keyframes == nullptr) r.missing("keyframes", "[[t, [x, y, z]], ...] (s, m)");
+  if (axis) b.axis = *axis;
   if (!objectName || keyframes == nullptr) return std::nullopt;
   const auto object = findObject(sink, scene, *objectName, r.memberPointer("object"));
   if (!object) return std::nullopt;
@@ -228,16 +236,20 @@ std::optional<BaseMotionSpec> readBase(DiagnosticSink& sink, const nlohmann::jso
                fmt::format("object '{}' has no fixed particle to move as a base", *objectName));
     return std::nullopt;
   }
-  std::vector<double> times;
+  std::vector<double> times, angles;
   std::vector<std::vector<double>> values;
-  if (!readKeyframes(sink, *keyframes, r.memberPointer("keyframes"), 3, times, values))
+  if (!readKeyframes(sink, *keyframes, r.memberPointer("keyframes"), 3, times, values, &angles))
     return std::nullopt;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    Trajectory& t = b.translation[axis];
+  b.angle.kind = Trajectory::Kind::kKeyframes;
+  b.angle.interpolation = interpolation;
+  b.angle.times = times;
+  b.angle.values = angles;
+  for (std::size_t k = 0; k < 3; ++k) {
+    Trajectory& t = b.translation[k];
     t.kind = Trajectory::Kind::kKeyframes;
     t.interpolation = interpolation;
     t.times = times;
-    for (const auto& v : values) t.values.push_back(v[axis]);
+    for (const auto& v : values) t.values.push_back(v[k]);
   }
   return b;
 }

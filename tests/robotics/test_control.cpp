@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "robophi/build/goals.h"
 #include "robophi/joints.h"
 #include "robophi/scene/scene.h"
 #include "robotics/controller.h"
@@ -247,6 +248,39 @@ TEST(Control, AContactForceConditionFiresWhenTheBallLands) {
   const auto& phase = outcomes.at("control").at("phases").at(0);
   ASSERT_TRUE(phase.at("started").get<bool>()) << outcomes.dump();
   EXPECT_NEAR(phase.at("started_s").get<double>(), std::sqrt(2 * 0.2 / 9.81), 1e-3) << phase.dump();
+}
+
+TEST(Control, AMovingBaseTurnsAndTranslatesOnItsKeyframes) {
+  // The arm's fixed base turns 90° about +z and rises 5 cm over 1 s (cubic),
+  // carrying the servoed link with it.
+  Sim sim(arm(R"({"joints": {"arm.j1": {"mode": "position", "kp": 50, "kd": 2, "target": 0}},
+                 "bases": [{"object": "arm", "axis": [0, 0, 1], "interpolation": "cubic",
+                            "keyframes": [[0, [0, 0, 0], 0], [1, [0, 0, 0.05], 1.5707963267948966]]}]})",
+              "[0, 0, 0]", "[0.5]", "[[0, 0, 1]]"));
+  ASSERT_TRUE(sim.ok());
+  const Model& model = sim.world->model();
+  std::vector<ParticleIndex> base;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i)
+    if (model.isFixed(i)) base.push_back(i);
+  ASSERT_FALSE(base.empty());
+  const std::vector<Vec3> expected =
+      build::movedPose(sim.scene.initial.position, base, {0, 0, 0.05}, {0, 0, 1}, M_PI / 2);
+  for (int s = 0; s < 7500; ++s) sim.step(2e-4);  // 1.5 s: turned, then held
+  for (std::size_t k = 0; k < base.size(); ++k) {
+    EXPECT_LT(norm(sim.world->state().position[base[k]] - expected[k]), 1e-9) << base[k];
+    EXPECT_LT(norm(sim.world->state().velocity[base[k]]), 1e-12);
+  }
+  // The link turned with its base: the tool, which started along +x, is where the
+  // base's rigid motion takes it (the servo holds q = 0 against the turn).
+  Vec3 center{};
+  for (ParticleIndex i : base) center += sim.scene.initial.position[i];
+  center = center / static_cast<double>(base.size());
+  const auto tool = static_cast<ParticleIndex>(model.particleCount() - 1);
+  const Vec3 r = sim.scene.initial.position[tool] - center;
+  const Vec3 toolExpected = center + Vec3{-r.y, r.x, r.z + 0.05};  // r turned 90° about +z
+  EXPECT_LT(norm(sim.world->state().position[tool] - toolExpected), 0.01)
+      << "tool at " << sim.world->state().position[tool].x << ", "
+      << sim.world->state().position[tool].y;
 }
 
 TEST(Control, TheCxxApiDrivesAJointBetweenSteps) {

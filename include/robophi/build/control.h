@@ -102,13 +102,17 @@ struct MimicSpec {
 };
 
 /// A moving base: particles (fixed ones: they move kinematically) carried
-/// rigidly along a trajectory of translations (m) from where they were when the
-/// motion started, one trajectory per axis.
+/// rigidly along a trajectory from where they were when the motion started: a
+/// translation (m, one trajectory per axis) and a rotation by `angle` (rad)
+/// about `axis` through their centroid (build::movedPose).
 struct BaseMotionSpec {
   std::string name;
   std::vector<ParticleIndex> particles;
   /// x, y, z of the translation (m) in time since the motion started.
   std::array<Trajectory, 3> translation{};
+  /// The rotation's axis (-, any length; zero: none) and angle (rad) in time.
+  Vec3 axis{0.0, 0.0, 1.0};
+  Trajectory angle{};
 };
 
 /// When a phase starts.
