@@ -50,8 +50,8 @@ struct SceneReport {
 
 /// The report of a loaded scene (a scene file or a bare URDF).
 SceneReport reportScene(const Scene& scene);
-/// As JSON: {"file", "objects": [{"name", "kind", "particles", "carriers", "fixedParticles", "mass",
-/// "centerOfMass", "inertia": {xx..yz}, "principalMoments", "urdf": {"file", "link",
+/// As JSON: {"file", "objects": [{"name", "kind", "particles", "carriers", "fixedParticles",
+/// "mass", "centerOfMass", "inertia": {xx..yz}, "principalMoments", "urdf": {"file", "link",
 /// "notional", "mass", "centerOfMass", "inertia", "principalMoments", "frames"}, "errors":
 /// {"mass", "centerOfMass", "principalMoments"}, "notes"}]}.
 nlohmann::json reportJson(const SceneReport& report);

@@ -79,8 +79,8 @@ TEST_P(UrdfRobots, InfoMatchesTheUrdfPerLink) {
   double lowest = 1e9;
   for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i)
     if (scene.model.objects[static_cast<std::size_t>(scene.model.objectOf[i])].kind == "link")
-      lowest = std::min(lowest, scene.initial.position[static_cast<std::size_t>(i)].z -
-                                    scene.model.radius[i]);
+      lowest = std::min(
+          lowest, scene.initial.position[static_cast<std::size_t>(i)].z - scene.model.radius[i]);
   EXPECT_NEAR(lowest, 0.0, 1e-12);
 }
 
