@@ -183,9 +183,7 @@ MassProperties uniformMassProperties(const std::vector<ShapeSpec>& shapes, doubl
   // The union, sampled: the cells of a fine lattice per shape (those inside an
   // earlier shape dropped), each with its own second moments (by the lattice's
   // stretch along a prism's axes, see detail::fillShape, or added).
-  double volume = 0.0;
-  for (const auto& shape : shapes) volume += detail::shapeVolume(shape);
-  const double spacing = std::cbrt(std::max(volume, 1e-30) / 40000.0);
+  const double spacing = detail::spacingFor(shapes, 40000);
   std::vector<detail::ShapeInside> inside;
   double weight = 0.0;
   Eigen::Vector3d first = Eigen::Vector3d::Zero();

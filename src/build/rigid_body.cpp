@@ -13,23 +13,17 @@
 
 #include "build/checks.h"
 #include "build/mass_fit.h"
+#include "build/rigid_body_parts.h"
 #include "build/shape_fill.h"
 
 namespace robophi::build {
 
 namespace {
 
+using detail::Particle;
+using detail::Role;
+
 constexpr const char* kSpec = "RigidBodySpec";
-
-// What a particle is, for the connectors it gets.
-enum class Role { kLattice, kThin, kRequired, kCarrier };
-
-struct Particle {
-  Vec3 position;
-  double radius;
-  double reach;  // LS to every lattice particle within this distance (m)
-  Role role;
-};
 
 bool allZero(const Inertia& i) {
   return i.xx == 0 && i.yy == 0 && i.zz == 0 && i.xy == 0 && i.xz == 0 && i.yz == 0;
@@ -70,7 +64,6 @@ void checkSpec(const RigidBodySpec& spec) {
   }
   if (!allZero(i)) {
     const auto moments = principalMoments(i);
-    const double scale = std::max(std::abs(moments[2]), 1e-300);
     // Physical: positive definite, and the triangle inequality of the principal moments.
     if (!(moments[0] > 0.0) || moments[0] + moments[1] < moments[2] * (1.0 - 1e-9)) {
       check::fail(kSpec, "inertia",
@@ -80,7 +73,6 @@ void checkSpec(const RigidBodySpec& spec) {
                       " kg·m²: each must be > 0 and at most the "
                       "sum of the other two)");
     }
-    (void)scale;
   }
   check::nonNegative(kSpec, "particleSize", spec.particleSize, "m");
   check::atLeast(kSpec, "particleCount", spec.particleCount, 1);
@@ -90,6 +82,7 @@ void checkSpec(const RigidBodySpec& spec) {
                 "'minMassFraction' must be in (0, 1), got " + check::number(spec.minMassFraction));
   }
   check::positive(kSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
+  check::nonNegative(kSpec, "maxCarrierDistance", spec.maxCarrierDistance, "m");
   if (spec.uniformDensity && spec.shapes.empty()) {
     check::fail(kSpec, "uniformDensity", "'uniformDensity' needs at least one shape");
   }
@@ -141,16 +134,15 @@ std::vector<Particle> fillUnion(const std::vector<ShapeSpec>& shapes, double spa
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const detail::ShapeLattice lattice = detail::fillShape(shapes[k], spacing);
     const Vec3& cell = lattice.cell;
-    const double radius = 0.5 * std::min({cell.x, cell.y, cell.z});
+    // Half the cell's smallest side, at least a tenth of the spacing (a sheet).
+    const double radius = std::max(0.5 * std::min({cell.x, cell.y, cell.z}), 0.1 * spacing);
     const double reach = 1.01 * norm(cell);
-    const std::size_t thinFirst = lattice.position.size() - lattice.report.thinParticles;
     for (std::size_t i = 0; i < lattice.position.size(); ++i) {
       const Vec3& p = lattice.position[i];
       if (std::any_of(earlier.begin(), earlier.end(),
                       [&](const detail::ShapeInside& in) { return in(p); })) {
         continue;
       }
-      (void)thinFirst;
       out.push_back({p, radius, reach, Role::kLattice});
     }
     if (shapes.size() > 1) earlier.emplace_back(shapes[k]);
@@ -180,8 +172,8 @@ std::vector<Particle> fillUnion(const std::vector<ShapeSpec>& shapes, double spa
 // surface, so a lattice falls short of the solid's second moments by about h²/12
 // per axis; the map (a few % for a coarse lattice, a box's stretch already
 // done) gives that back, and a uniform body fits with equal masses. Skipped
-// when the map would move the lattice by more than a third of its size
-// (a lattice too coarse to stand for the shape).
+// when the map would stretch or shrink a direction by more than a third (a
+// lattice too coarse to stand for the shape).
 void matchUniformMoments(std::vector<Particle>& lattice, const MassProperties& uniform) {
   if (lattice.size() < 4 || !(uniform.mass > 0.0)) return;
   const auto n = static_cast<double>(lattice.size());
@@ -215,9 +207,7 @@ void matchUniformMoments(std::vector<Particle>& lattice, const MassProperties& u
 
 // The spacing whose lattice has the particle count nearest to `count`.
 double chooseSpacing(const std::vector<ShapeSpec>& shapes, int count) {
-  double volume = 0.0;
-  for (const auto& s : shapes) volume += detail::shapeVolume(s);
-  double spacing = std::cbrt(std::max(volume, 1e-30) / count);
+  double spacing = detail::spacingFor(shapes, count);
   double best = spacing;
   long bestMiss = -1;
   for (int iteration = 0; iteration < 10; ++iteration) {
@@ -286,132 +276,6 @@ std::vector<Particle> cluster(const MassProperties& target, std::vector<std::str
   return out;
 }
 
-// Links particle i to its nearest particles (not carriers, not i) until at least
-// `minimum` and they span 3-D (4 non-coplanar points), at most 16.
-void tie(GeneratedObject& object, const std::vector<Particle>& particles, int i, int minimum,
-         std::vector<std::vector<int>>& linked) {
-  std::vector<int> order;
-  for (int j = 0; j < static_cast<int>(particles.size()); ++j) {
-    if (j != i && particles[static_cast<std::size_t>(j)].role != Role::kCarrier) order.push_back(j);
-  }
-  const Vec3& p = particles[static_cast<std::size_t>(i)].position;
-  std::sort(order.begin(), order.end(), [&](int l, int r) {
-    const double dl = squaredNorm(particles[static_cast<std::size_t>(l)].position - p);
-    const double dr = squaredNorm(particles[static_cast<std::size_t>(r)].position - p);
-    return dl < dr || (dl == dr && l < r);
-  });
-  std::vector<Vec3> chosen;
-  for (const int j : order) {
-    if (static_cast<int>(chosen.size()) >= 16) break;
-    chosen.push_back(particles[static_cast<std::size_t>(j)].position);
-    auto& mine = linked[static_cast<std::size_t>(i)];
-    if (std::find(mine.begin(), mine.end(), j) == mine.end()) {
-      addLink(object, i, j);
-      mine.push_back(j);
-      linked[static_cast<std::size_t>(j)].push_back(i);
-    }
-    if (static_cast<int>(chosen.size()) < minimum) continue;
-    // Spanning 3-D: the neighbours' spread has no flat direction.
-    Vec3 mean{};
-    for (const Vec3& c : chosen) mean += c / static_cast<double>(chosen.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const Vec3& c : chosen) {
-      const Eigen::Vector3d d(c.x - mean.x, c.y - mean.y, c.z - mean.z);
-      cov += d * d.transpose();
-    }
-    const Eigen::Vector3d ev =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
-    if (ev(0) > 1e-3 * ev(2)) break;
-  }
-}
-
-// LS: lattice neighbours by distance (axis, face and body diagonals of their
-// cells); required, thin and carrier particles tied to >= 4 non-coplanar
-// neighbours; then separate pieces joined by their 6 closest pairs.
-void connect(GeneratedObject& object, const std::vector<Particle>& particles) {
-  const int n = static_cast<int>(particles.size());
-  std::vector<std::vector<int>> linked(static_cast<std::size_t>(n));
-  double reach = 0.0;
-  for (const auto& p : particles) {
-    if (p.role == Role::kLattice) reach = std::max(reach, p.reach);
-  }
-  // Sorted sweep along x: pairs within `reach` in x, then by distance.
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int l, int r) {
-    const double xl = particles[static_cast<std::size_t>(l)].position.x;
-    const double xr = particles[static_cast<std::size_t>(r)].position.x;
-    return xl < xr || (xl == xr && l < r);
-  });
-  std::vector<std::pair<int, int>> pairs;
-  for (std::size_t u = 0; u < order.size(); ++u) {
-    const Particle& a = particles[static_cast<std::size_t>(order[u])];
-    if (a.role != Role::kLattice) continue;
-    for (std::size_t v = u + 1; v < order.size(); ++v) {
-      const Particle& b = particles[static_cast<std::size_t>(order[v])];
-      if (b.position.x - a.position.x > reach) break;
-      if (b.role != Role::kLattice) continue;
-      const double limit = std::max(a.reach, b.reach);
-      if (squaredNorm(b.position - a.position) <= limit * limit) {
-        pairs.emplace_back(std::min(order[u], order[v]), std::max(order[u], order[v]));
-      }
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  for (const auto& [a, b] : pairs) {
-    addLink(object, a, b);
-    linked[static_cast<std::size_t>(a)].push_back(b);
-    linked[static_cast<std::size_t>(b)].push_back(a);
-  }
-  for (int i = 0; i < n; ++i) {
-    if (particles[static_cast<std::size_t>(i)].role != Role::kLattice)
-      tie(object, particles, i, 4, linked);
-  }
-  // Join the pieces (shapes that only touch, far required points) to the first.
-  for (;;) {
-    std::vector<int> piece(static_cast<std::size_t>(n), -1);
-    std::vector<int> stack{0};
-    piece[0] = 0;
-    while (!stack.empty()) {
-      const int i = stack.back();
-      stack.pop_back();
-      for (const int j : linked[static_cast<std::size_t>(i)]) {
-        if (piece[static_cast<std::size_t>(j)] < 0) {
-          piece[static_cast<std::size_t>(j)] = 0;
-          stack.push_back(j);
-        }
-      }
-    }
-    std::vector<std::tuple<double, int, int>> cross;
-    for (int i = 0; i < n; ++i) {
-      if (piece[static_cast<std::size_t>(i)] == 0) continue;
-      for (int j = 0; j < n; ++j) {
-        if (piece[static_cast<std::size_t>(j)] != 0) continue;
-        cross.emplace_back(squaredNorm(particles[static_cast<std::size_t>(i)].position -
-                                       particles[static_cast<std::size_t>(j)].position),
-                           i, j);
-      }
-    }
-    if (cross.empty()) break;
-    std::sort(cross.begin(), cross.end());
-    std::vector<int> usedOutside, usedInside;
-    int added = 0;
-    for (const auto& [d, i, j] : cross) {
-      if (added >= 6) break;
-      if (std::count(usedOutside.begin(), usedOutside.end(), i) > 0 &&
-          std::count(usedInside.begin(), usedInside.end(), j) > 0) {
-        continue;
-      }
-      addLink(object, i, j);
-      linked[static_cast<std::size_t>(i)].push_back(j);
-      linked[static_cast<std::size_t>(j)].push_back(i);
-      usedOutside.push_back(i);
-      usedInside.push_back(j);
-      ++added;
-    }
-  }
-}
-
 std::vector<Vec3> positionsOf(const std::vector<Particle>& particles) {
   std::vector<Vec3> out;
   out.reserve(particles.size());
@@ -450,7 +314,7 @@ AxisReach axisReach(const std::vector<Particle>& particles, const MassProperties
 // on the diagonals, each farther in turn; then lowers the floor. Last resort:
 // mass and centre exact, inertia as near as the fit got (body.fitted false).
 detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProperties& target,
-                                double floor, double spacing, RigidBody& body) {
+                                double floor, double spacing, double maxDistance, RigidBody& body) {
   detail::MassFit fit = detail::fitMasses(positionsOf(particles), target, floor);
   if (fit.feasible) return fit;
   const std::size_t base = particles.size();
@@ -485,6 +349,7 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     distance(k) = std::max({1.25 * reach.extent(k), 2.5 * smallestRadius,
                             std::sqrt(std::max(reach.target(k), 0.0) / (2.0 * meanMass))});
   }
+  const auto clamp = [&](double d) { return maxDistance > 0.0 ? std::min(d, maxDistance) : d; };
   int outer = 0, inner = 0;
   const auto build = [&](const Plan& plan) {
     particles.resize(base);
@@ -493,7 +358,7 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
       if (anyMore && !more[k]) continue;
       const Vec3 e = column(reach.axes, k);
       for (const double sign : {-1.0, 1.0}) {
-        particles.push_back({target.centerOfMass + e * (sign * plan.distance * distance(k)),
+        particles.push_back({target.centerOfMass + e * (sign * clamp(plan.distance * distance(k))),
                              0.5 * smallestRadius, 0.0, Role::kCarrier});
         ++outer;
       }
@@ -506,7 +371,8 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
         direction += column(reach.axes, k) * ((corner >> k & 1) != 0 ? 1.0 : -1.0);
       }
       particles.push_back(
-          {target.centerOfMass + direction * (plan.distance * distance.maxCoeff() / std::sqrt(3.0)),
+          {target.centerOfMass +
+               direction * (clamp(plan.distance * distance.maxCoeff()) / std::sqrt(3.0)),
            0.5 * smallestRadius, 0.0, Role::kCarrier});
       ++outer;
     }
@@ -537,11 +403,81 @@ detail::MassFit fitWithCarriers(std::vector<Particle>& particles, const MassProp
     }
   }
   if (!fit.feasible) {
-    particles.resize(base);
-    outer = inner = 0;
-    fit = detail::fitMasses(positionsOf(particles), target, floor, false);
-    body.notes.push_back("inertia out of reach: mass and centre of mass fitted only");
-    return fit;
+    // Out of reach: with the most capable carriers (else the lattice alone),
+    // mass and centre fitted, then the inertia as far towards the one asked for
+    // as it goes (bisection on t, I_t = I_0 + t (I − I_0), I_0 the inertia of
+    // the mass-and-centre fit); else mass and centre only.
+    const auto blend = [&](const Inertia& a, double t) {
+      MassProperties m = target;
+      const Inertia& b = target.inertia;
+      m.inertia = {a.xx + t * (b.xx - a.xx), a.yy + t * (b.yy - a.yy), a.zz + t * (b.zz - a.zz),
+                   a.xy + t * (b.xy - a.xy), a.xz + t * (b.xz - a.xz), a.yz + t * (b.yz - a.yz)};
+      return m;
+    };
+    const auto want = principalMoments(target.inertia);
+    const auto error = [&](const detail::MassFit& f) {
+      const auto got = principalMoments(massProperties(positionsOf(particles), f.mass).inertia);
+      double worst = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        worst = std::max(worst, std::abs(got[k] - want[k]) / std::max(want[k], 1e-300));
+      }
+      return worst;
+    };
+    // The nearer of the two, with the most capable carriers or the lattice alone.
+    detail::MassFit best;
+    double bestError = 1e300;
+    bool bestWithCarriers = false;
+    for (const bool withCarriers : {true, false}) {
+      if (withCarriers) {
+        build(plans.back());
+      } else {
+        particles.resize(base);
+        outer = inner = 0;
+      }
+      detail::MassFit reached = detail::fitMasses(positionsOf(particles), target, floor, false);
+      if (!reached.feasible) continue;
+      const Inertia start = massProperties(positionsOf(particles), reached.mass).inertia;
+      double lo = 0.0, hi = 1.0;
+      for (int halving = 0; halving < 12; ++halving) {
+        const double t = 0.5 * (lo + hi);
+        detail::MassFit trial = detail::fitMasses(positionsOf(particles), blend(start, t), floor);
+        if (trial.feasible) {
+          lo = t;
+          reached = std::move(trial);
+        } else {
+          hi = t;
+        }
+      }
+      if (const double e = error(reached); e < bestError) {
+        bestError = e;
+        best = std::move(reached);
+        bestWithCarriers = withCarriers;
+      }
+    }
+    if (best.mass.empty()) {
+      particles.resize(base);
+      outer = inner = 0;
+      fit = detail::fitMasses(positionsOf(particles), target, floor, false);
+      fit.feasible = false;
+      body.notes.push_back(
+          "inertia out of reach: mass and centre of mass fitted as near as can be");
+    } else {
+      if (bestWithCarriers) {
+        build(plans.back());
+      } else {
+        particles.resize(base);
+        outer = inner = 0;
+      }
+      fit = std::move(best);
+      fit.feasible = false;  // not the target
+      const auto got = principalMoments(massProperties(positionsOf(particles), fit.mass).inertia);
+      body.notes.push_back(
+          "inertia out of reach" +
+          (maxDistance > 0.0 ? " (carriers within " + brief(maxDistance) + " m)" : std::string()) +
+          ": principal moments " + brief(got[0]) + ", " + brief(got[1]) + ", " + brief(got[2]) +
+          " kg·m² of " + brief(want[0]) + ", " + brief(want[1]) + ", " + brief(want[2]) + " asked");
+    }
+    if (outer + inner == 0) return fit;
   }
   if (outer > 0) {
     double farthest = 0.0, extent = 0.0;
@@ -649,15 +585,18 @@ RigidBody makeRigidBody(const RigidBodySpec& spec) {
     }
   }
 
-  const detail::MassFit fit =
-      fitWithCarriers(particles, body.target, spec.minMassFraction, body.spacing, body);
+  const detail::MassFit fit = fitWithCarriers(particles, body.target, spec.minMassFraction,
+                                              body.spacing, spec.maxCarrierDistance, body);
 
   GeneratedObject& object = body.object;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     addParticle(object, particles[i].position, fit.mass[i], particles[i].radius);
   }
   object.spacing = body.spacing;
-  connect(object, particles);
+  if (const int braces = detail::connect(object, particles); braces > 0) {
+    body.notes.push_back("lattice braced with " + std::to_string(braces) +
+                         " longer LS (alone it was a linkage, not rigid)");
+  }
   check::fitsBudget(kSpec, "particleSize", "the lattice", static_cast<double>(object.size()),
                     static_cast<double>(object.linearSprings.size()));
   // Stiffness from the natural-frequency rule (objects.h defaultStiffness).

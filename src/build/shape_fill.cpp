@@ -5,6 +5,8 @@
 #include <numbers>
 #include <tuple>
 
+#include "build/checks.h"
+
 namespace robophi::build::detail {
 
 namespace {
@@ -117,7 +119,6 @@ void markSurface(const TriangleMesh& mesh, VoxelGrid& grid) {
   grid.surface.assign(cells, 0);
   grid.surfacePoint.assign(cells, Vec3{});
   std::vector<int> count(cells, 0);
-  const double step = 0.5 * std::min({grid.cell.x, grid.cell.y, grid.cell.z});
   const auto cellOf = [&](const Vec3& p, std::size_t& out) {
     std::array<int, 3> at{};
     for (int a = 0; a < 3; ++a) {
@@ -144,6 +145,17 @@ void markSurface(const TriangleMesh& mesh, VoxelGrid& grid) {
     }
     const Vec3 a = p[longestEdge], b = p[(longestEdge + 1) % 3], o = p[(longestEdge + 2) % 3];
     const double height = longest > 0.0 ? norm(cross(b - a, o - a)) / longest : 0.0;
+    // A step within the triangle's plane moves at most √(1 − n_a²) of it along
+    // axis a: at most half a cell along every axis (a face of a flat cell is
+    // not sampled at that cell's thickness).
+    const Vec3 normal = cross(b - a, o - a);
+    const double area2 = norm(normal);
+    double step = 1e300;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double na = area2 > 0.0 ? component(normal, axis) / area2 : 0.0;
+      const double along = std::sqrt(std::max(1.0 - na * na, 0.0));
+      if (along > 1e-9) step = std::min(step, 0.5 * component(grid.cell, axis) / along);
+    }
     const int along = std::clamp(static_cast<int>(std::ceil(longest / step)), 1, 4096);
     const int across = std::clamp(static_cast<int>(std::ceil(height / step)), 1, 4096);
     for (int t = 0; t <= across; ++t) {
@@ -220,6 +232,17 @@ void meshBounds(const TriangleMesh& mesh, Vec3& lo, Vec3& hi) {
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
+  }
+  // A flat mesh (a sheet) gets a thickness of 1e-3 of its size, so that its
+  // cells have a size.
+  const Vec3 extent = hi - lo;
+  const double floor = 1e-3 * std::max({extent.x, extent.y, extent.z, 1e-9});
+  for (int a = 0; a < 3; ++a) {
+    const double e = component(extent, a);
+    if (e >= floor) continue;
+    const double pad = 0.5 * (floor - e);
+    (a == 0 ? lo.x : (a == 1 ? lo.y : lo.z)) -= pad;
+    (a == 0 ? hi.x : (a == 1 ? hi.y : hi.z)) += pad;
   }
 }
 
@@ -321,6 +344,16 @@ ShapeLattice fillShape(const ShapeSpec& shape, double spacing) {
   Vec3 lo, hi;
   shapeBounds(shape, lo, hi);
   const Vec3 extent = hi - lo;
+  // The lattice's size before it is allocated (a spacing far below the shape's
+  // size asks for more cells than any body may have).
+  const double cells = std::max(2.0, extent.x / spacing) * std::max(2.0, extent.y / spacing) *
+                       std::max(2.0, extent.z / spacing);
+  if (!(cells <= 16.0 * kMaxParticlesPerObject)) {
+    throw SpecError("RigidBodySpec", "particleSize",
+                    "a lattice spacing of " + check::number(spacing) + " m over a shape of " +
+                        check::vector(extent) + " m makes " + check::number(std::round(cells)) +
+                        " cells, more than the budget allows");
+  }
   const std::array<int, 3> n{cellsAlong(extent.x, spacing), cellsAlong(extent.y, spacing),
                              cellsAlong(extent.z, spacing)};
   out.cell = {extent.x / n[0], extent.y / n[1], extent.z / n[2]};
@@ -428,6 +461,21 @@ double shapeVolume(const ShapeSpec& shape) {
     if (grid.inside[c]) volume += cellVolume;
   }
   return volume;
+}
+
+double spacingFor(const std::vector<ShapeSpec>& shapes, int count) {
+  // The volume per particle, or the area per particle for a sheet (a flat mesh).
+  double volume = 0.0, area = 0.0;
+  for (const auto& s : shapes) {
+    volume += shapeVolume(s);
+    for (const auto& t : s.mesh.triangles) {
+      const Vec3& a = s.mesh.vertices[static_cast<std::size_t>(t[0])];
+      area += 0.5 * norm(cross(s.mesh.vertices[static_cast<std::size_t>(t[1])] - a,
+                               s.mesh.vertices[static_cast<std::size_t>(t[2])] - a));
+    }
+  }
+  const double spacing = std::max(std::cbrt(volume / count), std::sqrt(0.5 * area / count));
+  return spacing > 0.0 ? spacing : 1e-3;
 }
 
 ShapeInside::ShapeInside(const ShapeSpec& shape) : shape_(&shape), toShape_(shape.frame.inverse()) {

@@ -60,6 +60,9 @@ ShapeLattice fillShape(const ShapeSpec& shape, double spacing);
 void shapeBounds(const ShapeSpec& shape, Vec3& lo, Vec3& hi);
 /// Volume of a shape (m³): exact for primitives and closed meshes, voxel count otherwise.
 double shapeVolume(const ShapeSpec& shape);
+/// A first lattice spacing (m) for about `count` particles in the union:
+/// the volume per particle, or the area per particle for a sheet.
+double spacingFor(const std::vector<ShapeSpec>& shapes, int count);
 /// Is the body-frame point inside the shape? (a mesh: by its 96-cell grid.)
 class ShapeInside {
  public:

@@ -12,10 +12,10 @@
 #include <string>
 
 #include "build/model_compare.h"
-#include "scene/json_locator.h"
 #include "robophi/build/objects.h"
-#include "run/runner.h"
 #include "robophi/scene/scene.h"
+#include "run/runner.h"
+#include "scene/json_locator.h"
 
 namespace robophi {
 namespace {

@@ -111,6 +111,11 @@ struct RigidBodySpec {
   /// The smallest fitted mass as a fraction of the mean mass, in (0, 1): the
   /// default stiffness rule uses the smallest mass, so a tiny mass makes the body soft.
   double minMassFraction = 0.2;
+  /// The farthest a carrier may sit from the centre of mass (m), >= 0; 0: no
+  /// limit. Carriers carry inertia the geometry cannot (URDFs with placeholder
+  /// inertias ask for radii of gyration of metres); beyond the limit the fit
+  /// reaches what it can (RigidBody::fitted false, a note says how far).
+  double maxCarrierDistance = 0.0;
   /// Natural frequency of the body's fastest mode (rad/s), > 0: the stiffness rule (objects.h).
   double naturalFrequency = kDefaultNaturalFrequency;
 };
@@ -135,6 +140,19 @@ struct RigidBody {
   /// What the builder had to do, e.g. "inertia beyond the geometry: 6 carriers added".
   std::vector<std::string> notes{};
 };
+/// Builds the body: the union's lattice at `particleSize` (or the spacing whose
+/// lattice has about `particleCount` particles; every shape at least 2 cells
+/// across each axis, parts of a mesh thinner than a cell a particle on their
+/// surface), mapped affinely to the uniform solid's centre and second moments;
+/// the required points; masses fitted (mass 1e-9 relative, centre 1e-6 m,
+/// inertia tensor 1e-6 of its trace), each >= minMassFraction × the mean, as
+/// near equal as the target allows. When the lattice cannot carry the target,
+/// carriers: pairs outside the geometry on the target's principal axes, six near
+/// the centre of mass, eight on the diagonals (RigidBody::carriers, notes). LS
+/// join lattice neighbours (axis, face and body diagonals); a particle whose
+/// neighbours do not span 3-D is tied to its nearest; a body of up to 250
+/// particles is checked for mechanisms and braced until rigid. Stiffness and
+/// damping by resolveSprings at `naturalFrequency`; no TS.
 /// Throws SpecError naming the field for a bad spec.
 RigidBody makeRigidBody(const RigidBodySpec& spec);
 
