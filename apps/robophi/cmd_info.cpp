@@ -19,11 +19,7 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--json", *json, "Print JSON (docs/robots.md \"robophi info\")");
   addUrdfOptions(*cmd, *urdf, *base);
   cmd->callback([path, json, urdf, base, &exitCode] {
-    if (!urdfOptionsOk("info", *base, *urdf)) {
-      exitCode = kExitBadInput;
-      return;
-    }
-    const auto scene = loadSceneOrReport(*path, *urdf);
+    const auto scene = loadInputOrReport("info", *path, *urdf, *base);
     if (!scene) {
       exitCode = kExitBadInput;
       return;

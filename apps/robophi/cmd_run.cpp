@@ -98,9 +98,7 @@ std::function<void(const RunProgress&)> makeProgress(bool quiet) {
 int runCommand(const RunArguments& args) {
   // From here on SIGINT and SIGTERM end the run cleanly, with its results so far.
   InterruptGuard interrupt;
-  UrdfSceneOptions urdf = args.urdf;
-  if (!urdfOptionsOk("run", args.base, urdf)) return kExitBadInput;
-  auto scene = loadSceneOrReport(args.scene, urdf);
+  auto scene = loadInputOrReport("run", args.scene, args.urdf, args.base);
   if (!scene) return kExitBadInput;
 
   RunOptions options;

@@ -17,11 +17,7 @@ void addValidateCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("scene", *path, "Scene file (JSON) or a URDF robot (.urdf)")->required();
   addUrdfOptions(*cmd, *urdf, *base);
   cmd->callback([path, urdf, base, &exitCode] {
-    if (!urdfOptionsOk("validate", *base, *urdf)) {
-      exitCode = kExitBadInput;
-      return;
-    }
-    const auto scene = loadSceneOrReport(*path, *urdf);
+    const auto scene = loadInputOrReport("validate", *path, *urdf, *base);
     if (!scene) {
       exitCode = kExitBadInput;
       return;

@@ -38,6 +38,12 @@ bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOption
   return false;
 }
 
+std::optional<Scene> loadInputOrReport(const char* command, const std::string& path,
+                                       UrdfSceneOptions urdf, const std::string& base) {
+  if (!urdfOptionsOk(command, base, urdf)) return std::nullopt;
+  return loadSceneOrReport(path, urdf);
+}
+
 std::string describeScene(const Scene& scene, const StabilityEstimate& stability) {
   const Model& m = scene.model;
   // The critical step is 2/omega_max reduced for damping (MODEL §2): both are given.

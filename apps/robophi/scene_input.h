@@ -18,6 +18,9 @@ std::optional<Scene> loadSceneOrReport(const std::string& path, const UrdfSceneO
 void addUrdfOptions(CLI::App& command, UrdfSceneOptions& urdf, std::string& base);
 /// Applies `base` ("", "fixed", "free") to `urdf`; false (and a message) for another value.
 bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOptions& urdf);
+/// urdfOptionsOk, then loadSceneOrReport: the scene, or nothing after a message.
+std::optional<Scene> loadInputOrReport(const char* command, const std::string& path,
+                                       UrdfSceneOptions urdf, const std::string& base);
 
 /// One line: particles, connectors, joints, and the stability estimate.
 std::string describeScene(const Scene& scene, const StabilityEstimate& stability);

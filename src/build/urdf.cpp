@@ -517,24 +517,80 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     }
   }
 
-  // The objects, in the world, and who touches whom.
+  // The objects, in the world, and who touches whom. A body's carriers (mass
+  // beyond its geometry, possibly far outside it) are an object of kind
+  // "virtual" of their own: they carry inertia and touch nothing.
+  std::vector<std::vector<UrdfParticle>> renumber(bodies.size());
+  std::vector<UrdfLinearSpring> carrierTies;
+  const auto objectCount = static_cast<int>(bodies.size());
+  std::vector<ObjectPlacement> carrierObjects;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     Body& body = bodies[b];
-    robot.links[static_cast<std::size_t>(body.link)].object = static_cast<int>(b);
-    ObjectPlacement placement;
+    UrdfLink& out = robot.links[static_cast<std::size_t>(body.link)];
+    out.object = static_cast<int>(b);
+    const GeneratedObject& g = body.built.object;
+    std::vector<bool> carrier(g.size(), false);
+    for (int c : body.built.carriers) carrier[static_cast<std::size_t>(c)] = true;
+    const bool fixed = spec.fixedBase && body.link == attached[static_cast<std::size_t>(d.root)];
+    ObjectPlacement placement, carriers;
     placement.name = prefix + "." + d.links[static_cast<std::size_t>(body.link)].name;
     placement.kind = "link";
-    placement.geometry = std::move(body.built.object);
-    placement.geometry.position = body.world;
+    carriers.name = placement.name + ".carriers";
+    carriers.kind = "virtual";
+    const int carrierObject = objectCount + static_cast<int>(carrierObjects.size());
+    renumber[b].resize(g.size());
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      ObjectPlacement& into = carrier[i] ? carriers : placement;
+      renumber[b][i] = {carrier[i] ? carrierObject : static_cast<int>(b),
+                        static_cast<int>(into.geometry.size())};
+      into.geometry.position.push_back(body.world[i]);
+      into.geometry.mass.push_back(g.mass[i]);
+      into.geometry.radius.push_back(g.radius[i]);
+      into.geometry.fixed.push_back(fixed || (!g.fixed.empty() && g.fixed[i]));
+    }
+    for (const LinearSpring& ls : g.linearSprings) {
+      const UrdfParticle a = renumber[b][static_cast<std::size_t>(ls.a)];
+      const UrdfParticle bb = renumber[b][static_cast<std::size_t>(ls.b)];
+      if (a.object == bb.object) {
+        ObjectPlacement& into = a.object == static_cast<int>(b) ? placement : carriers;
+        into.geometry.linearSprings.push_back(
+            {a.local, bb.local, ls.restLength, ls.stiffness, ls.damping});
+      } else {
+        carrierTies.push_back({a, bb, ls.restLength, ls.stiffness, ls.damping});
+      }
+    }
+    placement.geometry.spacing = g.spacing;
     placement.geometry.rigid = true;
-    if (spec.fixedBase && body.link == attached[static_cast<std::size_t>(d.root)])
-      placement.geometry.fixed.assign(placement.geometry.size(), true);
     robot.objects.push_back(std::move(placement));
+    if (!carriers.geometry.position.empty()) {
+      out.carrierObject = carrierObject;
+      carrierObjects.push_back(std::move(carriers));
+    }
   }
+  // The connectors so far named (body, local index in its RigidBody).
+  const auto remap = [&](UrdfParticle& p) {
+    p = renumber[static_cast<std::size_t>(p.object)][static_cast<std::size_t>(p.local)];
+  };
+  for (UrdfLinearSpring& ls : robot.linearSprings) {
+    remap(ls.a);
+    remap(ls.b);
+  }
+  for (UrdfTorsionSpring& ts : robot.torsionSprings) {
+    remap(ts.a);
+    remap(ts.c);
+    remap(ts.b);
+  }
+  for (UrdfJointSpring& js : robot.jointSprings) {
+    remap(js.a);
+    remap(js.c);
+    remap(js.b);
+    remap(js.d);
+  }
+  robot.linearSprings.insert(robot.linearSprings.end(), carrierTies.begin(), carrierTies.end());
+  for (ObjectPlacement& o : carrierObjects) robot.objects.push_back(std::move(o));
   for (UrdfLink& each : robot.links)
     if (each.object < 0)
       each.object = robot.links[static_cast<std::size_t>(each.attachedTo)].object;
-  const auto objectCount = static_cast<int>(bodies.size());
   if (!spec.selfCollision) {
     for (int a = 0; a < objectCount; ++a)
       for (int b = a + 1; b < objectCount; ++b) robot.noContact.push_back({a, b});

@@ -58,6 +58,28 @@ SceneReport reportScene(const Scene& scene) {
         r.frames.push_back(link.name);
         continue;
       }
+      if (link.carrierObject >= 0) {
+        // The carriers are part of the link's mass (a virtual object of their own).
+        const std::string& carrierName =
+            robot->objects[static_cast<std::size_t>(link.carrierObject)].name;
+        const auto carriers = byName.find(carrierName);
+        if (carriers != byName.end()) {
+          report.objects[carriers->second].partOf = r.name;
+          std::vector<Vec3> position;
+          std::vector<double> mass;
+          for (const std::string& name : {objectName, carrierName}) {
+            const ObjectInfo& info = model.objects[byName[name]];
+            for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount;
+                 ++i) {
+              position.push_back(scene.initial.position[static_cast<std::size_t>(i)]);
+              mass.push_back(model.mass[i]);
+            }
+          }
+          r.carriers = report.objects[carriers->second].particles;
+          r.built = build::massProperties(position, mass);
+          r.principalMoments = build::principalMoments(r.built.inertia);
+        }
+      }
       r.urdfLink = true;
       r.urdfFile = robot->file;
       r.link = link.name;
@@ -73,6 +95,8 @@ SceneReport reportScene(const Scene& scene) {
       }
     }
   }
+  // Carrier objects are reported with their link.
+  std::erase_if(report.objects, [](const ObjectReport& r) { return !r.partOf.empty(); });
   return report;
 }
 
@@ -82,6 +106,7 @@ nlohmann::json reportJson(const SceneReport& report) {
     nlohmann::json o = {{"name", r.name},
                         {"kind", r.kind},
                         {"particles", r.particles},
+                        {"carriers", r.carriers},
                         {"fixedParticles", r.fixedParticles},
                         {"mass", r.built.mass},
                         {"centerOfMass", vec(r.built.centerOfMass)},

@@ -37,6 +37,10 @@ struct ObjectReport {
   /// Links without particles of their own that move with this one (URDF frames).
   std::vector<std::string> frames{};
   std::vector<std::string> notes{};
+  /// A URDF link's carrier particles (a virtual object "<link object>.carriers", counted in
+  /// `built` here and not listed on its own).
+  int carriers = 0;
+  std::string partOf{};
 };
 
 struct SceneReport {
@@ -46,8 +50,8 @@ struct SceneReport {
 
 /// The report of a loaded scene (a scene file or a bare URDF).
 SceneReport reportScene(const Scene& scene);
-/// As JSON: {"file", "objects": [{"name", "kind", "particles", "fixedParticles", "mass",
-/// "centerOfMass", "inertia": {xx..yz}, "principalMoments", "urdf": {"file", "link",
+/// As JSON: {"file", "objects": [{"name", "kind", "particles", "carriers", "fixedParticles",
+/// "mass", "centerOfMass", "inertia": {xx..yz}, "principalMoments", "urdf": {"file", "link",
 /// "notional", "mass", "centerOfMass", "inertia", "principalMoments", "frames"}, "errors":
 /// {"mass", "centerOfMass", "principalMoments"}, "notes"}]}.
 nlohmann::json reportJson(const SceneReport& report);

@@ -180,10 +180,10 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   } catch (const build::SpecError& e) {
     return fail(path, e.what());
   }
-  // On the ground: the lowest particle's bottom at z = 0.
+  // On the ground: the lowest particle's bottom at z = 0 (carriers touch nothing).
   double lowest = std::numeric_limits<double>::infinity();
   for (const build::ObjectPlacement& object : robot.objects)
-    for (std::size_t i = 0; i < object.geometry.size(); ++i)
+    for (std::size_t i = 0; i < object.geometry.size() && object.kind == "link"; ++i)
       lowest = std::min(lowest, object.geometry.position[i].z - object.geometry.radius[i]);
   build::translateUrdfRobot(robot, {0.0, 0.0, -lowest});
   for (const build::UrdfWarning& w : robot.warnings)

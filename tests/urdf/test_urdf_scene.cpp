@@ -47,11 +47,14 @@ TEST(UrdfScene, AUrdfObjectLoadsPlacedAndNamed) {
   for (const auto& e : result.errors) ADD_FAILURE() << e.format();
   ASSERT_TRUE(result.ok());
   const Scene& scene = *result.scene;
-  ASSERT_EQ(scene.model.objects.size(), 6u);  // five links and the cube
+  ASSERT_GE(scene.model.objects.size(), 6u);
   EXPECT_EQ(scene.model.objects[0].name, "gripper.gripper_pole");
   EXPECT_EQ(scene.model.objects[0].kind, "link");
   EXPECT_TRUE(scene.model.objects[0].rigid);
-  EXPECT_EQ(scene.model.objects[5].name, "cube");
+  // The robot's links, their carriers (kind "virtual"), then the cube.
+  EXPECT_EQ(scene.model.objects.back().name, "cube");
+  for (std::size_t o = 5; o + 1 < scene.model.objects.size(); ++o)
+    EXPECT_EQ(scene.model.objects[o].kind, "virtual");
   ASSERT_EQ(scene.urdfRobots.size(), 1u);
   // The root link's frame: at the position, turned 90° about z.
   const build::Frame& root = scene.urdfRobots[0]->links[0].frame;

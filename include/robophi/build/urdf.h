@@ -69,6 +69,9 @@ struct UrdfLink {
   /// Index into UrdfRobot::objects of its particles, -1 for a frame (a link without
   /// mass on a fixed joint: it has no particles, it moves with `attachedTo`).
   int object = -1;
+  /// Index into UrdfRobot::objects of its carriers (kind "virtual": inertia the geometry
+  /// cannot hold, carried by particles outside it that touch nothing), -1 for none.
+  int carrierObject = -1;
   /// The link its frame moves with (index into UrdfRobot::links): itself when it has particles.
   int attachedTo = -1;
   /// Its frame in the world at the build pose.
@@ -143,7 +146,8 @@ struct UrdfModelJoint {
 struct UrdfRobot {
   std::string name{};  // <robot name>
   std::string file{};
-  /// One object per link with particles, named "<robot>.<link>", kind "link", rigid.
+  /// One object per link with particles, named "<robot>.<link>", kind "link", rigid; then
+  /// the links' carriers, "<robot>.<link>.carriers", kind "virtual".
   std::vector<ObjectPlacement> objects{};
   std::vector<UrdfLink> links{};
   std::vector<UrdfJoint> joints{};
