@@ -37,15 +37,17 @@ void evaluateForces(const CompiledModel& compiled, const State& state, ContactSc
   const ForceTally linear = accumulateLinearSprings(model, position, velocity, out.force);
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
+  const ForceTally bodies = accumulateRigidBodies(model, position, velocity, out.force);
   const ForceTally drives = accumulateJointDrives(model, position, velocity, out.force,
                                                   out.jointMotorEffort, out.jointLossEffort);
   e.gravity = gravity.potential;
   e.linearSpring = linear.potential;
   e.torsionSpring = torsion.potential;
-  e.jointSpring = joint.potential;
+  // The body servos' and the rigid bodies' holds count with the joints (MODEL §1.7).
+  e.jointSpring = joint.potential + drives.potential + bodies.potential;
   out.dissipativePower = damping.dissipativePower + linear.dissipativePower +
                          torsion.dissipativePower + joint.dissipativePower +
-                         drives.dissipativePower;
+                         bodies.dissipativePower + drives.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
                      velocity, state.spin, state.frictionHistory, scratch, out);

@@ -90,7 +90,14 @@ void World::setJointTarget(std::size_t joint, double target) {
   requireIndex("World::setJointTarget", "joint", joint, m.joints.size());
   requireFinite("World::setJointTarget", "target", target);
   const Joint& j = m.joints[joint];
-  if (j.kind == JointKind::kRevolute) {
+  if (j.actsThroughBodies()) {
+    // MODEL §1.7: the servo of a joint with bodies is the joint's own.
+    const double raw = j.kind == JointKind::kRevolute ? wrapAngle(target) : target;
+    double& stored = model_.model_.joints[joint].servoTarget;
+    if (stored == raw) return;
+    edited();
+    stored = raw;
+  } else if (j.kind == JointKind::kRevolute) {
     const double wrapped = wrapAngle(target);
     double& rest = model_.model_.jointSprings[static_cast<std::size_t>(j.connector)].restAngle;
     if (rest == wrapped) return;
@@ -120,7 +127,10 @@ void World::setJointServo(std::size_t joint, double stiffness, double damping) {
   const Joint& j = m.joints[joint];
   double* k = nullptr;
   double* c = nullptr;
-  if (j.kind == JointKind::kRevolute) {
+  if (j.actsThroughBodies()) {
+    k = &model_.model_.joints[joint].servoStiffness;
+    c = &model_.model_.joints[joint].servoDamping;
+  } else if (j.kind == JointKind::kRevolute) {
     JointSpring& s = model_.model_.jointSprings[static_cast<std::size_t>(j.connector)];
     k = &s.stiffness;
     c = &s.damping;

@@ -199,6 +199,57 @@ struct Joint {
   /// c, d, sharing the effort equally (MODEL §1.6): a wheel's motor spread over
   /// its rim, so that no single light particle carries the rate drive. Empty: b alone.
   std::vector<ParticleIndex> motorParticles{};
+  /// Index into Model::bodyLinks of the body link that joins the joint's two bodies,
+  /// or -1 (MODEL §1.7). When set, the joint's servo, motor and losses act as a wrench
+  /// on the child body and its reaction on the parent, each spread over its particles
+  /// as the rigid motion it causes, and the drive's rate q̇ is the bodies' relative
+  /// rigid velocity: no connector particle carries the joint's torque alone. An
+  /// imported URDF joint's (build::placeUrdfRobot).
+  std::int32_t bodyLink = -1;
+  /// With a body link: the servo (MODEL §1.7) that World::setJointServo and
+  /// setJointTarget set, instead of the JS's or the drive LS's: stiffness
+  /// (N·m/rad or N/m) >= 0, damping (N·m·s/rad or N·s/m) >= 0, and the target as a
+  /// raw value (jointValue: rad in [0, 2π), or m).
+  double servoStiffness = 0.0, servoDamping = 0.0, servoTarget = 0.0;
+  bool actsThroughBodies() const { return bodyLink >= 0; }
+};
+
+/// A rigid body of particles (MODEL §1.7): a link of an imported robot. Its rest
+/// shape is the particles' offsets from their mass centre as built; shape matching
+/// pulls each particle towards where the body's best-fit rigid motion puts it,
+/// f_i = m_i ω² (p̄ + R r_i − p_i), with damping of the motion relative to the rigid
+/// one, so that the body stays rigid whatever its lattice's stiffness.
+struct RigidGroup {
+  std::string name;
+  /// Its particles (model indices) and their rest offsets r_i (m) from the rest centre.
+  std::vector<ParticleIndex> particles;
+  std::vector<Vec3> rest;
+  /// Shape matching's natural frequency ω (rad/s), >= 0 (0: none), and damping ratio
+  /// ζ >= 0 (the relative motion's damping 2 ζ ω m_i, N·s/m).
+  double frequency = 0.0, dampingRatio = 0.0;
+};
+
+/// What a body link leaves free between its two bodies.
+enum class BodyLinkKind : std::uint8_t { kRevolute, kPrismatic, kFixed };
+
+/// Two rigid bodies held together as a joint holds them (MODEL §1.7): a revolute
+/// link keeps the joint point of each body together and their axes aligned (the
+/// turn about the axis free), a prismatic one keeps the child's point on the
+/// parent's line and the bodies' orientations equal (the slide free), a fixed one
+/// locks all six. Penalty springs on the bodies' rigid motions (position error e:
+/// −κ e − β ė at the point; orientation error θ: −κ_θ θ − β_θ θ̇), applied as a
+/// wrench on the child and its reaction on the parent, each spread over the body's
+/// particles as the rigid motion it causes.
+struct BodyLink {
+  BodyLinkKind kind = BodyLinkKind::kRevolute;
+  /// Indices into Model::bodies.
+  std::int32_t child = -1, parent = -1;
+  /// The joint point and the unit axis in each body's rest frame (m; -), and a unit
+  /// vector normal to the axis (the orientation lock of a prismatic or fixed link).
+  Vec3 pointInChild{}, pointInParent{}, axisInChild{0, 0, 1}, axisInParent{0, 0, 1};
+  Vec3 normalInChild{1, 0, 0}, normalInParent{1, 0, 0};
+  /// Position: κ (N/m) and β (N·s/m); orientation: κ_θ (N·m/rad) and β_θ (N·m·s/rad); >= 0.
+  double stiffness = 0.0, damping = 0.0, angularStiffness = 0.0, angularDamping = 0.0;
 };
 
 /// The model: particles as flat arrays, connectors as small structs.
@@ -219,6 +270,9 @@ struct Model {
   std::vector<LinearSpring> linearSprings;
   std::vector<TorsionSpring> torsionSprings;
   std::vector<JointSpring> jointSprings;
+  /// Rigid bodies and the links between them (MODEL §1.7).
+  std::vector<RigidGroup> bodies;
+  std::vector<BodyLink> bodyLinks;
 
   /// Gravity g (m/s²), applied as m_i g to every particle.
   Vec3 gravity{0.0, 0.0, -9.81};

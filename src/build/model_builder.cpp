@@ -394,8 +394,84 @@ std::int32_t ModelBuilder::addJoint(const Joint& joint) {
                 "'driveSpring' " + std::to_string(joint.driveSpring) +
                     " is not an LS of a prismatic joint");
   check::finite(kSpec, "zero", joint.zero, joint.kind == JointKind::kRevolute ? "rad" : "m");
+  if (joint.bodyLink < -1 || joint.bodyLink >= static_cast<std::int32_t>(model_.bodyLinks.size()))
+    check::fail(kSpec, "bodyLink",
+                "'bodyLink' " + std::to_string(joint.bodyLink) + " is not a placed body link (" +
+                    std::to_string(model_.bodyLinks.size()) + " placed)");
+  check::nonNegative(kSpec, "servoStiffness", joint.servoStiffness, revolute ? "N·m/rad" : "N/m");
+  check::nonNegative(kSpec, "servoDamping", joint.servoDamping, revolute ? "N·m·s/rad" : "N·s/m");
+  check::finite(kSpec, "servoTarget", joint.servoTarget, revolute ? "rad" : "m");
   model_.joints.push_back(joint);
   return static_cast<std::int32_t>(model_.joints.size()) - 1;
+}
+
+std::int32_t ModelBuilder::addBody(const std::string& name, std::vector<ParticleIndex> particles,
+                                   double frequency, double dampingRatio) {
+  constexpr const char* kSpec = "RigidGroup";
+  if (particles.empty()) check::fail(kSpec, "particles", "body '" + name + "' has no particles");
+  check::nonNegative(kSpec, "frequency", frequency, "rad/s");
+  check::nonNegative(kSpec, "dampingRatio", dampingRatio, "-");
+  RigidGroup body;
+  body.name = name;
+  double mass = 0.0;
+  Vec3 moment{};
+  for (ParticleIndex p : particles) {
+    if (p < 0 || p >= model_.particleCount())
+      check::fail(kSpec, "particles",
+                  "body '" + name + "': particle " + std::to_string(p) + " is not placed (" +
+                      std::to_string(model_.particleCount()) + " placed)");
+    mass += model_.mass[static_cast<std::size_t>(p)];
+    moment += position_[static_cast<std::size_t>(p)] * model_.mass[static_cast<std::size_t>(p)];
+  }
+  const Vec3 center = moment / mass;
+  for (ParticleIndex p : particles)
+    body.rest.push_back(position_[static_cast<std::size_t>(p)] - center);
+  body.particles = std::move(particles);
+  body.frequency = frequency;
+  body.dampingRatio = dampingRatio;
+  model_.bodies.push_back(std::move(body));
+  return static_cast<std::int32_t>(model_.bodies.size()) - 1;
+}
+
+Vec3 ModelBuilder::bodyCenter(std::int32_t body) const {
+  const RigidGroup& b = model_.bodies.at(static_cast<std::size_t>(body));
+  double mass = 0.0;
+  Vec3 moment{};
+  for (ParticleIndex p : b.particles) {
+    mass += model_.mass[static_cast<std::size_t>(p)];
+    moment += position_[static_cast<std::size_t>(p)] * model_.mass[static_cast<std::size_t>(p)];
+  }
+  return moment / mass;
+}
+
+std::int32_t ModelBuilder::addBodyLink(BodyLinkKind kind, std::int32_t child, std::int32_t parent,
+                                       const Vec3& point, const Vec3& axis, const BodyLink& gains) {
+  constexpr const char* kSpec = "BodyLink";
+  const auto bodies = static_cast<std::int32_t>(model_.bodies.size());
+  if (child < 0 || parent < 0 || child >= bodies || parent >= bodies || child == parent)
+    check::fail(kSpec, "child",
+                "bodies " + std::to_string(child) + " and " + std::to_string(parent) +
+                    " are not two placed bodies (" + std::to_string(bodies) + " placed)");
+  check::finite(kSpec, "point", point, "m");
+  if (!(norm(axis) > 0.0)) check::fail(kSpec, "axis", "'axis' must not be zero");
+  check::nonNegative(kSpec, "stiffness", gains.stiffness, "N/m");
+  check::nonNegative(kSpec, "damping", gains.damping, "N·s/m");
+  check::nonNegative(kSpec, "angularStiffness", gains.angularStiffness, "N·m/rad");
+  check::nonNegative(kSpec, "angularDamping", gains.angularDamping, "N·m·s/rad");
+  BodyLink link = gains;
+  link.kind = kind;
+  link.child = child;
+  link.parent = parent;
+  const Vec3 n = axis / norm(axis);
+  const Vec3 trial = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 normal = cross(n, trial) / norm(cross(n, trial));
+  // The rest frames are the world's as built (rest offsets from the centres).
+  link.pointInChild = point - bodyCenter(child);
+  link.pointInParent = point - bodyCenter(parent);
+  link.axisInChild = link.axisInParent = n;
+  link.normalInChild = link.normalInParent = normal;
+  model_.bodyLinks.push_back(link);
+  return static_cast<std::int32_t>(model_.bodyLinks.size()) - 1;
 }
 
 void ModelBuilder::excludeContact(std::int32_t objectA, std::int32_t objectB) {

@@ -3,6 +3,7 @@
 // docs/robots.md "Importing a URDF" says what is built and why.
 #include "robophi/build/urdf.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -165,6 +166,97 @@ std::vector<int> nearest(const Body& body, const Vec3& point, std::size_t count,
   return out;
 }
 
+// Up to `count` particles of `body` near `point` (world) whose directions from it
+// span space as evenly as they can (greedy: each pick maximises det Σ û ûᵀ), so
+// that LS from them hold the point in every direction: the nearest few of a
+// lattice face lie in a plane and would let it move off that plane.
+std::vector<int> spread(const Body& body, const Vec3& point, std::size_t count,
+                        const std::vector<int>& skip) {
+  const std::vector<int> candidates =
+      nearest(body, point, std::max<std::size_t>(4 * count, 16), skip);
+  std::vector<int> out;
+  double m[3][3]{};
+  const auto det = [](const double a[3][3]) {
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  };
+  while (out.size() < count && out.size() < candidates.size()) {
+    int best = -1;
+    double bestScore = -1.0;
+    for (int c : candidates) {
+      if (std::find(out.begin(), out.end(), c) != out.end()) continue;
+      const Vec3 d = body.world[static_cast<std::size_t>(c)] - point;
+      const double u[3] = {d.x / norm(d), d.y / norm(d), d.z / norm(d)};
+      double trial[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) trial[r][k] = m[r][k] + u[r] * u[k] + (r == k ? 0.05 : 0.0);
+      // Nearer partners first among equals: a small preference by distance.
+      const double score = det(trial) / (1.0 + 0.01 * norm(d) / (norm(d) + 1e-12));
+      if (score > bestScore + 1e-12) {
+        bestScore = score;
+        best = c;
+      }
+    }
+    if (best < 0) break;
+    const Vec3 d = body.world[static_cast<std::size_t>(best)] - point;
+    const double u[3] = {d.x / norm(d), d.y / norm(d), d.z / norm(d)};
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) m[r][k] += u[r] * u[k];
+    out.push_back(best);
+  }
+  return out;
+}
+
+// The inertia a joint's servo moves on one side (MODEL §1.7): about the axis n through
+// the body's centre for a revolute joint, 1 / (nᵀ I⁻¹ n) (kg·m²); along n through
+// `point` for a prismatic one, 1 / (1/M + (r × n)ᵀ I⁻¹ (r × n)) (kg). Infinity for a
+// body with fixed particles (the base: it does not move).
+double servoInertia(const Body& body, const Vec3& n, const Vec3& point, bool revolute, bool fixed) {
+  if (fixed) return std::numeric_limits<double>::infinity();
+  const GeneratedObject& g = body.built.object;
+  const MassProperties p = massProperties(body.world, g.mass);
+  const Inertia& i = p.inertia;
+  Eigen::Matrix3d a;
+  a << i.xx, i.xy, i.xz, i.xy, i.yy, i.yz, i.xz, i.yz, i.zz;
+  a += 1e-9 * a.trace() * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d inverse = a.inverse();
+  const auto quadratic = [&](const Vec3& v) {
+    const Eigen::Vector3d e(v.x, v.y, v.z);
+    return e.dot(inverse * e);
+  };
+  if (revolute) return 1.0 / quadratic(n);
+  return 1.0 / (1.0 / p.mass + quadratic(cross(point - p.centerOfMass, n)));
+}
+
+// What a body link's penalty springs move on one side (MODEL §1.7): the least
+// effective mass (kg) of the body's point `point` in any direction,
+// 1 / λmax(1/M − [r]× I⁻¹ [r]×), and its least inertia (kg·m²) for turns normal to
+// `n` (revolute) or any turn, 1 / λmax(P I⁻¹ P). Infinity for a fixed body.
+std::pair<double, double> linkInertia(const Body& body, const Vec3& n, const Vec3& point,
+                                      bool normalOnly, bool fixed) {
+  const double infinity = std::numeric_limits<double>::infinity();
+  if (fixed) return {infinity, infinity};
+  const MassProperties p = massProperties(body.world, body.built.object.mass);
+  const Inertia& i = p.inertia;
+  Eigen::Matrix3d a;
+  a << i.xx, i.xy, i.xz, i.xy, i.yy, i.yz, i.xz, i.yz, i.zz;
+  a += 1e-9 * a.trace() * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d inverse = a.inverse();
+  const Vec3 r = point - p.centerOfMass;
+  Eigen::Matrix3d cr;
+  cr << 0, -r.z, r.y, r.z, 0, -r.x, -r.y, r.x, 0;
+  const Eigen::Matrix3d k = Eigen::Matrix3d::Identity() / p.mass - cr * inverse * cr;
+  const Eigen::Vector3d e(n.x, n.y, n.z);
+  const Eigen::Matrix3d project =
+      normalOnly ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() - e * e.transpose())
+                 : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d turn = project * inverse * project;
+  const double largestK = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(k).eigenvalues()(2);
+  const double largestTurn = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(turn).eigenvalues()(2);
+  return {1.0 / largestK, 1.0 / largestTurn};
+}
+
 }  // namespace
 
 UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
@@ -172,7 +264,10 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
   check::nonNegative(kSpec, "particleSize", spec.particleSize, "m");
   check::atLeast(kSpec, "particlesPerLink", spec.particlesPerLink, 1);
   check::positive(kSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
+  check::nonNegative(kSpec, "servoFrequency", spec.servoFrequency, "rad/s");
   check::finite(kSpec, "position", spec.placement.origin, "m");
+  const double servoFrequency =
+      spec.servoFrequency > 0.0 ? spec.servoFrequency : 0.3 * spec.naturalFrequency;
   const Description d = urdf::readUrdf(spec.path, spec.packagePaths);
   const std::string& file = d.file;
   const std::size_t linkCount = d.links.size();
@@ -441,6 +536,36 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     robot.linearSprings.push_back({a, b, norm(position(a) - position(b)), k, mu});
     return static_cast<int>(robot.linearSprings.size()) - 1;
   };
+  // A body link between the plan's two bodies: gains κ = ω² m for the pair's reduced
+  // mass (and inertia), so that the pair's own frequency is ω, critically damped.
+  const int fixedBody = bodyOf[static_cast<std::size_t>(d.root)];
+  const auto addBodyLink = [&](const Plan& plan, BodyLinkKind kind, const Vec3& point) {
+    UrdfBodyLink held;
+    held.kind = kind;
+    held.child = bodies[static_cast<std::size_t>(plan.child)].link;
+    held.parent = bodies[static_cast<std::size_t>(plan.parent)].link;
+    held.point = point;
+    held.axis = plan.axis;
+    const bool normalOnly = kind == BodyLinkKind::kRevolute;
+    const auto [mc, ic] = linkInertia(bodies[static_cast<std::size_t>(plan.child)], plan.axis,
+                                      point, normalOnly, spec.fixedBase && plan.child == fixedBody);
+    const auto [mp, ip] =
+        linkInertia(bodies[static_cast<std::size_t>(plan.parent)], plan.axis, point, normalOnly,
+                    spec.fixedBase && plan.parent == fixedBody);
+    // The pair's reduced mass and inertia (a fixed side adds 0 to their inverses).
+    const double w2 = servoFrequency * servoFrequency;
+    const double m = 1.0 / (1.0 / mc + 1.0 / mp), i = 1.0 / (1.0 / ic + 1.0 / ip);
+    if (std::isfinite(m)) {
+      held.gains.stiffness = w2 * m;
+      held.gains.damping = 2.0 * std::sqrt(held.gains.stiffness * m);
+    }
+    if (std::isfinite(i)) {
+      held.gains.angularStiffness = w2 * i;
+      held.gains.angularDamping = 2.0 * std::sqrt(held.gains.angularStiffness * i);
+    }
+    robot.bodyLinks.push_back(held);
+    return static_cast<int>(robot.bodyLinks.size()) - 1;
+  };
   for (const Plan& plan : plans) {
     const UJoint& j = d.joints[static_cast<std::size_t>(plan.joint)];
     UrdfJoint& out = robot.joints[static_cast<std::size_t>(plan.joint)];
@@ -455,6 +580,9 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
       return at(plan.parent, parent.built.required[static_cast<std::size_t>(plan.parentPoints[r])]);
     };
     if (j.type == UJoint::Type::kFixed) {
+      const Frame jointFrame =
+          frame[static_cast<std::size_t>(j.parentIndex)].then(originFrame(j.origin));
+      addBodyLink(plan, BodyLinkKind::kFixed, jointFrame.origin);
       // The child tied rigidly to its parent: its particles nearest the parent to
       // the parent's three nearest, and the other way round.
       for (const auto& [from, to] :
@@ -493,28 +621,58 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
       robot.jointSprings.push_back(
           {a, s1, b, s2, jointAngle(position(a), position(s1), position(b), position(s2)),
            k * w * w, mu * w * w});
-      const int drive =
-          link(o, s1, spec.holdJoints ? k : 0.0, std::max(j.damping, spec.holdJoints ? mu : 0.0));
+      // The drive LS measures q; the servo and the losses act through the bodies.
+      const int drive = link(o, s1, 0.0, 0.0);
       const double lowerEnd = std::min(j.lower, q[static_cast<std::size_t>(plan.joint)]) - w;
-      robot.modelJoints.push_back(
-          {out.modelJoint, JointKind::kPrismatic, connector, drive, -lowerEnd});
+      UrdfModelJoint model{out.modelJoint, JointKind::kPrismatic, connector, drive, -lowerEnd};
+      model.servoTarget = norm(position(s1) - position(o));
+      robot.modelJoints.push_back(model);
     } else {
       const UrdfParticle c = childPoint(0), dd = childPoint(1), b = childPoint(2);
       const UrdfParticle a = parentPoint(0);
-      // The parent holds the axis: c and d each tied to 4 parent particles (a among them).
+      // The parent holds the axis: c and d each tied to 6 parent particles spread
+      // around it (a among them), so that the child turns about the line c–d only.
       for (const UrdfParticle& axisPoint : {c, dd}) {
-        std::vector<int> partners = nearest(parent, position(axisPoint), 3, {a.local});
+        std::vector<int> partners = spread(parent, position(axisPoint), 5, {a.local});
         partners.push_back(a.local);
         for (int partner : partners) link(at(plan.parent, partner), axisPoint, k, mu);
       }
-      // MODEL §1.3 JS a-c-b-d: passive (the URDF's damping) or held (holdJoints).
+      // MODEL §1.3 JS a-c-b-d: it measures q; the servo and the URDF's damping act
+      // through the bodies (MODEL §1.7: on one light arm particle, damping of 0.5
+      // N·m·s/rad needs steps of 5e-6 s).
       const double angle = jointAngle(position(a), position(c), position(b), position(dd));
-      robot.jointSprings.push_back({a, c, b, dd, angle, spec.holdJoints ? k * w * w : 0.0,
-                                    std::max(j.damping, spec.holdJoints ? mu * w * w : 0.0)});
-      robot.modelJoints.push_back({out.modelJoint, JointKind::kRevolute,
-                                   static_cast<int>(robot.jointSprings.size()) - 1, -1,
-                                   wrapAngle(angle - q[static_cast<std::size_t>(plan.joint)])});
+      robot.jointSprings.push_back({a, c, b, dd, angle, 0.0, 0.0});
+      UrdfModelJoint model{out.modelJoint, JointKind::kRevolute,
+                           static_cast<int>(robot.jointSprings.size()) - 1, -1,
+                           wrapAngle(angle - q[static_cast<std::size_t>(plan.joint)])};
+      model.servoTarget = angle;
+      robot.modelJoints.push_back(model);
     }
+    // The hold gains (MODEL §1.7): κ = ω² I of the side that moves more easily,
+    // critically damped (β = 2 √(κ I)).
+    const bool revolute = j.type != UJoint::Type::kPrismatic;
+    const Vec3 point = position(childPoint(0));
+    // The pair's reduced inertia: 1 / (1/I_child + 1/I_parent), a fixed side adding 0.
+    const double inertia =
+        1.0 / (1.0 / servoInertia(child, plan.axis, point, revolute,
+                                  spec.fixedBase && plan.child == fixedBody) +
+               1.0 / servoInertia(parent, plan.axis, point, revolute,
+                                  spec.fixedBase && plan.parent == fixedBody));
+    UrdfModelJoint& model = robot.modelJoints.back();
+    model.drive.damping = j.damping;
+    model.drive.friction = j.friction;
+    if (j.hasLimit && j.effort > 0.0) model.drive.effortLimit = j.effort;
+    if (j.hasLimit && j.velocity > 0.0) model.drive.velocityLimit = j.velocity;
+    if (std::isfinite(inertia)) {
+      out.holdStiffness = servoFrequency * servoFrequency * inertia;
+      out.holdDamping = 2.0 * std::sqrt(out.holdStiffness * inertia);
+    }
+    if (spec.holdJoints) {
+      model.servoStiffness = out.holdStiffness;
+      model.servoDamping = out.holdDamping;
+    }
+    model.bodyLink =
+        addBodyLink(plan, revolute ? BodyLinkKind::kRevolute : BodyLinkKind::kPrismatic, point);
   }
 
   // The objects, in the world, and who touches whom. A body's carriers (mass
@@ -587,6 +745,8 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     remap(js.d);
   }
   robot.linearSprings.insert(robot.linearSprings.end(), carrierTies.begin(), carrierTies.end());
+  robot.bodyFrequency = servoFrequency;
+  robot.bodyDampingRatio = 0.5;
   for (ObjectPlacement& o : carrierObjects) robot.objects.push_back(std::move(o));
   for (UrdfLink& each : robot.links)
     if (each.object < 0)
@@ -630,6 +790,27 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
   for (const UrdfJointSpring& s : robot.jointSprings)
     joint.push_back(builder.addConnector(JointSpring{index(s.a), index(s.c), index(s.b), index(s.d),
                                                      s.restAngle, s.stiffness, s.damping}));
+  // Bodies (MODEL §1.7): each link with particles, with its carriers; then their links.
+  placed.body.assign(robot.links.size(), -1);
+  for (std::size_t l = 0; l < robot.links.size(); ++l) {
+    const UrdfLink& link = robot.links[l];
+    if (link.object < 0 || link.attachedTo != static_cast<int>(l)) continue;
+    std::vector<ParticleIndex> particles;
+    for (int o : {link.object, link.carrierObject}) {
+      if (o < 0) continue;
+      const PlacedObject& object = placed.objects[static_cast<std::size_t>(o)];
+      for (ParticleIndex p = 0; p < object.particleCount; ++p)
+        particles.push_back(object.particle(p));
+    }
+    placed.body[l] =
+        builder.addBody(robot.objects[static_cast<std::size_t>(link.object)].name,
+                        std::move(particles), robot.bodyFrequency, robot.bodyDampingRatio);
+  }
+  std::vector<std::int32_t> bodyLinkOf;
+  for (const UrdfBodyLink& link : robot.bodyLinks)
+    bodyLinkOf.push_back(builder.addBodyLink(
+        link.kind, placed.body[static_cast<std::size_t>(link.child)],
+        placed.body[static_cast<std::size_t>(link.parent)], link.point, link.axis, link.gains));
   std::vector<std::int32_t> modelJointOf;
   for (const UrdfModelJoint& j : robot.modelJoints) {
     Joint model;
@@ -640,6 +821,11 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
                           : torsion[static_cast<std::size_t>(j.connector)];
     model.driveSpring = j.driveSpring >= 0 ? linear[static_cast<std::size_t>(j.driveSpring)] : -1;
     model.zero = j.zero;
+    model.servoStiffness = j.servoStiffness;
+    model.servoDamping = j.servoDamping;
+    model.servoTarget = j.servoTarget;
+    model.drive = j.drive;
+    if (j.bodyLink >= 0) model.bodyLink = bodyLinkOf[static_cast<std::size_t>(j.bodyLink)];
     modelJointOf.push_back(builder.addJoint(model));
   }
   for (const UrdfJoint& j : robot.joints) {

@@ -2,6 +2,7 @@
 // The force stages: each adds its forces to `force` and reports the potential
 // energy it holds and the power of its dissipative part.
 
+#include <array>
 #include <vector>
 
 #include "robophi/model.h"
@@ -35,12 +36,56 @@ bool hasDrive(const JointDrive& drive);
 double motorEffort(const JointDrive& drive, double rate);
 double lossEffort(const JointDrive& drive, double rate);
 /// Joint motors and losses (MODEL §1.6): adds Q ∂q/∂p_j for every joint with a
-/// drive; `motor` and `loss` (resized to the joints) get each joint's efforts.
-/// Reports the losses' power (<= 0) as dissipative; the motors' power is the
-/// driving power's (jointMotorPower).
+/// drive (a wrench on its bodies, and their servo, for a joint with bodies: MODEL
+/// §1.7, whose servo energy is the tally's potential); `motor` and `loss` (resized to the joints)
+/// get each joint's efforts. Reports the losses' power (<= 0) as dissipative; the motors' power is
+/// the driving power's (jointMotorPower).
 ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                  std::vector<double>& motor, std::vector<double>& loss);
+/// MODEL §1.7: a set of particles' rigid motion — mass (kg), centre (m), the
+/// centre's velocity (m/s), the inverse of the inertia tensor about the centre
+/// (1/(kg·m²)), the angular velocity ω = I⁻¹ L (rad/s) and, for a body with a rest
+/// shape, the rotation R from it that fits best (shape matching's).
+struct RigidMotion {
+  bool valid = false;
+  double mass = 0.0;
+  Vec3 center{}, velocity{}, spin{};
+  std::array<std::array<double, 3>, 3> inverseInertia{};
+  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  Vec3 solve(const Vec3& torque) const;       // I⁻¹ t
+  Vec3 rotate(const Vec3& restOffset) const;  // R r
+  Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
+};
+/// The rigid motion of `particles`; `rest` (their rest offsets, same order) or null.
+RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& particles,
+                        const std::vector<Vec3>* rest, const std::vector<Vec3>& position,
+                        const std::vector<Vec3>& velocity);
+/// Every Model::bodies' rigid motion.
+std::vector<RigidMotion> bodyMotions(const Model& model, const std::vector<Vec3>& position,
+                                     const std::vector<Vec3>& velocity);
+/// Adds to `particles` the wrench (force f through `point`, couple t) as the rigid
+/// motion it causes: f_i = m_i (a + α × (p_i − p̄)), a = f/M, α = I⁻¹ (t + (point − p̄) × f);
+/// the forces sum to f, their moment about `point` is t, and their power is
+/// f·v(point) + t·ω exactly.
+void applyWrench(const Model& model, const std::vector<ParticleIndex>& particles,
+                 const RigidMotion& motion, const std::vector<Vec3>& position, const Vec3& f,
+                 const Vec3& t, const Vec3& point, std::vector<Vec3>& force);
+/// A body link's joint points, axes and normals in the world, by each body.
+struct BodyLinkFrame {
+  Vec3 childPoint{}, parentPoint{}, childAxis{}, parentAxis{}, childNormal{}, parentNormal{};
+};
+BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
+                            const RigidMotion& parent);
+/// MODEL §1.7: shape matching of every body and the body links' wrenches; their
+/// potential and the power of their dampers.
+ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& position,
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+
+/// MODEL §1.7: the servo effort (N·m or N) of a joint that acts through its bodies
+/// (−κ e − β q̇, q̇ the bodies' relative rigid rate); 0 for any other joint.
+double bodyServoEffort(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
+                       const std::vector<Vec3>& velocity);
 /// Σ τ_j q̇_j (W) of the joints' motor efforts `motor` at the given positions and velocities.
 double jointMotorPower(const Model& model, const std::vector<Vec3>& position,
                        const std::vector<Vec3>& velocity, const std::vector<double>& motor);

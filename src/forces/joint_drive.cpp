@@ -1,12 +1,14 @@
 // Joint motors and losses (MODEL §1.6): a generalized force on a joint's
 // position q, applied through the joint's own connector particles as
-// F_j = Q ∂q/∂p_j, so that forces sum to zero and torques balance.
+// F_j = Q ∂q/∂p_j, so that forces sum to zero and torques balance; or, for a
+// joint with bodies (MODEL §1.7), as a wrench spread over its two bodies.
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "forces/forces.h"
 #include "robophi/connector_forces.h"
+#include "robophi/joints.h"
 
 namespace robophi {
 
@@ -104,6 +106,80 @@ void applyDrive(const Joint& joint, const JointParticles& j, const DriveGeometry
 
 }  // namespace
 
+namespace {
+
+// A body-driven joint (MODEL §1.7): its axis (the parent's, unit), its point (the
+// child's joint point), the bodies' rigid motions and the rate q̇.
+struct BodyJoint {
+  bool valid = false;
+  Vec3 axis{}, point{};
+  RigidMotion child, parent;
+  const std::vector<ParticleIndex>* childParticles = nullptr;
+  const std::vector<ParticleIndex>* parentParticles = nullptr;
+  double rate = 0.0;  // rad/s or m/s
+};
+
+BodyJoint bodyJoint(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
+                    const std::vector<Vec3>& velocity) {
+  BodyJoint out;
+  const BodyLink& link = model.bodyLinks[static_cast<std::size_t>(joint.bodyLink)];
+  const RigidGroup& child = model.bodies[static_cast<std::size_t>(link.child)];
+  const RigidGroup& parent = model.bodies[static_cast<std::size_t>(link.parent)];
+  out.child = rigidMotion(model, child.particles, &child.rest, position, velocity);
+  out.parent = rigidMotion(model, parent.particles, &parent.rest, position, velocity);
+  if (!out.child.valid || !out.parent.valid) return out;
+  out.childParticles = &child.particles;
+  out.parentParticles = &parent.particles;
+  const BodyLinkFrame f = bodyLinkFrame(link, out.child, out.parent);
+  out.axis = f.parentAxis;
+  out.point = f.childPoint;
+  out.rate =
+      joint.kind == JointKind::kRevolute
+          ? dot(out.axis, out.child.spin - out.parent.spin)
+          : dot(out.axis, out.child.velocityAt(out.point) - out.parent.velocityAt(out.point));
+  out.valid = true;
+  return out;
+}
+
+// Applies the generalized force Q: +wrench on the child, −wrench on the parent.
+void applyBodyEffort(const Model& model, const Joint& joint, const BodyJoint& b,
+                     const std::vector<Vec3>& position, double q, std::vector<Vec3>& force) {
+  const bool revolute = joint.kind == JointKind::kRevolute;
+  const Vec3 f = revolute ? Vec3{} : b.axis * q;
+  const Vec3 t = revolute ? b.axis * q : Vec3{};
+  applyWrench(model, *b.childParticles, b.child, position, f, t, b.point, force);
+  applyWrench(model, *b.parentParticles, b.parent, position, f * -1.0, t * -1.0, b.point, force);
+}
+
+// The body servo's position error (rad, wrapped; or m) at the state's positions.
+double servoError(const Model& model, const Joint& joint, const std::vector<Vec3>& position) {
+  if (joint.kind == JointKind::kRevolute) {
+    const JointSpring& s = model.jointSprings[static_cast<std::size_t>(joint.connector)];
+    return wrapSigned(jointAngle(position[s.a], position[s.c], position[s.b], position[s.d]) -
+                      joint.servoTarget);
+  }
+  const TorsionSpring& s = model.torsionSprings[static_cast<std::size_t>(joint.connector)];
+  const Vec3 line = position[s.b] - position[s.a];
+  const double length = norm(line);
+  const double value = length > 0.0 ? dot(position[s.c] - position[s.a], line / length)
+                                    : norm(position[s.c] - position[s.a]);
+  return value - joint.servoTarget;
+}
+
+bool hasBodyServo(const Joint& joint) {
+  return joint.servoStiffness != 0.0 || joint.servoDamping != 0.0;
+}
+
+}  // namespace
+
+double bodyServoEffort(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
+                       const std::vector<Vec3>& velocity) {
+  if (!joint.actsThroughBodies() || !hasBodyServo(joint)) return 0.0;
+  const BodyJoint b = bodyJoint(model, joint, position, velocity);
+  if (!b.valid) return 0.0;
+  return -joint.servoStiffness * servoError(model, joint, position) - joint.servoDamping * b.rate;
+}
+
 ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                  std::vector<double>& motor, std::vector<double>& loss) {
@@ -113,6 +189,28 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& po
   loss.assign(count, 0.0);
   for (std::size_t k = 0; k < count; ++k) {
     const Joint& joint = model.joints[k];
+    if (joint.actsThroughBodies()) {
+      const bool servo = hasBodyServo(joint);
+      if (!servo && !hasDrive(joint.drive)) continue;
+      const BodyJoint b = bodyJoint(model, joint, position, velocity);
+      if (!b.valid) continue;
+      double q = 0.0;
+      if (hasDrive(joint.drive)) {
+        motor[k] = motorEffort(joint.drive, b.rate);
+        loss[k] = lossEffort(joint.drive, b.rate);
+        q = motor[k] + loss[k];
+        tally.dissipativePower += loss[k] * b.rate;
+      }
+      if (servo) {
+        // MODEL §1.7: the spring's energy ½ κ e², the damper's power −β q̇².
+        const double e = servoError(model, joint, position);
+        q += -joint.servoStiffness * e - joint.servoDamping * b.rate;
+        tally.potential += 0.5 * joint.servoStiffness * e * e;
+        tally.dissipativePower -= joint.servoDamping * b.rate * b.rate;
+      }
+      applyBodyEffort(model, joint, b, position, q, force);
+      continue;
+    }
     if (!hasDrive(joint.drive)) continue;
     const JointParticles j = jointParticles(model, joint);
     const DriveGeometry g = driveGeometry(model, joint, j, position, velocity);
@@ -132,6 +230,11 @@ double jointMotorPower(const Model& model, const std::vector<Vec3>& position,
   for (std::size_t k = 0; k < count; ++k) {
     if (motor[k] == 0.0) continue;
     const Joint& joint = model.joints[k];
+    if (joint.actsThroughBodies()) {
+      const BodyJoint b = bodyJoint(model, joint, position, velocity);
+      if (b.valid) power += motor[k] * b.rate;
+      continue;
+    }
     const JointParticles j = jointParticles(model, joint);
     const DriveGeometry g = driveGeometry(model, joint, j, position, velocity);
     if (g.valid) power += motor[k] * g.rate;

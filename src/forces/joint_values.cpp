@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "core/text.h"
+#include "forces/forces.h"
 #include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 
@@ -75,6 +76,7 @@ double jointServoEffort(const Model& model, const State& state, std::size_t join
   const Joint& j = checkedJoint("jointServoEffort", model, &state, joint);
   const auto& p = state.position;
   const auto& v = state.velocity;
+  if (j.actsThroughBodies()) return bodyServoEffort(model, j, p, v);
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
     const double angle = jointAngle(p[s.a], p[s.c], p[s.b], p[s.d]);
@@ -118,6 +120,7 @@ std::optional<std::size_t> findJoint(const Model& model, const std::string& name
 
 JointServo jointServo(const Model& model, std::size_t joint) {
   const Joint& j = checkedJoint("jointServo", model, nullptr, joint);
+  if (j.actsThroughBodies()) return {true, j.servoTarget, j.servoStiffness, j.servoDamping};
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
     return {true, s.restAngle, s.stiffness, s.damping};

@@ -171,6 +171,29 @@ std::string checkModel(const Model& model) {
   }
   if (model.contact.leafSize < 1)
     return detail::text("contact leafSize {} must be >= 1", model.contact.leafSize);
+  for (const RigidGroup& body : model.bodies) {
+    if (body.particles.empty() || body.rest.size() != body.particles.size())
+      return detail::text("body '{}': {} particles and {} rest offsets", body.name,
+                          body.particles.size(), body.rest.size());
+    for (ParticleIndex p : body.particles)
+      if (p < 0 || p >= n)
+        return detail::text("body '{}': particle {} does not exist", body.name, p);
+    if (!(body.frequency >= 0.0) || !std::isfinite(body.frequency) || !(body.dampingRatio >= 0.0) ||
+        !std::isfinite(body.dampingRatio))
+      return detail::text("body '{}': frequency {} and damping ratio {} must be finite and >= 0",
+                          body.name, body.frequency, body.dampingRatio);
+  }
+  for (const BodyLink& link : model.bodyLinks) {
+    const auto bodies = static_cast<std::int32_t>(model.bodies.size());
+    if (link.child < 0 || link.parent < 0 || link.child >= bodies || link.parent >= bodies ||
+        link.child == link.parent)
+      return detail::text("body link {}-{}: not two bodies of the {}", link.child, link.parent,
+                          bodies);
+    for (double v : {link.stiffness, link.damping, link.angularStiffness, link.angularDamping})
+      if (!(v >= 0.0) || !std::isfinite(v))
+        return detail::text("body link {}-{}: gain {} must be finite and >= 0", link.child,
+                            link.parent, v);
+  }
   for (const auto& joint : model.joints) {
     const auto count = joint.kind == JointKind::kRevolute ? model.jointSprings.size()
                                                           : model.torsionSprings.size();
@@ -183,6 +206,16 @@ std::string checkModel(const Model& model) {
     for (ParticleIndex p : joint.motorParticles)
       if (p < 0 || p >= model.particleCount())
         return detail::text("joint '{}': motor particle {} does not exist", joint.name, p);
+    if (joint.bodyLink < -1 || joint.bodyLink >= static_cast<std::int32_t>(model.bodyLinks.size()))
+      return detail::text("joint '{}': body link {} does not exist", joint.name, joint.bodyLink);
+    for (const auto& [field, value] : {std::pair{"servoStiffness", joint.servoStiffness},
+                                       std::pair{"servoDamping", joint.servoDamping}})
+      if (!(value >= 0.0) || !std::isfinite(value))
+        return detail::text("joint '{}': {} = {} must be finite and >= 0", joint.name, field,
+                            value);
+    if (!std::isfinite(joint.servoTarget))
+      return detail::text("joint '{}': servoTarget = {} must be finite", joint.name,
+                          joint.servoTarget);
     if (joint.driveSpring >= 0 &&
         static_cast<std::size_t>(joint.driveSpring) >= model.linearSprings.size())
       return detail::text("joint '{}': drive spring {} does not exist", joint.name,

@@ -175,10 +175,11 @@ TEST_P(UrdfKinematics, LinkFramesMatchKdl) {
     checkRobot(kRobots + "/franka_panda/panda.urdf", {kRobots + "/franka_panda"});
 }
 
-// Known failure (docs/robots.md "Status"): the iiwa's first configuration ends 6.5 m and
-// 167° off KDL's frames: the servoed chain does not settle (a joint's hold on its axis is
-// not rigid enough yet). Run it with --gtest_also_run_disabled_tests.
-INSTANTIATE_TEST_SUITE_P(DISABLED_Slow, UrdfKinematics, ::testing::Values("iiwa", "panda"));
+INSTANTIATE_TEST_SUITE_P(Slow, UrdfKinematics, ::testing::Values("iiwa"));
+// Known failure (docs/robots.md "Status"): the Panda's link frames end 1.0-2.0 mm and
+// up to 0.73 deg from KDL's in several configurations (worst 2.1 mm, 2026-12-02); run it with
+// --gtest_also_run_disabled_tests.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Slow, UrdfKinematics, ::testing::Values("panda"));
 
 }  // namespace
 }  // namespace robophi

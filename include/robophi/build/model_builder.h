@@ -107,6 +107,17 @@ class ModelBuilder {
   std::int32_t addJoint(const Joint& joint);
   /// Placed objects a and b (distinct) never touch each other (Model::noContactPairs).
   void excludeContact(std::int32_t objectA, std::int32_t objectB);
+  /// Adds a rigid body (MODEL §1.7) of placed particles, its rest shape their present
+  /// offsets from their mass centre; shape matching at `frequency` (rad/s, >= 0; 0:
+  /// none) with damping ratio `dampingRatio` (>= 0). Returns its index in Model::bodies.
+  std::int32_t addBody(const std::string& name, std::vector<ParticleIndex> particles,
+                       double frequency, double dampingRatio);
+  /// Adds a body link (MODEL §1.7) between two added bodies at the joint point `point`
+  /// (m) with the axis `axis` (any length > 0), both in the world as built, with the
+  /// gains of `gains` (its stiffness, damping, angularStiffness, angularDamping).
+  /// Returns its index in Model::bodyLinks.
+  std::int32_t addBodyLink(BodyLinkKind kind, std::int32_t child, std::int32_t parent,
+                           const Vec3& point, const Vec3& axis, const BodyLink& gains);
 
   /// The model so far, and the initial positions and velocities of its particles.
   const Model& model() const { return model_; }
@@ -118,6 +129,7 @@ class ModelBuilder {
 
  private:
   void checkMaterialIndex(const char* spec, std::int32_t material) const;
+  Vec3 bodyCenter(std::int32_t body) const;
 
   Model model_;
   std::vector<Vec3> position_;  // (particleCount) m

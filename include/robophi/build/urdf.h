@@ -52,10 +52,16 @@ struct UrdfSpec {
   std::map<std::string, double> initialPositions{};
   /// Links of the robot touch each other (never a joint's parent and child); default: not.
   bool selfCollision = false;
-  /// Every moving joint held where it is built by a servo as stiff as the links it joins
-  /// (JS κ = κ_LS w², drive LS κ = κ_LS; w the joint's arm): a bare `robophi run`. false:
-  /// passive joints (stiffness 0, the URDF's damping), for the controllers to drive.
+  /// Every moving joint held where it is built by its servo at the hold gains
+  /// (UrdfJoint::holdStiffness, holdDamping): a bare `robophi run`. false: passive joints
+  /// (servo off, the URDF's damping), for the controllers to drive.
   bool holdJoints = false;
+  /// The frequency (rad/s, >= 0; 0: 0.3 naturalFrequency) of the links' shape matching,
+  /// of the body links that hold them together and of the joints' hold gains (MODEL
+  /// §1.7): κ = ω² I for the pair's reduced inertia about the axis (kg·m²; mass, kg, for
+  /// a prismatic joint), critically damped. On the iiwa, 0.36 naturalFrequency ran
+  /// stable and 0.44 did not (explicit steps at the lattice's bound).
+  double servoFrequency = 0.0;
 };
 
 /// A URDF joint's kind.
@@ -113,6 +119,10 @@ struct UrdfJoint {
   double initialPosition = 0.0;
   /// The model's joint "<object>.<name>" (Model::joints) for a moving joint; empty for fixed.
   std::string modelJoint{};
+  /// A moving joint's hold gains (UrdfSpec::servoFrequency): the servo stiffness (N·m/rad
+  /// or N/m) and damping (N·m·s/rad or N·s/m) that its links' inertia allows at that
+  /// frequency; a position controller's gains are best kept at or below them.
+  double holdStiffness = 0.0, holdDamping = 0.0;
 };
 
 /// An LS, TS or JS between particles of two placed objects: (object, local index) pairs.
@@ -140,6 +150,24 @@ struct UrdfModelJoint {
   int connector = -1;
   int driveSpring = -1;
   double zero = 0.0;
+  /// Index into UrdfRobot::bodyLinks of the link that holds its two bodies (Joint::bodyLink).
+  int bodyLink = -1;
+  /// Its servo (Joint::servoStiffness, servoDamping; servoTarget a raw value).
+  double servoStiffness = 0.0, servoDamping = 0.0, servoTarget = 0.0;
+  /// Its drive (Joint::drive): the URDF's <dynamics> damping and friction and its
+  /// <limit> effort and velocity (where > 0); no motor.
+  JointDrive drive{};
+};
+
+/// A body link (MODEL §1.7) between two links' bodies: indices into UrdfRobot::links
+/// (each body is a link's object and its carriers), the joint point and axis in the
+/// world as built, and the gains (BodyLink's stiffness, damping, angularStiffness,
+/// angularDamping).
+struct UrdfBodyLink {
+  BodyLinkKind kind = BodyLinkKind::kRevolute;
+  int child = -1, parent = -1;
+  Vec3 point{}, axis{0, 0, 1};
+  BodyLink gains{};
 };
 
 /// The imported robot: what ModelBuilder places (placeUrdfRobot) and what it came from.
@@ -156,6 +184,11 @@ struct UrdfRobot {
   std::vector<UrdfTorsionSpring> torsionSprings{};
   std::vector<UrdfJointSpring> jointSprings{};
   std::vector<UrdfModelJoint> modelJoints{};
+  /// Every link with particles is a rigid body (MODEL §1.7) shape-matched at
+  /// `bodyFrequency` (rad/s) with damping ratio `bodyDampingRatio`; the joints hold
+  /// the bodies together by these links (a fixed joint's too).
+  std::vector<UrdfBodyLink> bodyLinks{};
+  double bodyFrequency = 0.0, bodyDampingRatio = 0.0;
   /// Object pairs (indices into objects) that do not touch each other.
   std::vector<std::array<int, 2>> noContact{};
   /// One a kind of element robophi ignores (<gazebo>, <transmission>, <visual>, ...).
@@ -177,6 +210,8 @@ struct PlacedUrdfRobot {
   std::vector<PlacedObject> objects{};
   /// (UrdfRobot::joints) index into Model::joints, -1 for a fixed joint.
   std::vector<std::int32_t> modelJoint{};
+  /// (UrdfRobot::links) index into Model::bodies, -1 for a frame.
+  std::vector<std::int32_t> body{};
 };
 
 /// Places the robot's objects, connectors and named joints, and its no-contact pairs, in
