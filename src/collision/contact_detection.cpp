@@ -270,12 +270,11 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
       continue;
     }
     ++cache.stats.environmentTests;
-    Contact& c = cache.detectedContacts.emplace_back();
-    if (touchesEnvironment(model.environment, i, p, r, e, c)) {
-      cache.seeds.push_back(
-          ContactSeed::found(c, static_cast<std::int32_t>(cache.detectedContacts.size()) - 1));
-    } else {
-      cache.detectedContacts.pop_back();
+    // (The probe is written only when it touches: nothing to clear per test.)
+    if (touchesEnvironment(model.environment, i, p, r, e, cache.environmentProbe)) {
+      cache.seeds.push_back(ContactSeed::found(
+          cache.environmentProbe, static_cast<std::int32_t>(cache.detectedContacts.size())));
+      cache.detectedContacts.push_back(cache.environmentProbe);
     }
   }
 }

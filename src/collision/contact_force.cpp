@@ -320,6 +320,24 @@ double contactsCriticalStep(const Model& model, ContactScratch& cache) {
   return step;
 }
 
+// Asks for the cache lines of the contact at `c` (a hint: no access, never
+// faults).
+inline void prefetchContact(const Contact* c, bool forWriting) {
+#if defined(__GNUC__)
+  const char* bytes = reinterpret_cast<const char*>(c);
+  for (std::size_t offset = 0; offset < sizeof(Contact); offset += 64) {
+    if (forWriting) {
+      __builtin_prefetch(bytes + offset, 1);
+    } else {
+      __builtin_prefetch(bytes + offset, 0);
+    }
+  }
+#else
+  (void)c;
+  (void)forWriting;
+#endif
+}
+
 // What the friction of one contact adds to the stage's sums: the anchor energy
 // it releases (J; -0 when none, so that adding it changes nothing) and the
 // power it dissipates (W, >= 0, subtracted).
@@ -442,8 +460,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   ContactStats& stats = cache.stats;
   const double stickVelocity = model.contact.stickVelocity;
   std::vector<Contact>& contacts = cache.freshContacts;
-  contacts.clear();
-  contacts.reserve(cache.seeds.size());
+  contacts.clear();  // (grown by push_back: a reserve of the exact size reallocates every step)
   cache.applications.resize(cache.seeds.size());
   cache.applicationInverses.clear();
   cache.groups.clear();
@@ -486,6 +503,10 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         c.frictionForce = Vec3{};
         application.kind = FrictionApplication::kNone;
       }
+      application.force = c.frictionForce;
+      application.a = c.a;
+      application.other = c.other;
+      application.anchorEnergy = c.anchorEnergy;
       application.released = terms.released;
       application.dissipated = terms.dissipated;
     }
@@ -504,6 +525,12 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   FacetKinematics facet;
   RingMotion ring;  // the current rim contact's (a copy of cache.rings.back())
   for (std::size_t index = 0; index < cache.seeds.size(); ++index) {
+    // The lists are larger than the cache: fetch the contacts a few ahead (the
+    // new one to write, the history's to read).
+    constexpr std::size_t kAhead = 6;
+    if (index + kAhead < contacts.capacity())
+      prefetchContact(contacts.data() + index + kAhead, true);
+    if (old + kAhead < previous.size()) prefetchContact(previous.data() + old + kAhead, false);
     // The contact, built once from what the detection found.
     const ContactSeed& seed = cache.seeds[index];
     if (seed.full == -1) {
@@ -741,36 +768,37 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   finishRun(contacts.size());
 
   // Pass 2: the friction forces at the contact points, in contact order.
+  // (It reads the applications only, one after the other: the contacts are out of cache by now.)
   for (std::size_t index = 0; index < contacts.size(); ++index) {
-    const Contact& c = contacts[index];
     const FrictionApplication& application = cache.applications[index];
+    const std::int32_t a = application.a, other = application.other;
     if (application.kind != FrictionApplication::kNone) {
-      const Vec3 tangential = c.frictionForce;
+      const Vec3 tangential = application.force;
       if (application.kind == FrictionApplication::kFacet) {
-        distributeFacetForce(model, c, tangential, f);
+        distributeFacetForce(model, contacts[index], tangential, f);
       } else if (application.kind == FrictionApplication::kRing) {
-        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+        const RimRing& rim = model.rims[static_cast<std::size_t>(contacts[index].rim)];
         applyRingLoad(model, p, rim, cache.rings[static_cast<std::size_t>(application.ring)],
                       tangential, cross(application.armA, tangential), 0.0, f);
       } else {
-        f[c.a] += tangential;
-        if (c.other >= 0) f[c.other] -= tangential;
+        f[a] += tangential;
+        if (other >= 0) f[other] -= tangential;
       }
       const double* inverseA = application.inverse >= 0
                                    ? cache.applicationInverses.data() +
                                          12 * static_cast<std::size_t>(application.inverse)
                                    : nullptr;
       const double* inverseB = inverseA != nullptr ? inverseA + 6 : nullptr;
-      applyMoment(model, tables, p, application.turnA, inverseA, c.a,
+      applyMoment(model, tables, p, application.turnA, inverseA, a,
                   cross(application.armA, tangential), f, torque);
-      if (c.other >= 0) {
-        applyMoment(model, tables, p, application.turnB, inverseB, c.other,
+      if (other >= 0) {
+        applyMoment(model, tables, p, application.turnB, inverseB, other,
                     cross(application.armB, tangential * -1.0), f, torque);
       }
     }
     tally.releasedEnergy += application.released;
     tally.dissipativePower -= application.dissipated;
-    tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+    tally.potential += application.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
   }
   std::swap(out.contacts, cache.freshContacts);
 

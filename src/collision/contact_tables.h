@@ -209,6 +209,7 @@ struct ContactScratch {
   std::vector<ContactSeed> seeds;         // the detection's finds, sorted by key
   std::vector<ContactSeed> mergedSeeds;   // merge buffer
   std::vector<Contact> detectedContacts;  // grid particles' environment contacts
+  Contact environmentProbe;               // a grid particle's test against an item
   std::vector<Contact> treeContacts;      // finds of the tree search (sorted after it)
   std::vector<Contact> freshContacts;     // the new list, swapped into the evaluation
   /// Per contact: the trial tangential forces of the friction law, and per
@@ -253,10 +254,13 @@ struct ContactScratch {
   /// order once its run has decided: where it acts and how each side turns.
   struct FrictionApplication {
     static constexpr std::int8_t kNone = 0, kParticles = 1, kFacet = 2, kRing = 3;
-    Vec3 armA, armB;          // particle centre to contact point (m)
-    double released = -0.0;   // anchor energy released (J; -0: none)
-    double dissipated = 0.0;  // power dissipated (W)
-    std::int32_t ring = -1;   // index into rings (kRing)
+    Vec3 force;                       // friction force on a (N), Contact::frictionForce
+    Vec3 armA, armB;                  // particle centre to contact point (m)
+    std::int32_t a = -1, other = -1;  // Contact::a, Contact::other
+    double anchorEnergy = 0.0;        // Contact::anchorEnergy (J)
+    double released = -0.0;           // anchor energy released (J; -0: none)
+    double dissipated = 0.0;          // power dissipated (W)
+    std::int32_t ring = -1;           // index into rings (kRing)
     /// Index of its A⁺ pair (12 doubles: a's, then the other's) in
     /// applicationInverses when a side turns with its neighbourhood, else -1.
     std::int32_t inverse = -1;
