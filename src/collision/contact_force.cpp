@@ -625,7 +625,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       ++stats.environmentContacts;
     }
     // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
-    const Vec3& n = c.normal;
+    const Vec3 n = c.normal;  // (a copy: read back from c, it stalls on its own stores)
     const double d = c.depth;
     const double dDot = c.rim >= 0 ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
                                          squeezeRate * ring.radiusRate
@@ -678,7 +678,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
-    c.rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
+    const Vec3 rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
+    c.rollVelocity = rollVelocity;
     if (k.rollingResistance > 0.0) {
       const Vec3 moment =
           rollingResistanceMoment(k, c, ta.omega, tb.omega, surfaceRadius(model, c), tally);
@@ -694,7 +695,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       withoutAnchor();
       continue;
     }
-    const Vec3 pointVelocity = relativeVelocity + c.rollVelocity;
+    const Vec3 pointVelocity = relativeVelocity + rollVelocity;
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
         inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
@@ -746,8 +747,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     std::size_t g = 0;
     while (g < cache.groups.size() && cache.groups[g].other != other) ++g;
     if (g == cache.groups.size()) {
-      cache.groups.push_back(FrictionGroup{});
-      cache.groups.back().other = other;
+      cache.groups.emplace_back().other = other;
     }
     FrictionGroup& group = cache.groups[g];
     t.group = static_cast<std::int32_t>(g);
@@ -773,7 +773,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     const FrictionApplication& application = cache.applications[index];
     const std::int32_t a = application.a, other = application.other;
     if (application.kind != FrictionApplication::kNone) {
-      const Vec3 tangential = application.force;
+      const Vec3& tangential = application.force;
       if (application.kind == FrictionApplication::kFacet) {
         distributeFacetForce(model, contacts[index], tangential, f);
       } else if (application.kind == FrictionApplication::kRing) {
