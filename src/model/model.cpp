@@ -171,6 +171,9 @@ std::string checkModel(const Model& model) {
   }
   if (model.contact.leafSize < 1)
     return detail::text("contact leafSize {} must be >= 1", model.contact.leafSize);
+  if (!(model.contact.neighbourSkin >= 0.0) || !std::isfinite(model.contact.neighbourSkin))
+    return detail::text("contact neighbourSkin {} must be finite and >= 0",
+                        model.contact.neighbourSkin);
   for (const auto& joint : model.joints) {
     const auto count = joint.kind == JointKind::kRevolute ? model.jointSprings.size()
                                                           : model.torsionSprings.size();

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -170,6 +173,22 @@ TEST(NeighbourList, IsRebuiltOnlyWhenAParticleMovesMoreThanHalfTheSkin) {
   moved.position[0].x -= 0.0011;
   EXPECT_EQ(evaluateAt(moved), 1);
   EXPECT_EQ(found(evaluator(moved).contacts).count({0, 7}), 1u);
+}
+
+TEST(NeighbourList, ASkinThatIsNegativeOrNotFiniteIsRefused) {
+  for (const double skin :
+       {-0.1, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+    Model model;
+    State state;
+    test::addBall(model, state, {0.0, 0.0, 0.0}, 0.01, 0.01);
+    model.contact.neighbourSkin = skin;
+    try {
+      const CompiledModel compiled(model);
+      ADD_FAILURE() << "skin " << skin << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("neighbourSkin"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
