@@ -37,6 +37,8 @@ struct BenchResult {
   std::int64_t rejected = 0;
   // Contact figures: mean contacts per step, deepest penetration (m and / radius).
   double contactsPerStep = 0.0, maxPenetration = 0.0, maxPenetrationFraction = 0.0;
+  // Evaluations that rebuilt the grid particles' neighbour list.
+  std::int64_t neighbourListBuilds = 0;
   std::string status;
 };
 
@@ -76,6 +78,7 @@ BenchResult runBench(const BenchScene& bench) {
     }
     const ContactStats contacts = world.evaluation().contactStats;
     contactSum += static_cast<double>(contacts.particleContacts + contacts.environmentContacts);
+    r.neighbourListBuilds += contacts.neighbourListBuilds;
     r.maxPenetration = std::max(r.maxPenetration, contacts.maxPenetration);
     r.maxPenetrationFraction = std::max(r.maxPenetrationFraction, contacts.maxPenetrationFraction);
   }
@@ -102,7 +105,8 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
           {"rejected_steps", r.rejected},
           {"contacts_per_step", r.contactsPerStep},
           {"max_penetration_m", r.maxPenetration},
-          {"max_penetration_over_radius", r.maxPenetrationFraction}};
+          {"max_penetration_over_radius", r.maxPenetrationFraction},
+          {"neighbour_list_builds", r.neighbourListBuilds}};
 }
 
 int benchCommand(const BenchArguments& args) {
@@ -129,9 +133,11 @@ int benchCommand(const BenchArguments& args) {
           static_cast<long long>(r.steps), r.wallSeconds, r.particleStepsPerSecond,
           r.connectorEvalsPerSecond, r.status.c_str());
       if (r.contactsPerStep > 0.0) {
-        std::printf("%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius)\n",
-                    r.name.c_str(), r.contactsPerStep, r.maxPenetration,
-                    100.0 * r.maxPenetrationFraction);
+        std::printf(
+            "%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius) "
+            "neighbour_list_builds=%lld\n",
+            r.name.c_str(), r.contactsPerStep, r.maxPenetration, 100.0 * r.maxPenetrationFraction,
+            static_cast<long long>(r.neighbourListBuilds));
       }
       std::fflush(stdout);
     }

@@ -129,6 +129,13 @@ struct ContactSettings {
   /// node spheres grow by this margin, as a fraction of the object's smallest
   /// particle radius (-), to cover the particles' deviation from that motion.
   double rigidTreeMargin = 0.5;
+  /// Skin of the grid particles' neighbour list (docs/contact.md "Neighbour
+  /// list"), as a fraction of the grid cell h (the largest grid particle's
+  /// diameter) (-): the list keeps every pair closer than r_a + r_b + skin and is
+  /// rebuilt only when some grid particle has moved more than skin / 2 since its
+  /// build. The contacts found are those of a grid search at every evaluation,
+  /// in the same order. 0: no list (the grid is rebuilt at every evaluation).
+  double neighbourSkin = 0.1;
   /// Overrides by object pair; looked up by binary search when not empty.
   std::vector<ContactPairOverride> pairOverrides;
 };
@@ -221,6 +228,8 @@ struct ContactStats {
   /// Deepest penetration -d (m) and as a fraction of the smaller radius (-).
   double maxPenetration = 0.0;
   double maxPenetrationFraction = 0.0;
+  /// 1 when this evaluation rebuilt the grid particles' neighbour list, else 0.
+  std::int64_t neighbourListBuilds = 0;
 };
 
 /// The deepest penetration of `contacts` as a fraction of the smaller radius

@@ -1,5 +1,6 @@
 // Contact detection (MODEL §3.2): a uniform grid over the single small
-// particles (the broad phase of many one-particle objects), sort-and-sweep over
+// particles (the broad phase of many one-particle objects) that builds their
+// Verlet neighbour list (kept while no particle has moved half its skin), sort-and-sweep over
 // the root spheres of the tree objects, and the sphere-tree searches between
 // them. The result is sorted by (particle, partner): deterministic by construction.
 #include <algorithm>
@@ -48,12 +49,14 @@ inline std::uint64_t hashCell(std::int64_t key) {
   return h;
 }
 
-// Builds the grid of cache.tables->gridParticles: counting sort into cells.
-GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
+// Builds the grid of cache.tables->gridParticles, cells of `cellSize` (m):
+// counting sort into cells.
+GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, double cellSize,
+                    ContactScratch& cache) {
   GridFrame g;
   const auto count = static_cast<std::int32_t>(cache.tables->gridParticles.size());
-  if (count == 0 || !(cache.tables->cellSize > 0.0)) return g;
-  g.inverseCell = 1.0 / cache.tables->cellSize;
+  if (count == 0 || !(cellSize > 0.0)) return g;
+  g.inverseCell = 1.0 / cellSize;
   Vec3 low = position[cache.tables->gridParticles[0]], high = low;
   bool finite = true;
   for (std::int32_t k = 0; k < count; ++k) {
@@ -121,11 +124,11 @@ GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, Conta
   return g;
 }
 
-// Appends to cache.freshContacts the grid particles j > i in slots [begin, end)
-// touching particle i (at p, radius r). In hash mode only slots of cell `key`.
-inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i, const Vec3& p,
-                      double r, std::int32_t begin, std::int32_t end, bool checkKey,
-                      std::int64_t key) {
+// Appends to cache.rowPartners the grid particles j > i in slots [begin, end)
+// closer than r + r_j + skin to particle i (at p, radius r). In hash mode only
+// slots of cell `key`.
+inline void scanSlots(ContactScratch& cache, std::int32_t i, const Vec3& p, double r, double skin,
+                      std::int32_t begin, std::int32_t end, bool checkKey, std::int64_t key) {
   const double* data = cache.sortedData.data();
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = cache.sortedParticle[s];
@@ -134,19 +137,17 @@ inline void scanSlots(const Model& model, ContactScratch& cache, std::int32_t i,
     ++cache.stats.pairTests;
     const double* q = data + 4 * static_cast<std::size_t>(s);
     const double dx = p.x - q[0], dy = p.y - q[1], dz = p.z - q[2];
-    const double reach = r + q[3];
+    const double reach = r + q[3] + skin;
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
-    if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
-    if (excluded(*cache.tables, i, j)) continue;
-    Contact& c = cache.freshContacts.emplace_back();
-    c.a = i;
-    c.other = j;
+    cache.rowPartners.push_back(j);
   }
 }
 
-// Grid particle i against its 27 neighbour cells.
+// The partners j > i of grid particle i within r_i + r_j + skin, from its 27
+// neighbour cells (cells of at least the largest diameter + skin), into
+// cache.rowPartners (unsorted).
 void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cache, std::int32_t i,
-                    const Vec3& p) {
+                    const Vec3& p, double skin) {
   const double r = model.radius[i];
   const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
   const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
@@ -157,7 +158,7 @@ void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cach
       for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, g.ny - 1);
            ++y) {
         const std::int64_t row = (z * g.ny + y) * g.nx;
-        scanSlots(model, cache, i, p, r, cache.cellStart[static_cast<std::size_t>(row + x0)],
+        scanSlots(cache, i, p, r, skin, cache.cellStart[static_cast<std::size_t>(row + x0)],
                   cache.cellStart[static_cast<std::size_t>(row + x1 + 1)], false, 0);
       }
     }
@@ -168,16 +169,96 @@ void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cach
       for (std::int64_t x = ix - 1; x <= ix + 1; ++x) {
         const std::int64_t key = packCell(x, y, z);
         const std::size_t bucket = hashCell(key) & g.mask;
-        scanSlots(model, cache, i, p, r, cache.cellStart[bucket], cache.cellStart[bucket + 1], true,
+        scanSlots(cache, i, p, r, skin, cache.cellStart[bucket], cache.cellStart[bucket + 1], true,
                   key);
       }
     }
   }
 }
 
-// Particle i against every environment item, appended to `out` in item order.
+// Whether the neighbour list still holds every touching grid pair: built for
+// this revision, and no grid particle moved more than skin / 2 since (nor
+// changed its radius). A non-finite position fails too.
+bool neighbourListHolds(const Model& model, const std::vector<Vec3>& position, double skin,
+                        const ContactScratch& cache) {
+  const NeighbourList& list = cache.neighbours;
+  const std::vector<std::int32_t>& grid = cache.tables->gridParticles;
+  if (list.revision != cache.revision || list.skin != skin || skin <= 0.0 ||
+      list.referenceX.size() != grid.size()) {
+    return false;
+  }
+  // (1 - 1e-9): rounding in the distances cannot let a pair through.
+  const double limit = 0.25 * skin * skin * (1.0 - 1e-9);
+  bool holds = true;
+  const auto count = grid.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::int32_t i = grid[k];
+    const double dx = position[i].x - list.referenceX[k];
+    const double dy = position[i].y - list.referenceY[k];
+    const double dz = position[i].z - list.referenceZ[k];
+    holds &= dx * dx + dy * dy + dz * dz <= limit;
+    holds &= model.radius[i] == list.referenceRadius[k];
+  }
+  return holds;
+}
+
+// Rebuilds the neighbour list from `grid` (cells of the largest diameter + skin).
+void buildNeighbourList(const Model& model, const std::vector<Vec3>& position, const GridFrame& g,
+                        double skin, ContactScratch& cache) {
+  NeighbourList& list = cache.neighbours;
+  const std::vector<std::int32_t>& grid = cache.tables->gridParticles;
+  const auto count = grid.size();
+  list.revision = cache.revision;
+  list.skin = skin;
+  ++list.builds;
+  ++cache.stats.neighbourListBuilds;
+  list.referenceX.resize(count);
+  list.referenceY.resize(count);
+  list.referenceZ.resize(count);
+  list.referenceRadius.resize(count);
+  list.start.resize(count + 1);
+  list.partner.clear();
+  list.start[0] = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::int32_t i = grid[k];
+    const Vec3& p = position[i];
+    list.referenceX[k] = p.x;
+    list.referenceY[k] = p.y;
+    list.referenceZ[k] = p.z;
+    list.referenceRadius[k] = model.radius[i];
+    cache.rowPartners.clear();
+    gridNeighbours(model, g, cache, i, p, skin);
+    std::sort(cache.rowPartners.begin(), cache.rowPartners.end());
+    list.partner.insert(list.partner.end(), cache.rowPartners.begin(), cache.rowPartners.end());
+    list.start[k + 1] = static_cast<std::int32_t>(list.partner.size());
+  }
+}
+
+// Appends to cache.seeds the touching partners of grid particle k of the
+// neighbour list (ascending partner): bare pairs, built by the contact stage.
+inline void listedContacts(const Model& model, const std::vector<Vec3>& position, std::int32_t k,
+                           std::int32_t i, ContactScratch& cache) {
+  const NeighbourList& list = cache.neighbours;
+  const Vec3 p = position[i];
+  const double r = model.radius[i];
+  const std::int32_t begin = list.start[k], end = list.start[k + 1];
+  cache.stats.pairTests += end - begin;
+  for (std::int32_t s = begin; s < end; ++s) {
+    const std::int32_t j = list.partner[s];
+    const Vec3& q = position[j];
+    const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+    const double reach = r + model.radius[j];
+    if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
+    if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
+    if (excluded(*cache.tables, i, j)) continue;
+    cache.seeds.push_back(ContactSeed::pair(i, j));
+  }
+}
+
+// Particle i against every environment item, appended to cache.seeds (the
+// contacts to cache.detectedContacts) in item order.
 inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::int32_t i,
-                                      ContactScratch& cache, std::vector<Contact>& out) {
+                                      ContactScratch& cache) {
   const std::int32_t items = model.environment.itemCount();
   const double r = model.radius[i];
   for (std::int32_t e = 0; e < items; ++e) {
@@ -189,8 +270,12 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
       continue;
     }
     ++cache.stats.environmentTests;
-    Contact c;
-    if (touchesEnvironment(model.environment, i, p, r, e, c)) out.push_back(c);
+    // (The probe is written only when it touches: nothing to clear per test.)
+    if (touchesEnvironment(model.environment, i, p, r, e, cache.environmentProbe)) {
+      cache.seeds.push_back(ContactSeed::found(
+          cache.environmentProbe, static_cast<std::int32_t>(cache.detectedContacts.size())));
+      cache.detectedContacts.push_back(cache.environmentProbe);
+    }
   }
 }
 
@@ -281,26 +366,28 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
 
 void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
   cache.stats = ContactStats{};
-  cache.freshContacts.clear();
+  cache.seeds.clear();
+  cache.detectedContacts.clear();
   cache.treeContacts.clear();
   cache.facetCandidates.clear();
   refitSphereTrees(model, position, cache);
   updateSurfacePositions(model, position, cache);  // MODEL §3.8
-  const GridFrame grid = buildGrid(model, position, cache);
-
-  // Grid particles in ascending order: their partners sorted, then the environment.
-  for (const std::int32_t i : cache.tables->gridParticles) {
-    const Vec3& p = position[i];
-    // The row's contacts go straight to the list, then are sorted in place (a
-    // Contact is large: no second copy).
-    const auto row = static_cast<std::ptrdiff_t>(cache.freshContacts.size());
-    gridNeighbours(model, grid, cache, i, p);
-    if (cache.freshContacts.size() > static_cast<std::size_t>(row) + 1) {
-      std::sort(cache.freshContacts.begin() + row, cache.freshContacts.end(),
-                [](const Contact& x, const Contact& y) { return x.other < y.other; });
-    }
+  // Grid particles: the neighbour list (rebuilt when a particle has moved more
+  // than half the skin), then each particle's touching partners in ascending
+  // order, then the environment. The trees search the grid at every evaluation.
+  const double skin = std::max(0.0, model.contact.neighbourSkin) * cache.tables->cellSize;
+  const bool listHolds = neighbourListHolds(model, position, skin, cache);
+  GridFrame grid;
+  if (!listHolds || !cache.trees.empty()) {
+    grid = buildGrid(model, position, cache.tables->cellSize + skin, cache);
+  }
+  if (!listHolds) buildNeighbourList(model, position, grid, skin, cache);
+  const std::vector<std::int32_t>& gridParticles = cache.tables->gridParticles;
+  for (std::size_t k = 0; k < gridParticles.size(); ++k) {
+    const std::int32_t i = gridParticles[k];
+    listedContacts(model, position, static_cast<std::int32_t>(k), i, cache);
     if (model.inverseMass[i] != 0.0) {
-      particleVersusEnvironment(model, p, i, cache, cache.freshContacts);
+      particleVersusEnvironment(model, position[i], i, cache);
     }
   }
 
@@ -319,12 +406,23 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
   rimsVersusEnvironment(model, position, cache);
   resolveFacetCandidates(model, position, cache);  // MODEL §3.8: closest triangles
   if (!cache.treeContacts.empty()) {
+    // Merged in (as std::merge: on equal keys the grid's first).
     const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };
     std::sort(cache.treeContacts.begin(), cache.treeContacts.end(), byKey);
-    cache.mergedContacts.resize(cache.freshContacts.size() + cache.treeContacts.size());
-    std::merge(cache.freshContacts.begin(), cache.freshContacts.end(), cache.treeContacts.begin(),
-               cache.treeContacts.end(), cache.mergedContacts.begin(), byKey);
-    std::swap(cache.freshContacts, cache.mergedContacts);
+    std::vector<ContactSeed>& merged = cache.mergedSeeds;
+    merged.clear();
+    merged.reserve(cache.seeds.size() + cache.treeContacts.size());
+    std::size_t s = 0;
+    for (std::size_t t = 0; t < cache.treeContacts.size(); ++t) {
+      const Contact::Key key = cache.treeContacts[t].key();
+      while (s < cache.seeds.size() && !(key < cache.seeds[s].key))
+        merged.push_back(cache.seeds[s++]);
+      merged.push_back(
+          ContactSeed::found(cache.treeContacts[t], -2 - static_cast<std::int32_t>(t)));
+    }
+    merged.insert(merged.end(), cache.seeds.begin() + static_cast<std::ptrdiff_t>(s),
+                  cache.seeds.end());
+    std::swap(cache.seeds, merged);
   }
 }
 

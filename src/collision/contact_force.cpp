@@ -36,6 +36,7 @@ struct StageTally {
 };
 
 using FrictionTrial = ContactScratch::FrictionTrial;
+using FrictionApplication = ContactScratch::FrictionApplication;
 using FrictionGroup = ContactScratch::FrictionGroup;
 
 // Contact::sliding: the friction regime of MODEL §3.3.
@@ -302,32 +303,52 @@ void addContactRates(const Model& model, const PairParameters& k, const Contact&
 
 // The largest stable explicit step (s) of the contacts, by Gershgorin per
 // particle as for the connectors (estimateStability): ω² <= 2 Σk / m,
-// 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). Zeroes the sums again.
-double contactsCriticalStep(const Model& model, const std::vector<Contact>& contacts,
-                            ContactScratch& cache) {
+// 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). Zeroes the sums again. (Only the
+// particles of contacts, or of a rim contact's ring, have sums; the smallest
+// step does not depend on the order they are visited in.)
+double contactsCriticalStep(const Model& model, ContactScratch& cache) {
   double step = std::numeric_limits<double>::infinity();
-  const auto visit = [&](std::int32_t i) {
-    if (i < 0 || cache.contactStiffnessSum[i] == 0.0) return;
+  const std::size_t count = cache.contactStiffnessSum.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    if (cache.contactStiffnessSum[i] == 0.0) continue;
     const double omega = std::sqrt(2.0 * cache.contactStiffnessSum[i] * model.inverseMass[i]);
     const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
     cache.contactStiffnessSum[i] = 0.0;
     cache.contactDampingSum[i] = 0.0;
     step = std::min(step, dampedCriticalStep(omega, dampingRate));
-  };
-  for (const Contact& c : contacts) {
-    if (c.rim >= 0) {  // the ring's particles share it (addContactRates)
-      const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
-      for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) visit(j);
-      continue;
-    }
-    visit(c.a);
-    visit(c.other);
   }
   return step;
 }
 
+// Asks for the cache lines of the contact at `c` (a hint: no access, never
+// faults).
+inline void prefetchContact(const Contact* c, bool forWriting) {
+#if defined(__GNUC__)
+  const char* bytes = reinterpret_cast<const char*>(c);
+  for (std::size_t offset = 0; offset < sizeof(Contact); offset += 64) {
+    if (forWriting) {
+      __builtin_prefetch(bytes + offset, 1);
+    } else {
+      __builtin_prefetch(bytes + offset, 0);
+    }
+  }
+#else
+  (void)c;
+  (void)forWriting;
+#endif
+}
+
+// What the friction of one contact adds to the stage's sums: the anchor energy
+// it releases (J; -0 when none, so that adding it changes nothing) and the
+// power it dissipates (W, >= 0, subtracted).
+struct FrictionTerms {
+  double released = -0.0;
+  double dissipated = 0.0;
+};
+
 // Friction of one contact once its group has decided. Returns F_t on a.
-Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c, StageTally& tally) {
+Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
+                   FrictionTerms& terms) {
   const double stiffness = t.tangentialStiffness;
   if (g.regime != kSliding) {
     // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
@@ -340,8 +361,8 @@ Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c, S
     const Vec3 delta = t.delta * s;
     c.anchor = t.relative - delta;
     c.anchorEnergy = 0.5 * stiffness * squaredNorm(delta);
-    if (s != 1.0) tally.releasedEnergy += 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
-    tally.dissipativePower -= s * t.tangentialDamping * t.slipSpeed * t.slipSpeed;
+    if (s != 1.0) terms.released = 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
+    terms.dissipated = s * t.tangentialDamping * t.slipSpeed * t.slipSpeed;
     return (t.elastic + t.damper) * s;
   }
   // Sliding: μ_k F_n against the slip (against the held load if it has stopped).
@@ -359,8 +380,8 @@ Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c, S
   c.anchorEnergy = 0.5 * stiffness * squaredNorm(consistent);
   // The spring's energy at δ_t (what its work over the last step left there)
   // less what the sliding anchor keeps.
-  tally.releasedEnergy += 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
-  tally.dissipativePower -= friction * t.slipSpeed;
+  terms.released = 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
+  terms.dissipated = friction * t.slipSpeed;
   return direction * -friction;
 }
 
@@ -379,6 +400,36 @@ Vec3 rollingResistanceMoment(const PairParameters& k, const Contact& c, const Ve
   const Vec3 moment = rolling * (-limit / std::max(speed, knee));
   tally.dissipativePower += dot(moment, rolling);
   return moment;
+}
+
+// The groups decide (MODEL §3.3's three regimes for the body as a whole):
+// - sticking while the anchors' springs and dampers hold Σ|F_t| <= μ_s Σ F_n;
+// - breaking away when Σ|F_t| exceeds it: friction saturates at μ_s Σ F_n;
+//   a transient (a body set down on a slope, whose critically damped anchors
+//   overshoot their load by up to e^-2) slows down under it and sticks again;
+// - sliding once, while breaking away, the contacts slip faster than an
+//   anchor moves within its elastic range (V ≠ 0: a body that lands or is
+//   launched sliding), or the anchors have given way by more than kPresliding
+//   elastic ranges μ_s F_n / k_t and the slip still grows (the load
+//   is more than static friction can stop; a transient slows down under it):
+//   μ_k F_n against the slip, until every contact has slowed below the stick
+//   velocity or reversed.
+void decideGroups(std::vector<FrictionGroup>& groups) {
+  for (FrictionGroup& g : groups) {
+    g.scale = 1.0;
+    if (g.wasSliding) {
+      g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
+    } else if (g.total <= g.normal) {
+      g.regime = kSticking;
+    } else if (g.wasBreakingAway &&
+               (g.slip > kSlidingSpeed * g.elasticSpeed ||
+                (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
+      g.regime = kSliding;
+    } else {
+      g.regime = kBreakingAway;
+      g.scale = g.normal / g.total;
+    }
+  }
 }
 
 }  // namespace
@@ -409,24 +460,89 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   ContactStats& stats = cache.stats;
   const double stickVelocity = model.contact.stickVelocity;
   std::vector<Contact>& contacts = cache.freshContacts;
-  cache.trials.resize(contacts.size());
+  contacts.clear();  // (grown by push_back: a reserve of the exact size reallocates every step)
+  cache.applications.resize(cache.seeds.size());
+  cache.applicationInverses.clear();
   cache.groups.clear();
   cache.rings.clear();
+
+  // A run: the contacts from the first of a's object (the first with friction)
+  // to the next object's. Its groups decide, and its contacts' friction is
+  // worked out, when it ends (its trials are still in the cache); the forces
+  // are applied after pass 1 in contact order, as the two passes over all
+  // contacts did (so the sums, and the run, stay bit-identical).
+  std::size_t runFirst = 0;
+  const auto finishRun = [&](std::size_t end) {
+    decideGroups(cache.groups);
+    for (std::size_t index = runFirst; index < end; ++index) {
+      Contact& c = contacts[index];
+      const FrictionTrial& t = cache.trials[index - runFirst];
+      FrictionApplication& application = cache.applications[index];
+      FrictionTerms terms;
+      if (t.group >= 0) {
+        c.frictionForce =
+            frictionForce(t, cache.groups[static_cast<std::size_t>(t.group)], c, terms);
+        application.kind = c.involvesFacets() ? FrictionApplication::kFacet
+                           : c.rim >= 0       ? FrictionApplication::kRing
+                                              : FrictionApplication::kParticles;
+        application.armA = t.armA;
+        application.armB = t.armB;
+        application.turnA = static_cast<std::int8_t>(t.turnA);
+        application.turnB = static_cast<std::int8_t>(t.turnB);
+        application.ring = t.ring;
+        application.inverse = -1;
+        if (t.turnA == 2 || t.turnB == 2) {
+          application.inverse = static_cast<std::int32_t>(cache.applicationInverses.size() / 12);
+          cache.applicationInverses.insert(cache.applicationInverses.end(), t.inverseA,
+                                           t.inverseA + 6);
+          cache.applicationInverses.insert(cache.applicationInverses.end(), t.inverseB,
+                                           t.inverseB + 6);
+        }
+      } else {
+        c.sliding = 0;
+        c.frictionForce = Vec3{};
+        application.kind = FrictionApplication::kNone;
+      }
+      application.force = c.frictionForce;
+      application.a = c.a;
+      application.other = c.other;
+      application.anchorEnergy = c.anchorEnergy;
+      application.released = terms.released;
+      application.dissipated = terms.dissipated;
+    }
+    cache.groups.clear();
+    runFirst = end;
+  };
 
   // Pass 1: geometry, normal force, the friction trial of each contact, and the
   // group sums. Contacts are sorted by a, so a group's contacts come in runs of
   // a's object; a group is looked up among those of the current run.
   std::size_t old = 0;
-  std::size_t runStart = 0;
   std::int64_t runObject = -1;
   PairParameters overrideParameters;
   // Per contact, filled only for facet and rim contacts (kept out of the loop:
   // they are large, and most contacts need neither).
   FacetKinematics facet;
   RingMotion ring;  // the current rim contact's (a copy of cache.rings.back())
-  for (std::size_t index = 0; index < contacts.size(); ++index) {
-    Contact& c = contacts[index];
-    FrictionTrial& t = cache.trials[index];
+  for (std::size_t index = 0; index < cache.seeds.size(); ++index) {
+    // The lists are larger than the cache: fetch the contacts a few ahead (the
+    // new one to write, the history's to read).
+    constexpr std::size_t kAhead = 6;
+    if (index + kAhead < contacts.capacity())
+      prefetchContact(contacts.data() + index + kAhead, true);
+    if (old + kAhead < previous.size()) prefetchContact(previous.data() + old + kAhead, false);
+    // The contact, built once from what the detection found.
+    const ContactSeed& seed = cache.seeds[index];
+    if (seed.full == -1) {
+      Contact& bare = contacts.emplace_back();
+      bare.a = seed.a();
+      bare.other = seed.other();
+    } else {
+      contacts.push_back(seed.full >= 0
+                             ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                             : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
+    }
+    Contact& c = contacts.back();
     // Carry the friction anchor of a contact that persists (both lists sorted).
     const Contact::Key key = c.key();
     while (old < previous.size() && previous[old].key() < key) {
@@ -438,6 +554,16 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     if (before != nullptr) ++old;
     const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
     const std::int32_t a = c.a;
+    const bool frictionless =
+        k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
+    // The group: (a's object, the other's object or the environment item).
+    const std::int64_t objectA = groupKey(tables, a);
+    if (!frictionless && objectA != runObject) {
+      finishRun(index);
+      runObject = objectA;
+    }
+    if (cache.trials.size() <= index - runFirst) cache.trials.resize(index - runFirst + 1);
+    FrictionTrial& t = cache.trials[index - runFirst];
     double smallerRadius = model.radius[a];
     Vec3 relativeVelocity;
     double inverseMass = model.inverseMass[a];
@@ -499,7 +625,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       ++stats.environmentContacts;
     }
     // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
-    const Vec3& n = c.normal;
+    const Vec3 n = c.normal;  // (a copy: read back from c, it stalls on its own stores)
     const double d = c.depth;
     const double dDot = c.rim >= 0 ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
                                          squeezeRate * ring.radiusRate
@@ -526,8 +652,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
-    const bool frictionless =
-        k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
     // A contact without friction holds no anchor (its old one's energy is released).
     const auto withoutAnchor = [&] {
       c.anchor = t.relative;
@@ -554,7 +678,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
-    c.rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
+    const Vec3 rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
+    c.rollVelocity = rollVelocity;
     if (k.rollingResistance > 0.0) {
       const Vec3 moment =
           rollingResistanceMoment(k, c, ta.omega, tb.omega, surfaceRadius(model, c), tally);
@@ -570,7 +695,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       withoutAnchor();
       continue;
     }
-    const Vec3 pointVelocity = relativeVelocity + c.rollVelocity;
+    const Vec3 pointVelocity = relativeVelocity + rollVelocity;
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
         inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
@@ -618,18 +743,11 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
     t.slow = t.slipSpeed <= stickVelocity || reversed;
 
-    // The group: (a's object, the other's object or the environment item).
-    const std::int64_t objectA = groupKey(tables, a);
-    if (objectA != runObject) {
-      runObject = objectA;
-      runStart = cache.groups.size();
-    }
     const std::int64_t other = c.other >= 0 ? groupKey(tables, c.other) : c.other;
-    std::size_t g = runStart;
+    std::size_t g = 0;
     while (g < cache.groups.size() && cache.groups[g].other != other) ++g;
     if (g == cache.groups.size()) {
-      cache.groups.push_back(FrictionGroup{});
-      cache.groups.back().other = other;
+      cache.groups.emplace_back().other = other;
     }
     FrictionGroup& group = cache.groups[g];
     t.group = static_cast<std::int32_t>(g);
@@ -647,67 +765,46 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   }
   for (; old < previous.size(); ++old) tally.releasedEnergy += previous[old].anchorEnergy;
 
-  // The groups decide (MODEL §3.3's three regimes for the body as a whole):
-  // - sticking while the anchors' springs and dampers hold Σ|F_t| <= μ_s Σ F_n;
-  // - breaking away when Σ|F_t| exceeds it: friction saturates at μ_s Σ F_n;
-  //   a transient (a body set down on a slope, whose critically damped anchors
-  //   overshoot their load by up to e^-2) slows down under it and sticks again;
-  // - sliding once, while breaking away, the contacts slip faster than an
-  //   anchor moves within its elastic range (V ≠ 0: a body that lands or is
-  //   launched sliding), or the anchors have given way by more than kPresliding
-  //   elastic ranges μ_s F_n / k_t and the slip still grows (the load
-  //   is more than static friction can stop; a transient slows down under it):
-  //   μ_k F_n against the slip, until every contact has slowed below the stick
-  //   velocity or reversed.
-  for (FrictionGroup& g : cache.groups) {
-    g.scale = 1.0;
-    if (g.wasSliding) {
-      g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
-    } else if (g.total <= g.normal) {
-      g.regime = kSticking;
-    } else if (g.wasBreakingAway &&
-               (g.slip > kSlidingSpeed * g.elasticSpeed ||
-                (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
-      g.regime = kSliding;
-    } else {
-      g.regime = kBreakingAway;
-      g.scale = g.normal / g.total;
-    }
-  }
-  // Pass 2: the friction force of each contact, at its contact point.
+  finishRun(contacts.size());
+
+  // Pass 2: the friction forces at the contact points, in contact order.
+  // (It reads the applications only, one after the other: the contacts are out of cache by now.)
   for (std::size_t index = 0; index < contacts.size(); ++index) {
-    Contact& c = contacts[index];
-    const FrictionTrial& t = cache.trials[index];
-    if (t.group >= 0) {
-      const Vec3 tangential =
-          frictionForce(t, cache.groups[static_cast<std::size_t>(t.group)], c, tally);
-      c.frictionForce = tangential;
-      if (c.involvesFacets()) {
-        distributeFacetForce(model, c, tangential, f);
-      } else if (c.rim >= 0) {
-        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
-        applyRingLoad(model, p, rim, cache.rings[static_cast<std::size_t>(t.ring)], tangential,
-                      cross(t.armA, tangential), 0.0, f);
+    const FrictionApplication& application = cache.applications[index];
+    const std::int32_t a = application.a, other = application.other;
+    if (application.kind != FrictionApplication::kNone) {
+      const Vec3& tangential = application.force;
+      if (application.kind == FrictionApplication::kFacet) {
+        distributeFacetForce(model, contacts[index], tangential, f);
+      } else if (application.kind == FrictionApplication::kRing) {
+        const RimRing& rim = model.rims[static_cast<std::size_t>(contacts[index].rim)];
+        applyRingLoad(model, p, rim, cache.rings[static_cast<std::size_t>(application.ring)],
+                      tangential, cross(application.armA, tangential), 0.0, f);
       } else {
-        f[c.a] += tangential;
-        if (c.other >= 0) f[c.other] -= tangential;
+        f[a] += tangential;
+        if (other >= 0) f[other] -= tangential;
       }
-      applyMoment(model, tables, p, t.turnA, t.inverseA, c.a, cross(t.armA, tangential), f, torque);
-      if (c.other >= 0) {
-        applyMoment(model, tables, p, t.turnB, t.inverseB, c.other,
-                    cross(t.armB, tangential * -1.0), f, torque);
+      const double* inverseA = application.inverse >= 0
+                                   ? cache.applicationInverses.data() +
+                                         12 * static_cast<std::size_t>(application.inverse)
+                                   : nullptr;
+      const double* inverseB = inverseA != nullptr ? inverseA + 6 : nullptr;
+      applyMoment(model, tables, p, application.turnA, inverseA, a,
+                  cross(application.armA, tangential), f, torque);
+      if (other >= 0) {
+        applyMoment(model, tables, p, application.turnB, inverseB, other,
+                    cross(application.armB, tangential * -1.0), f, torque);
       }
-    } else {
-      c.sliding = 0;
-      c.frictionForce = Vec3{};
     }
-    tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+    tally.releasedEnergy += application.released;
+    tally.dissipativePower -= application.dissipated;
+    tally.potential += application.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
   }
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);
   out.energy.contact = tally.potential;
-  out.contactCriticalStep = contactsCriticalStep(model, out.contacts, cache);
+  out.contactCriticalStep = contactsCriticalStep(model, cache);
   out.dissipativePower += tally.dissipativePower + viscousPower;
   out.releasedAnchorEnergy = tally.releasedEnergy;
   out.contactStats = cache.stats;

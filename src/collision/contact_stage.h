@@ -11,9 +11,10 @@
 
 namespace robophi {
 
-/// Finds every contact at `position` into scratch.freshContacts, sorted by
+/// Finds every contact at `position` into scratch.seeds, sorted by
 /// Contact::key(): particle pairs (a < other) and particle-environment contacts
-/// (with depth and normal). Counts its work in scratch.stats.
+/// (with depth and normal), which the contact stage builds its contacts from.
+/// Counts its work in scratch.stats.
 void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& scratch);
 
 /// The contact stage: detects contacts at (position, velocity, spin: empty or

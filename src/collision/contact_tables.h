@@ -142,6 +142,43 @@ struct RingMotion {
   double largestInverse = 0.0;
 };
 
+/// The grid particles' Verlet neighbour list (docs/contact.md "Neighbour
+/// list"): for each grid particle (in ContactTables::gridParticles order) its
+/// partners j > i closer than r_i + r_j + skin at the build, ascending. Valid
+/// while no grid particle has moved more than skin / 2 from its position at the
+/// build (nor changed its radius): then every touching pair is in it.
+struct NeighbourList {
+  /// The ContactScratch::revision it was built for; -1: none.
+  std::int64_t revision = -1;
+  double skin = 0.0;  // (m)
+  /// Positions and radii of the grid particles at the build, (gridParticles).
+  std::vector<double> referenceX, referenceY, referenceZ, referenceRadius;
+  /// CSR: partner[start[k], start[k + 1]) of grid particle k, (gridParticles + 1).
+  std::vector<std::int32_t> start;
+  std::vector<std::int32_t> partner;
+  /// Builds so far (the first one included).
+  std::int64_t builds = 0;
+};
+
+/// A contact the detection found, in Contact::key() order: a bare particle
+/// pair (full = -1: the contact (a, other) with every other field at its
+/// default), or one found with its geometry: ContactScratch::detectedContacts[full]
+/// (full >= 0) or ContactScratch::treeContacts[-2 - full] (full <= -2). The
+/// contact stage builds the Contact from it, once.
+struct ContactSeed {
+  Contact::Key key;
+  std::int32_t full = -1;
+  static ContactSeed pair(std::int32_t a, std::int32_t other) {
+    return {{(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+                 static_cast<std::uint32_t>(other),
+             0},
+            -1};
+  }
+  static ContactSeed found(const Contact& c, std::int32_t full) { return {c.key(), full}; }
+  std::int32_t a() const { return static_cast<std::int32_t>(key.pair >> 32); }
+  std::int32_t other() const { return static_cast<std::int32_t>(key.pair & 0xFFFFFFFFu); }
+};
+
 /// What one contact evaluation works in: derived from positions, reused from
 /// evaluation to evaluation.
 struct ContactScratch {
@@ -167,9 +204,14 @@ struct ContactScratch {
   std::vector<std::int32_t> sortedParticle;  // (gridParticles)
   std::vector<std::int64_t> sortedKey;       // (gridParticles) cell key of each slot
   std::vector<std::int32_t> sweepOrder;      // (trees) sort-and-sweep order
-  std::vector<Contact> freshContacts;        // the new list, swapped into the evaluation
-  std::vector<Contact> mergedContacts;       // merge buffer
-  std::vector<Contact> treeContacts;         // unsorted finds of the tree search
+  std::vector<std::int32_t> rowPartners;     // one grid particle's partners, to sort
+  NeighbourList neighbours;
+  std::vector<ContactSeed> seeds;         // the detection's finds, sorted by key
+  std::vector<ContactSeed> mergedSeeds;   // merge buffer
+  std::vector<Contact> detectedContacts;  // grid particles' environment contacts
+  Contact environmentProbe;               // a grid particle's test against an item
+  std::vector<Contact> treeContacts;      // finds of the tree search (sorted after it)
+  std::vector<Contact> freshContacts;     // the new list, swapped into the evaluation
   /// Per contact: the trial tangential forces of the friction law, and per
   /// contact group (object pair) the sums the stick/slip decision needs.
   struct FrictionTrial {
@@ -205,7 +247,27 @@ struct ContactScratch {
     std::int32_t regime = 0;  // Contact::sliding for every contact of the group
     double scale = 1.0;       // breaking away: μ_s Σ F_n / Σ|F_t|
   };
-  std::vector<FrictionTrial> trials;  // (contacts)
+  /// The trials of the current run of contacts (contact_force.cpp: a's object's
+  /// contacts, decided together), reused from run to run so they stay in cache.
+  std::vector<FrictionTrial> trials;
+  /// Per contact, what the last pass needs to apply its friction force in contact
+  /// order once its run has decided: where it acts and how each side turns.
+  struct FrictionApplication {
+    static constexpr std::int8_t kNone = 0, kParticles = 1, kFacet = 2, kRing = 3;
+    Vec3 force;                       // friction force on a (N), Contact::frictionForce
+    Vec3 armA, armB;                  // particle centre to contact point (m)
+    std::int32_t a = -1, other = -1;  // Contact::a, Contact::other
+    double anchorEnergy = 0.0;        // Contact::anchorEnergy (J)
+    double released = -0.0;           // anchor energy released (J; -0: none)
+    double dissipated = 0.0;          // power dissipated (W)
+    std::int32_t ring = -1;           // index into rings (kRing)
+    /// Index of its A⁺ pair (12 doubles: a's, then the other's) in
+    /// applicationInverses when a side turns with its neighbourhood, else -1.
+    std::int32_t inverse = -1;
+    std::int8_t kind = kNone, turnA = 0, turnB = 0;
+  };
+  std::vector<FrictionApplication> applications;  // (contacts)
+  std::vector<double> applicationInverses;
   /// The rigid motion of each rim or ball contact's body at this evaluation,
   /// taken in the first pass, used again by the second (contact_force.cpp).
   std::vector<RingMotion> rings;

@@ -171,6 +171,9 @@ std::string checkModel(const Model& model) {
   }
   if (model.contact.leafSize < 1)
     return detail::text("contact leafSize {} must be >= 1", model.contact.leafSize);
+  if (!(model.contact.neighbourSkin >= 0.0) || !std::isfinite(model.contact.neighbourSkin))
+    return detail::text("contact neighbourSkin {} must be finite and >= 0",
+                        model.contact.neighbourSkin);
   for (const RigidGroup& body : model.bodies) {
     if (body.particles.empty() || body.rest.size() != body.particles.size())
       return detail::text("body '{}': {} particles and {} rest offsets", body.name,
