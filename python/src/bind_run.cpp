@@ -19,10 +19,6 @@ namespace robophi::python {
 
 namespace {
 
-std::string pathText(const py::handle& path) {
-  return py::str(py::module_::import("os").attr("fspath")(path));
-}
-
 PyScene sceneFrom(std::shared_ptr<const Scene> scene) {
   PyModel model{std::make_shared<const CompiledModel>(scene->model)};
   return PyScene{std::move(scene), std::move(model), {}};

@@ -128,9 +128,7 @@ void bindUrdf(py::module_& m) {
       .def(py::init<>())
       .def_property(
           "file", [](const PyUrdfSpec& s) { return s.spec.path; },
-          [](PyUrdfSpec& s, const py::handle& p) {
-            s.spec.path = py::str(py::module_::import("os").attr("fspath")(p));
-          },
+          [](PyUrdfSpec& s, const py::handle& p) { s.spec.path = pathText(p); },
           "The .urdf file (run xacro first for a .xacro)")
       .def_property(
           "package_paths", [](const PyUrdfSpec& s) { return s.spec.packagePaths; },
@@ -232,8 +230,8 @@ void bindUrdf(py::module_& m) {
       "_load_urdf",
       [](const py::handle& path, std::vector<std::string> packagePaths,
          std::optional<std::string> base, double particleSize, int particlesPerLink) {
-        return loadUrdf(py::str(py::module_::import("os").attr("fspath")(path)),
-                        std::move(packagePaths), std::move(base), particleSize, particlesPerLink);
+        return loadUrdf(pathText(path), std::move(packagePaths), std::move(base), particleSize,
+                        particlesPerLink);
       },
       py::arg("path"), py::arg("package_paths") = std::vector<std::string>{},
       py::arg("base") = py::none(), py::arg("particle_size") = 0.0,

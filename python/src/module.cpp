@@ -19,6 +19,10 @@ py::array vec3View(const Vec3* data, std::size_t n, py::handle owner, bool writa
   return view;
 }
 
+std::string pathText(const py::handle& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path));
+}
+
 Integrator integratorFromName(const std::string& name) {
   Integrator integrator{};
   if (!parseIntegrator(name, integrator))

@@ -78,6 +78,8 @@ py::array vectorView(const std::vector<T>& data, py::handle owner) {
   return view;
 }
 
+/// A path given as str or os.PathLike, as text (os.fspath).
+std::string pathText(const py::handle& path);
 /// Integrator from its name ("taylor", "symplectic", "verlet"); ValueError otherwise.
 Integrator integratorFromName(const std::string& name);
 
