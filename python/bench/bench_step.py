@@ -9,6 +9,7 @@
    same worlds. Target: 2 threads >= 1.8x one thread.
 
     PYTHONPATH=build/python /usr/bin/python3 python/bench/bench_step.py [--quick]
+        [--rounds N] [--wait-quiet SECONDS] [--record FILE]
 
 Figures move with the machine's load: the results file says when and where.
 """
@@ -89,7 +90,20 @@ def timed(function):
     return wall, others
 
 
-def rollout_throughput(copies, steps, rounds):
+def wait_quiet(deadline, threshold=0.1, window=1.0):
+    """Waits (until `deadline`, time.time()) for a `window` s in which the other
+    programs took less than `threshold` of a core; returns whether it came."""
+    while time.time() < deadline:
+        busy0, own0 = busy_seconds(), own_seconds()
+        if busy0 is None:
+            return False
+        time.sleep(window)
+        if (busy_seconds() - busy0) - (own_seconds() - own0) < threshold * window:
+            return True
+    return False
+
+
+def rollout_throughput(copies, steps, rounds, wait=0.0):
     """Rounds of a 1-thread then a 2-thread rollout of the same worlds, each timed with
     the cores the machine's other programs took meanwhile (/proc/stat less our own CPU
     time: the load average lags a minute behind and cannot say this)."""
@@ -98,8 +112,11 @@ def rollout_throughput(copies, steps, rounds):
     states = [scene.initial] * copies
     args = dict(steps=steps, dt=dt, integrator=scene.integrator)
     hashes = {}
-    trials = {1: [], 2: []}  # (wall s, others' cores, busiest thread's CPU s)
+    trials = {1: [], 2: []}  # (wall s, others' cores, busiest thread's CPU s, all threads')
+    deadline = time.time() + wait
     for _ in range(rounds):
+        if wait > 0:
+            wait_quiet(deadline)
         for threads in (1, 2):
             out = {}
 
@@ -108,7 +125,8 @@ def rollout_throughput(copies, steps, rounds):
 
             wall, others = timed(run)
             hashes[threads] = out["r"]["hashes"]
-            trials[threads].append((wall, others, max(out["r"]["thread_cpu_seconds"])))
+            cpu = out["r"]["thread_cpu_seconds"]
+            trials[threads].append((wall, others, max(cpu), sum(cpu)))
     assert hashes[1] == hashes[2], "rollout must not depend on the thread count"
 
     # The per-world setup (a World on a copy of the compiled model): a rollout of no steps.
@@ -130,6 +148,9 @@ def main():
     parser.add_argument("--record", help="append the figures to this file")
     parser.add_argument("--rounds", type=int, default=10,
                         help="alternating 1- and 2-thread rollouts (default 10)")
+    parser.add_argument("--wait-quiet", type=float, default=0.0, metavar="SECONDS",
+                        help="before each round wait for a second in which other programs "
+                             "leave both cores free, for at most SECONDS in all")
     args = parser.parse_args()
     steps = 20_000 if args.quick else 200_000
     rollout_steps = 20 if args.quick else 200
@@ -143,7 +164,8 @@ def main():
                  f"cpp_loop_us_per_step={cpp_us:.3f} call_overhead_us={python_us - cpp_us:.3f} "
                  f"(target < 2)")
     rounds = 3 if args.quick else args.rounds
-    particles, trials, loop_per_s, setup_s = rollout_throughput(64, rollout_steps, rounds)
+    particles, trials, loop_per_s, setup_s = rollout_throughput(64, rollout_steps, rounds,
+                                                                args.wait_quiet)
     world_steps = 64 * rollout_steps
     best = {t: min(trials[t]) for t in trials}  # the least disturbed run of each
     per_s = {t: world_steps / best[t][0] for t in best}
@@ -170,8 +192,11 @@ def main():
     # stretch the wall time). About 2: no serial part, the work evenly shared; the
     # wall-clock speedup reaches it when two cores are free.
     cpu_split = min(t[2] for t in trials[1]) / min(t[2] for t in trials[2])
+    cpu_total = min(t[3] for t in trials[2]) / min(t[3] for t in trials[1])
     lines.append(f"ROLLOUT    cpu_split: one thread's CPU time / the busiest of 2 threads' = "
-                 f"{cpu_split:.2f} (~2: evenly split, no serial part)")
+                 f"{cpu_split:.2f} (~2: evenly split, no serial part); the 2 threads' CPU time "
+                 f"summed / one thread's = {cpu_total:.2f} (~1: no parallel overhead, no "
+                 f"slowdown of a thread by the other: shared caches, memory bandwidth)")
     lines.append(f"ROLLOUT    setup per world (a rollout of 0 steps: a World on a copy of the "
                  f"compiled model): {setup_s * 1e6:.1f} us, "
                  f"{setup_s / (best[1][0] / 64) * 100:.2f} % of a world's {rollout_steps} steps")
