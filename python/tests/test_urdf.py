@@ -54,7 +54,10 @@ def test_a_bare_urdf_is_the_clis_scene(robots, tmp_path, cli):
     assert done.returncode == 0, done.stderr
     summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert summary["state_hash"] == result["state_hash"]
-    # And a Python loop of the same constant steps.
+    # robophi.run of the path (the CLI's defaults), and a Python loop of the same steps.
+    by_path = robophi.run(urdf, out=str(tmp_path / "path"), duration=0.002, step="constant",
+                          dt=1e-4, replay=False)
+    assert by_path["state_hash"] == result["state_hash"]
     world = robophi.World(scene)
     world.run(0.002, dt=1e-4)
     assert robophi.format_hash(world.hash()) == result["state_hash"]
@@ -123,9 +126,14 @@ def test_urdf_errors_name_the_file_and_line(broken_urdfs):
     assert e.value.diagnostics[0]["line"] == 12
     with pytest.raises(robophi.SceneError, match="cannot read the file"):
         robophi.load(broken_urdfs / "no_such_robot.urdf")
-    with pytest.raises(robophi.SpecError, match="particlesPerLink"):
-        robophi.ModelBuilder().add_urdf(robophi.Urdf(file=broken_urdfs / "../../../scenes/x.urdf",
-                                                     particles_per_link=0))
+
+
+
+def test_a_bad_urdf_spec_field(robots):
+    spec = robophi.Urdf(file=robots / "cartpole" / "cartpole.urdf", particles_per_link=0)
+    with pytest.raises(robophi.SpecError, match="particlesPerLink") as e:
+        robophi.ModelBuilder().add_urdf(spec)
+    assert e.value.field == "particlesPerLink"
 
 
 def test_the_cli_gives_the_same_urdf_error(broken_urdfs, cli):
