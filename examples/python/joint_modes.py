@@ -49,7 +49,8 @@ def gravity_torque(world, model):
 def report(name, world):
     q, rate = world.joint_positions, world.joint_rates
     print(f"{name:>9}  t = {world.time:5.2f} s  q = ({q[0]:+.3f}, {q[1]:+.3f}) rad  "
-          f"q̇ = ({rate[0]:+.3f}, {rate[1]:+.3f}) rad/s  motor = {world.joint_motor_efforts[0]:+.3f} N·m")
+          f"q̇ = ({rate[0]:+.3f}, {rate[1]:+.3f}) rad/s  "
+          f"motor = {world.joint_motor_efforts[0]:+.3f} N·m")
 
 
 def main():
@@ -59,8 +60,8 @@ def main():
         world.set_actuator(joint, "position", kp=20.0, kd=3.0, target=target)
     world.run(PHASE, dt=DT)
     report("position", world)
-    print(f"           the shoulder's gravity torque / kp = {gravity_torque(world, model) / 20.0:+.3f} "
-          f"rad of sag")
+    sag = gravity_torque(world, model) / 20.0
+    print(f"           the shoulder's gravity torque / kp = {sag:+.3f} rad of sag")
 
     # The shoulder's torque that balances gravity at this pose, as a plain effort
     # (the actuator's target is τ in effort mode), against the shoulder left passive.

@@ -25,7 +25,8 @@ def test_load_a_bare_urdf(robots):
     assert joints["slider_to_cart"]["type"] == "prismatic"
     assert (joints["slider_to_cart"]["lower"], joints["slider_to_cart"]["upper"]) == (-15, 15)
     assert joints["slider_to_cart"]["velocity"] == 5 and joints["slider_to_cart"]["effort"] == 1000
-    assert joints["cart_to_pole"]["type"] == "continuous" and joints["cart_to_pole"]["lower"] is None
+    pole = joints["cart_to_pole"]
+    assert pole["type"] == "continuous" and pole["lower"] is None
     assert joints["cart_to_pole"]["model_joint"] == "physics.cart_to_pole"
     links = {link["name"]: link for link in robot["links"]}
     assert links["pole"]["declared"]["mass"] == 10
