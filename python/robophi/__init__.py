@@ -22,6 +22,7 @@ from ._robophi import (  # noqa: F401
     Error,
     Hand,
     Joint,
+    JointDrive,
     Material,
     Model,
     ModelBuilder,
@@ -35,6 +36,8 @@ from ._robophi import (  # noqa: F401
     Snapshot,
     SpecError,
     State,
+    Trajectory,
+    Urdf,
     Vehicle,
     Wheel,
     World,
@@ -43,37 +46,46 @@ from ._robophi import (  # noqa: F401
     run,
     state_hash,
 )
-from ._robophi import _load_scene
+from ._robophi import _is_urdf_path, _load_scene, _load_urdf
 
 __all__ = [
     "AdaptiveSettings", "Arm", "Ball", "Box", "DivergedError", "EnergyTally", "Error", "Hand",
-    "Joint", "Material", "Model", "ModelBuilder", "Object", "Plate", "RigidBody", "Rope",
-    "Scene", "SceneError", "Shape", "Snapshot", "SpecError", "State", "Vehicle", "Wheel", "World",
-    "format_hash",
-    "load", "rollout", "run", "state_hash",
+    "Joint", "JointDrive", "Material", "Model", "ModelBuilder", "Object", "Plate", "RigidBody",
+    "Rope", "Scene", "SceneError", "Shape", "Snapshot", "SpecError", "State", "Trajectory",
+    "Urdf", "Vehicle", "Wheel", "World",
+    "format_hash", "load", "rollout", "run", "state_hash",
 ]
 
 
-def load(path):
-    """Loads a scene file (.json) into a robophi.Scene.
+def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_per_link=30):
+    """Loads a scene file (.json) or a bare URDF robot (.urdf) into a robophi.Scene.
 
-    SceneError (a ValueError) lists every problem as the CLI does, each as
-    file:line:column: error: message (at /JSON pointer); its .diagnostics holds them
-    as dicts. A .urdf file goes to the URDF importer once it is part of robophi.
+    A scene file: SceneError (a ValueError) lists every problem as the CLI does, each
+    as file:line:column: error: message (at /JSON pointer); its .diagnostics holds
+    them as dicts.
+
+    A URDF (.urdf, .xacro) becomes the scene `robophi run ROBOT.urdf` runs: the robot
+    on a ground plane (z = 0) under gravity, its lowest particle resting on it, its
+    joints held where they are built by servos as stiff as their links.
+    package_paths: folders for package://NAME/... meshes (--package-path; then
+    ROS_PACKAGE_PATH); base: "fixed" or "free" (--base; None: free for a wheeled
+    base, two or more continuous joints, fixed otherwise); particle_size (m, 0: by
+    count) or particles_per_link set the links' resolution. A URDF that cannot be
+    imported is a SceneError with the CLI's lines (FILE:LINE: error: message);
+    ignored elements (<gazebo>, <visual>, ...) are in scene.warnings, and what the
+    file declares in scene.urdf_robots.
     """
     text = _os.fspath(path)
-    if text.lower().endswith(".urdf"):
-        importer = getattr(_robophi_module(), "_load_urdf", None)
-        if importer is None:
-            raise NotImplementedError(
-                f"{text}: this robophi has no URDF importer yet; load a scene file (.json)")
-        return importer(text)
+    if _is_urdf_path(text):
+        return _load_urdf(text, package_paths=[_os.fspath(p) for p in package_paths or []],
+                          base=base, particle_size=particle_size,
+                          particles_per_link=particles_per_link)
+    if package_paths is not None or base is not None or particle_size != 0.0 \
+            or particles_per_link != 30:
+        raise TypeError(f"robophi.load: {text}: package_paths, base, particle_size and "
+                        "particles_per_link are for a URDF (.urdf); a scene file sets them "
+                        "in its {\"type\": \"urdf\"} objects")
     return _load_scene(text)
-
-
-def _robophi_module():
-    from . import _robophi
-    return _robophi
 
 
 def _keyword_init(cls):
@@ -101,6 +113,6 @@ def _keyword_init(cls):
     return cls
 
 
-for _spec in (Rope, Box, Plate, Ball, Wheel, RigidBody, Arm, Hand, Vehicle):
+for _spec in (Rope, Box, Plate, Ball, Wheel, RigidBody, Arm, Hand, Vehicle, Urdf):
     _keyword_init(_spec)
 del _spec

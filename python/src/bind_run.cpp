@@ -19,13 +19,9 @@ namespace robophi::python {
 
 namespace {
 
-std::string pathText(const py::handle& path) {
-  return py::str(py::module_::import("os").attr("fspath")(path));
-}
-
 PyScene sceneFrom(std::shared_ptr<const Scene> scene) {
   PyModel model{std::make_shared<const CompiledModel>(scene->model)};
-  return PyScene{std::move(scene), std::move(model)};
+  return PyScene{std::move(scene), std::move(model), {}};
 }
 
 /// The exit code `robophi run` gives a report (docs/output-format.md#exit-codes).
@@ -47,9 +43,15 @@ py::dict runScenePython(const py::handle& sceneArg, std::optional<std::string> o
                         std::optional<double> duration, std::optional<std::string> step,
                         std::optional<double> dt, std::optional<std::string> integrator,
                         std::optional<double> fps, bool force, bool replay) {
-  std::shared_ptr<const Scene> scene = py::isinstance<PyScene>(sceneArg)
-                                           ? sceneArg.cast<const PyScene&>().scene
-                                           : loadScene(pathText(sceneArg));
+  // A path: a scene file, or a bare URDF with the CLI's defaults (robophi.load's
+  // options need a loaded robophi.Scene).
+  std::shared_ptr<const Scene> scene;
+  if (py::isinstance<PyScene>(sceneArg)) {
+    scene = sceneArg.cast<const PyScene&>().scene;
+  } else {
+    const std::string path = pathText(sceneArg);
+    scene = isUrdfPath(path) ? sceneOrThrow(loadUrdfFile(path), path) : loadScene(path);
+  }
   RunOptions options;
   options.settings = scene->run;
   RunSettings& run = options.settings;
@@ -328,7 +330,14 @@ void bindRun(py::module_& m) {
       });
 
   m.def(
-      "_load_scene", [](const py::handle& path) { return sceneFrom(loadScene(pathText(path))); },
+      "_load_scene",
+      [](const py::handle& path) {
+        const std::string text = pathText(path);
+        std::vector<std::string> warnings;
+        PyScene scene = sceneFrom(sceneOrThrow(loadSceneFile(text), text, &warnings));
+        scene.warnings = std::move(warnings);
+        return scene;
+      },
       py::arg("path"));
   m.def("run", &runScenePython, py::arg("scene"), py::arg("out") = py::none(), py::kw_only(),
         py::arg("duration") = py::none(), py::arg("step") = py::none(), py::arg("dt") = py::none(),

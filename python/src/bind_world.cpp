@@ -100,8 +100,22 @@ void PyWorld::throwDiverged() const {
                  " s made the state non-finite: " + where + " is NaN or infinite");
 }
 
-void PyWorld::step(double dt) {
+robotics::Controller& PyWorld::controller() {
+  if (!controller_)
+    controller_ = std::make_unique<robotics::Controller>(robotics::ControlSpec{}, world_.model());
+  return *controller_;
+}
+
+void PyWorld::beforeStep() {
   syncViews();
+  if (controller_) {
+    controller_->apply(world_);
+    reshadow();
+  }
+}
+
+void PyWorld::step(double dt) {
+  beforeStep();
   StepStatus status;
   {
     py::gil_scoped_release release;
@@ -112,7 +126,7 @@ void PyWorld::step(double dt) {
 }
 
 void PyWorld::stepWithoutTunnelling(double dt) {
-  syncViews();
+  beforeStep();
   StepStatus status;
   {
     py::gil_scoped_release release;
@@ -124,7 +138,7 @@ void PyWorld::stepWithoutTunnelling(double dt) {
 }
 
 double PyWorld::advance(double maxDt) {
-  syncViews();
+  beforeStep();
   if (!stepper_) stepper_.emplace(world_.model(), adaptive_);
   AdaptiveStepResult result;
   {

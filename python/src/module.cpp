@@ -19,6 +19,10 @@ py::array vec3View(const Vec3* data, std::size_t n, py::handle owner, bool writa
   return view;
 }
 
+std::string pathText(const py::handle& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path));
+}
+
 Integrator integratorFromName(const std::string& name) {
   Integrator integrator{};
   if (!parseIntegrator(name, integrator))
@@ -27,7 +31,13 @@ Integrator integratorFromName(const std::string& name) {
 }
 
 std::shared_ptr<const Scene> loadScene(const std::string& path) {
-  SceneLoadResult result = loadSceneFile(path);
+  return sceneOrThrow(loadSceneFile(path), path);
+}
+
+std::shared_ptr<const Scene> sceneOrThrow(SceneLoadResult result, const std::string& path,
+                                          std::vector<std::string>* warnings) {
+  if (warnings)
+    for (const Diagnostic& d : result.warnings) warnings->push_back(d.format("warning"));
   if (result.ok()) return std::make_shared<const Scene>(std::move(*result.scene));
   // The CLI's lines (robophi validate, robophi run): each error, then the count.
   std::string message;
@@ -124,4 +134,6 @@ PYBIND11_MODULE(_robophi, m) {
   bindWorld(m);
   bindBuild(m);
   bindRun(m);
+  bindUrdf(m);
+  bindActuators(m);
 }

@@ -17,6 +17,7 @@
 #include "robophi/scene/scene.h"
 #include "robophi/state.h"
 #include "robophi/world.h"
+#include "robotics/controller.h"
 
 // robophi::Vec3 from any sequence of three numbers (list, tuple, numpy array),
 // and to a tuple.
@@ -61,6 +62,8 @@ struct PyModel {
 struct PyScene {
   std::shared_ptr<const Scene> scene;
   PyModel model;
+  /// The loader's warnings as the CLI prints them (a bare URDF's ignored elements).
+  std::vector<std::string> warnings{};
 };
 
 /// An (n, 3) float64 view on `data` whose base is `owner`.
@@ -75,6 +78,8 @@ py::array vectorView(const std::vector<T>& data, py::handle owner) {
   return view;
 }
 
+/// A path given as str or os.PathLike, as text (os.fspath).
+std::string pathText(const py::handle& path);
 /// Integrator from its name ("taylor", "symplectic", "verlet"); ValueError otherwise.
 Integrator integratorFromName(const std::string& name);
 
@@ -129,13 +134,23 @@ class PyWorld {
   /// Sets a joint's target position q (rad or m, as jointPosition).
   void setJointTarget(std::size_t joint, double position);
 
+  /// The world's actuators (world.set_actuator...): a robotics::Controller made
+  /// at the first call, applied before every step (as the runner applies a
+  /// scene's controller between steps).
+  robotics::Controller& controller();
+  const robotics::Controller* controllerIfAny() const { return controller_.get(); }
+
   /// Throws DivergedError (robophi::python::Diverged) naming the first bad particle.
   [[noreturn]] void throwDiverged() const;
 
  private:
+  /// Books the views' writes and brings the actuators' commands to the world's time.
+  void beforeStep();
+
   World world_;
   AdaptiveStepSettings adaptive_;
   std::optional<AdaptiveStepper> stepper_;
+  std::unique_ptr<robotics::Controller> controller_;
   int liveViews_ = 0;
   bool checkPending_ = false;
   std::vector<Vec3> shadowPosition_, shadowVelocity_;
@@ -154,6 +169,11 @@ struct Diverged : std::runtime_error {
 
 /// Loads a scene file; SceneLoadError carrying the CLI's messages otherwise.
 std::shared_ptr<const Scene> loadScene(const std::string& path);
+/// The scene of a load result, or SceneLoadError with the CLI's lines (each error,
+/// then "PATH: N errors; nothing was run or written"). The warnings, formatted as
+/// the CLI prints them, go to `warnings` when given.
+std::shared_ptr<const Scene> sceneOrThrow(SceneLoadResult result, const std::string& path,
+                                          std::vector<std::string>* warnings = nullptr);
 /// The index of a joint given by name or index; IndexError / KeyError otherwise.
 std::size_t jointIndex(const Model& model, const py::handle& joint);
 
@@ -162,5 +182,7 @@ void bindModel(py::module_& m);
 void bindWorld(py::module_& m);
 void bindBuild(py::module_& m);
 void bindRun(py::module_& m);
+void bindUrdf(py::module_& m);
+void bindActuators(py::module_& m);
 
 }  // namespace robophi::python

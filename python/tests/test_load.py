@@ -67,13 +67,6 @@ def test_spec_keywords_are_checked():
     assert box.size == (0.2, 0.1, 0.1) and box.cells == [3, 1, 1]
 
 
-def test_urdf_waits_for_the_importer(tmp_path):
-    if hasattr(robophi._robophi, "_load_urdf"):
-        pytest.skip("this robophi has the URDF importer")
-    with pytest.raises(NotImplementedError, match="no URDF importer"):
-        robophi.load(tmp_path / "robot.urdf")
-
-
 def test_a_rigid_body_from_shapes_has_the_mass_properties_asked_for():
     """build::RigidBodySpec from Python: a uniform 2 kg box, 0.2 × 0.1 × 0.1 m, at (0, 0, 0.5)."""
     body = robophi.RigidBody(shapes=[robophi.Shape.box((0.2, 0.1, 0.1), xyz=(0.0, 0.0, 0.5))],
