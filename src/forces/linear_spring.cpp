@@ -33,6 +33,18 @@ inline bool linearSpringKernel(const LinearSpring& s, const Vec3& pA, const Vec3
 // `potential` and `power` in ascending k.
 void linearSpringRange(const LinearSpring* spring, const Vec3* p, const Vec3* v, Vec3* out,
                        std::int64_t begin, std::int64_t end, double& potential, double& power) {
+  // One spring by the scalar kernel.
+  auto single = [&](std::int64_t j) {
+    const LinearSpring& s = spring[j];
+    Vec3 forceOnA;
+    double springEnergy = 0.0, springPower = 0.0;
+    if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
+                           springPower)) {
+      potential += springEnergy;
+      power += springPower;
+    }
+    out[j] = forceOnA;
+  };
   std::int64_t k = begin;
 #if defined(__SSE2__)
   // Two springs at a time, one in each lane: the kernel's operations in its order
@@ -48,17 +60,8 @@ void linearSpringRange(const LinearSpring* spring, const Vec3* p, const Vec3* v,
         _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz)));
     // Coincident particles in either lane: the scalar kernel takes both.
     if (_mm_movemask_pd(_mm_cmpgt_pd(length, _mm_setzero_pd())) != 3) {
-      for (std::int64_t j = k; j < k + 2; ++j) {
-        const LinearSpring& s = spring[j];
-        Vec3 forceOnA;
-        double springEnergy = 0.0, springPower = 0.0;
-        if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
-                               springPower)) {
-          potential += springEnergy;
-          power += springPower;
-        }
-        out[j] = forceOnA;
-      }
+      single(k);
+      single(k + 1);
       continue;
     }
     const __m128d inverse = _mm_div_pd(_mm_set1_pd(1.0), length);
@@ -95,17 +98,7 @@ void linearSpringRange(const LinearSpring* spring, const Vec3* p, const Vec3* v,
     power += w[1];
   }
 #endif
-  for (; k < end; ++k) {
-    const LinearSpring& s = spring[k];
-    Vec3 forceOnA;
-    double springEnergy = 0.0, springPower = 0.0;
-    if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
-                           springPower)) {
-      potential += springEnergy;
-      power += springPower;
-    }
-    out[k] = forceOnA;
-  }
+  for (; k < end; ++k) single(k);
 }
 
 }  // namespace
