@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "collision/contact_tables.h"
+#include "forces/forces.h"
 
 namespace robophi {
 
@@ -24,6 +25,7 @@ CompiledModel::CompiledModel(Model model) : model_(std::move(model)) {
     throw std::invalid_argument("model: " + problem);
   }
   tables_ = std::make_unique<ContactTables>(compileContactTables(model_));
+  springIncidence_ = std::make_unique<SpringIncidence>(compileSpringIncidence(model_));
   revision_ = contactRevision_ = nextRevision();
 }
 
@@ -31,12 +33,14 @@ CompiledModel::~CompiledModel() = default;
 CompiledModel::CompiledModel(const CompiledModel& other)
     : model_(other.model_),
       tables_(std::make_unique<ContactTables>(*other.tables_)),
+      springIncidence_(std::make_unique<SpringIncidence>(*other.springIncidence_)),
       revision_(other.revision_),
       contactRevision_(other.contactRevision_) {}
 CompiledModel& CompiledModel::operator=(const CompiledModel& other) {
   if (this != &other) {
     model_ = other.model_;
     tables_ = std::make_unique<ContactTables>(*other.tables_);
+    springIncidence_ = std::make_unique<SpringIncidence>(*other.springIncidence_);
     revision_ = other.revision_;
     contactRevision_ = other.contactRevision_;
   }
@@ -49,6 +53,8 @@ void CompiledModel::changed(unsigned change) {
   revision_ = nextRevision();
   if ((change & kContactTables) != 0) {
     *tables_ = compileContactTables(model_);
+    // A connector's ends or the particles changed (kContactTables covers both).
+    *springIncidence_ = compileSpringIncidence(model_);
     contactRevision_ = revision_;
   }
 }

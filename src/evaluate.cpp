@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "collision/contact_stage.h"
+#include "core/parallel.h"
 #include "core/text.h"
 #include "forces/forces.h"
 #include "integrate/integrators.h"
@@ -11,30 +12,60 @@
 
 namespace robophi {
 
-Workspace::Workspace() : scratch_(std::make_unique<ContactScratch>()) {}
+Workspace::Workspace()
+    : scratch_(std::make_unique<ContactScratch>()),
+      forceScratch_(std::make_unique<ForceScratch>()),
+      threads_(detail::availableThreads()) {}
 Workspace::~Workspace() = default;
 Workspace::Workspace(const Workspace& other)
-    : scratch_(std::make_unique<ContactScratch>()), result_(other.result_) {}
+    : scratch_(std::make_unique<ContactScratch>()),
+      forceScratch_(std::make_unique<ForceScratch>()),
+      threads_(other.threads_),
+      result_(other.result_) {}
 Workspace& Workspace::operator=(const Workspace& other) {
-  if (this != &other) result_ = other.result_;  // the scratch stays this workspace's own
+  if (this != &other) {
+    // The scratch stays this workspace's own.
+    threads_ = other.threads_;
+    result_ = other.result_;
+  }
   return *this;
 }
 Workspace::Workspace(Workspace&&) noexcept = default;
 Workspace& Workspace::operator=(Workspace&&) noexcept = default;
 
-void evaluateForces(const CompiledModel& compiled, const State& state, ContactScratch& scratch,
+void Workspace::setThreadCount(int threads) {
+  if (threads < 0) {
+    throw std::invalid_argument(detail::text(
+        "Workspace::setThreadCount: {} threads; give a count >= 1, or 0 for the cores available",
+        threads));
+  }
+  threads_ = threads == 0 ? detail::availableThreads() : threads;
+}
+
+void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
                     Evaluation& out) {
   const Model& model = compiled.model();
+  const int threads = workspace.threadCount();
   const std::vector<Vec3>& position = state.position;
   const std::vector<Vec3>& velocity = state.velocity;
   out.force.resize(position.size());
-  for (Vec3& f : out.force) f = Vec3{};
   out.torque.resize(position.size());
-  for (Vec3& t : out.torque) t = Vec3{};
+  detail::parallelFor(threads, static_cast<std::int64_t>(position.size()),
+                      [&](std::int64_t begin, std::int64_t end) {
+                        for (auto i = static_cast<std::size_t>(begin);
+                             i < static_cast<std::size_t>(end); ++i) {
+                          out.force[i] = Vec3{};
+                          out.torque[i] = Vec3{};
+                        }
+                      });
   EnergyTally& e = out.energy;
-  const ForceTally gravity = accumulateGravity(model, position, out.force);
-  const ForceTally damping = accumulateLinearDamping(model, velocity, out.force);
-  const ForceTally linear = accumulateLinearSprings(model, position, velocity, out.force);
+  // The connector stages that scale with the model run in parallel; TS, JS and
+  // the drives (a few per joint) and the contacts (src/collision/) on this thread.
+  const ForceTally gravity = accumulateGravity(model, threads, position, out.force);
+  const ForceTally damping = accumulateLinearDamping(model, threads, velocity, out.force);
+  const ForceTally linear =
+      accumulateLinearSprings(model, compiled.springIncidence(), threads, position, velocity,
+                              out.force, workspace.forceScratch());
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
   const ForceTally bodies = accumulateRigidBodies(model, position, velocity, out.force);
@@ -50,11 +81,12 @@ void evaluateForces(const CompiledModel& compiled, const State& state, ContactSc
                          bodies.dissipativePower + drives.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
-                     velocity, state.spin, state.frictionHistory, scratch, out);
+                     velocity, state.spin, state.frictionHistory, workspace.contactScratch(), out);
 }
 
-void measureKinetic(const CompiledModel& model, const State& state, Evaluation& out) {
-  measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia, state, out);
+void measureKinetic(const CompiledModel& model, const State& state, int threads, Evaluation& out) {
+  measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia, threads, state,
+                           out);
 }
 
 const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace) {
@@ -66,8 +98,8 @@ const Evaluation& evaluate(const CompiledModel& model, const State& state, Works
         state.position.size(), state.velocity.size(), state.spin.size(), n));
   }
   Evaluation& out = workspace.result();
-  evaluateForces(model, state, workspace.contactScratch(), out);
-  measureKinetic(model, state, out);
+  evaluateForces(model, state, workspace, out);
+  measureKinetic(model, state, workspace.threadCount(), out);
   out.energy.dissipated = state.dissipated;
   out.energy.external = state.external;
   return out;

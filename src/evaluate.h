@@ -16,10 +16,12 @@ namespace robophi {
 /// → JS → joint drives (MODEL §1.6) → contacts (which set out.contacts, out.releasedAnchorEnergy,
 /// out.contactCriticalStep, out.contactStats). Not the kinetic energy or the
 /// driving power (measureKineticAndDriving), which need the final velocities.
-void evaluateForces(const CompiledModel& model, const State& state, ContactScratch& scratch,
+/// The force stages, the integration and the sums use up to workspace.threadCount()
+/// threads (core/parallel.h), with the same result for any count.
+void evaluateForces(const CompiledModel& model, const State& state, Workspace& workspace,
                     Evaluation& out);
 
 /// The kinetic energy and driving power at the state (measureKineticAndDriving).
-void measureKinetic(const CompiledModel& model, const State& state, Evaluation& out);
+void measureKinetic(const CompiledModel& model, const State& state, int threads, Evaluation& out);
 
 }  // namespace robophi

@@ -45,8 +45,8 @@ World::World(CompiledModel model, State initial, Integrator integrator)
 void World::evaluateCurrent() const {
   State& state = current_.state_;
   Evaluation& evaluation = current_.evaluation_;
-  evaluateForces(model_, state, workspace_.contactScratch(), evaluation);
-  measureKinetic(model_, state, evaluation);
+  evaluateForces(model_, state, workspace_, evaluation);
+  measureKinetic(model_, state, workspace_.threadCount(), evaluation);
 }
 
 void World::refresh() const {
@@ -116,29 +116,29 @@ StepStatus World::step(double dt) {
   // Rolling (MODEL §3.3): the anchors turn with the contact points over the step.
   state.frictionHistory.swap(evaluation.contacts);
   for (Contact& c : state.frictionHistory) c.anchor -= c.rollVelocity * dt;
-  ContactScratch& scratch = workspace_.contactScratch();
+  const int threads = workspace_.threadCount();
   const std::vector<double>& spinInertia = model_.contactTables().inverseSpinInertia;
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.
   switch (integrator_) {
     case Integrator::kTaylor:
-      integrateTaylor(model, spinInertia, dt, evaluation, state);
-      evaluateForces(model_, state, scratch, evaluation);
+      integrateTaylor(model, spinInertia, threads, dt, evaluation, state);
+      evaluateForces(model_, state, workspace_, evaluation);
       break;
     case Integrator::kSymplecticEuler:
-      integrateSymplecticEuler(model, spinInertia, dt, evaluation, state);
-      evaluateForces(model_, state, scratch, evaluation);
+      integrateSymplecticEuler(model, spinInertia, threads, dt, evaluation, state);
+      evaluateForces(model_, state, workspace_, evaluation);
       break;
     case Integrator::kVelocityVerlet:
-      integrateVerletDrift(model, spinInertia, dt, evaluation, state);
-      evaluateForces(model_, state, scratch, evaluation);
-      integrateVerletKick(model, spinInertia, dt, evaluation, state);
+      integrateVerletDrift(model, spinInertia, threads, dt, evaluation, state);
+      evaluateForces(model_, state, workspace_, evaluation);
+      integrateVerletKick(model, spinInertia, threads, dt, evaluation, state);
       break;
   }
 
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
-  measureKinetic(model_, state, evaluation);
+  measureKinetic(model_, state, threads, evaluation);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;

@@ -25,6 +25,8 @@ namespace {
 struct BenchArguments {
   bool json = false;
   bool quick = false;
+  int threads = 0;        // of the step; 0: the cores available
+  double duration = 0.0;  // model seconds of every scene, over its own; 0: its own
   std::string filter;
   std::string record = "bench/results";
 };
@@ -32,6 +34,7 @@ struct BenchArguments {
 struct BenchResult {
   std::string name;
   std::int64_t particles = 0, connectors = 0, steps = 0;
+  int threads = 1;  // of the step
   double simulatedSeconds = 0.0, wallSeconds = 0.0;
   double particleStepsPerSecond = 0.0, connectorEvalsPerSecond = 0.0;
   std::int64_t rejected = 0;
@@ -42,12 +45,14 @@ struct BenchResult {
   std::string status;
 };
 
-BenchResult runBench(const BenchScene& bench) {
+BenchResult runBench(const BenchScene& bench, int threads) {
   const Scene& scene = bench.scene;
   World world(scene.model, scene.initial, scene.run.integrator);
+  world.setThreadCount(threads);
   const auto steps = static_cast<std::int64_t>(std::ceil(scene.run.duration / scene.run.dt - 1e-9));
   BenchResult r;
   r.name = bench.name;
+  r.threads = world.threadCount();
   r.particles = scene.model.particleCount();
   r.connectors = static_cast<std::int64_t>(scene.model.linearSprings.size() +
                                            scene.model.torsionSprings.size() +
@@ -97,6 +102,7 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
           {"status", r.status},
           {"particles", r.particles},
           {"connectors", r.connectors},
+          {"threads", r.threads},
           {"steps", r.steps},
           {"simulated_s", r.simulatedSeconds},
           {"wall_s", r.wallSeconds},
@@ -117,9 +123,10 @@ int benchCommand(const BenchArguments& args) {
   // SIGINT, SIGTERM: the scene in progress stops, nothing is recorded.
   InterruptGuard interrupt;
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
-  for (const BenchScene& bench : standardBenchScenes(args.quick)) {
+  for (BenchScene bench : standardBenchScenes(args.quick)) {
     if (!args.filter.empty() && bench.name.find(args.filter) == std::string::npos) continue;
-    const BenchResult r = runBench(bench);
+    if (args.duration > 0.0) bench.scene.run.duration = args.duration;
+    const BenchResult r = runBench(bench, args.threads);
     if (InterruptGuard::flag()) {
       std::fprintf(stderr, "robophi bench: interrupted: nothing recorded\n");
       return exitCodeForSignal(InterruptGuard::caughtSignal());
@@ -128,10 +135,10 @@ int benchCommand(const BenchArguments& args) {
     if (!args.json) {
       std::printf(
           "%-12s particles=%-7lld connectors=%-7lld steps=%-7lld wall_s=%-8.3f "
-          "particle_steps_per_s=%.3e connector_evals_per_s=%.3e %s\n",
+          "particle_steps_per_s=%.3e connector_evals_per_s=%.3e threads=%d %s\n",
           r.name.c_str(), static_cast<long long>(r.particles), static_cast<long long>(r.connectors),
           static_cast<long long>(r.steps), r.wallSeconds, r.particleStepsPerSecond,
-          r.connectorEvalsPerSecond, r.status.c_str());
+          r.connectorEvalsPerSecond, r.threads, r.status.c_str());
       if (r.contactsPerStep > 0.0) {
         std::printf(
             "%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius) "
@@ -160,7 +167,7 @@ int benchCommand(const BenchArguments& args) {
   doc["results"] = all;
   if (args.json) std::printf("%s\n", doc.dump(2).c_str());
   // A filtered run replaces only its own scenes' results in the record.
-  if (!args.record.empty() && !args.quick) {
+  if (!args.record.empty() && !args.quick && args.duration == 0.0) {
     const auto path = std::filesystem::path(args.record) / "latest.json";
     if (!args.filter.empty()) {
       std::ifstream in(path);
@@ -194,6 +201,13 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   cmd->add_flag("--json", args->json, "Print the results as JSON");
   cmd->add_flag("--quick", args->quick, "A short smoke run (not recorded)");
   cmd->add_option("--filter", args->filter, "Only scenes whose name contains this");
+  cmd->add_option("--duration", args->duration,
+                  "Model seconds of every scene, over its own (a shorter measurement)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", args->threads,
+                  "Threads of the step (default 0: the cores available); the results are the "
+                  "same for every count")
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--record", args->record,
                   "Folder for latest.json (default bench/results; empty: do not record)");
   cmd->callback([args, &exitCode] { exitCode = benchCommand(*args); });

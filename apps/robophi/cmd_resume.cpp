@@ -23,6 +23,7 @@ struct ResumeArguments {
   std::string dir;
   double stopAfter = 0.0;
   bool quiet = false;
+  int threads = 0;  // of the step; 0: the cores available
 };
 
 // A run killed outright (SIGKILL, a power cut) leaves its files in the staging
@@ -68,6 +69,7 @@ int resumeCommand(const ResumeArguments& args) {
 
   RunOptions options;
   options.settings = saved.settings;
+  options.threads = args.threads;
   options.energyRate = saved.energyRate;
   options.checkpointEvery = saved.checkpointEvery;
   options.energyAccountBound = saved.energyAccountBound;
@@ -116,6 +118,10 @@ void addResumeCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--stop-after", args->stopAfter,
                   "Stop again at model time S with a checkpoint (status \"stopped\")")
       ->type_name("S");
+  cmd->add_option("--threads", args->threads,
+                  "Threads of the step (default 0: the cores available); the results are the "
+                  "same for every count")
+      ->check(CLI::Range(0, 4096));
   cmd->add_flag("-q,--quiet", args->quiet, "No messages but the result");
   cmd->callback([args, &exitCode] { exitCode = resumeCommand(*args); });
 }

@@ -31,6 +31,7 @@ struct RunArguments {
   std::string integrator;
   std::string stepMode;
   bool quiet = false;
+  int threads = 0;        // of the step; 0: the cores available
   UrdfSceneOptions urdf;  // a bare URDF (docs/robots.md)
   std::string base;
 };
@@ -103,6 +104,7 @@ int runCommand(const RunArguments& args) {
 
   RunOptions options;
   options.settings = scene->run;
+  options.threads = args.threads;
   // The command line overrides the scene's run settings (the model is built:
   // --dt is the step only, it changes no stiffness).
   RunSettings& run = options.settings;
@@ -308,6 +310,10 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--stop-after", args->stopAfter,
                   "Stop at model time S with a checkpoint (status \"stopped\", exit 0)")
       ->type_name("S");
+  cmd->add_option("--threads", args->threads,
+                  "Threads of the step (default 0: the cores available); the results are the "
+                  "same for every count")
+      ->check(CLI::Range(0, 4096));
   cmd->add_flag("-q,--quiet", args->quiet, "No progress display");
   cmd->callback([args, &exitCode] { exitCode = runCommand(*args); });
 }

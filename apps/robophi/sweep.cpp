@@ -271,6 +271,8 @@ nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSe
     options.settings = scene.run;
     if (plan.duration > 0.0) options.settings.duration = plan.duration;
     options.writeReplay = false;
+    // The runs themselves share the cores (--threads): one thread a run.
+    options.threads = 1;
     options.tasks = {robotics::makeSceneTasks(scene)};
     const RunReport report = runScene(scene, options);
     row["status"] = report.status;

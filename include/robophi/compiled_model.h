@@ -13,6 +13,7 @@
 namespace robophi {
 
 struct ContactTables;
+struct SpringIncidence;
 
 class CompiledModel {
  public:
@@ -28,6 +29,8 @@ class CompiledModel {
   const Model& model() const { return model_; }
   /// The contact stage's tables (an internal type of the core).
   const ContactTables& contactTables() const { return *tables_; }
+  /// The linear springs at each particle, for the parallel gather (an internal type).
+  const SpringIncidence& springIncidence() const { return *springIncidence_; }
   // Revisions: numbers unique across the process that change with the edits
   // (World's edit API), for caches derived from the model to compare.
   /// Changes with every edit of the model.
@@ -45,6 +48,7 @@ class CompiledModel {
   void changed(unsigned change);
   Model model_;
   std::unique_ptr<ContactTables> tables_;
+  std::unique_ptr<SpringIncidence> springIncidence_;
   std::int64_t revision_ = 0;
   std::int64_t contactRevision_ = 0;
 };

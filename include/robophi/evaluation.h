@@ -51,6 +51,7 @@ struct Evaluation {
 };
 
 struct ContactScratch;
+struct ForceScratch;
 
 /// Scratch memory of evaluations (sphere trees, grid, buffers) and the last
 /// evaluation. Reusing one workspace keeps evaluations allocation-free; any
@@ -69,9 +70,20 @@ class Workspace {
   const Evaluation& result() const { return result_; }
   Evaluation& result() { return result_; }
   ContactScratch& contactScratch() { return *scratch_; }
+  ForceScratch& forceScratch() { return *forceScratch_; }
+
+  /// The most threads the evaluation's parallel stages (connector forces, the
+  /// per-particle loops and sums) use; 0 (the default) means the cores
+  /// available. The results are bit-identical whatever the count. Throws
+  /// std::invalid_argument for a negative count.
+  void setThreadCount(int threads);
+  /// The count in use (>= 1).
+  int threadCount() const { return threads_; }
 
  private:
   std::unique_ptr<ContactScratch> scratch_;
+  std::unique_ptr<ForceScratch> forceScratch_;
+  int threads_ = 1;
   Evaluation result_;
 };
 

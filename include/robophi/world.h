@@ -73,6 +73,12 @@ class World {
   Integrator integrator() const { return integrator_; }
   void setIntegrator(Integrator integrator) { integrator_ = integrator; }
 
+  /// The most threads a step uses (Workspace::setThreadCount: 0 = the cores
+  /// available, the default). Not part of the result: every count gives the
+  /// same state, bit for bit.
+  void setThreadCount(int threads) { workspace_.setThreadCount(threads); }
+  int threadCount() const { return workspace_.threadCount(); }
+
   // ---- Edits of the state (between steps). Indices are checked
   // (std::out_of_range), values must be finite (std::invalid_argument).
   void setPosition(ParticleIndex particle, const Vec3& position);

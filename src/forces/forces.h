@@ -3,6 +3,7 @@
 // energy it holds and the power of its dissipative part.
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "robophi/model.h"
@@ -19,12 +20,35 @@ struct ForceTally {
 };
 
 // Arrays are (particleCount) long.
-ForceTally accumulateGravity(const Model& model, const std::vector<Vec3>& position,
+// `threads`: the most the stage may use; the result does not depend on it.
+ForceTally accumulateGravity(const Model& model, int threads, const std::vector<Vec3>& position,
                              std::vector<Vec3>& force);
-ForceTally accumulateLinearDamping(const Model& model, const std::vector<Vec3>& velocity,
-                                   std::vector<Vec3>& force);
-ForceTally accumulateLinearSprings(const Model& model, const std::vector<Vec3>& position,
+ForceTally accumulateLinearDamping(const Model& model, int threads,
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+
+/// The linear springs that meet at each particle, compiled once per model topology
+/// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k
+/// (spring k's end a) or 2k + 1 (its end b), in ascending k, the order in which a
+/// serial scatter over the springs adds them.
+struct SpringIncidence {
+  std::vector<std::int32_t> start;  // (particleCount + 1)
+  std::vector<std::int32_t> entry;  // (2 * linearSprings)
+};
+SpringIncidence compileSpringIncidence(const Model& model);
+
+/// A workspace's buffers for the force stages.
+struct ForceScratch {
+  std::vector<Vec3> springForce;  // (linearSprings): the force on end a
+};
+
+/// LS in two parallel passes: each spring's force on its end a into
+/// scratch.springForce (energy and power summed in fixed chunks), then each
+/// particle gathers its springs in ascending order (`incidence`): the forces are
+/// bit-identical to a serial scatter's, whatever the thread count.
+ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& incidence,
+                                   int threads, const std::vector<Vec3>& position,
+                                   const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                   ForceScratch& scratch);
 ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>& position,
                                     const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
 ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,

@@ -2,95 +2,114 @@
 
 #include <algorithm>
 
+#include "core/parallel.h"
 #include "forces/forces.h"
 
 namespace robophi {
 
 // Fixed particles (inverse mass 0) get no acceleration; they keep their
-// velocity, so a fixed particle given a velocity moves kinematically.
+// velocity, so a fixed particle given a velocity moves kinematically. Every
+// particle's update is its own: the loops run in parallel (core/parallel.h).
 
 namespace {
 
 // ω_i += J_i⁻¹ τ_i δ for the spinning particles (orientation is not tracked:
 // a sphere looks the same whichever way it has turned).
-void kickSpin(const std::vector<double>& inverseSpinInertia, double dt,
+void kickSpin(const std::vector<double>& inverseSpinInertia, int threads, double dt,
               const std::vector<Vec3>& torque, State& state) {
   if (torque.empty()) return;
   const std::size_t n = inverseSpinInertia.size();
   if (state.spin.size() != n) state.spin.assign(n, Vec3{});
-  for (std::size_t i = 0; i < n; ++i) {
-    if (inverseSpinInertia[i] != 0.0) state.spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
-  }
+  detail::parallelFor(
+      threads, static_cast<std::int64_t>(n), [&](std::int64_t begin, std::int64_t end) {
+        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+          if (inverseSpinInertia[i] != 0.0) {
+            state.spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
+          }
+        }
+      });
+}
+
+// body(i) for every particle, in parallel.
+template <class Body>
+void forEachParticle(const Model& model, int threads, const Body& body) {
+  detail::parallelFor(threads, model.particleCount(), [&](std::int64_t begin, std::int64_t end) {
+    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) body(i);
+  });
 }
 
 }  // namespace
 
-void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, double dt,
-                     const Evaluation& evaluation, State& state) {
-  const auto n = model.particleCount();
+void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, int threads,
+                     double dt, const Evaluation& evaluation, State& state) {
   const double halfDtSquared = 0.5 * dt * dt;
   const std::vector<Vec3>& force = evaluation.force;
-  for (ParticleIndex i = 0; i < n; ++i) {
+  forEachParticle(model, threads, [&](std::size_t i) {
     const Vec3 acceleration = force[i] * model.inverseMass[i];
     state.position[i] += state.velocity[i] * dt + acceleration * halfDtSquared;
     state.velocity[i] += acceleration * dt;
-  }
-  kickSpin(inverseSpinInertia, dt, evaluation.torque, state);
+  });
+  kickSpin(inverseSpinInertia, threads, dt, evaluation.torque, state);
 }
 
 void integrateSymplecticEuler(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              double dt, const Evaluation& evaluation, State& state) {
-  const auto n = model.particleCount();
+                              int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  for (ParticleIndex i = 0; i < n; ++i) {
+  forEachParticle(model, threads, [&](std::size_t i) {
     state.velocity[i] += force[i] * (model.inverseMass[i] * dt);
     state.position[i] += state.velocity[i] * dt;
-  }
-  kickSpin(inverseSpinInertia, dt, evaluation.torque, state);
+  });
+  kickSpin(inverseSpinInertia, threads, dt, evaluation.torque, state);
 }
 
 void integrateVerletDrift(const Model& model, const std::vector<double>& inverseSpinInertia,
-                          double dt, const Evaluation& evaluation, State& state) {
-  const auto n = model.particleCount();
+                          int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  for (ParticleIndex i = 0; i < n; ++i) {
+  forEachParticle(model, threads, [&](std::size_t i) {
     state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt);
     state.position[i] += state.velocity[i] * dt;
-  }
-  kickSpin(inverseSpinInertia, 0.5 * dt, evaluation.torque, state);
+  });
+  kickSpin(inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state);
 }
 
 void integrateVerletKick(const Model& model, const std::vector<double>& inverseSpinInertia,
-                         double dt, const Evaluation& evaluation, State& state) {
-  const auto n = model.particleCount();
+                         int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  for (ParticleIndex i = 0; i < n; ++i) {
+  forEachParticle(model, threads, [&](std::size_t i) {
     state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt);
-  }
-  kickSpin(inverseSpinInertia, 0.5 * dt, evaluation.torque, state);
+  });
+  kickSpin(inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state);
 }
 
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              const State& state, Evaluation& evaluation) {
-  double energy = 0.0, driving = 0.0;
-  const auto n = model.particleCount();
+                              int threads, const State& state, Evaluation& evaluation) {
   const std::vector<Vec3>& velocity = state.velocity;
-  for (ParticleIndex i = 0; i < n; ++i) {
-    if (model.inverseMass[i] == 0.0) {
-      driving -= dot(evaluation.force[i], velocity[i]);
-    } else {
-      energy += 0.5 * model.mass[i] * squaredNorm(velocity[i]);
-    }
-  }
-  {
-    const std::size_t spins = std::min(state.spin.size(), inverseSpinInertia.size());
-    for (std::size_t i = 0; i < spins; ++i) {
-      if (inverseSpinInertia[i] != 0.0 && model.inverseMass[i] != 0.0) {
-        energy += 0.5 * squaredNorm(state.spin[i]) / inverseSpinInertia[i];
-      }
-    }
-  }
-  evaluation.energy.kinetic = energy;
+  // Sums in fixed chunks (core/parallel.h): {kinetic energy, driving power}.
+  const std::array<double, 2> particles = detail::parallelSum<2>(
+      threads, model.particleCount(), {0.0, 0.0},
+      [&](std::int64_t begin, std::int64_t end, std::array<double, 2>& sum) {
+        double kinetic = sum[0], driving = sum[1];  // local sums
+        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+          if (model.inverseMass[i] == 0.0) {
+            driving -= dot(evaluation.force[i], velocity[i]);
+          } else {
+            kinetic += 0.5 * model.mass[i] * squaredNorm(velocity[i]);
+          }
+        }
+        sum = {kinetic, driving};
+      });
+  const std::size_t spins = std::min(state.spin.size(), inverseSpinInertia.size());
+  const std::array<double, 1> energy = detail::parallelSum<1>(
+      threads, static_cast<std::int64_t>(spins), {particles[0]},
+      [&](std::int64_t begin, std::int64_t end, std::array<double, 1>& sum) {
+        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+          if (inverseSpinInertia[i] != 0.0 && model.inverseMass[i] != 0.0) {
+            sum[0] += 0.5 * squaredNorm(state.spin[i]) / inverseSpinInertia[i];
+          }
+        }
+      });
+  evaluation.energy.kinetic = energy[0];
+  const double driving = particles[1];
   // MODEL §1.6, §2.4: the motors' power τ q̇ at the state's velocities.
   const double motorPower =
       jointMotorPower(model, state.position, velocity, evaluation.jointMotorEffort);

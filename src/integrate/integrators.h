@@ -3,6 +3,7 @@
 // Each uses the evaluation's force (and torque on the spinning particles),
 // evaluated at the state's positions and velocities. `inverseSpinInertia` is
 // ContactTables::inverseSpinInertia: 1/J of the particles that spin, 0 elsewhere.
+// `threads`: the most a stage may use (core/parallel.h); the result does not depend on it.
 
 #include <vector>
 
@@ -13,24 +14,24 @@
 namespace robophi {
 
 /// Paper's scheme: p += v δ + ½ a δ², then v += a δ (ω += J⁻¹τ δ).
-void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, double dt,
-                     const Evaluation& evaluation, State& state);
+void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, int threads,
+                     double dt, const Evaluation& evaluation, State& state);
 /// Symplectic Euler: v += a δ, then p += v δ (ω += J⁻¹τ δ).
 void integrateSymplecticEuler(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              double dt, const Evaluation& evaluation, State& state);
+                              int threads, double dt, const Evaluation& evaluation, State& state);
 /// Velocity Verlet, first part: v += ½ a δ, then p += v δ (ω += ½ J⁻¹τ δ);
 /// forces must be evaluated at the new positions before the second part.
 void integrateVerletDrift(const Model& model, const std::vector<double>& inverseSpinInertia,
-                          double dt, const Evaluation& evaluation, State& state);
+                          int threads, double dt, const Evaluation& evaluation, State& state);
 /// Velocity Verlet, second part: v += ½ a(t+δ) δ (ω += ½ J⁻¹τ(t+δ) δ).
 void integrateVerletKick(const Model& model, const std::vector<double>& inverseSpinInertia,
-                         double dt, const Evaluation& evaluation, State& state);
+                         int threads, double dt, const Evaluation& evaluation, State& state);
 
 /// In one pass over the particles, at the state's velocities and the
 /// evaluation's forces: the kinetic energy ½ Σ m_i |v_i|² + ½ Σ J_i |ω_i|² of the
 /// free particles (J, into evaluation.energy.kinetic) and the power -Σ F_i·v_i put
 /// in by the fixed ones that move kinematically (W, into evaluation.drivingPower).
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              const State& state, Evaluation& evaluation);
+                              int threads, const State& state, Evaluation& evaluation);
 
 }  // namespace robophi

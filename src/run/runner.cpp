@@ -204,6 +204,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     initial = stateFromJson(resume->at("state"), model);
   }
   World world(std::move(model), std::move(initial), settings.integrator);
+  world.setThreadCount(options.threads);
   // The run's own progress (a checkpoint saves it).
   std::int64_t nextFrame = 0, nextEnergyRow = 0, nextCheckpoint = 1;
   std::int64_t lastFrameStep = -1, lastEnergyStep = -1;

@@ -35,6 +35,9 @@ inline constexpr double kDefaultEnergyAccountBound = 0.05;
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
   RunSettings settings;
+  /// The most threads a step uses (World::setThreadCount): 0 = the cores available.
+  /// Not part of the result: the state is bit-identical whatever the count.
+  int threads = 0;
   /// Rows of energy.csv per model second (plus the first and last step).
   double energyRate = 1000.0;
   /// Output folder; empty writes nothing. It must not exist, or hold nothing but

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
-#include "robophi/scene/scene.h"
 
 namespace robophi::testing {
 
@@ -25,11 +25,13 @@ inline std::vector<std::string> shippedScenes() {
 }
 
 /// Runs `scene` for `steps` steps (or its whole duration, if shorter), calling
-/// `hook` after each step; returns the report (its stateHash is the final state's).
+/// `hook` after each step, on up to `threads` threads (0: the cores available);
+/// returns the report (its stateHash is the final state's).
 inline RunReport runSteps(const Scene& scene, std::int64_t steps,
-                          const std::function<void(World&)>& hook = {}) {
+                          const std::function<void(World&)>& hook = {}, int threads = 0) {
   RunOptions options;
   options.settings = scene.run;
+  options.threads = threads;
   options.writeReplay = false;
   options.tasks.push_back(robotics::makeSceneTasks(scene));
   options.tasks.push_back([&](World& world, std::vector<std::string>&) {

@@ -1,0 +1,142 @@
+// Threads do not change results: the step's parallel stages (LS gather, the
+// per-particle loops, the chunked sums of core/parallel.h) give one state hash
+// for 1, 2, 4 and 8 threads, and the LS gather gives the serial scatter's forces.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "determinism/scene_steps.h"
+#include "robophi/connector_forces.h"
+#include "robophi/world.h"
+
+namespace robophi {
+namespace {
+
+// A hanging cloth of n × n particles (LS along the rows, columns and both
+// diagonals), two corners fixed, with per-particle damping: large enough
+// (n = 80: 6 400 particles, 25 122 springs) that every stage runs in several chunks.
+struct Cloth {
+  Model model;
+  State initial;
+};
+
+Cloth makeCloth(int n) {
+  constexpr double kSpacing = 0.01, kStiffness = 1.0e4;  // m, N/m
+  Cloth cloth;
+  Model& model = cloth.model;
+  model.gravity = {0.0, 0.0, -9.81};
+  model.contact.enabled = false;
+  const int object = model.addObject("cloth", "plate");
+  const double mass = 1.0 / (n * n);
+  auto index = [n](int i, int j) { return static_cast<ParticleIndex>(j * n + i); };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      model.addParticle(mass, 0.5 * kSpacing, j == 0 && (i == 0 || i == n - 1), object, 1.0e-4);
+      // A small out-of-plane ripple, so that the springs stretch unevenly from the start.
+      cloth.initial.position.push_back({i * kSpacing, j * kSpacing, 1e-3 * std::sin(0.37 * i + j)});
+    }
+  }
+  const double damping = 0.2 * std::sqrt(kStiffness * mass);
+  auto spring = [&](ParticleIndex a, ParticleIndex b, double rest) {
+    model.linearSprings.push_back({a, b, rest, kStiffness, damping});
+  };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (i + 1 < n) spring(index(i, j), index(i + 1, j), kSpacing);
+      if (j + 1 < n) spring(index(i, j), index(i, j + 1), kSpacing);
+      if (i + 1 < n && j + 1 < n) {
+        spring(index(i, j), index(i + 1, j + 1), std::sqrt(2.0) * kSpacing);
+        spring(index(i + 1, j), index(i, j + 1), std::sqrt(2.0) * kSpacing);
+      }
+    }
+  }
+  cloth.initial.velocity.assign(cloth.initial.position.size(), Vec3{});
+  return cloth;
+}
+
+std::uint64_t clothHash(const Cloth& cloth, Integrator integrator, int threads, int steps) {
+  World world(cloth.model, cloth.initial, integrator);
+  world.setThreadCount(threads);
+  EXPECT_EQ(world.threadCount(), threads);
+  for (int s = 0; s < steps; ++s) EXPECT_EQ(world.step(2.0e-5), StepStatus::kOk);
+  return stateHash(world.state());
+}
+
+TEST(Threads, ALargeClothEndsWithOneHashOnOneTwoFourAndEightThreads) {
+  const Cloth cloth = makeCloth(80);
+  for (Integrator integrator :
+       {Integrator::kSymplecticEuler, Integrator::kTaylor, Integrator::kVelocityVerlet}) {
+    const std::uint64_t one = clothHash(cloth, integrator, 1, 60);
+    for (int threads : {2, 4, 8}) {
+      EXPECT_EQ(clothHash(cloth, integrator, threads, 60), one)
+          << threads << " threads, integrator " << static_cast<int>(integrator);
+    }
+  }
+}
+
+// The gather adds each particle's springs in ascending order, as the serial
+// scatter `F_a += f; F_b -= f` does: the same bits, at any thread count.
+TEST(Threads, TheLinearSpringGatherGivesTheSerialScattersForcesBitForBit) {
+  Cloth cloth = makeCloth(80);
+  // Move the state off rest, so that every spring pulls and damps.
+  for (std::size_t i = 0; i < cloth.initial.velocity.size(); ++i) {
+    cloth.initial.velocity[i] = {1e-3 * std::cos(0.1 * static_cast<double>(i)), 0.0,
+                                 2e-3 * std::sin(0.05 * static_cast<double>(i))};
+  }
+  const Model& model = cloth.model;
+  const std::vector<Vec3>& p = cloth.initial.position;
+  const std::vector<Vec3>& v = cloth.initial.velocity;
+  // The serial order of evaluateForces: gravity, damping, then LS by spring index.
+  std::vector<Vec3> expected(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (model.inverseMass[i] != 0.0) expected[i] += model.gravity * model.mass[i];
+    expected[i] -= v[i] * model.linearDamping[i];
+  }
+  for (const LinearSpring& s : model.linearSprings) {
+    const LinearSpringForce f = linearSpringForce(s, p[s.a], p[s.b], v[s.a], v[s.b]);
+    expected[s.a] += f.onA;
+    expected[s.b] -= f.onA;
+  }
+  const CompiledModel compiled(model);
+  for (int threads : {1, 2, 4, 8}) {
+    Workspace workspace;
+    workspace.setThreadCount(threads);
+    const Evaluation& e = evaluate(compiled, cloth.initial, workspace);
+    int differing = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!(e.force[i] == expected[i])) ++differing;
+    }
+    EXPECT_EQ(differing, 0) << threads << " threads";
+  }
+}
+
+// The test: three shipped scenes (connectors, contact, friction, a hand
+// with its grasp tasks) on 1, 2 and 4 threads end with one state hash.
+TEST(Threads, ThreeShippedScenesEndWithOneHashOnOneTwoAndFourThreads) {
+  for (const char* name : {"default", "cloth", "hand_grasp"}) {
+    const std::string path = std::string(ROBOPHI_SOURCE_DIR "/scenes/") + name + ".json";
+    const SceneLoadResult loaded = loadSceneFile(path);
+    ASSERT_TRUE(loaded.ok()) << path;
+    const RunReport one = testing::runSteps(*loaded.scene, 300, {}, 1);
+    EXPECT_TRUE(one.sound()) << path << ": " << one.failure;
+    for (int threads : {2, 4}) {
+      const RunReport many = testing::runSteps(*loaded.scene, 300, {}, threads);
+      EXPECT_EQ(many.stateHash, one.stateHash) << path << ", " << threads << " threads";
+      EXPECT_EQ(many.steps, one.steps) << path;
+    }
+  }
+}
+
+TEST(Threads, ANegativeThreadCountIsRefusedAndZeroMeansTheCoresAvailable) {
+  Workspace workspace;
+  EXPECT_THROW(workspace.setThreadCount(-1), std::invalid_argument);
+  workspace.setThreadCount(0);
+  EXPECT_GE(workspace.threadCount(), 1);
+  workspace.setThreadCount(3);
+  EXPECT_EQ(workspace.threadCount(), 3);
+}
+
+}  // namespace
+}  // namespace robophi
