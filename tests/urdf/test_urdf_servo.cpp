@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "robophi/build/urdf.h"
 #include "robophi/joints.h"
@@ -116,6 +119,50 @@ TEST(UrdfServo, IiwaHoldsAPoseUnderGravity) {
   EXPECT_LT(late, 10e-3);
   EXPECT_LT(norm(tip(arm, world.state()) - start), 10e-3);
 }
+
+// Every joint of the iiwa under gravity follows q*(t) = q0 + A sin t (A = 0.5 rad: peak
+// rate 0.5 rad/s) for 10 s, the servo's target moved every step (PD at the hold gains:
+// World::setJointTarget): the RMS joint error over joints and time, and the wall time.
+// Slow/* (label slow): 10 s simulated.
+class UrdfTracking : public ::testing::TestWithParam<double> {};
+
+TEST_P(UrdfTracking, IiwaTracksAJointTrajectory) {
+  const double amplitude = GetParam();  // rad, at 1 rad/s: the peak rate in rad/s
+  const std::map<std::string, double> pose{{"lbr_iiwa_joint_2", 1.0}, {"lbr_iiwa_joint_4", -1.0}};
+  const Arm arm = buildIiwa(true, pose);
+  World world(Model(arm.model), State(arm.initial), Integrator::kSymplecticEuler);
+  world.setThreadCount(1);  // the figure: one core
+  const std::size_t joints = world.model().joints.size();
+  std::vector<double> start(joints);
+  for (std::size_t j = 0; j < joints; ++j)
+    start[j] = jointPosition(world.model(), world.state(), j);
+  const auto begin = std::chrono::steady_clock::now();
+  double t = 0.0, squares = 0.0, worst = 0.0;
+  long samples = 0;
+  const int steps = static_cast<int>(10.0 / arm.dt);
+  for (int s = 0; s < steps; ++s) {
+    const double target = amplitude * std::sin(t + arm.dt);
+    for (std::size_t j = 0; j < joints; ++j)
+      world.setJointTarget(j, jointRawValue(world.model().joints[j], start[j] + target));
+    ASSERT_EQ(world.step(arm.dt), StepStatus::kOk) << t;
+    t += arm.dt;
+    for (std::size_t j = 0; j < joints; ++j) {
+      const double e = wrapSigned(jointPosition(world.model(), world.state(), j) - start[j] -
+                                  amplitude * std::sin(t));
+      squares += e * e;
+      worst = std::max(worst, std::abs(e));
+      ++samples;
+    }
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  const double rms = std::sqrt(squares / static_cast<double>(samples));
+  std::printf("iiwa tracking: RMS %.4g deg, worst %.4g deg over %.2f s in %.3g s wall (%d steps)\n",
+              rms * 180.0 / std::numbers::pi, worst * 180.0 / std::numbers::pi, t, wall, steps);
+  EXPECT_LT(rms, 1.0 * std::numbers::pi / 180.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Slow, UrdfTracking, ::testing::Values(0.5));
 
 }  // namespace
 }  // namespace robophi
