@@ -159,6 +159,18 @@ void World::setJointEffort(std::size_t joint, double effort) {
   model_.changed(CompiledModel::kValues);
 }
 
+void World::setGravityCompensation(std::size_t joint, bool on) {
+  requireIndex("World::setGravityCompensation", "joint", joint, model().joints.size());
+  Joint& j = model_.model_.joints[joint];
+  if (on && (!j.actsThroughBodies() || j.subtreeBodies.empty()))
+    throw std::invalid_argument(detail::text(
+        "World::setGravityCompensation: joint '{}' has no bodies to carry (no body link)", j.name));
+  if (j.compensateGravity == on) return;
+  edited();
+  j.compensateGravity = on;
+  model_.changed(CompiledModel::kValues);
+}
+
 void World::setJointDrive(std::size_t joint, const JointDrive& drive) {
   requireIndex("World::setJointDrive", "joint", joint, model().joints.size());
   if (const std::string problem = checkJointDrive(drive); !problem.empty())

@@ -211,6 +211,12 @@ struct Joint {
   /// (N·m/rad or N/m) >= 0, damping (N·m·s/rad or N·s/m) >= 0, and the target as a
   /// raw value (jointValue: rad in [0, 2π), or m).
   double servoStiffness = 0.0, servoDamping = 0.0, servoTarget = 0.0;
+  /// With a body link: the bodies (Model::bodies) the joint carries — its child and
+  /// every body below it — and whether its motor adds the effort that holds them
+  /// against gravity (MODEL §1.7: −n·Σ (p̄_b − s) × M_b g, or −n·Σ M_b g; booked as
+  /// the motor's work): gravity compensation, World::setGravityCompensation.
+  std::vector<std::int32_t> subtreeBodies{};
+  bool compensateGravity = false;
   bool actsThroughBodies() const { return bodyLink >= 0; }
 };
 

@@ -95,6 +95,9 @@ class World {
   /// revolute joint, N along the line for a prismatic one; positive increases q),
   /// finite. Its power is booked as external work.
   void setJointEffort(std::size_t joint, double effort);
+  /// Gravity compensation on or off for a joint with a body link and a subtree
+  /// (Joint::compensateGravity, MODEL §1.7); throws std::invalid_argument otherwise.
+  void setGravityCompensation(std::size_t joint, bool on);
   /// Replaces the joint's whole drive (motor, rate drive, limits, losses; MODEL
   /// §1.6). Throws std::invalid_argument for a drive checkJointDrive refuses.
   void setJointDrive(std::size_t joint, const JointDrive& drive);

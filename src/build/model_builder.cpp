@@ -398,6 +398,11 @@ std::int32_t ModelBuilder::addJoint(const Joint& joint) {
     check::fail(kSpec, "bodyLink",
                 "'bodyLink' " + std::to_string(joint.bodyLink) + " is not a placed body link (" +
                     std::to_string(model_.bodyLinks.size()) + " placed)");
+  for (std::int32_t b : joint.subtreeBodies)
+    if (b < 0 || b >= static_cast<std::int32_t>(model_.bodies.size()))
+      check::fail(kSpec, "subtreeBodies",
+                  "'subtreeBodies': body " + std::to_string(b) + " is not placed (" +
+                      std::to_string(model_.bodies.size()) + " placed)");
   check::nonNegative(kSpec, "servoStiffness", joint.servoStiffness, revolute ? "N·m/rad" : "N/m");
   check::nonNegative(kSpec, "servoDamping", joint.servoDamping, revolute ? "N·m·s/rad" : "N·s/m");
   check::finite(kSpec, "servoTarget", joint.servoTarget, revolute ? "rad" : "m");

@@ -653,11 +653,10 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     const bool revolute = j.type != UJoint::Type::kPrismatic;
     const Vec3 point = position(childPoint(0));
     // The pair's reduced inertia: 1 / (1/I_child + 1/I_parent), a fixed side adding 0.
-    const double inertia =
-        1.0 / (1.0 / servoInertia(child, plan.axis, point, revolute,
-                                  spec.fixedBase && plan.child == fixedBody) +
-               1.0 / servoInertia(parent, plan.axis, point, revolute,
-                                  spec.fixedBase && plan.parent == fixedBody));
+    const double inertia = 1.0 / (1.0 / servoInertia(child, plan.axis, point, revolute,
+                                                     spec.fixedBase && plan.child == fixedBody) +
+                                  1.0 / servoInertia(parent, plan.axis, point, revolute,
+                                                     spec.fixedBase && plan.parent == fixedBody));
     UrdfModelJoint& model = robot.modelJoints.back();
     model.drive.damping = j.damping;
     model.drive.friction = j.friction;
@@ -746,6 +745,7 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
   }
   robot.linearSprings.insert(robot.linearSprings.end(), carrierTies.begin(), carrierTies.end());
   robot.bodyFrequency = servoFrequency;
+  robot.compensateGravity = spec.holdJoints;
   robot.bodyDampingRatio = 0.5;
   for (ObjectPlacement& o : carrierObjects) robot.objects.push_back(std::move(o));
   for (UrdfLink& each : robot.links)
@@ -826,6 +826,21 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     model.servoTarget = j.servoTarget;
     model.drive = j.drive;
     if (j.bodyLink >= 0) model.bodyLink = bodyLinkOf[static_cast<std::size_t>(j.bodyLink)];
+    // The bodies it carries: its child link's and every link's below it.
+    for (const UrdfJoint& u : robot.joints) {
+      if (u.modelJoint != j.name) continue;
+      std::vector<int> below{u.child};
+      for (std::size_t q = 0; q < below.size(); ++q)
+        for (const UrdfJoint& next : robot.joints)
+          if (next.parent == below[q]) below.push_back(next.child);
+      for (int l : below) {
+        const std::int32_t b = placed.body[static_cast<std::size_t>(l)];
+        if (b >= 0 && std::find(model.subtreeBodies.begin(), model.subtreeBodies.end(), b) ==
+                          model.subtreeBodies.end())
+          model.subtreeBodies.push_back(b);
+      }
+    }
+    model.compensateGravity = robot.compensateGravity;
     modelJointOf.push_back(builder.addJoint(model));
   }
   for (const UrdfJoint& j : robot.joints) {

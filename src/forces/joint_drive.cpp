@@ -166,6 +166,25 @@ double servoError(const Model& model, const Joint& joint, const std::vector<Vec3
   return value - joint.servoTarget;
 }
 
+// Minus gravity's generalized force on the joint's subtree (Joint::subtreeBodies):
+// revolute, −n·Σ (p̄_b − s) × M_b g; prismatic, −n·Σ M_b g.
+double gravityEffort(const Model& model, const Joint& joint, const BodyJoint& b,
+                     const std::vector<Vec3>& position) {
+  double mass = 0.0;
+  Vec3 moment{};
+  for (std::int32_t body : joint.subtreeBodies)
+    for (ParticleIndex i : model.bodies[static_cast<std::size_t>(body)].particles) {
+      if (model.inverseMass[i] == 0.0) continue;
+      mass += model.mass[i];
+      moment += position[i] * model.mass[i];
+    }
+  if (!(mass > 0.0)) return 0.0;
+  const Vec3 weight = model.gravity * mass;
+  if (joint.kind == JointKind::kRevolute)
+    return -dot(b.axis, cross(moment / mass - b.point, weight));
+  return -dot(b.axis, weight);
+}
+
 bool hasBodyServo(const Joint& joint) {
   return joint.servoStiffness != 0.0 || joint.servoDamping != 0.0;
 }
@@ -191,7 +210,8 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& po
     const Joint& joint = model.joints[k];
     if (joint.actsThroughBodies()) {
       const bool servo = hasBodyServo(joint);
-      if (!servo && !hasDrive(joint.drive)) continue;
+      const bool compensate = joint.compensateGravity && !joint.subtreeBodies.empty();
+      if (!servo && !compensate && !hasDrive(joint.drive)) continue;
       const BodyJoint b = bodyJoint(model, joint, position, velocity);
       if (!b.valid) continue;
       double q = 0.0;
@@ -200,6 +220,12 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& po
         loss[k] = lossEffort(joint.drive, b.rate);
         q = motor[k] + loss[k];
         tally.dissipativePower += loss[k] * b.rate;
+      }
+      if (compensate) {
+        // MODEL §1.7: the effort that holds the bodies below against gravity, a motor's.
+        const double hold = gravityEffort(model, joint, b, position);
+        motor[k] += hold;
+        q += hold;
       }
       if (servo) {
         // MODEL §1.7: the spring's energy ½ κ e², the damper's power −β q̇².

@@ -211,6 +211,9 @@ std::string checkModel(const Model& model) {
         return detail::text("joint '{}': motor particle {} does not exist", joint.name, p);
     if (joint.bodyLink < -1 || joint.bodyLink >= static_cast<std::int32_t>(model.bodyLinks.size()))
       return detail::text("joint '{}': body link {} does not exist", joint.name, joint.bodyLink);
+    for (std::int32_t b : joint.subtreeBodies)
+      if (b < 0 || b >= static_cast<std::int32_t>(model.bodies.size()))
+        return detail::text("joint '{}': subtree body {} does not exist", joint.name, b);
     for (const auto& [field, value] : {std::pair{"servoStiffness", joint.servoStiffness},
                                        std::pair{"servoDamping", joint.servoDamping}})
       if (!(value >= 0.0) || !std::isfinite(value))

@@ -53,8 +53,9 @@ struct UrdfSpec {
   /// Links of the robot touch each other (never a joint's parent and child); default: not.
   bool selfCollision = false;
   /// Every moving joint held where it is built by its servo at the hold gains
-  /// (UrdfJoint::holdStiffness, holdDamping): a bare `robophi run`. false: passive joints
-  /// (servo off, the URDF's damping), for the controllers to drive.
+  /// (UrdfJoint::holdStiffness, holdDamping) with gravity compensation
+  /// (Joint::compensateGravity): a bare `robophi run`. false: passive joints (servo
+  /// off, the URDF's damping), for the controllers to drive.
   bool holdJoints = false;
   /// The frequency (rad/s, >= 0; 0: 0.3 naturalFrequency) of the links' shape matching,
   /// of the body links that hold them together and of the joints' hold gains (MODEL
@@ -189,6 +190,8 @@ struct UrdfRobot {
   /// the bodies together by these links (a fixed joint's too).
   std::vector<UrdfBodyLink> bodyLinks{};
   double bodyFrequency = 0.0, bodyDampingRatio = 0.0;
+  /// Every moving joint compensates gravity (Joint::compensateGravity): with holdJoints.
+  bool compensateGravity = false;
   /// Object pairs (indices into objects) that do not touch each other.
   std::vector<std::array<int, 2>> noContact{};
   /// One a kind of element robophi ignores (<gazebo>, <transmission>, <visual>, ...).
