@@ -59,8 +59,9 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
                         }
                       });
   EnergyTally& e = out.energy;
-  // The connector stages that scale with the model run in parallel; TS, JS and
-  // the drives (a few per joint) and the contacts (src/collision/) on this thread.
+  // The connector stages that scale with the model run in parallel, and so do
+  // the contacts (src/collision/: chunks of contacts, then a gather by particle);
+  // TS, JS, the bodies and the drives (a few per joint) on this thread.
   const ForceTally gravity = accumulateGravity(model, threads, position, out.force);
   const ForceTally damping = accumulateLinearDamping(model, threads, velocity, out.force);
   const ForceTally linear =
@@ -80,7 +81,7 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
                          torsion.dissipativePower + joint.dissipativePower +
                          bodies.dissipativePower + drives.dissipativePower;
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
-  accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), position,
+  accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), threads, position,
                      velocity, state.spin, state.frictionHistory, workspace.contactScratch(), out);
 }
 

@@ -23,6 +23,7 @@
 
 #include "collision/contact_stage.h"
 #include "collision/facets.h"
+#include "core/parallel.h"
 #include "robophi/stability.h"
 
 namespace robophi {
@@ -270,54 +271,48 @@ inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle)
                                                            : (std::int64_t{1} << 40) + particle;
 }
 
-// Adds one contact's stiffness and damping (the larger of the normal and the
-// tangential ones, the tangential one for the contact point's effective mass)
-// to its particles' sums.
-void addContactRates(const Model& model, const PairParameters& k, const Contact& c,
-                     double rotationFactor, double tangentialDamping, ContactScratch& cache) {
+// The stability rates of one contact (the larger of the normal and the
+// tangential stiffness and damping, the tangential ones for the contact point's
+// effective mass: rotationFactor), 0 when both its sides are fixed.
+inline void contactRates(const Model& model, const PairParameters& k, const Contact& c,
+                         double rotationFactor, double tangentialDamping, double& stiffness,
+                         double& damping) {
   const double inverseMass =
       model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
-  if (inverseMass == 0.0) return;
-  const double stiffness = std::max(k.stiffness, k.tangentialStiffness * rotationFactor);
-  const double damping = std::max(k.damping, tangentialDamping * rotationFactor);
+  if (inverseMass == 0.0) {
+    stiffness = 0.0;
+    damping = 0.0;
+    return;
+  }
+  stiffness = std::max(k.stiffness, k.tangentialStiffness * rotationFactor);
+  damping = std::max(k.damping, tangentialDamping * rotationFactor);
+}
+
+// Adds a deferred contact's rates to its particles' sums: a rim's contact acts
+// on the ring's mass M, each particle j taking m_j / M of it (Gershgorin row of
+// F m_j / M).
+void addDeferredRates(const Model& model, const Contact& c, const FrictionApplication& application,
+                      ContactScratch& cache) {
+  if (application.facetStiffness > 0.0)
+    cache.contactStiffnessSum[c.a] += application.facetStiffness;
+  if (application.stiffness == 0.0 && application.damping == 0.0) return;
   if (c.rim >= 0) {
-    // A rim's contact acts on the ring's mass M: each particle j takes m_j / M
-    // of it (Gershgorin row of F m_j / M), and the ring's turning (rotationFactor).
     const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
     double mass = 0.0;
     for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) mass += model.mass[j];
     for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) {
       const double share = model.mass[j] / mass;
-      cache.contactStiffnessSum[j] += stiffness * share;
-      cache.contactDampingSum[j] += damping * share;
+      cache.contactStiffnessSum[j] += application.stiffness * share;
+      cache.contactDampingSum[j] += application.damping * share;
     }
     return;
   }
-  cache.contactStiffnessSum[c.a] += stiffness;
-  cache.contactDampingSum[c.a] += damping;
+  cache.contactStiffnessSum[c.a] += application.stiffness;
+  cache.contactDampingSum[c.a] += application.damping;
   if (c.other >= 0) {
-    cache.contactStiffnessSum[c.other] += stiffness;
-    cache.contactDampingSum[c.other] += damping;
+    cache.contactStiffnessSum[c.other] += application.stiffness;
+    cache.contactDampingSum[c.other] += application.damping;
   }
-}
-
-// The largest stable explicit step (s) of the contacts, by Gershgorin per
-// particle as for the connectors (estimateStability): ω² <= 2 Σk / m,
-// 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). Zeroes the sums again. (Only the
-// particles of contacts, or of a rim contact's ring, have sums; the smallest
-// step does not depend on the order they are visited in.)
-double contactsCriticalStep(const Model& model, ContactScratch& cache) {
-  double step = std::numeric_limits<double>::infinity();
-  const std::size_t count = cache.contactStiffnessSum.size();
-  for (std::size_t i = 0; i < count; ++i) {
-    if (cache.contactStiffnessSum[i] == 0.0) continue;
-    const double omega = std::sqrt(2.0 * cache.contactStiffnessSum[i] * model.inverseMass[i]);
-    const double dampingRate = 2.0 * cache.contactDampingSum[i] * model.inverseMass[i];
-    cache.contactStiffnessSum[i] = 0.0;
-    cache.contactDampingSum[i] = 0.0;
-    step = std::min(step, dampedCriticalStep(omega, dampingRate));
-  }
-  return step;
 }
 
 // Asks for the cache lines of the contact at `c` (a hint: no access, never
@@ -432,125 +427,115 @@ void decideGroups(std::vector<FrictionGroup>& groups) {
   }
 }
 
-}  // namespace
+// What the contact stage reads and writes, for its chunks: the contacts, loads
+// and applications are written by index (each chunk its own), the rest read.
+struct StageInput {
+  const Model& model;
+  const ContactTables& tables;
+  const std::vector<Vec3>& p;
+  const std::vector<Vec3>& v;
+  const std::vector<Vec3>& spin;
+  const std::vector<Contact>& previous;
+  ContactScratch& cache;
+};
 
-void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
-                        const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
-                        ContactScratch& scratch, Evaluation& out) {
-  if (!model.contact.enabled || model.particleCount() == 0) {
-    out.contactCriticalStep = std::numeric_limits<double>::infinity();
-    out.contacts.clear();
-    out.energy.contact = 0.0;
-    out.releasedAnchorEnergy = 0.0;
-    out.contactStats = ContactStats{};
-    return;
-  }
-  ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
-  detectContacts(model, p, cache);
+using ContactChunk = ContactScratch::ContactChunk;
+using ContactLoad = ContactScratch::ContactLoad;
 
-  StageTally tally;
-  const auto particles = static_cast<std::size_t>(model.particleCount());
-  if (cache.contactStiffnessSum.size() != particles) {
-    cache.contactStiffnessSum.assign(particles, 0.0);
-    cache.contactDampingSum.assign(particles, 0.0);
-  }
-  std::vector<Vec3>& f = out.force;
-  std::vector<Vec3>& torque = out.torque;
-  ContactStats& stats = cache.stats;
-  const double stickVelocity = model.contact.stickVelocity;
+// One chunk of the contacts: geometry, normal force, the friction trial of each
+// contact and its group's sums; at the end of each run (a's object's contacts)
+// the groups decide and the friction forces follow. A contact between two
+// particles, or one and the environment, whose sides spin or do not turn, leaves
+// its loads for the gather by particle; the others (facets, rims, a side turning
+// with its LS neighbourhood) are deferred to the serial pass.
+void runChunk(const StageInput& in, ContactChunk& chunk) {
+  const Model& model = in.model;
+  const ContactTables& tables = in.tables;
+  const std::vector<Vec3>& p = in.p;
+  const std::vector<Vec3>& v = in.v;
+  const std::vector<Contact>& previous = in.previous;
+  ContactScratch& cache = in.cache;
   std::vector<Contact>& contacts = cache.freshContacts;
-  contacts.clear();  // (grown by push_back: a reserve of the exact size reallocates every step)
-  cache.applications.resize(cache.seeds.size());
-  cache.applicationInverses.clear();
-  cache.groups.clear();
-  cache.rings.clear();
+  StageTally tally;
+  ContactStats& stats = chunk.stats;
+  stats = ContactStats{};
+  chunk.groups.clear();
+  chunk.rings.clear();
+  chunk.inverses.clear();
+  chunk.deferred.clear();
+  const double stickVelocity = model.contact.stickVelocity;
 
   // A run: the contacts from the first of a's object (the first with friction)
   // to the next object's. Its groups decide, and its contacts' friction is
-  // worked out, when it ends (its trials are still in the cache); the forces
-  // are applied after pass 1 in contact order, as the two passes over all
-  // contacts did (so the sums, and the run, stay bit-identical).
-  std::size_t runFirst = 0;
+  // worked out, when it ends (its trials are still in the cache).
+  std::size_t runFirst = chunk.begin;
   const auto finishRun = [&](std::size_t end) {
-    decideGroups(cache.groups);
+    decideGroups(chunk.groups);
     for (std::size_t index = runFirst; index < end; ++index) {
       Contact& c = contacts[index];
-      const FrictionTrial& t = cache.trials[index - runFirst];
-      FrictionApplication& application = cache.applications[index];
+      const FrictionTrial& t = chunk.trials[index - runFirst];
       FrictionTerms terms;
+      Vec3 friction;
       if (t.group >= 0) {
-        c.frictionForce =
-            frictionForce(t, cache.groups[static_cast<std::size_t>(t.group)], c, terms);
+        friction = frictionForce(t, chunk.groups[static_cast<std::size_t>(t.group)], c, terms);
+      } else {
+        c.sliding = 0;
+      }
+      c.frictionForce = friction;
+      ContactLoad& load = cache.loads[index];
+      if (!load.deferred) {
+        if (t.group >= 0) {
+          load.force += friction;
+          if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
+          if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
+        }
+      } else if (t.group >= 0) {
+        FrictionApplication& application = cache.applications[index];
+        application.force = friction;
         application.kind = c.involvesFacets() ? FrictionApplication::kFacet
                            : c.rim >= 0       ? FrictionApplication::kRing
                                               : FrictionApplication::kParticles;
-        application.armA = t.armA;
-        application.armB = t.armB;
-        application.turnA = static_cast<std::int8_t>(t.turnA);
-        application.turnB = static_cast<std::int8_t>(t.turnB);
-        application.ring = t.ring;
-        application.inverse = -1;
-        if (t.turnA == 2 || t.turnB == 2) {
-          application.inverse = static_cast<std::int32_t>(cache.applicationInverses.size() / 12);
-          cache.applicationInverses.insert(cache.applicationInverses.end(), t.inverseA,
-                                           t.inverseA + 6);
-          cache.applicationInverses.insert(cache.applicationInverses.end(), t.inverseB,
-                                           t.inverseB + 6);
-        }
-      } else {
-        c.sliding = 0;
-        c.frictionForce = Vec3{};
-        application.kind = FrictionApplication::kNone;
       }
-      application.force = c.frictionForce;
-      application.a = c.a;
-      application.other = c.other;
-      application.anchorEnergy = c.anchorEnergy;
-      application.released = terms.released;
-      application.dissipated = terms.dissipated;
+      tally.releasedEnergy += terms.released;
+      tally.dissipativePower -= terms.dissipated;
+      tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
     }
-    cache.groups.clear();
+    chunk.groups.clear();
     runFirst = end;
   };
 
-  // Pass 1: geometry, normal force, the friction trial of each contact, and the
-  // group sums. Contacts are sorted by a, so a group's contacts come in runs of
-  // a's object; a group is looked up among those of the current run.
-  std::size_t old = 0;
+  std::size_t old = chunk.historyBegin;
+  const std::size_t oldEnd = chunk.historyEnd;
   std::int64_t runObject = -1;
   PairParameters overrideParameters;
   // Per contact, filled only for facet and rim contacts (kept out of the loop:
   // they are large, and most contacts need neither).
   FacetKinematics facet;
-  RingMotion ring;  // the current rim contact's (a copy of cache.rings.back())
-  for (std::size_t index = 0; index < cache.seeds.size(); ++index) {
+  RingMotion ring;  // the current rim contact's (a copy of chunk.rings.back())
+  for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
     // new one to write, the history's to read).
     constexpr std::size_t kAhead = 6;
-    if (index + kAhead < contacts.capacity())
-      prefetchContact(contacts.data() + index + kAhead, true);
-    if (old + kAhead < previous.size()) prefetchContact(previous.data() + old + kAhead, false);
+    if (index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
+    if (old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
     // The contact, built once from what the detection found.
     const ContactSeed& seed = cache.seeds[index];
+    Contact& c = contacts[index];
     if (seed.full == -1) {
-      Contact& bare = contacts.emplace_back();
-      bare.a = seed.a();
-      bare.other = seed.other();
+      c = Contact{};
+      c.a = seed.a();
+      c.other = seed.other();
     } else {
-      contacts.push_back(seed.full >= 0
-                             ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
-                             : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
+      c = seed.full >= 0 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                         : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
     }
-    Contact& c = contacts.back();
     // Carry the friction anchor of a contact that persists (both lists sorted).
     const Contact::Key key = c.key();
-    while (old < previous.size() && previous[old].key() < key) {
+    while (old < oldEnd && previous[old].key() < key) {
       tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
       ++old;
     }
-    const Contact* before =
-        old < previous.size() && previous[old].key() == key ? &previous[old] : nullptr;
+    const Contact* before = old < oldEnd && previous[old].key() == key ? &previous[old] : nullptr;
     if (before != nullptr) ++old;
     const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
     const std::int32_t a = c.a;
@@ -562,8 +547,11 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       finishRun(index);
       runObject = objectA;
     }
-    if (cache.trials.size() <= index - runFirst) cache.trials.resize(index - runFirst + 1);
-    FrictionTrial& t = cache.trials[index - runFirst];
+    if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
+    FrictionTrial& t = chunk.trials[index - runFirst];
+    t.turnA = 0;
+    t.turnB = 0;
+    t.ring = -1;
     double smallerRadius = model.radius[a];
     Vec3 relativeVelocity;
     double inverseMass = model.inverseMass[a];
@@ -572,6 +560,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     // faceted side does not turn (its lattice rotates with its particles).
     const bool faceted = c.involvesFacets();
     double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
+    double facetStiffness = 0.0;
     if (faceted) {
       facetKinematics(model, p, v, before, c, facet);
       if (before != nullptr) before = &facet.previous;
@@ -581,7 +570,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       smallerRadius = facet.radius;
       t.armA = c.vertex >= 0 ? Vec3{} : c.normal * -(model.radius[a] + c.depth);
       t.armB = Vec3{};
-      addFacetRates(model, k.stiffness, c, cache);
+      facetStiffness = facetExtraStiffness(model, k.stiffness, c);
       ++stats.facetContacts;
     } else if (c.other >= 0) {
       const std::int32_t b = c.other;
@@ -601,9 +590,9 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       // A round rim or ball (rigid about its centre, above): the contact point on
       // the surface is c.arm from the body's centre.
       const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
-      t.ring = static_cast<std::int32_t>(cache.rings.size());
-      cache.rings.push_back(ringMotion(model, p, v, round));
-      ring = cache.rings.back();
+      t.ring = static_cast<std::int32_t>(chunk.rings.size());
+      chunk.rings.push_back(ringMotion(model, p, v, round));
+      ring = chunk.rings.back();
       t.relative = ring.center;
       relativeVelocity = ring.velocity;
       inverseMass = 1.0 / ring.mass;
@@ -637,27 +626,59 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
     tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
     const Vec3 normal = n * normalForce;
-    if (faceted) {
-      distributeFacetForce(model, c, normal, f);
-    } else if (c.rim >= 0) {
-      applyRingLoad(model, p, model.rims[static_cast<std::size_t>(c.rim)], ring, normal,
-                    cross(t.armA, normal), normalForce * squeezeRate, f);
-    } else {
-      f[a] += normal;
-      if (c.other >= 0) f[c.other] -= normal;
-    }
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
 
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
+    Vec3 rollMoment;  // rolling resistance on a
+    // The contact's loads once its sides' turning is known: left for the gather
+    // by particle, or deferred (with what the serial pass needs).
+    const auto settle = [&](double rotationFactor, double tangentialDamping) {
+      double stiffness = 0.0, damping = 0.0;
+      contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
+      ContactLoad& load = cache.loads[index];
+      load.a = a;
+      load.other = c.other;
+      load.deferred = faceted || c.rim >= 0 || t.turnA == 2 || t.turnB == 2;
+      if (!load.deferred) {
+        load.force = normal;
+        load.torqueA = t.turnA == 1 ? rollMoment : Vec3{};
+        load.torqueB = t.turnB == 1 ? rollMoment * -1.0 : Vec3{};
+        load.stiffness = stiffness;
+        load.damping = damping;
+        return;
+      }
+      FrictionApplication& application = cache.applications[index];
+      application.kind = FrictionApplication::kNone;
+      application.force = Vec3{};
+      application.normal = normal;
+      application.rollMoment = rollMoment;
+      application.rolling = k.rollingResistance > 0.0;
+      application.armA = t.armA;
+      application.armB = t.armB;
+      application.squeeze = normalForce * squeezeRate;
+      application.stiffness = stiffness;
+      application.damping = damping;
+      application.facetStiffness = facetStiffness;
+      application.ring = t.ring;
+      application.turnA = static_cast<std::int8_t>(t.turnA);
+      application.turnB = static_cast<std::int8_t>(t.turnB);
+      application.inverse = -1;
+      if (t.turnA == 2 || t.turnB == 2) {
+        application.inverse = static_cast<std::int32_t>(chunk.inverses.size() / 12);
+        chunk.inverses.insert(chunk.inverses.end(), t.inverseA, t.inverseA + 6);
+        chunk.inverses.insert(chunk.inverses.end(), t.inverseB, t.inverseB + 6);
+      }
+      chunk.deferred.push_back(static_cast<std::int32_t>(index));
+    };
     // A contact without friction holds no anchor (its old one's energy is released).
     const auto withoutAnchor = [&] {
       c.anchor = t.relative;
       c.anchorEnergy = 0.0;
       if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
-      addContactRates(model, k, c, 1.0, 0.0, cache);
+      settle(1.0, 0.0);
     };
     if (frictionless && k.rollingResistance <= 0.0) {
       withoutAnchor();
@@ -670,26 +691,19 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
     } else if (c.vertex < 0) {
-      ta = turningOf(model, tables, p, v, spin, a, norm(t.armA), t.inverseA);
+      ta = turningOf(model, tables, p, v, in.spin, a, norm(t.armA), t.inverseA);
     }
     Turning tb;
     if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, p, v, spin, c.other, norm(t.armB), t.inverseB);
+      tb = turningOf(model, tables, p, v, in.spin, c.other, norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
     const Vec3 rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
     c.rollVelocity = rollVelocity;
     if (k.rollingResistance > 0.0) {
-      const Vec3 moment =
+      rollMoment =
           rollingResistanceMoment(k, c, ta.omega, tb.omega, surfaceRadius(model, c), tally);
-      if (c.rim >= 0) {
-        applyRingLoad(model, p, model.rims[static_cast<std::size_t>(c.rim)], ring, Vec3{}, moment,
-                      0.0, f);
-      }
-      applyMoment(model, tables, p, t.turnA, t.inverseA, a, moment, f, torque);
-      if (c.other >= 0)
-        applyMoment(model, tables, p, t.turnB, t.inverseB, c.other, moment * -1.0, f, torque);
     }
     if (frictionless) {
       withoutAnchor();
@@ -701,8 +715,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
     t.tangentialDamping =
         k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / tangentialInverse);
-    addContactRates(model, k, c, inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0,
-                    t.tangentialDamping, cache);
+    settle(inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0, t.tangentialDamping);
     // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
     // from where the contact stuck.
     t.previousEnergy = 0.0;
@@ -745,11 +758,11 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
 
     const std::int64_t other = c.other >= 0 ? groupKey(tables, c.other) : c.other;
     std::size_t g = 0;
-    while (g < cache.groups.size() && cache.groups[g].other != other) ++g;
-    if (g == cache.groups.size()) {
-      cache.groups.emplace_back().other = other;
+    while (g < chunk.groups.size() && chunk.groups[g].other != other) ++g;
+    if (g == chunk.groups.size()) {
+      chunk.groups.emplace_back().other = other;
     }
-    FrictionGroup& group = cache.groups[g];
+    FrictionGroup& group = chunk.groups[g];
     t.group = static_cast<std::int32_t>(g);
     group.normal += k.staticFriction * normalForce;  // the group's μ_s Σ F_n
     group.total += norm(t.elastic + t.damper);
@@ -763,48 +776,250 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
     group.allSlow = group.allSlow && t.slow;
   }
-  for (; old < previous.size(); ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+  for (; old < oldEnd; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+  finishRun(chunk.end);
+  chunk.potential = tally.potential;
+  chunk.dissipativePower = tally.dissipativePower;
+  chunk.releasedEnergy = tally.releasedEnergy;
+}
 
-  finishRun(contacts.size());
-
-  // Pass 2: the friction forces at the contact points, in contact order.
-  // (It reads the applications only, one after the other: the contacts are out of cache by now.)
-  for (std::size_t index = 0; index < contacts.size(); ++index) {
-    const FrictionApplication& application = cache.applications[index];
-    const std::int32_t a = application.a, other = application.other;
-    if (application.kind != FrictionApplication::kNone) {
-      const Vec3& tangential = application.force;
-      if (application.kind == FrictionApplication::kFacet) {
-        distributeFacetForce(model, contacts[index], tangential, f);
-      } else if (application.kind == FrictionApplication::kRing) {
-        const RimRing& rim = model.rims[static_cast<std::size_t>(contacts[index].rim)];
-        applyRingLoad(model, p, rim, cache.rings[static_cast<std::size_t>(application.ring)],
-                      tangential, cross(application.armA, tangential), 0.0, f);
-      } else {
-        f[a] += tangential;
-        if (other >= 0) f[other] -= tangential;
-      }
-      const double* inverseA = application.inverse >= 0
-                                   ? cache.applicationInverses.data() +
-                                         12 * static_cast<std::size_t>(application.inverse)
-                                   : nullptr;
-      const double* inverseB = inverseA != nullptr ? inverseA + 6 : nullptr;
-      applyMoment(model, tables, p, application.turnA, inverseA, a,
-                  cross(application.armA, tangential), f, torque);
-      if (other >= 0) {
-        applyMoment(model, tables, p, application.turnB, inverseB, other,
-                    cross(application.armB, tangential * -1.0), f, torque);
-      }
+// The serial pass: a deferred contact's loads, in contact order (they reach
+// particles other than its two: a facet's, a ring's, an LS neighbourhood).
+void applyDeferred(const StageInput& in, const ContactChunk& chunk, std::vector<Vec3>& f,
+                   std::vector<Vec3>& torque) {
+  const Model& model = in.model;
+  const std::vector<Vec3>& p = in.p;
+  for (const std::int32_t index : chunk.deferred) {
+    const Contact& c = in.cache.freshContacts[static_cast<std::size_t>(index)];
+    const FrictionApplication& application = in.cache.applications[static_cast<std::size_t>(index)];
+    const std::int32_t a = c.a, other = c.other;
+    const RimRing* rim = c.rim >= 0 ? &model.rims[static_cast<std::size_t>(c.rim)] : nullptr;
+    const RingMotion* ring =
+        application.ring >= 0 ? &chunk.rings[static_cast<std::size_t>(application.ring)] : nullptr;
+    const double* inverseA =
+        application.inverse >= 0
+            ? chunk.inverses.data() + 12 * static_cast<std::size_t>(application.inverse)
+            : nullptr;
+    const double* inverseB = inverseA != nullptr ? inverseA + 6 : nullptr;
+    // The normal force.
+    const Vec3& normal = application.normal;
+    if (c.involvesFacets()) {
+      distributeFacetForce(model, c, normal, f);
+    } else if (rim != nullptr) {
+      applyRingLoad(model, p, *rim, *ring, normal, cross(application.armA, normal),
+                    application.squeeze, f);
+    } else {
+      f[a] += normal;
+      if (other >= 0) f[other] -= normal;
     }
-    tally.releasedEnergy += application.released;
-    tally.dissipativePower -= application.dissipated;
-    tally.potential += application.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+    addDeferredRates(model, c, application, in.cache);
+    // Rolling resistance.
+    if (application.rolling) {
+      const Vec3& moment = application.rollMoment;
+      if (rim != nullptr) applyRingLoad(model, p, *rim, *ring, Vec3{}, moment, 0.0, f);
+      applyMoment(model, in.tables, p, application.turnA, inverseA, a, moment, f, torque);
+      if (other >= 0)
+        applyMoment(model, in.tables, p, application.turnB, inverseB, other, moment * -1.0, f,
+                    torque);
+    }
+    // Friction at the contact point.
+    if (application.kind == FrictionApplication::kNone) continue;
+    const Vec3& tangential = application.force;
+    if (application.kind == FrictionApplication::kFacet) {
+      distributeFacetForce(model, c, tangential, f);
+    } else if (application.kind == FrictionApplication::kRing) {
+      applyRingLoad(model, p, *rim, *ring, tangential, cross(application.armA, tangential), 0.0, f);
+    } else {
+      f[a] += tangential;
+      if (other >= 0) f[other] -= tangential;
+    }
+    applyMoment(model, in.tables, p, application.turnA, inverseA, a,
+                cross(application.armA, tangential), f, torque);
+    if (other >= 0) {
+      applyMoment(model, in.tables, p, application.turnB, inverseB, other,
+                  cross(application.armB, tangential * -1.0), f, torque);
+    }
   }
+}
+
+// Where each particle's loads are: contacts are sorted by a, so a's are a range
+// (aStart); the other side's simple ones are listed by particle (otherStart,
+// otherContact), in contact order.
+void indexLoads(std::size_t particles, ContactScratch& cache) {
+  const std::vector<ContactLoad>& loads = cache.loads;
+  cache.aStart.assign(particles + 1, 0);
+  cache.otherStart.assign(particles + 1, 0);
+  for (const ContactLoad& load : loads) {
+    ++cache.aStart[static_cast<std::size_t>(load.a) + 1];
+    if (!load.deferred && load.other >= 0)
+      ++cache.otherStart[static_cast<std::size_t>(load.other) + 1];
+  }
+  for (std::size_t i = 0; i < particles; ++i) {
+    cache.aStart[i + 1] += cache.aStart[i];
+    cache.otherStart[i + 1] += cache.otherStart[i];
+  }
+  cache.otherContact.resize(static_cast<std::size_t>(cache.otherStart[particles]));
+  cache.otherFill.assign(cache.otherStart.begin(), cache.otherStart.end() - 1);
+  for (std::size_t index = 0; index < loads.size(); ++index) {
+    const ContactLoad& load = loads[index];
+    if (load.deferred || load.other < 0) continue;
+    cache.otherContact[static_cast<std::size_t>(
+        cache.otherFill[static_cast<std::size_t>(load.other)]++)] =
+        static_cast<std::int32_t>(index);
+  }
+}
+
+}  // namespace
+
+void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
+                        int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                        ContactScratch& scratch, Evaluation& out) {
+  if (!model.contact.enabled || model.particleCount() == 0) {
+    out.contactCriticalStep = std::numeric_limits<double>::infinity();
+    out.contacts.clear();
+    out.energy.contact = 0.0;
+    out.releasedAnchorEnergy = 0.0;
+    out.contactStats = ContactStats{};
+    return;
+  }
+  ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
+  detectContacts(model, p, cache);
+
+  const auto particles = static_cast<std::size_t>(model.particleCount());
+  if (cache.contactStiffnessSum.size() != particles) {
+    cache.contactStiffnessSum.assign(particles, 0.0);
+    cache.contactDampingSum.assign(particles, 0.0);
+  }
+  std::vector<Vec3>& f = out.force;
+  std::vector<Vec3>& torque = out.torque;
+  const std::size_t count = cache.seeds.size();
+  // (Resized, not cleared: the buffer swapped back holds the list of two
+  // evaluations ago, so only the difference is constructed.)
+  cache.freshContacts.resize(count);
+  cache.loads.resize(count);
+  cache.applications.resize(count);
+
+  // The chunks: about kContactChunk contacts each, cut only where a's object
+  // changes (a run, and so a group's decision, stays in one chunk), each with
+  // the history contacts from its first key on.
+  constexpr std::size_t kContactChunk = 512;
+  std::size_t chunkCount = 0;
+  for (std::size_t begin = 0; begin < count;) {
+    std::size_t end = std::min(count, begin + kContactChunk);
+    if (end < count) {
+      const std::int64_t object = groupKey(tables, cache.seeds[end - 1].a());
+      while (end < count && groupKey(tables, cache.seeds[end].a()) == object) ++end;
+    }
+    if (cache.chunks.size() <= chunkCount) cache.chunks.emplace_back();
+    ContactChunk& chunk = cache.chunks[chunkCount++];
+    chunk.begin = begin;
+    chunk.end = end;
+    const Contact::Key first = cache.seeds[begin].key;
+    chunk.historyBegin = begin == 0
+                             ? 0
+                             : static_cast<std::size_t>(
+                                   std::lower_bound(previous.begin(), previous.end(), first,
+                                                    [](const Contact& c, const Contact::Key& key) {
+                                                      return c.key() < key;
+                                                    }) -
+                                   previous.begin());
+    if (chunkCount > 1) cache.chunks[chunkCount - 2].historyEnd = chunk.historyBegin;
+    begin = end;
+  }
+  if (chunkCount > 0) cache.chunks[chunkCount - 1].historyEnd = previous.size();
+
+  const StageInput input{model, tables, p, v, spin, previous, cache};
+  struct Context {
+    const StageInput* input;
+    ContactChunk* chunks;
+  } context{&input, cache.chunks.data()};
+  detail::runChunks(
+      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1,
+      static_cast<std::int64_t>(chunkCount),
+      [](void* raw, std::int64_t c) {
+        const Context& x = *static_cast<const Context*>(raw);
+        runChunk(*x.input, x.chunks[c]);
+      },
+      &context);
+
+  // The sums, in chunk order; the deferred loads, in contact order.
+  StageTally tally;
+  ContactStats& stats = cache.stats;
+  for (std::size_t c = 0; c < chunkCount; ++c) {
+    const ContactChunk& chunk = cache.chunks[c];
+    tally.potential += chunk.potential;
+    tally.dissipativePower += chunk.dissipativePower;
+    tally.releasedEnergy += chunk.releasedEnergy;
+    stats.particleContacts += chunk.stats.particleContacts;
+    stats.environmentContacts += chunk.stats.environmentContacts;
+    stats.facetContacts += chunk.stats.facetContacts;
+    stats.maxPenetration = std::max(stats.maxPenetration, chunk.stats.maxPenetration);
+    stats.maxPenetrationFraction =
+        std::max(stats.maxPenetrationFraction, chunk.stats.maxPenetrationFraction);
+    applyDeferred(input, chunk, f, torque);
+  }
+  if (count == 0) {  // every contact of the history opened
+    for (const Contact& c : previous) tally.releasedEnergy += c.anchorEnergy;
+  }
+
+  // The gather: each particle adds its contacts' loads (as a, then as other, in
+  // contact order) and takes its stability limit, by Gershgorin as for the
+  // connectors (estimateStability): ω² <= 2 Σk / m, 2ζω <= 2 Σc / m,
+  // δ < 2/ω (√(1+ζ²) - ζ). The sums are zeroed again.
+  indexLoads(particles, cache);
+  const std::int64_t gatherChunks =
+      (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
+                          std::numeric_limits<double>::infinity());
+  detail::parallelFor(
+      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1,
+      static_cast<std::int64_t>(particles), [&](std::int64_t begin, std::int64_t end) {
+        double step = std::numeric_limits<double>::infinity();
+        const ContactLoad* loads = cache.loads.data();
+        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+          Vec3 force, moment;
+          double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
+          bool loaded = false;
+          for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
+            const ContactLoad& load = loads[index];
+            if (load.deferred) continue;
+            force += load.force;
+            moment += load.torqueA;
+            stiffness += load.stiffness;
+            damping += load.damping;
+            loaded = true;
+          }
+          for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
+            const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
+            force -= load.force;
+            moment += load.torqueB;
+            stiffness += load.stiffness;
+            damping += load.damping;
+            loaded = true;
+          }
+          if (loaded) {
+            f[i] += force;
+            torque[i] += moment;
+          }
+          if (cache.contactStiffnessSum[i] != 0.0 || cache.contactDampingSum[i] != 0.0) {
+            cache.contactStiffnessSum[i] = 0.0;
+            cache.contactDampingSum[i] = 0.0;
+          }
+          if (stiffness == 0.0) continue;
+          const double omega = std::sqrt(2.0 * stiffness * model.inverseMass[i]);
+          const double dampingRate = 2.0 * damping * model.inverseMass[i];
+          step = std::min(step, dampedCriticalStep(omega, dampingRate));
+        }
+        cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
+      });
+  double criticalStep = std::numeric_limits<double>::infinity();
+  for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);
   out.energy.contact = tally.potential;
-  out.contactCriticalStep = contactsCriticalStep(model, cache);
+  out.contactCriticalStep = criticalStep;
   out.dissipativePower += tally.dissipativePower + viscousPower;
   out.releasedAnchorEnergy = tally.releasedEnergy;
   out.contactStats = cache.stats;

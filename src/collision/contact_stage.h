@@ -17,17 +17,18 @@ namespace robophi {
 /// Counts its work in scratch.stats.
 void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& scratch);
 
-/// The contact stage: detects contacts at (position, velocity, spin: empty or
-/// one per particle), adds contact, friction and viscosity forces to out.force
-/// and the spinning particles' torques to out.torque (both sized), sets out.energy.contact, adds
-/// the dissipative power to out.dissipativePower and sets out.contacts (each persisting contact
-/// starting from its friction anchor in `history`, which is only read), out.releasedAnchorEnergy
-/// (the anchor energy of `history` given up by slipping or opening), out.contactCriticalStep and
-/// out.contactStats.
+/// The contact stage, on up to `threads` threads (the same bits for any count): detects contacts at
+/// (position, velocity, spin: empty or one per particle), adds contact, friction and viscosity
+/// forces to out.force and the spinning particles' torques to out.torque (both sized), sets
+/// out.energy.contact, adds the dissipative power to out.dissipativePower and sets out.contacts
+/// (each persisting contact starting from its friction anchor in `history`, which is only read),
+/// out.releasedAnchorEnergy (the anchor energy of `history` given up by slipping or opening),
+/// out.contactCriticalStep and out.contactStats.
 void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
-                        const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
-                        const std::vector<Vec3>& spin, const std::vector<Contact>& history,
-                        ContactScratch& scratch, Evaluation& out);
+                        int threads, const std::vector<Vec3>& position,
+                        const std::vector<Vec3>& velocity, const std::vector<Vec3>& spin,
+                        const std::vector<Contact>& history, ContactScratch& scratch,
+                        Evaluation& out);
 
 /// MODEL §3.4 viscosity: -k (V·n) V̂ where V·n >= 0. Returns its power (W, <= 0).
 double accumulateViscosity(const Model& model, const std::vector<Vec3>& position,

@@ -247,31 +247,61 @@ struct ContactScratch {
     std::int32_t regime = 0;  // Contact::sliding for every contact of the group
     double scale = 1.0;       // breaking away: μ_s Σ F_n / Σ|F_t|
   };
-  /// The trials of the current run of contacts (contact_force.cpp: a's object's
-  /// contacts, decided together), reused from run to run so they stay in cache.
-  std::vector<FrictionTrial> trials;
-  /// Per contact, what the last pass needs to apply its friction force in contact
-  /// order once its run has decided: where it acts and how each side turns.
+  /// Per deferred contact (one that loads more than its two particles: a facet,
+  /// a rim, or a side turning with its LS neighbourhood), what the serial pass
+  /// needs to apply its loads in contact order once its run has decided: where
+  /// they act and how each side turns.
   struct FrictionApplication {
     static constexpr std::int8_t kNone = 0, kParticles = 1, kFacet = 2, kRing = 3;
-    Vec3 force;                       // friction force on a (N), Contact::frictionForce
-    Vec3 armA, armB;                  // particle centre to contact point (m)
-    std::int32_t a = -1, other = -1;  // Contact::a, Contact::other
-    double anchorEnergy = 0.0;        // Contact::anchorEnergy (J)
-    double released = -0.0;           // anchor energy released (J; -0: none)
-    double dissipated = 0.0;          // power dissipated (W)
-    std::int32_t ring = -1;           // index into rings (kRing)
-    /// Index of its A⁺ pair (12 doubles: a's, then the other's) in
-    /// applicationInverses when a side turns with its neighbourhood, else -1.
+    Vec3 force;              // friction force on a (N), Contact::frictionForce
+    Vec3 normal;             // normal force on a (N)
+    Vec3 rollMoment;         // rolling resistance moment on a (N·m)
+    Vec3 armA, armB;         // particle centre to contact point (m)
+    double squeeze = 0.0;    // rims: the radial load S (N)
+    double stiffness = 0.0;  // its stability rates (N/m, N·s/m), and a facet
+    double damping = 0.0;    // vertex's extra stiffness on a (N/m)
+    double facetStiffness = 0.0;
+    bool rolling = false;    // rollMoment applies (μ_r > 0)
+    std::int32_t ring = -1;  // index into its chunk's rings, or -1
+    /// Index of its A⁺ pair (12 doubles: a's, then the other's) in its chunk's
+    /// inverses when a side turns with its neighbourhood, else -1.
     std::int32_t inverse = -1;
     std::int8_t kind = kNone, turnA = 0, turnB = 0;
   };
-  std::vector<FrictionApplication> applications;  // (contacts)
-  std::vector<double> applicationInverses;
-  /// The rigid motion of each rim or ball contact's body at this evaluation,
-  /// taken in the first pass, used again by the second (contact_force.cpp).
-  std::vector<RingMotion> rings;
-  std::vector<FrictionGroup> groups;
+  /// Per contact: what a contact between two particles (or one and the
+  /// environment) adds to them, for the gather by particle (contact_force.cpp):
+  /// `force` on a and -force on other, the moments on their spins, and the
+  /// stability rates each of them gets; nothing for a deferred contact.
+  struct ContactLoad {
+    Vec3 force, torqueA, torqueB;
+    double stiffness = 0.0, damping = 0.0;
+    std::int32_t a = -1, other = -1;  // Contact::a, Contact::other
+    bool deferred = false;
+  };
+  /// A chunk of consecutive contacts, cut where a's object changes so that its
+  /// friction runs are whole, worked on one thread: its runs' scratch, its
+  /// deferred contacts and its sums (added in chunk order: the same bits for
+  /// any thread count).
+  struct ContactChunk {
+    std::size_t begin = 0, end = 0;                // its contacts
+    std::size_t historyBegin = 0, historyEnd = 0;  // the history contacts it carries or releases
+    /// The trials of the current run (a's object's contacts, decided together).
+    std::vector<FrictionTrial> trials;
+    std::vector<FrictionGroup> groups;
+    /// The rigid motion of each of its rim or ball contacts' bodies.
+    std::vector<RingMotion> rings;
+    std::vector<double> inverses;
+    std::vector<std::int32_t> deferred;  // contact indices, ascending
+    double potential = 0.0, dissipativePower = 0.0, releasedEnergy = 0.0;
+    ContactStats stats;
+  };
+  std::vector<ContactChunk> chunks;
+  std::vector<FrictionApplication> applications;  // (contacts), set for deferred ones
+  std::vector<ContactLoad> loads;                 // (contacts)
+  /// The loads by particle: contacts [aStart[i], aStart[i + 1]) have a = i, and
+  /// otherContact[otherStart[i], otherStart[i + 1]) other = i, (particles + 1).
+  std::vector<std::int32_t> aStart, otherStart, otherFill, otherContact;
+  std::vector<double> chunkSteps;    // per particle chunk of the gather: its smallest step
   std::vector<Vec3> objectCentroid;  // (objects) for viscosity
   std::vector<double> objectMass;    // (objects)
   std::vector<Vec3> vertexPosition;  // (surface vertices) at this evaluation

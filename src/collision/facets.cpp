@@ -324,8 +324,8 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
   for (int j = 0; j < 3; ++j) spread(vertexOf(model, t, j), onA * -weightOf(c.facetWeights, j));
 }
 
-void addFacetRates(const Model& model, double stiffness, const Contact& c, ContactScratch& cache) {
-  if (c.vertex < 0 || model.inverseMass[c.a] == 0.0) return;
+double facetExtraStiffness(const Model& model, double stiffness, const Contact& c) {
+  if (c.vertex < 0 || model.inverseMass[c.a] == 0.0) return 0.0;
   const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
   double sum = 0.0, own = 0.0;
   for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
@@ -334,8 +334,7 @@ void addFacetRates(const Model& model, double stiffness, const Contact& c, Conta
     if (v.particle[k] == c.a) own = std::abs(v.weight[k]);
   }
   const double extra = sum * own - 1.0;
-  if (extra > 0.0 && cache.contactStiffnessSum.size() > static_cast<std::size_t>(c.a))
-    cache.contactStiffnessSum[c.a] += extra * stiffness;
+  return extra > 0.0 ? extra * stiffness : 0.0;
 }
 
 }  // namespace robophi

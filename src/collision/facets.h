@@ -67,7 +67,7 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
                           std::vector<Vec3>& force);
 /// A vertex moves its heaviest particle by more than the particle alone: the
 /// extra stiffness (N/m) that particle's stability sum gets, Σ|w| |w_a| - 1 times
-/// `stiffness`, is added to scratch.contactStiffnessSum[c.a].
-void addFacetRates(const Model& model, double stiffness, const Contact& c, ContactScratch& scratch);
+/// `stiffness` (0 when none).
+double facetExtraStiffness(const Model& model, double stiffness, const Contact& c);
 
 }  // namespace robophi
