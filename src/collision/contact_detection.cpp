@@ -12,6 +12,7 @@
 #include "collision/facets.h"
 #include "collision/rim_contact.h"
 #include "collision/sphere_tree.h"
+#include "core/parallel.h"
 
 namespace robophi {
 
@@ -124,30 +125,31 @@ GridFrame buildGrid(const Model& model, const std::vector<Vec3>& position, doubl
   return g;
 }
 
-// Appends to cache.rowPartners the grid particles j > i in slots [begin, end)
-// closer than r + r_j + skin to particle i (at p, radius r). In hash mode only
-// slots of cell `key`.
-inline void scanSlots(ContactScratch& cache, std::int32_t i, const Vec3& p, double r, double skin,
-                      std::int32_t begin, std::int32_t end, bool checkKey, std::int64_t key) {
+// Appends to work.row the grid particles j > i in slots [begin, end) closer
+// than r + r_j + skin to particle i (at p, radius r). In hash mode only slots of
+// cell `key`.
+inline void scanSlots(const ContactScratch& cache, GridChunk& work, std::int32_t i, const Vec3& p,
+                      double r, double skin, std::int32_t begin, std::int32_t end, bool checkKey,
+                      std::int64_t key) {
   const double* data = cache.sortedData.data();
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = cache.sortedParticle[s];
     if (j <= i) continue;
     if (checkKey && cache.sortedKey[s] != key) continue;
-    ++cache.stats.pairTests;
+    ++work.pairTests;
     const double* q = data + 4 * static_cast<std::size_t>(s);
     const double dx = p.x - q[0], dy = p.y - q[1], dz = p.z - q[2];
     const double reach = r + q[3] + skin;
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
-    cache.rowPartners.push_back(j);
+    work.row.push_back(j);
   }
 }
 
 // The partners j > i of grid particle i within r_i + r_j + skin, from its 27
 // neighbour cells (cells of at least the largest diameter + skin), into
-// cache.rowPartners (unsorted).
-void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cache, std::int32_t i,
-                    const Vec3& p, double skin) {
+// work.row (unsorted).
+void gridNeighbours(const Model& model, const GridFrame& g, const ContactScratch& cache,
+                    GridChunk& work, std::int32_t i, const Vec3& p, double skin) {
   const double r = model.radius[i];
   const std::int64_t ix = cellCoordinate(p.x, g.origin.x, g.inverseCell);
   const std::int64_t iy = cellCoordinate(p.y, g.origin.y, g.inverseCell);
@@ -158,7 +160,7 @@ void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cach
       for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, g.ny - 1);
            ++y) {
         const std::int64_t row = (z * g.ny + y) * g.nx;
-        scanSlots(cache, i, p, r, skin, cache.cellStart[static_cast<std::size_t>(row + x0)],
+        scanSlots(cache, work, i, p, r, skin, cache.cellStart[static_cast<std::size_t>(row + x0)],
                   cache.cellStart[static_cast<std::size_t>(row + x1 + 1)], false, 0);
       }
     }
@@ -169,8 +171,8 @@ void gridNeighbours(const Model& model, const GridFrame& g, ContactScratch& cach
       for (std::int64_t x = ix - 1; x <= ix + 1; ++x) {
         const std::int64_t key = packCell(x, y, z);
         const std::size_t bucket = hashCell(key) & g.mask;
-        scanSlots(cache, i, p, r, skin, cache.cellStart[bucket], cache.cellStart[bucket + 1], true,
-                  key);
+        scanSlots(cache, work, i, p, r, skin, cache.cellStart[bucket], cache.cellStart[bucket + 1],
+                  true, key);
       }
     }
   }
@@ -202,9 +204,40 @@ bool neighbourListHolds(const Model& model, const std::vector<Vec3>& position, d
   return holds;
 }
 
+// The grid particles' chunks (of detail::kParallelChunk) on up to `threads`
+// threads: body(work, begin, end) for each.
+template <class Body>
+void forGridChunks(int threads, ContactScratch& cache, const Body& body) {
+  const auto count = static_cast<std::int64_t>(cache.tables->gridParticles.size());
+  const std::int64_t chunks = (count + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  if (cache.gridChunks.size() < static_cast<std::size_t>(chunks))
+    cache.gridChunks.resize(static_cast<std::size_t>(chunks));
+  struct Context {
+    const Body* body;
+    GridChunk* chunks;
+    std::int64_t count;
+  } context{&body, cache.gridChunks.data(), count};
+  detail::runChunks(
+      count >= detail::kParallelMinimum ? threads : 1, chunks,
+      [](void* raw, std::int64_t c) {
+        const Context& x = *static_cast<const Context*>(raw);
+        GridChunk& work = x.chunks[c];
+        work.pairTests = 0;
+        work.environmentTests = 0;
+        (*x.body)(work, c * detail::kParallelChunk,
+                  std::min(x.count, (c + 1) * detail::kParallelChunk));
+      },
+      &context);
+}
+
+std::int64_t gridChunkCount(const ContactScratch& cache) {
+  const auto count = static_cast<std::int64_t>(cache.tables->gridParticles.size());
+  return (count + detail::kParallelChunk - 1) / detail::kParallelChunk;
+}
+
 // Rebuilds the neighbour list from `grid` (cells of the largest diameter + skin).
 void buildNeighbourList(const Model& model, const std::vector<Vec3>& position, const GridFrame& g,
-                        double skin, ContactScratch& cache) {
+                        double skin, int threads, ContactScratch& cache) {
   NeighbourList& list = cache.neighbours;
   const std::vector<std::int32_t>& grid = cache.tables->gridParticles;
   const auto count = grid.size();
@@ -217,32 +250,44 @@ void buildNeighbourList(const Model& model, const std::vector<Vec3>& position, c
   list.referenceZ.resize(count);
   list.referenceRadius.resize(count);
   list.start.resize(count + 1);
+  forGridChunks(threads, cache, [&](GridChunk& work, std::int64_t begin, std::int64_t end) {
+    work.partners.clear();
+    work.rowEnds.clear();
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      const std::int32_t i = grid[k];
+      const Vec3& p = position[i];
+      list.referenceX[k] = p.x;
+      list.referenceY[k] = p.y;
+      list.referenceZ[k] = p.z;
+      list.referenceRadius[k] = model.radius[i];
+      work.row.clear();
+      gridNeighbours(model, g, cache, work, i, p, skin);
+      std::sort(work.row.begin(), work.row.end());
+      work.partners.insert(work.partners.end(), work.row.begin(), work.row.end());
+      work.rowEnds.push_back(static_cast<std::int32_t>(work.partners.size()));
+    }
+  });
   list.partner.clear();
   list.start[0] = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::int32_t i = grid[k];
-    const Vec3& p = position[i];
-    list.referenceX[k] = p.x;
-    list.referenceY[k] = p.y;
-    list.referenceZ[k] = p.z;
-    list.referenceRadius[k] = model.radius[i];
-    cache.rowPartners.clear();
-    gridNeighbours(model, g, cache, i, p, skin);
-    std::sort(cache.rowPartners.begin(), cache.rowPartners.end());
-    list.partner.insert(list.partner.end(), cache.rowPartners.begin(), cache.rowPartners.end());
-    list.start[k + 1] = static_cast<std::int32_t>(list.partner.size());
+  std::size_t k = 0;
+  for (std::int64_t c = 0; c < gridChunkCount(cache); ++c) {
+    const GridChunk& work = cache.gridChunks[static_cast<std::size_t>(c)];
+    const auto offset = static_cast<std::int32_t>(list.partner.size());
+    list.partner.insert(list.partner.end(), work.partners.begin(), work.partners.end());
+    for (const std::int32_t rowEnd : work.rowEnds) list.start[++k] = offset + rowEnd;
+    cache.stats.pairTests += work.pairTests;
   }
 }
 
-// Appends to cache.seeds the touching partners of grid particle k of the
+// Appends to work.seeds the touching partners of grid particle k of the
 // neighbour list (ascending partner): bare pairs, built by the contact stage.
 inline void listedContacts(const Model& model, const std::vector<Vec3>& position, std::int32_t k,
-                           std::int32_t i, ContactScratch& cache) {
+                           std::int32_t i, const ContactScratch& cache, GridChunk& work) {
   const NeighbourList& list = cache.neighbours;
   const Vec3 p = position[i];
   const double r = model.radius[i];
   const std::int32_t begin = list.start[k], end = list.start[k + 1];
-  cache.stats.pairTests += end - begin;
+  work.pairTests += end - begin;
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = list.partner[s];
     const Vec3& q = position[j];
@@ -251,14 +296,14 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
     if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
     if (excluded(*cache.tables, i, j)) continue;
-    cache.seeds.push_back(ContactSeed::pair(i, j));
+    work.seeds.push_back(ContactSeed::pair(i, j));
   }
 }
 
-// Particle i against every environment item, appended to cache.seeds (the
-// contacts to cache.detectedContacts) in item order.
+// Particle i against every environment item, appended to work.seeds (the
+// contacts to work.found) in item order.
 inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::int32_t i,
-                                      ContactScratch& cache) {
+                                      const ContactScratch& cache, GridChunk& work) {
   const std::int32_t items = model.environment.itemCount();
   const double r = model.radius[i];
   for (std::int32_t e = 0; e < items; ++e) {
@@ -269,12 +314,12 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
         p.z + r < low.z || p.z - r > high.z) {
       continue;
     }
-    ++cache.stats.environmentTests;
+    ++work.environmentTests;
     // (The probe is written only when it touches: nothing to clear per test.)
-    if (touchesEnvironment(model.environment, i, p, r, e, cache.environmentProbe)) {
-      cache.seeds.push_back(ContactSeed::found(
-          cache.environmentProbe, static_cast<std::int32_t>(cache.detectedContacts.size())));
-      cache.detectedContacts.push_back(cache.environmentProbe);
+    if (touchesEnvironment(model.environment, i, p, r, e, work.probe)) {
+      work.seeds.push_back(
+          ContactSeed::found(work.probe, static_cast<std::int32_t>(work.found.size())));
+      work.found.push_back(work.probe);
     }
   }
 }
@@ -364,7 +409,8 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
 
 }  // namespace
 
-void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
+void detectContacts(const Model& model, const std::vector<Vec3>& position, int threads,
+                    ContactScratch& cache) {
   cache.stats = ContactStats{};
   cache.seeds.clear();
   cache.detectedContacts.clear();
@@ -381,14 +427,29 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, Conta
   if (!listHolds || !cache.trees.empty()) {
     grid = buildGrid(model, position, cache.tables->cellSize + skin, cache);
   }
-  if (!listHolds) buildNeighbourList(model, position, grid, skin, cache);
+  if (!listHolds) buildNeighbourList(model, position, grid, skin, threads, cache);
   const std::vector<std::int32_t>& gridParticles = cache.tables->gridParticles;
-  for (std::size_t k = 0; k < gridParticles.size(); ++k) {
-    const std::int32_t i = gridParticles[k];
-    listedContacts(model, position, static_cast<std::int32_t>(k), i, cache);
-    if (model.inverseMass[i] != 0.0) {
-      particleVersusEnvironment(model, position[i], i, cache);
+  forGridChunks(threads, cache, [&](GridChunk& work, std::int64_t begin, std::int64_t end) {
+    work.seeds.clear();
+    work.found.clear();
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      const std::int32_t i = gridParticles[k];
+      listedContacts(model, position, static_cast<std::int32_t>(k), i, cache, work);
+      if (model.inverseMass[i] != 0.0)
+        particleVersusEnvironment(model, position[i], i, cache, work);
     }
+  });
+  for (std::int64_t c = 0; c < gridChunkCount(cache); ++c) {
+    const GridChunk& work = cache.gridChunks[static_cast<std::size_t>(c)];
+    const auto offset = static_cast<std::int32_t>(cache.detectedContacts.size());
+    for (ContactSeed seed : work.seeds) {
+      if (seed.full >= 0) seed.full += offset;
+      cache.seeds.push_back(seed);
+    }
+    cache.detectedContacts.insert(cache.detectedContacts.end(), work.found.begin(),
+                                  work.found.end());
+    cache.stats.pairTests += work.pairTests;
+    cache.stats.environmentTests += work.environmentTests;
   }
 
   // Tree objects: against each other, themselves, the grid and the environment.

@@ -884,7 +884,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     return;
   }
   ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
-  detectContacts(model, p, cache);
+  detectContacts(model, p, threads, cache);
 
   const auto particles = static_cast<std::size_t>(model.particleCount());
   if (cache.contactStiffnessSum.size() != particles) {

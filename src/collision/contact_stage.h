@@ -14,8 +14,10 @@ namespace robophi {
 /// Finds every contact at `position` into scratch.seeds, sorted by
 /// Contact::key(): particle pairs (a < other) and particle-environment contacts
 /// (with depth and normal), which the contact stage builds its contacts from.
-/// Counts its work in scratch.stats.
-void detectContacts(const Model& model, const std::vector<Vec3>& position, ContactScratch& scratch);
+/// Counts its work in scratch.stats. The grid particles' search runs on up to
+/// `threads` threads (the same list for any count).
+void detectContacts(const Model& model, const std::vector<Vec3>& position, int threads,
+                    ContactScratch& scratch);
 
 /// The contact stage, on up to `threads` threads (the same bits for any count): detects contacts at
 /// (position, velocity, spin: empty or one per particle), adds contact, friction and viscosity

@@ -179,6 +179,19 @@ struct ContactSeed {
   std::int32_t other() const { return static_cast<std::int32_t>(key.pair & 0xFFFFFFFFu); }
 };
 
+/// A chunk of the grid particles' detection (contact_detection.cpp), worked on
+/// one thread: its rows of the neighbour list when it is rebuilt, its finds, and
+/// its tests. The chunks are joined in order (the same list for any thread count).
+struct GridChunk {
+  std::vector<std::int32_t> partners;  // its rows' partners, row after row
+  std::vector<std::int32_t> rowEnds;   // the end of each row's partners in `partners`
+  std::vector<std::int32_t> row;       // one particle's partners, to sort
+  std::vector<ContactSeed> seeds;      // its particles' finds, in order
+  std::vector<Contact> found;          // its environment contacts (seeds' `full` index them)
+  Contact probe;                       // a particle's test against an item
+  std::int64_t pairTests = 0, environmentTests = 0;
+};
+
 /// What one contact evaluation works in: derived from positions, reused from
 /// evaluation to evaluation.
 struct ContactScratch {
@@ -204,12 +217,11 @@ struct ContactScratch {
   std::vector<std::int32_t> sortedParticle;  // (gridParticles)
   std::vector<std::int64_t> sortedKey;       // (gridParticles) cell key of each slot
   std::vector<std::int32_t> sweepOrder;      // (trees) sort-and-sweep order
-  std::vector<std::int32_t> rowPartners;     // one grid particle's partners, to sort
   NeighbourList neighbours;
+  std::vector<GridChunk> gridChunks;
   std::vector<ContactSeed> seeds;         // the detection's finds, sorted by key
   std::vector<ContactSeed> mergedSeeds;   // merge buffer
   std::vector<Contact> detectedContacts;  // grid particles' environment contacts
-  Contact environmentProbe;               // a grid particle's test against an item
   std::vector<Contact> treeContacts;      // finds of the tree search (sorted after it)
   std::vector<Contact> freshContacts;     // the new list, swapped into the evaluation
   /// Per contact: the trial tangential forces of the friction law, and per
