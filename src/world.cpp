@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "collision/contact_tables.h"
+#include "core/parallel.h"
 #include "core/text.h"
 #include "evaluate.h"
 #include "integrate/integrators.h"
@@ -115,8 +116,15 @@ StepStatus World::step(double dt) {
   // (MODEL §3.3); the evaluation at t + δ reads it.
   // Rolling (MODEL §3.3): the anchors turn with the contact points over the step.
   state.frictionHistory.swap(evaluation.contacts);
-  for (Contact& c : state.frictionHistory) c.anchor -= c.rollVelocity * dt;
   const int threads = workspace_.threadCount();
+  std::vector<Contact>& history = state.frictionHistory;
+  detail::parallelFor(threads, static_cast<std::int64_t>(history.size()),
+                      [&](std::int64_t begin, std::int64_t end) {
+                        for (auto k = static_cast<std::size_t>(begin);
+                             k < static_cast<std::size_t>(end); ++k) {
+                          history[k].anchor -= history[k].rollVelocity * dt;
+                        }
+                      });
   const std::vector<double>& spinInertia = model_.contactTables().inverseSpinInertia;
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ.

@@ -141,6 +141,38 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
   const std::vector<LinearSpring>& springs = model.linearSprings;
   const auto springCount = static_cast<std::int64_t>(springs.size());
   std::vector<Vec3>& springForce = scratch.springForce;
+  const bool tableFits =
+      incidence.start.size() == position.size() + 1 && incidence.entry.size() == 2 * springs.size();
+  if (threads <= 1 || springCount < detail::kParallelMinimum || !tableFits) {
+    // One thread: each chunk's forces into a buffer that stays in cache, then the
+    // serial scatter `force[a] += F; force[b] -= F` in spring order, which is what
+    // the gather below adds for each particle (ascending springs); the sums are
+    // taken in the same chunks. The same bits as the two passes, in one.
+    springForce.resize(std::min<std::size_t>(springs.size(), detail::kParallelChunk));
+    double potential = 0.0, power = 0.0;
+    for (std::int64_t begin = 0; begin < springCount; begin += detail::kParallelChunk) {
+      const std::int64_t end = std::min(springCount, begin + detail::kParallelChunk);
+      double chunkPotential = 0.0, chunkPower = 0.0;
+      linearSpringRange(springs.data() + begin, position.data(), velocity.data(),
+                        springForce.data(), 0, end - begin, chunkPotential, chunkPower);
+      for (std::int64_t k = begin; k < end; ++k) {
+        const Vec3& onA = springForce[static_cast<std::size_t>(k - begin)];
+        force[springs[static_cast<std::size_t>(k)].a] += onA;
+        force[springs[static_cast<std::size_t>(k)].b] -= onA;
+      }
+      if (begin == 0) {
+        potential = chunkPotential;
+        power = chunkPower;
+      } else {
+        potential += chunkPotential;
+        power += chunkPower;
+      }
+    }
+    ForceTally tally;
+    tally.potential = potential;
+    tally.dissipativePower = power;
+    return tally;
+  }
   springForce.resize(springs.size());
   // Pass 1: per spring; potential and power summed in fixed chunks (core/parallel.h).
   const std::array<double, 2> sums = detail::parallelSum<2>(
@@ -153,10 +185,8 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
         tally = {potential, power};
       });
   // Pass 2: each particle adds its springs in ascending order, as the serial
-  // scatter `force[a] += F; force[b] -= F` did.
-  const bool tableFits =
-      incidence.start.size() == position.size() + 1 && incidence.entry.size() == 2 * springs.size();
-  if (tableFits) {
+  // scatter `force[a] += F; force[b] -= F` does.
+  {
     const std::int32_t* start = incidence.start.data();
     const std::int32_t* entry = incidence.entry.data();
     const Vec3* onA = springForce.data();
@@ -176,12 +206,6 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
                             sum[i] = f;
                           }
                         });
-  } else {
-    // Not compiled for these springs (internal misuse): the serial scatter, same sums.
-    for (std::size_t k = 0; k < springs.size(); ++k) {
-      force[springs[k].a] += springForce[k];
-      force[springs[k].b] -= springForce[k];
-    }
   }
   ForceTally tally;
   tally.potential = sums[0];
