@@ -50,20 +50,14 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   const std::vector<Vec3>& velocity = state.velocity;
   out.force.resize(position.size());
   out.torque.resize(position.size());
-  detail::parallelFor(threads, static_cast<std::int64_t>(position.size()),
-                      [&](std::int64_t begin, std::int64_t end) {
-                        for (auto i = static_cast<std::size_t>(begin);
-                             i < static_cast<std::size_t>(end); ++i) {
-                          out.force[i] = Vec3{};
-                          out.torque[i] = Vec3{};
-                        }
-                      });
   EnergyTally& e = out.energy;
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS, JS, the bodies and the drives (a few per joint) on this thread.
-  const ForceTally gravity = accumulateGravity(model, threads, position, out.force);
-  const ForceTally damping = accumulateLinearDamping(model, threads, velocity, out.force);
+  const ParticleForceTally start =
+      startParticleForces(model, threads, position, velocity, out.force, out.torque);
+  const ForceTally& gravity = start.gravity;
+  const ForceTally& damping = start.damping;
   const ForceTally linear =
       accumulateLinearSprings(model, compiled.springIncidence(), threads, position, velocity,
                               out.force, workspace.forceScratch());

@@ -21,10 +21,17 @@ struct ForceTally {
 
 // Arrays are (particleCount) long.
 // `threads`: the most the stage may use; the result does not depend on it.
-ForceTally accumulateGravity(const Model& model, int threads, const std::vector<Vec3>& position,
-                             std::vector<Vec3>& force);
-ForceTally accumulateLinearDamping(const Model& model, int threads,
-                                   const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+/// The per-particle forces in one pass, which starts the evaluation: force and
+/// torque set to zero, then gravity F_i = m_i g on the free particles (potential
+/// -m_i g·p_i) and the linear damping F_i = -c_i v_i (power -c_i |v_i|²).
+/// Returns {gravity's potential, 0} and {0, damping's power}.
+struct ParticleForceTally {
+  ForceTally gravity, damping;
+};
+ParticleForceTally startParticleForces(const Model& model, int threads,
+                                       const std::vector<Vec3>& position,
+                                       const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                       std::vector<Vec3>& torque);
 
 /// The linear springs that meet at each particle, compiled once per model topology
 /// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k

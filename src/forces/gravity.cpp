@@ -4,44 +4,35 @@
 
 namespace robophi {
 
-// F_i = m_i g; potential -m_i g·p_i, over the free particles (a fixed one gets neither).
-ForceTally accumulateGravity(const Model& model, int threads, const std::vector<Vec3>& position,
-                             std::vector<Vec3>& force) {
-  const std::array<double, 1> total = detail::parallelSum<1>(
-      threads, model.particleCount(), {0.0},
-      [&](std::int64_t begin, std::int64_t end, std::array<double, 1>& sum) {
-        double potential = sum[0];  // a local sum: the force stores cannot alias it
+ParticleForceTally startParticleForces(const Model& model, int threads,
+                                       const std::vector<Vec3>& position,
+                                       const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                       std::vector<Vec3>& torque) {
+  // Sums in fixed chunks (core/parallel.h): {gravity's potential, damping's power}.
+  const std::array<double, 2> total = detail::parallelSum<2>(
+      threads, model.particleCount(), {0.0, 0.0},
+      [&](std::int64_t begin, std::int64_t end, std::array<double, 2>& sum) {
+        double potential = sum[0], power = sum[1];  // local sums: the stores cannot alias them
         for (std::int64_t k = begin; k < end; ++k) {
           const auto i = static_cast<std::size_t>(k);
-          if (model.inverseMass[i] == 0.0) continue;
-          force[i] += model.gravity * model.mass[i];
-          potential -= model.mass[i] * dot(model.gravity, position[i]);
+          Vec3 f;
+          torque[i] = Vec3{};
+          if (model.inverseMass[i] != 0.0) {  // a fixed particle gets no gravity
+            f += model.gravity * model.mass[i];
+            potential -= model.mass[i] * dot(model.gravity, position[i]);
+          }
+          const double c = model.linearDamping[i];
+          if (c != 0.0) {
+            f -= velocity[i] * c;
+            power -= c * squaredNorm(velocity[i]);
+          }
+          force[i] = f;
         }
-        sum[0] = potential;
+        sum = {potential, power};
       });
-  ForceTally tally;
-  tally.potential = total[0];
-  return tally;
-}
-
-// F_i = -c_i v_i; power -c_i |v_i|².
-ForceTally accumulateLinearDamping(const Model& model, int threads,
-                                   const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
-  const std::array<double, 1> total =
-      detail::parallelSum<1>(threads, model.particleCount(), {0.0},
-                             [&](std::int64_t begin, std::int64_t end, std::array<double, 1>& sum) {
-                               double power = sum[0];
-                               for (std::int64_t k = begin; k < end; ++k) {
-                                 const auto i = static_cast<std::size_t>(k);
-                                 const double c = model.linearDamping[i];
-                                 if (c == 0.0) continue;
-                                 force[i] -= velocity[i] * c;
-                                 power -= c * squaredNorm(velocity[i]);
-                               }
-                               sum[0] = power;
-                             });
-  ForceTally tally;
-  tally.dissipativePower = total[0];
+  ParticleForceTally tally;
+  tally.gravity.potential = total[0];
+  tally.damping.dissipativePower = total[1];
   return tally;
 }
 

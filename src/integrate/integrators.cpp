@@ -13,28 +13,23 @@ namespace robophi {
 
 namespace {
 
-// ω_i += J_i⁻¹ τ_i δ for the spinning particles (orientation is not tracked:
-// a sphere looks the same whichever way it has turned).
-void kickSpin(const std::vector<double>& inverseSpinInertia, int threads, double dt,
-              const std::vector<Vec3>& torque, State& state) {
-  if (torque.empty()) return;
-  const std::size_t n = inverseSpinInertia.size();
-  if (state.spin.size() != n) state.spin.assign(n, Vec3{});
-  detail::parallelFor(
-      threads, static_cast<std::int64_t>(n), [&](std::int64_t begin, std::int64_t end) {
-        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
-          if (inverseSpinInertia[i] != 0.0) {
-            state.spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
-          }
-        }
-      });
-}
-
-// body(i) for every particle, in parallel.
+// body(i) for every particle, then the kick of its spin, ω_i += J_i⁻¹ τ_i spinDt,
+// for the spinning particles (orientation is not tracked: a sphere looks the
+// same whichever way it has turned), in one parallel pass.
 template <class Body>
-void forEachParticle(const Model& model, int threads, const Body& body) {
+void forEachParticle(const Model& model, const std::vector<double>& inverseSpinInertia, int threads,
+                     double spinDt, const std::vector<Vec3>& torque, State& state,
+                     const Body& body) {
+  const bool spins = !torque.empty() &&
+                     inverseSpinInertia.size() == static_cast<std::size_t>(model.particleCount());
+  if (spins && state.spin.size() != inverseSpinInertia.size())
+    state.spin.assign(inverseSpinInertia.size(), Vec3{});
   detail::parallelFor(threads, model.particleCount(), [&](std::int64_t begin, std::int64_t end) {
-    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) body(i);
+    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+      body(i);
+      if (spins && inverseSpinInertia[i] != 0.0)
+        state.spin[i] += torque[i] * (inverseSpinInertia[i] * spinDt);
+    }
   });
 }
 
@@ -44,41 +39,40 @@ void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinI
                      double dt, const Evaluation& evaluation, State& state) {
   const double halfDtSquared = 0.5 * dt * dt;
   const std::vector<Vec3>& force = evaluation.force;
-  forEachParticle(model, threads, [&](std::size_t i) {
-    const Vec3 acceleration = force[i] * model.inverseMass[i];
-    state.position[i] += state.velocity[i] * dt + acceleration * halfDtSquared;
-    state.velocity[i] += acceleration * dt;
-  });
-  kickSpin(inverseSpinInertia, threads, dt, evaluation.torque, state);
+  forEachParticle(model, inverseSpinInertia, threads, dt, evaluation.torque, state,
+                  [&](std::size_t i) {
+                    const Vec3 acceleration = force[i] * model.inverseMass[i];
+                    state.position[i] += state.velocity[i] * dt + acceleration * halfDtSquared;
+                    state.velocity[i] += acceleration * dt;
+                  });
 }
 
 void integrateSymplecticEuler(const Model& model, const std::vector<double>& inverseSpinInertia,
                               int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  forEachParticle(model, threads, [&](std::size_t i) {
-    state.velocity[i] += force[i] * (model.inverseMass[i] * dt);
-    state.position[i] += state.velocity[i] * dt;
-  });
-  kickSpin(inverseSpinInertia, threads, dt, evaluation.torque, state);
+  forEachParticle(model, inverseSpinInertia, threads, dt, evaluation.torque, state,
+                  [&](std::size_t i) {
+                    state.velocity[i] += force[i] * (model.inverseMass[i] * dt);
+                    state.position[i] += state.velocity[i] * dt;
+                  });
 }
 
 void integrateVerletDrift(const Model& model, const std::vector<double>& inverseSpinInertia,
                           int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  forEachParticle(model, threads, [&](std::size_t i) {
-    state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt);
-    state.position[i] += state.velocity[i] * dt;
-  });
-  kickSpin(inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state);
+  forEachParticle(model, inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state,
+                  [&](std::size_t i) {
+                    state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt);
+                    state.position[i] += state.velocity[i] * dt;
+                  });
 }
 
 void integrateVerletKick(const Model& model, const std::vector<double>& inverseSpinInertia,
                          int threads, double dt, const Evaluation& evaluation, State& state) {
   const std::vector<Vec3>& force = evaluation.force;
-  forEachParticle(model, threads, [&](std::size_t i) {
-    state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt);
-  });
-  kickSpin(inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state);
+  forEachParticle(
+      model, inverseSpinInertia, threads, 0.5 * dt, evaluation.torque, state,
+      [&](std::size_t i) { state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt); });
 }
 
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
