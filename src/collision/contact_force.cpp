@@ -139,10 +139,38 @@ struct Turning {
   std::int32_t kind = 0;           // 0 none, 1 spin, 2 neighbourhood
 };
 
+// Whether particle i turns with its LS neighbourhood (Turning kind 2) when it
+// has neighbours that are not fixed.
+inline bool turnsWithNeighbourhood(const Model& model, const ContactTables& tables,
+                                   std::int32_t i) {
+  return model.contact.rolling && model.inverseMass[i] != 0.0 && tables.ropeParticle[i] == 0 &&
+         tables.inverseSpinInertia[i] == 0.0 &&
+         tables.rollNeighbourStart[i] != tables.rollNeighbourStart[i + 1];
+}
+
+// The least-squares rotation of particle i's LS neighbourhood: ω into `omega`,
+// A⁺ into `inverse`; returns A⁺'s largest eigenvalue (0: it does not turn).
+double neighbourhoodRotation(const Model& model, const ContactTables& tables,
+                             const std::vector<Vec3>& p, const std::vector<Vec3>& v, std::int32_t i,
+                             Vec3& omega, double* inverse) {
+  double a[6] = {0, 0, 0, 0, 0, 0};
+  Vec3 b;
+  for (std::int32_t k = tables.rollNeighbourStart[i]; k < tables.rollNeighbourStart[i + 1]; ++k) {
+    const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
+    if (model.inverseMass[j] == 0.0) continue;  // a fixed neighbour takes no couple
+    const Vec3 d = p[j] - p[i];
+    const double w = model.mass[j];
+    addRotationFit(d, v[j] - v[i], w, a, b);
+  }
+  const double largest = symmetricPseudoInverse(a, inverse);
+  omega = largest == 0.0 ? Vec3{} : symmetricTimes(inverse, b);
+  return largest;
+}
+
 inline Turning turningOf(const Model& model, const ContactTables& tables,
-                         const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                         const std::vector<Vec3>& spin, std::int32_t i, double arm,
-                         double* inverse) {
+                         const ContactScratch& cache, const std::vector<Vec3>& p,
+                         const std::vector<Vec3>& v, const std::vector<Vec3>& spin, std::int32_t i,
+                         double arm, double* inverse) {
   Turning t;
   if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
     return t;
@@ -152,21 +180,20 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
     t.armInverseInertia = arm * arm * tables.inverseSpinInertia[i];
     return t;
   }
-  const std::int32_t begin = tables.rollNeighbourStart[i], end = tables.rollNeighbourStart[i + 1];
-  if (begin == end) return t;
-  double a[6] = {0, 0, 0, 0, 0, 0};
-  Vec3 b;
-  for (std::int32_t k = begin; k < end; ++k) {
-    const std::int32_t j = tables.rollNeighbour[static_cast<std::size_t>(k)];
-    if (model.inverseMass[j] == 0.0) continue;  // a fixed neighbour takes no couple
-    const Vec3 d = p[j] - p[i];
-    const double w = model.mass[j];
-    addRotationFit(d, v[j] - v[i], w, a, b);
+  if (tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1]) return t;
+  // Taken once per evaluation for every particle of a contact (TurningCache).
+  const std::int32_t slot = cache.turning.slot[static_cast<std::size_t>(i)];
+  double largest = 0.0;
+  if (slot >= 0) {
+    const auto k = static_cast<std::size_t>(slot);
+    largest = cache.turning.largest[k];
+    std::copy_n(cache.turning.inverse.data() + 6 * k, 6, inverse);
+    t.omega = cache.turning.omega[k];
+  } else {
+    largest = neighbourhoodRotation(model, tables, p, v, i, t.omega, inverse);
   }
-  const double largest = symmetricPseudoInverse(a, inverse);
-  if (largest == 0.0) return t;
+  if (largest == 0.0) return Turning{};
   t.kind = 2;
-  t.omega = symmetricTimes(inverse, b);
   t.armInverseInertia = arm * arm * largest;
   return t;
 }
@@ -691,11 +718,11 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
     } else if (c.vertex < 0) {
-      ta = turningOf(model, tables, p, v, in.spin, a, norm(t.armA), t.inverseA);
+      ta = turningOf(model, tables, cache, p, v, in.spin, a, norm(t.armA), t.inverseA);
     }
     Turning tb;
     if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, p, v, in.spin, c.other, norm(t.armB), t.inverseB);
+      tb = turningOf(model, tables, cache, p, v, in.spin, c.other, norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
@@ -929,6 +956,37 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   }
   if (chunkCount > 0) cache.chunks[chunkCount - 1].historyEnd = previous.size();
 
+  // The neighbourhood rotations of the particles that turn with theirs, once each.
+  TurningCache& turning = cache.turning;
+  if (turning.slot.size() != particles) turning.slot.assign(particles, -1);
+  turning.particles.clear();
+  if (model.contact.rolling && !tables.rollNeighbour.empty()) {
+    const auto mark = [&](std::int32_t i) {
+      if (i < 0 || turning.slot[static_cast<std::size_t>(i)] >= 0 ||
+          !turnsWithNeighbourhood(model, tables, i))
+        return;
+      turning.slot[static_cast<std::size_t>(i)] =
+          static_cast<std::int32_t>(turning.particles.size());
+      turning.particles.push_back(i);
+    };
+    for (const ContactSeed& seed : cache.seeds) {
+      mark(seed.a());
+      mark(seed.other());
+    }
+    const std::size_t turners = turning.particles.size();
+    turning.omega.resize(turners);
+    turning.inverse.resize(6 * turners);
+    turning.largest.resize(turners);
+    detail::parallelFor(
+        threads, static_cast<std::int64_t>(turners), [&](std::int64_t begin, std::int64_t end) {
+          for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+            turning.largest[k] =
+                neighbourhoodRotation(model, tables, p, v, turning.particles[k], turning.omega[k],
+                                      turning.inverse.data() + 6 * k);
+          }
+        });
+  }
+
   const StageInput input{model, tables, p, v, spin, previous, cache};
   struct Context {
     const StageInput* input;
@@ -1013,6 +1071,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         }
         cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
       });
+  for (const std::int32_t i : turning.particles) turning.slot[static_cast<std::size_t>(i)] = -1;
   double criticalStep = std::numeric_limits<double>::infinity();
   for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
   std::swap(out.contacts, cache.freshContacts);

@@ -192,6 +192,17 @@ struct GridChunk {
   std::int64_t pairTests = 0, environmentTests = 0;
 };
 
+/// The rotation of the LS neighbourhood of each particle in a contact that turns
+/// with it (contact_force.cpp, MODEL §3.3 rolling), taken once per evaluation
+/// rather than once per contact side: slot[i] indexes omega, inverse (6 each, A⁺
+/// packed) and largest (A⁺'s largest eigenvalue), or is -1.
+struct TurningCache {
+  std::vector<std::int32_t> slot;       // (particles)
+  std::vector<std::int32_t> particles;  // those with a slot, in slot order
+  std::vector<Vec3> omega;
+  std::vector<double> inverse, largest;
+};
+
 /// What one contact evaluation works in: derived from positions, reused from
 /// evaluation to evaluation.
 struct ContactScratch {
@@ -308,6 +319,7 @@ struct ContactScratch {
     ContactStats stats;
   };
   std::vector<ContactChunk> chunks;
+  TurningCache turning;
   std::vector<FrictionApplication> applications;  // (contacts), set for deferred ones
   std::vector<ContactLoad> loads;                 // (contacts)
   /// The loads by particle: contacts [aStart[i], aStart[i + 1]) have a = i, and
