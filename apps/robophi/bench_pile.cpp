@@ -3,13 +3,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
+#include "bench_scenes.h"
 #include "robophi/evaluation.h"
+#include "robophi/world.h"
 
 namespace robophi::cli {
 
@@ -190,6 +194,76 @@ int runContactScaling(bool json) {
     const double slope = covariance / variance;
     results.push_back({{"mode", mode}, {"loglog_slope", slope}});
     if (!json) std::printf("SCALING-%s log-log slope (1e3..1e6) = %.3f\n", mode, slope);
+  }
+  if (json) std::printf("%s\n", results.dump(2).c_str());
+  return 0;
+}
+
+// The cost of a whole step per particle from 1e3 to 1e6 particles: the CLOTH
+// scene (n × n, LS only) and the SCALING grid scene (single balls, about half
+// the neighbour pairs touching, so contacts every step), each stepped with a
+// constant step after two warm-up steps (trees, lists and buffers built), in
+// rounds of 10 steps from the same state (the restores are not timed).
+int runStepScaling(bool json, int threads) {
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  struct Family {
+    const char* name;
+    std::vector<std::int64_t> sizes;
+  };
+  for (const Family& family : {Family{"cloth", {32, 100, 316, 1000}},
+                               Family{"contacts", {1000, 10000, 100000, 1000000}}}) {
+    const bool cloth = std::string(family.name) == "cloth";
+    double lowest = 0.0, highest = 0.0;
+    for (const std::int64_t size : family.sizes) {
+      Scene scene = cloth ? makeClothScene(static_cast<int>(size)) : makeScalingScene(size, false);
+      const auto particles = static_cast<std::int64_t>(scene.initial.position.size());
+      const double dt = cloth ? scene.run.dt : 1.0e-5;
+      World world(scene.model, scene.initial, Integrator::kSymplecticEuler);
+      world.setThreadCount(threads);
+      for (int warm = 0; warm < 2; ++warm) world.step(dt);
+      // Rounds of 10 steps from the same state (the balls move apart, so a long
+      // run would measure a sparser cloud), about 2e7 particle-steps (1e7 with
+      // contacts) in all.
+      const World::Snapshot start = world.snapshot();
+      constexpr std::int64_t kRound = 10;
+      const std::int64_t rounds =
+          std::max<std::int64_t>(1, (cloth ? 20000000 : 10000000) / (kRound * particles));
+      const std::int64_t steps = rounds * kRound;
+      bool sound = true;
+      double seconds = 0.0;
+      for (std::int64_t r = 0; r < rounds && sound; ++r) {
+        world.restore(start);
+        const auto begin = std::chrono::steady_clock::now();
+        for (std::int64_t k = 0; k < kRound && sound; ++k)
+          sound = world.step(dt) == StepStatus::kOk;
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+      }
+      const double perParticleStep = seconds / static_cast<double>(steps * particles);
+      lowest = lowest == 0.0 ? perParticleStep : std::min(lowest, perParticleStep);
+      highest = std::max(highest, perParticleStep);
+      const std::size_t contacts = world.state().frictionHistory.size();
+      results.push_back({{"family", family.name},
+                         {"particles", particles},
+                         {"steps", steps},
+                         {"wall_s", seconds},
+                         {"s_per_particle_step", perParticleStep},
+                         {"contacts", contacts},
+                         {"threads", world.threadCount()},
+                         {"status", sound ? "ok" : "non-finite"}});
+      if (!json) {
+        std::printf(
+            "STEP-SCALING-%s particles=%-8lld steps=%-6lld wall_s=%-8.3f "
+            "ns_per_particle_step=%-7.2f "
+            "contacts=%-8zu threads=%d %s\n",
+            family.name, static_cast<long long>(particles), static_cast<long long>(steps), seconds,
+            1e9 * perParticleStep, contacts, world.threadCount(), sound ? "ok" : "non-finite");
+        std::fflush(stdout);
+      }
+    }
+    results.push_back({{"family", family.name}, {"highest_over_lowest", highest / lowest}});
+    if (!json)
+      std::printf("STEP-SCALING-%s cost per particle-step, highest / lowest (1e3..1e6) = %.3f\n",
+                  family.name, highest / lowest);
   }
   if (json) std::printf("%s\n", results.dump(2).c_str());
   return 0;

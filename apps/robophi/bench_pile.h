@@ -18,4 +18,9 @@ Scene makePileScene(int n);
 /// with its sphere tree), prints the times and the log-log slopes. Returns 0.
 int runContactScaling(bool json);
 
+/// Times whole steps per particle from 1e3 to 1e6 particles (the CLOTH scene,
+/// and single balls in contact) on up to `threads` threads (0: the cores
+/// available), prints the costs and the spread highest / lowest. Returns 0.
+int runStepScaling(bool json, int threads);
+
 }  // namespace robophi::cli

@@ -116,6 +116,9 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
 }
 
 int benchCommand(const BenchArguments& args) {
+  // STEP-SCALING: a whole step's cost per particle from 1e3 to 1e6 particles.
+  if (args.filter.find("STEP-SCALING") != std::string::npos)
+    return runStepScaling(args.json, args.threads);
   // SCALING: contact detection cost from 1e3 to 1e6 particles (bench_pile.cpp).
   if (args.filter.find("SCALING") != std::string::npos) return runContactScaling(args.json);
   // RIGID: detection for two rigid objects in contact, 1e3 to 1e5 particles each.
