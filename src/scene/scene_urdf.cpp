@@ -94,6 +94,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto omega = reader.number("naturalFrequency", Bound::kPositive, "rad/s");
   const auto self = reader.boolean("selfCollision");
   const auto hold = reader.boolean("holdJoints");
+  const auto roundWheels = reader.boolean("roundWheels");
   if (const nlohmann::json* initial = reader.member("initialPositions")) {
     if (!initial->is_object()) {
       sink.error(reader.memberPointer("initialPositions"),
@@ -125,6 +126,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   spec.naturalFrequency = omega.value_or(spec.naturalFrequency);
   spec.selfCollision = self.value_or(false);
   spec.holdJoints = hold.value_or(false);
+  spec.roundWheels = roundWheels.value_or(true);
   try {
     auto robot = std::make_shared<build::UrdfRobot>(build::makeUrdfRobot(spec));
     for (const build::UrdfWarning& w : robot->warnings)
