@@ -131,9 +131,13 @@ TEST(UrdfHusky, StandsOnTheWheelsTrueRadius) {
   if (!haveRobots()) GTEST_SKIP() << "no " << kRobots;
   Husky husky(kScenes + "husky_drive.json");
   ASSERT_TRUE(husky.world);
-  // Wheels off: no control, the robot settles for 0.5 s.
+  // Wheels off: no control, the robot settles for 0.5 s; the energy account holds
+  // (kinetic + potential + dissipated − external constant, MODEL §2.4).
   husky.tasks = nullptr;
+  const double total0 = husky.world->energy().total();
   husky.run(0.5);
+  const EnergyTally energy = husky.world->energy();
+  EXPECT_LT(std::abs(energy.total() - total0), 1e-5 * std::abs(total0));
   int rimContacts = 0;
   double load = 0.0, deepest = 0.0;
   for (const Contact& c : husky.world->contacts()) {
@@ -152,8 +156,10 @@ TEST(UrdfHusky, StandsOnTheWheelsTrueRadius) {
     const double height = husky.body(std::string("husky.") + wheel + "_link").z;
     EXPECT_NEAR(height, kWheelRadius, 2.5e-4) << wheel;
   }
-  std::printf("[husky] standing: %d rim contacts carry %.2f N (m g = %.2f N), deepest %.3g m\n",
-              rimContacts, load, mass * 9.81, deepest);
+  std::printf(
+      "[husky] standing: %d rim contacts carry %.2f N (m g = %.2f N), deepest %.3g m; energy "
+      "total %.6f J -> %.6f J (dissipated %.3g J)\n",
+      rimContacts, load, mass * 9.81, deepest, total0, energy.total(), energy.dissipated);
 }
 
 // The must-show: 2 m straight at a commanded wheel speed by traction alone,
@@ -171,6 +177,7 @@ TEST_P(UrdfHuskyDrive, TwoMetresStraightAtOmegaR) {
   const Vec3 start = husky.chassis();
   const double heading0 = husky.heading();
   const double t0 = husky.world->state().time;
+  const EnergyTally energy0 = husky.world->energy();
   double turned = 0.0;
   // 2 m at ω R = 0.711 m/s: 2.81 s.
   const double seconds = 2.0 / (omega * kWheelRadius);
@@ -186,6 +193,13 @@ TEST_P(UrdfHuskyDrive, TwoMetresStraightAtOmegaR) {
       "(R x turn %.4f m, ratio %.4f); heading change %.3f deg, lateral %.4f m\n",
       distance, t, expected, distance / expected, turned, kWheelRadius * turned,
       distance / (kWheelRadius * turned), headingError, lateral);
+  // The motors' work is booked as external work (MODEL §1.6): the account holds.
+  const EnergyTally energy = husky.world->energy();
+  const double drift = std::abs(energy.total() - energy0.total());
+  const double scale = std::abs(energy0.total()) + std::abs(energy.external - energy0.external);
+  std::printf("[husky] drive energy: motors' work %.4f J, drift %.3g J (%.2g of %.4f J)\n",
+              energy.external - energy0.external, drift, drift / scale, scale);
+  EXPECT_LT(drift, 1e-4 * scale);
   EXPECT_GT(distance, 1.95);
   EXPECT_NEAR(distance / expected, 1.0, 0.02);
   EXPECT_LT(headingError, 2.0);
