@@ -132,14 +132,27 @@ struct Material {
 /// - A ball (sphereRadius > 0, hub kNoParticle): the particles of a ball's
 ///   lattice; the surface is the sphere of radius sphereRadius (m) about their
 ///   mass centre.
+/// - A cylinder wheel (sphereRadius > 0, axisParticle set: an imported robot's
+///   wheel, docs/contact.md "Round wheels"): the particles of the wheel's body;
+///   the surface is the cylinder of radius sphereRadius and half length
+///   halfLength about the axis from particle `hub` to particle `axisParticle`
+///   (both of the body), centred axialOffset (m) from the hub along it. It
+///   meets the environment at its two edge circles.
+/// Both a ball and a cylinder are rigid about their particles' mass centre with
+/// a fixed radius (isSphere(): the contact stage's rigid round body).
 struct RimRing {
   ParticleIndex first = 0;
   std::int32_t count = 0;
   ParticleIndex hub = kNoParticle;
-  /// A ball's outer radius (m), > 0; 0 for a wheel's ring.
+  /// A ball's or a cylinder's outer radius (m), > 0; 0 for a wheel's ring.
   double sphereRadius = 0.0;
+  /// A cylinder's axis particle (with `hub`), its half length (m, >= 0) and its
+  /// centre's offset from the hub along the axis (m); kNoParticle: not a cylinder.
+  ParticleIndex axisParticle = kNoParticle;
+  double halfLength = 0.0, axialOffset = 0.0;
 
   bool isSphere() const { return sphereRadius > 0.0; }
+  bool isCylinder() const { return axisParticle != kNoParticle; }
 };
 
 /// The kind of a named joint.

@@ -51,6 +51,7 @@ py::dict robotDict(const build::UrdfRobot& robot) {
     d["declared"] = massDict(l.declared);
     d["achieved"] = massDict(l.achieved);
     d["notional"] = l.notional;
+    d["round_wheel"] = l.roundWheel;
     d["notes"] = l.notes;
     links.append(d);
   }
@@ -175,7 +176,12 @@ void bindUrdf(py::module_& m) {
           "hold_joints", [](const PyUrdfSpec& s) { return s.spec.holdJoints; },
           [](PyUrdfSpec& s, bool v) { s.spec.holdJoints = v; },
           "Moving joints held where built by servos as stiff as their links (a bare "
-          "`robophi run`); False: passive joints for actuators to drive");
+          "`robophi run`); False: passive joints for actuators to drive")
+      .def_property(
+          "round_wheels", [](const PyUrdfSpec& s) { return s.spec.roundWheels; },
+          [](PyUrdfSpec& s, bool v) { s.spec.roundWheels = v; },
+          "A cylinder coaxial with its revolute or continuous joint touches the environment as "
+          "that cylinder (docs/contact.md \"Round wheels\"); False: as its particles");
 
   auto builder = py::reinterpret_borrow<py::class_<build::ModelBuilder>>(m.attr("ModelBuilder"));
   builder.def(

@@ -95,7 +95,7 @@ def test_urdf_builder_spec(robots):
         b.add_plane()
         spec = robophi.Urdf(file=robots / "pr2_gripper" / "pr2_gripper.urdf", name="grip",
                             position=position, particles_per_link=12)
-        assert spec.fixed_base and not spec.hold_joints  # build::UrdfSpec's defaults
+        assert spec.fixed_base and not spec.hold_joints and spec.round_wheels  # UrdfSpec's
         placed = b.add_urdf(spec)
         return placed, b.build()
 

@@ -315,6 +315,7 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
   for (RimRing rim : g.rims) {
     rim.first += offset;
     if (rim.hub != kNoParticle) rim.hub += offset;
+    if (rim.axisParticle != kNoParticle) rim.axisParticle += offset;
     model_.rims.push_back(rim);
   }
   // Robots: joint springs and named joints "<object>.<joint>" (docs/robotics.md).

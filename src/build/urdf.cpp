@@ -257,6 +257,48 @@ std::pair<double, double> linkInertia(const Body& body, const Vec3& n, const Vec
   return {1.0 / largestK, 1.0 / largestTurn};
 }
 
+// docs/contact.md "Round wheels": a link whose one <collision> is a cylinder coaxial
+// with the revolute or continuous joint that carries it meets the environment as
+// that cylinder (RimRing::isCylinder), so that it rolls on its true radius, not as
+// a polygon of particle bumps. `hub` and `axisPoint` are the joint's axis
+// particles c and d = c + w n̂ (body-local), `local` maps body-local indices to the
+// link object's; the ring covers the link object's particles (not its carriers).
+void addRoundWheel(const Body& body, const UJoint& joint, int hub, int axisPoint,
+                   const std::vector<UrdfParticle>& local, int object, ObjectPlacement& placement,
+                   UrdfLink& out) {
+  if (joint.type != UJoint::Type::kRevolute && joint.type != UJoint::Type::kContinuous) return;
+  if (body.spec.shapes.size() != 1 || body.spec.shapes[0].kind != ShapeSpec::Kind::kCylinder)
+    return;
+  const auto at = [&](int i) { return local[static_cast<std::size_t>(i)]; };
+  if (at(hub).object != object || at(axisPoint).object != object) return;
+  const ShapeSpec& cylinder = body.spec.shapes[0];
+  const Vec3 c = body.world[static_cast<std::size_t>(hub)];
+  const Vec3 n = (body.world[static_cast<std::size_t>(axisPoint)] - c) /
+                 norm(body.world[static_cast<std::size_t>(axisPoint)] - c);
+  const Vec3 center = body.frame.apply(cylinder.frame.origin);
+  const Vec3 cylinderAxis = body.frame.rotate(cylinder.frame.rotate({0.0, 0.0, 1.0}));
+  // Coaxial: the axes parallel within 1e-3 rad, the cylinder's centre on the joint's line
+  // within 1e-3 of its radius (an eccentric cylinder is a cam, not a wheel).
+  if (norm(cross(cylinderAxis, n)) > 1e-3 || norm(cross(center - c, n)) > 1e-3 * cylinder.radius) {
+    out.notes.push_back("not a round wheel: its cylinder is not coaxial with joint '" + joint.name +
+                        "' (it touches as its particles)");
+    return;
+  }
+  RimRing wheel;
+  wheel.first = 0;
+  wheel.count = static_cast<std::int32_t>(placement.geometry.size());
+  wheel.hub = at(hub).local;
+  wheel.axisParticle = at(axisPoint).local;
+  wheel.sphereRadius = cylinder.radius;
+  wheel.halfLength = 0.5 * cylinder.length;
+  wheel.axialOffset = dot(center - c, n);
+  placement.geometry.rims.push_back(wheel);
+  out.roundWheel = true;
+  out.notes.push_back("round wheel: meets the environment as its cylinder (radius " +
+                      check::number(cylinder.radius) + " m, length " +
+                      check::number(cylinder.length) + " m) about joint '" + joint.name + "'");
+}
+
 }  // namespace
 
 UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
@@ -718,6 +760,12 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     }
     placement.geometry.spacing = g.spacing;
     placement.geometry.rigid = true;
+    for (const Plan& plan : plans)
+      if (spec.roundWheels && plan.child == static_cast<int>(b) && plan.childPoints.size() >= 2)
+        addRoundWheel(body, d.joints[static_cast<std::size_t>(plan.joint)],
+                      body.built.required[static_cast<std::size_t>(plan.childPoints[0])],
+                      body.built.required[static_cast<std::size_t>(plan.childPoints[1])],
+                      renumber[b], static_cast<int>(b), placement, out);
     robot.objects.push_back(std::move(placement));
     if (!carriers.geometry.position.empty()) {
       out.carrierObject = carrierObject;

@@ -27,6 +27,7 @@ int append(GeneratedObject& o, const GeneratedObject& part) {
   for (RimRing rim : part.rims) {
     rim.first += offset;
     if (rim.hub != kNoParticle) rim.hub += offset;
+    if (rim.axisParticle != kNoParticle) rim.axisParticle += offset;
     o.rims.push_back(rim);
   }
   return offset;

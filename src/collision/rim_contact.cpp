@@ -3,6 +3,8 @@
 // item's inward normal projected on the ring plane: exact for a plane, a few
 // iterations for a curved or stepped surface), then the torus of the particles'
 // radius around it (MODEL §3.1 depth d = distance - r).
+// Cylinder wheels (an imported robot's): the two edge circles of the cylinder
+// about the axis its hub and axis particles give, each as a ring of tube 0.
 // Round balls: the sphere of the ball's radius R about its particles' mass
 // centre, d = distance(item, centre) - R, the contact point -n (R + d) from it.
 // On a heightfield the distance is to the tangent plane at the contact point
@@ -61,6 +63,66 @@ Vec3 circlePointAgainst(const Ring& ring, const Vec3& normal) {
   // A ring lying flat on the surface touches it all round: take its first particle's side.
   d = length > 1e-12 ? d / -length : ring.start;
   return ring.center + d * ring.radius;
+}
+
+// The point of `ring`'s circle closest to item e, by the fixed point above, with
+// its signed distance and the item's normal there; false if the item does not
+// cover it.
+bool closestOnCircle(const Environment& environment, std::int32_t e, const Ring& ring, Vec3& point,
+                     double& distance, Vec3& normal) {
+  if (!environmentDistance(environment, e, ring.center, distance, normal)) return false;
+  point = circlePointAgainst(ring, normal);
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    if (!environmentDistance(environment, e, point, distance, normal)) return false;
+    point = circlePointAgainst(ring, normal);
+  }
+  return environmentDistance(environment, e, point, distance, normal);
+}
+
+// A cylinder wheel's two edge circles against every environment item (MODEL §3.1
+// with r = 0 on each circle): two contacts, named by the body's first two free
+// particles, so that a wheel on flat ground carries its load at both edges and a
+// tilted one the more at the lower (the line contact's moment).
+void cylinderVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
+                               std::int32_t r, ContactScratch& cache) {
+  const Environment& environment = model.environment;
+  const RimRing& wheel = model.rims[static_cast<std::size_t>(r)];
+  std::int32_t names[2] = {-1, -1};
+  for (std::int32_t k = 0, found = 0; k < wheel.count && found < 2; ++k)
+    if (model.inverseMass[wheel.first + k] != 0.0) names[found++] = wheel.first + k;
+  if (names[1] < 0) return;  // a wheel of fewer than two free particles does not roll
+  const Vec3 hub = position[wheel.hub];
+  const Vec3 along = position[wheel.axisParticle] - hub;
+  const double length = norm(along);
+  if (!(length > 0.0)) return;
+  Ring ring;
+  ring.axis = along / length;
+  ring.radius = wheel.sphereRadius;
+  const Vec3 middle = hub + ring.axis * wheel.axialOffset;
+  const Vec3 first = position[wheel.first] - middle;
+  const Vec3 inPlane = first - ring.axis * dot(first, ring.axis);
+  ring.start = norm(inPlane) > 0.0 ? inPlane / norm(inPlane) : Vec3{1.0, 0.0, 0.0};
+  const Vec3 center = massCenter(model, wheel, position);  // the contact stage's centre
+  const double reach = std::hypot(wheel.sphereRadius, wheel.halfLength);
+  for (std::int32_t e = 0; e < environment.itemCount(); ++e) {
+    if (environmentFarFrom(environment, e, middle, reach, cache.tables->environmentTops[e]))
+      continue;
+    ++cache.stats.environmentTests;
+    for (int side = 0; side < 2; ++side) {
+      ring.center = middle + ring.axis * (side == 0 ? -wheel.halfLength : wheel.halfLength);
+      Vec3 point, normal;
+      double depth = 0.0;
+      if (!closestOnCircle(environment, e, ring, point, depth, normal) || depth >= 0.0) continue;
+      Contact c;  // carried by the whole body as a rigid round body (a ball's path)
+      c.a = names[side];
+      c.other = -1 - e;
+      c.depth = depth;
+      c.normal = normal;
+      c.rim = r;
+      c.arm = point - normal * depth - center;  // the contact point on the item's surface
+      cache.treeContacts.push_back(c);
+    }
+  }
 }
 
 // A ball's sphere against every environment item (MODEL §3.1 with r = R).
@@ -124,6 +186,10 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       free = model.inverseMass[rim.first + k] != 0.0;
     }
     if (!free) continue;
+    if (rim.isCylinder()) {
+      cylinderVersusEnvironment(model, position, static_cast<std::int32_t>(r), cache);
+      continue;
+    }
     if (rim.isSphere()) {
       ballVersusEnvironment(model, position, static_cast<std::int32_t>(r), cache);
       continue;
@@ -136,15 +202,8 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       }
       ++cache.stats.environmentTests;
       double distance = 0.0;
-      Vec3 normal;
-      if (!environmentDistance(environment, e, ring.center, distance, normal)) continue;
-      Vec3 point = circlePointAgainst(ring, normal);
-      bool reaches = true;
-      for (int iteration = 0; iteration < 3 && reaches; ++iteration) {
-        reaches = environmentDistance(environment, e, point, distance, normal);
-        if (reaches) point = circlePointAgainst(ring, normal);
-      }
-      if (!reaches || !environmentDistance(environment, e, point, distance, normal)) continue;
+      Vec3 point, normal;
+      if (!closestOnCircle(environment, e, ring, point, distance, normal)) continue;
       const double depth = distance - tube;
       if (depth >= 0.0) continue;
       // The whole ring carries it (contact_force.cpp); its first particle

@@ -148,6 +148,23 @@ std::string checkModel(const Model& model) {
   }
   for (std::size_t k = 0; k < model.rims.size(); ++k) {
     const RimRing& rim = model.rims[k];
+    if (rim.isCylinder()) {  // an imported robot's wheel (NaN radii fail here)
+      const auto inRing = [&](ParticleIndex i) {
+        return i >= rim.first && i < rim.first + rim.count;
+      };
+      if (!(rim.sphereRadius > 0.0 && std::isfinite(rim.sphereRadius)) ||
+          !(rim.halfLength >= 0.0 && std::isfinite(rim.halfLength)) ||
+          !std::isfinite(rim.axialOffset) || rim.count < 2 || rim.first < 0 ||
+          rim.first + rim.count > n || !inRing(rim.hub) || !inRing(rim.axisParticle) ||
+          rim.hub == rim.axisParticle)
+        return detail::text(
+            "rim {} (a cylinder): particles [{}, {}) with radius {} m, half length {} m, offset "
+            "{} m about the axis {} -> {} are not >= 2 particles of the {} holding two distinct "
+            "axis particles, with a finite radius > 0 and half length >= 0",
+            k, rim.first, rim.first + rim.count, rim.sphereRadius, rim.halfLength, rim.axialOffset,
+            rim.hub, rim.axisParticle, n);
+      continue;
+    }
     if (rim.sphereRadius != 0.0) {  // a ball (NaN and negative radii fail here)
       if (!(rim.sphereRadius > 0.0 && std::isfinite(rim.sphereRadius)) || rim.count < 2 ||
           rim.first < 0 || rim.first + rim.count > n)

@@ -94,6 +94,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto omega = reader.number("naturalFrequency", Bound::kPositive, "rad/s");
   const auto self = reader.boolean("selfCollision");
   const auto hold = reader.boolean("holdJoints");
+  const auto roundWheels = reader.boolean("roundWheels");
   if (const nlohmann::json* initial = reader.member("initialPositions")) {
     if (!initial->is_object()) {
       sink.error(reader.memberPointer("initialPositions"),
@@ -125,6 +126,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   spec.naturalFrequency = omega.value_or(spec.naturalFrequency);
   spec.selfCollision = self.value_or(false);
   spec.holdJoints = hold.value_or(false);
+  spec.roundWheels = roundWheels.value_or(true);
   try {
     auto robot = std::make_shared<build::UrdfRobot>(build::makeUrdfRobot(spec));
     for (const build::UrdfWarning& w : robot->warnings)
@@ -185,6 +187,18 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   for (const build::ObjectPlacement& object : robot.objects)
     for (std::size_t i = 0; i < object.geometry.size() && object.kind == "link"; ++i)
       lowest = std::min(lowest, object.geometry.position[i].z - object.geometry.radius[i]);
+  // A round wheel's lowest point is its cylinder's (docs/contact.md "Round wheels").
+  for (const build::ObjectPlacement& object : robot.objects)
+    for (const RimRing& rim : object.geometry.rims) {
+      if (!rim.isCylinder()) continue;
+      const Vec3 hub = object.geometry.position[static_cast<std::size_t>(rim.hub)];
+      const Vec3 along = object.geometry.position[static_cast<std::size_t>(rim.axisParticle)] - hub;
+      const Vec3 axis = along / norm(along);
+      const Vec3 center = hub + axis * rim.axialOffset;
+      const double across = std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
+      lowest = std::min(lowest,
+                        center.z - rim.sphereRadius * across - rim.halfLength * std::abs(axis.z));
+    }
   build::translateUrdfRobot(robot, {0.0, 0.0, -lowest});
   for (const build::UrdfWarning& w : robot.warnings)
     result.warnings.push_back(

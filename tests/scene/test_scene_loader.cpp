@@ -381,7 +381,10 @@ TEST(SceneFiles, EverySceneInScenesLoadsWithoutError) {
     ++count;
     const SceneLoadResult result = loadSceneFile(entry.path().string());
     EXPECT_TRUE(result.ok()) << entry.path() << ":\n" << test::allErrors(result);
-    for (const auto& w : result.warnings) ADD_FAILURE() << w.format("warning");
+    // A URDF's elements robophi does not model are warnings at its entry's "file"
+    // (docs/robots.md): the shared robots are used as published.
+    for (const auto& w : result.warnings)
+      if (!w.pointer.ends_with("/file")) ADD_FAILURE() << w.format("warning");
     if (!result.ok()) continue;
     const Scene& scene = *result.scene;
     EXPECT_GT(scene.model.particleCount(), 0) << entry.path();

@@ -75,12 +75,22 @@ TEST_P(UrdfRobots, InfoMatchesTheUrdfPerLink) {
     ASSERT_TRUE(index.has_value()) << j.modelJoint;
     EXPECT_NEAR(jointPosition(scene.model, scene.initial, *index), 0.0, 1e-9) << j.name;
   }
-  // On the ground: the lowest particle rests on z = 0.
+  // On the ground: the lowest particle, or a round wheel's cylinder (docs/contact.md
+  // "Round wheels"), rests on z = 0.
   double lowest = 1e9;
   for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i)
     if (scene.model.objects[static_cast<std::size_t>(scene.model.objectOf[i])].kind == "link")
       lowest = std::min(
           lowest, scene.initial.position[static_cast<std::size_t>(i)].z - scene.model.radius[i]);
+  for (const RimRing& rim : scene.model.rims) {
+    if (!rim.isCylinder()) continue;
+    const Vec3 hub = scene.initial.position[static_cast<std::size_t>(rim.hub)];
+    const Vec3 n = scene.initial.position[static_cast<std::size_t>(rim.axisParticle)] - hub;
+    const double nz = n.z / norm(n);
+    lowest = std::min(lowest, hub.z + nz * rim.axialOffset -
+                                  rim.sphereRadius * std::sqrt(1.0 - nz * nz) -
+                                  rim.halfLength * std::abs(nz));
+  }
   EXPECT_NEAR(lowest, 0.0, 1e-12);
 }
 

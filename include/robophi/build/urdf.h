@@ -63,6 +63,10 @@ struct UrdfSpec {
   /// a prismatic joint), critically damped. On the iiwa, 0.36 naturalFrequency ran
   /// stable and 0.44 did not (explicit steps at the lattice's bound).
   double servoFrequency = 0.0;
+  /// Round wheels (docs/contact.md "Round wheels"): a link whose one <collision> is a
+  /// cylinder coaxial with its revolute or continuous joint meets the environment as
+  /// that cylinder (its true radius), not as its lattice's spheres; false: as a lattice.
+  bool roundWheels = true;
 };
 
 /// A URDF joint's kind.
@@ -92,6 +96,9 @@ struct UrdfLink {
   /// The link has notional particles: a fixed base without mass of its own (e.g. the iiwa's
   /// link_0, mass 0), given `notionalMass`; its mass properties are not the URDF's.
   bool notional = false;
+  /// A round wheel (UrdfSpec::roundWheels): its object's particles meet the environment
+  /// as its cylinder (robophi::RimRing::isCylinder).
+  bool roundWheel = false;
   /// What makeRigidBody had to do (carriers added, no collision geometry...).
   std::vector<std::string> notes{};
 };
