@@ -1021,59 +1021,88 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     for (const Contact& c : previous) tally.releasedEnergy += c.anchorEnergy;
   }
 
-  // The gather: each particle adds its contacts' loads (as a, then as other, in
-  // contact order) and takes its stability limit, by Gershgorin as for the
-  // connectors (estimateStability): ω² <= 2 Σk / m, 2ζω <= 2 Σc / m,
-  // δ < 2/ω (√(1+ζ²) - ζ). The sums are zeroed again.
-  indexLoads(particles, cache);
-  const std::int64_t gatherChunks =
-      (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) / detail::kParallelChunk;
-  cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
-                          std::numeric_limits<double>::infinity());
-  detail::parallelFor(
-      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1,
-      static_cast<std::int64_t>(particles), [&](std::int64_t begin, std::int64_t end) {
-        double step = std::numeric_limits<double>::infinity();
-        const ContactLoad* loads = cache.loads.data();
-        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
-          Vec3 force, moment;
-          double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
-          bool loaded = false;
-          for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
-            const ContactLoad& load = loads[index];
-            if (load.deferred) continue;
-            force += load.force;
-            moment += load.torqueA;
-            stiffness += load.stiffness;
-            damping += load.damping;
-            loaded = true;
-          }
-          for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
-            const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
-            force -= load.force;
-            moment += load.torqueB;
-            stiffness += load.stiffness;
-            damping += load.damping;
-            loaded = true;
-          }
-          if (loaded) {
-            f[i] += force;
-            torque[i] += moment;
-          }
-          if (cache.contactStiffnessSum[i] != 0.0 || cache.contactDampingSum[i] != 0.0) {
+  // The loads of the pair contacts: each particle adds them (the contacts where
+  // it is the other side, then those where it is a, in contact order) and takes
+  // its stability limit, by Gershgorin as for the connectors (estimateStability):
+  // ω² <= 2 Σk / m, 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). The sums are zeroed
+  // again. On threads, a gather by particle; on one, the scatter in contact order,
+  // which adds the same terms in the same order (a pair contact has a < other, so
+  // a particle's other-side contacts come before its own).
+  double criticalStep = std::numeric_limits<double>::infinity();
+  const auto limitOf = [&](std::size_t i, double stiffness, double damping) {
+    const double omega = std::sqrt(2.0 * stiffness * model.inverseMass[i]);
+    const double dampingRate = 2.0 * damping * model.inverseMass[i];
+    return dampedCriticalStep(omega, dampingRate);
+  };
+  const int stageThreads =
+      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
+  if (stageThreads <= 1) {
+    for (std::size_t index = 0; index < count; ++index) {
+      const ContactLoad& load = cache.loads[index];
+      if (load.deferred) continue;
+      const auto a = static_cast<std::size_t>(load.a);
+      if (load.other >= 0) {
+        const auto b = static_cast<std::size_t>(load.other);
+        f[b] -= load.force;
+        torque[b] += load.torqueB;
+        cache.contactStiffnessSum[b] += load.stiffness;
+        cache.contactDampingSum[b] += load.damping;
+      }
+      f[a] += load.force;
+      torque[a] += load.torqueA;
+      cache.contactStiffnessSum[a] += load.stiffness;
+      cache.contactDampingSum[a] += load.damping;
+    }
+    for (std::size_t i = 0; i < particles; ++i) {
+      const double stiffness = cache.contactStiffnessSum[i];
+      const double damping = cache.contactDampingSum[i];
+      if (stiffness == 0.0 && damping == 0.0) continue;
+      cache.contactStiffnessSum[i] = 0.0;
+      cache.contactDampingSum[i] = 0.0;
+      if (stiffness != 0.0) criticalStep = std::min(criticalStep, limitOf(i, stiffness, damping));
+    }
+  } else {
+    indexLoads(particles, cache);
+    const std::int64_t gatherChunks =
+        (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) /
+        detail::kParallelChunk;
+    cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
+                            std::numeric_limits<double>::infinity());
+    detail::parallelFor(
+        stageThreads, static_cast<std::int64_t>(particles),
+        [&](std::int64_t begin, std::int64_t end) {
+          double step = std::numeric_limits<double>::infinity();
+          const ContactLoad* loads = cache.loads.data();
+          for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+            Vec3 force = f[i], moment = torque[i];
+            double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
+            for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
+              const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
+              force -= load.force;
+              moment += load.torqueB;
+              stiffness += load.stiffness;
+              damping += load.damping;
+            }
+            for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
+              const ContactLoad& load = loads[index];
+              if (load.deferred) continue;
+              force += load.force;
+              moment += load.torqueA;
+              stiffness += load.stiffness;
+              damping += load.damping;
+            }
+            f[i] = force;
+            torque[i] = moment;
+            if (stiffness == 0.0 && damping == 0.0) continue;
             cache.contactStiffnessSum[i] = 0.0;
             cache.contactDampingSum[i] = 0.0;
+            if (stiffness != 0.0) step = std::min(step, limitOf(i, stiffness, damping));
           }
-          if (stiffness == 0.0) continue;
-          const double omega = std::sqrt(2.0 * stiffness * model.inverseMass[i]);
-          const double dampingRate = 2.0 * damping * model.inverseMass[i];
-          step = std::min(step, dampedCriticalStep(omega, dampingRate));
-        }
-        cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
-      });
+          cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
+        });
+    for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
+  }
   for (const std::int32_t i : turning.particles) turning.slot[static_cast<std::size_t>(i)] = -1;
-  double criticalStep = std::numeric_limits<double>::infinity();
-  for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);
