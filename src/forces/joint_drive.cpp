@@ -113,30 +113,33 @@ namespace {
 struct BodyJoint {
   bool valid = false;
   Vec3 axis{}, point{};
-  RigidMotion child, parent;
+  const RigidMotion* child = nullptr;
+  const RigidMotion* parent = nullptr;
   const std::vector<ParticleIndex>* childParticles = nullptr;
   const std::vector<ParticleIndex>* parentParticles = nullptr;
   double rate = 0.0;  // rad/s or m/s
 };
 
-BodyJoint bodyJoint(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
-                    const std::vector<Vec3>& velocity) {
+// The joint's bodies taken from `motion` (every body's rigid motion: bodyMotions).
+BodyJoint bodyJoint(const Model& model, const Joint& joint,
+                    const std::vector<RigidMotion>& motion) {
   BodyJoint out;
   const BodyLink& link = model.bodyLinks[static_cast<std::size_t>(joint.bodyLink)];
-  const RigidGroup& child = model.bodies[static_cast<std::size_t>(link.child)];
-  const RigidGroup& parent = model.bodies[static_cast<std::size_t>(link.parent)];
-  out.child = rigidMotion(model, child.particles, &child.rest, position, velocity);
-  out.parent = rigidMotion(model, parent.particles, &parent.rest, position, velocity);
-  if (!out.child.valid || !out.parent.valid) return out;
-  out.childParticles = &child.particles;
-  out.parentParticles = &parent.particles;
-  const BodyLinkFrame f = bodyLinkFrame(link, out.child, out.parent);
+  const auto childIndex = static_cast<std::size_t>(link.child);
+  const auto parentIndex = static_cast<std::size_t>(link.parent);
+  if (childIndex >= motion.size() || parentIndex >= motion.size()) return out;
+  out.child = &motion[childIndex];
+  out.parent = &motion[parentIndex];
+  if (!out.child->valid || !out.parent->valid) return out;
+  out.childParticles = &model.bodies[childIndex].particles;
+  out.parentParticles = &model.bodies[parentIndex].particles;
+  const BodyLinkFrame f = bodyLinkFrame(link, *out.child, *out.parent);
   out.axis = f.parentAxis;
   out.point = f.childPoint;
   out.rate =
       joint.kind == JointKind::kRevolute
-          ? dot(out.axis, out.child.spin - out.parent.spin)
-          : dot(out.axis, out.child.velocityAt(out.point) - out.parent.velocityAt(out.point));
+          ? dot(out.axis, out.child->spin - out.parent->spin)
+          : dot(out.axis, out.child->velocityAt(out.point) - out.parent->velocityAt(out.point));
   out.valid = true;
   return out;
 }
@@ -147,8 +150,8 @@ void applyBodyEffort(const Model& model, const Joint& joint, const BodyJoint& b,
   const bool revolute = joint.kind == JointKind::kRevolute;
   const Vec3 f = revolute ? Vec3{} : b.axis * q;
   const Vec3 t = revolute ? b.axis * q : Vec3{};
-  applyWrench(model, *b.childParticles, b.child, position, f, t, b.point, force);
-  applyWrench(model, *b.parentParticles, b.parent, position, f * -1.0, t * -1.0, b.point, force);
+  applyWrench(model, *b.childParticles, *b.child, position, f, t, b.point, force);
+  applyWrench(model, *b.parentParticles, *b.parent, position, f * -1.0, t * -1.0, b.point, force);
 }
 
 // The body servo's position error (rad, wrapped; or m) at the state's positions.
@@ -194,12 +197,20 @@ bool hasBodyServo(const Joint& joint) {
 double bodyServoEffort(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
                        const std::vector<Vec3>& velocity) {
   if (!joint.actsThroughBodies() || !hasBodyServo(joint)) return 0.0;
-  const BodyJoint b = bodyJoint(model, joint, position, velocity);
+  const BodyLink& link = model.bodyLinks[static_cast<std::size_t>(joint.bodyLink)];
+  std::vector<RigidMotion> motion(model.bodies.size());
+  for (const std::int32_t body : {link.child, link.parent}) {
+    const RigidGroup& group = model.bodies[static_cast<std::size_t>(body)];
+    motion[static_cast<std::size_t>(body)] =
+        rigidMotion(model, group.particles, &group.rest, position, velocity);
+  }
+  const BodyJoint b = bodyJoint(model, joint, motion);
   if (!b.valid) return 0.0;
   return -joint.servoStiffness * servoError(model, joint, position) - joint.servoDamping * b.rate;
 }
 
-ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& position,
+ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMotion>& motion,
+                                 const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                  std::vector<double>& motor, std::vector<double>& loss) {
   ForceTally tally;
@@ -212,7 +223,7 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& po
       const bool servo = hasBodyServo(joint);
       const bool compensate = joint.compensateGravity && !joint.subtreeBodies.empty();
       if (!servo && !compensate && !hasDrive(joint.drive)) continue;
-      const BodyJoint b = bodyJoint(model, joint, position, velocity);
+      const BodyJoint b = bodyJoint(model, joint, motion);
       if (!b.valid) continue;
       double q = 0.0;
       if (hasDrive(joint.drive)) {
@@ -249,15 +260,16 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& po
   return tally;
 }
 
-double jointMotorPower(const Model& model, const std::vector<Vec3>& position,
-                       const std::vector<Vec3>& velocity, const std::vector<double>& motor) {
+double jointMotorPower(const Model& model, const std::vector<RigidMotion>& motion,
+                       const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                       const std::vector<double>& motor) {
   double power = 0.0;
   const std::size_t count = std::min(model.joints.size(), motor.size());
   for (std::size_t k = 0; k < count; ++k) {
     if (motor[k] == 0.0) continue;
     const Joint& joint = model.joints[k];
     if (joint.actsThroughBodies()) {
-      const BodyJoint b = bodyJoint(model, joint, position, velocity);
+      const BodyJoint b = bodyJoint(model, joint, motion);
       if (b.valid) power += motor[k] * b.rate;
       continue;
     }

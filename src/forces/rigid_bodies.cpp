@@ -87,21 +87,35 @@ Vec3 RigidMotion::velocityAt(const Vec3& point) const {
   return velocity + cross(spin, point - center);
 }
 
+namespace {
+
+// The centre's velocity v̄ = Σ m_i v_i / M and the spin ω = I⁻¹ Σ m_i (p_i − p̄) × (v_i − v̄)
+// of a motion whose mass, centre and inverse inertia are set.
+void measureVelocity(const Model& model, const std::vector<ParticleIndex>& particles,
+                     const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                     RigidMotion& m) {
+  Vec3 momentum{}, angular{};
+  for (ParticleIndex i : particles) momentum += velocity[i] * model.mass[i];
+  m.velocity = momentum / m.mass;
+  for (ParticleIndex i : particles)
+    angular += cross(position[i] - m.center, velocity[i] - m.velocity) * model.mass[i];
+  m.spin = m.solve(angular);
+}
+
+}  // namespace
+
 RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& particles,
                         const std::vector<Vec3>* rest, const std::vector<Vec3>& position,
                         const std::vector<Vec3>& velocity) {
   RigidMotion m;
-  Vec3 moment{}, momentum{};
+  Vec3 moment{};
   for (ParticleIndex i : particles) {
     m.mass += model.mass[i];
     moment += position[i] * model.mass[i];
-    momentum += velocity[i] * model.mass[i];
   }
   if (!(m.mass > 0.0)) return m;
   m.center = moment / m.mass;
-  m.velocity = momentum / m.mass;
   Mat3 inertia{}, a{};
-  Vec3 angular{};
   for (std::size_t k = 0; k < particles.size(); ++k) {
     const ParticleIndex i = particles[k];
     const double w = model.mass[i];
@@ -110,7 +124,6 @@ RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& pa
     const double c[3] = {s.x, s.y, s.z};
     for (int r = 0; r < 3; ++r)
       for (int q = 0; q < 3; ++q) inertia[r][q] += w * ((r == q ? ss : 0.0) - c[r] * c[q]);
-    angular += cross(s, velocity[i] - m.velocity) * w;
     if (rest != nullptr) {
       const Vec3& x = (*rest)[k];
       const double e[3] = {x.x, x.y, x.z};
@@ -131,7 +144,7 @@ RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& pa
       const int r1 = (q + 1) % 3, r2 = (q + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
       m.inverseInertia[r][q] = (t[r1][c1] * t[r2][c2] - t[r1][c2] * t[r2][c1]) / det;
     }
-  m.spin = m.solve(angular);
+  measureVelocity(model, particles, position, velocity, m);
   if (rest != nullptr) m.rotation = rotationOf(a);
   m.valid = true;
   return m;
@@ -146,13 +159,19 @@ void applyWrench(const Model& model, const std::vector<ParticleIndex>& particles
     force[i] += (a + cross(alpha, position[i] - m.center)) * model.mass[i];
 }
 
-std::vector<RigidMotion> bodyMotions(const Model& model, const std::vector<Vec3>& position,
-                                     const std::vector<Vec3>& velocity) {
-  std::vector<RigidMotion> out;
+void bodyMotions(const Model& model, const std::vector<Vec3>& position,
+                 const std::vector<Vec3>& velocity, std::vector<RigidMotion>& out) {
+  out.clear();
   out.reserve(model.bodies.size());
   for (const RigidGroup& body : model.bodies)
     out.push_back(rigidMotion(model, body.particles, &body.rest, position, velocity));
-  return out;
+}
+
+void updateBodyVelocities(const Model& model, const std::vector<Vec3>& position,
+                          const std::vector<Vec3>& velocity, std::vector<RigidMotion>& motion) {
+  for (std::size_t b = 0; b < std::min(motion.size(), model.bodies.size()); ++b)
+    if (motion[b].valid)
+      measureVelocity(model, model.bodies[b].particles, position, velocity, motion[b]);
 }
 
 BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
@@ -167,11 +186,11 @@ BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
   return f;
 }
 
-ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& position,
+ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
+                                 const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
   ForceTally tally;
   if (model.bodies.empty()) return tally;
-  const std::vector<RigidMotion> motion = bodyMotions(model, position, velocity);
   // Shape matching: f_i = m_i ω² (p̄ + R r_i − p_i) − 2ζω m_i (v_i − v_rigid(p_i)).
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const RigidGroup& body = model.bodies[b];
