@@ -71,7 +71,8 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
   std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
   bodyMotions(model, position, velocity, motion);
-  const ForceTally bodies = accumulateRigidBodies(model, motion, position, velocity, out.force);
+  const ForceTally bodies = accumulateRigidBodies(model, motion, position, velocity, out.force,
+                                                  workspace.forceScratch().linkPreload);
   const ForceTally drives = accumulateJointDrives(model, motion, position, velocity, out.force,
                                                   out.jointMotorEffort, out.jointLossEffort);
   e.gravity = gravity.potential;
@@ -97,6 +98,11 @@ void measureKinetic(const CompiledModel& model, const State& state, Workspace& w
     updateBodyVelocities(model.model(), state.position, state.velocity, motion);
   measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia,
                            workspace.threadCount(), motion, state, out);
+  // MODEL §1.7: the body links' weight preloads are driving work, as the motors' are.
+  const std::vector<std::array<Vec3, 2>>& preload = workspace.forceScratch().linkPreload;
+  if (preload.size() == model.model().bodyLinks.size() && !preload.empty())
+    if (const double power = bodyLinkPreloadPower(model.model(), motion, preload); power != 0.0)
+      out.drivingPower += power;
 }
 
 const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace) {

@@ -56,6 +56,9 @@ struct ForceScratch {
   /// (bodies): every body's rigid motion at the last evaluation's positions (and, once
   /// measureKinetic has run, at its state's velocities): measured once per evaluation.
   std::vector<RigidMotion> bodyMotion;
+  /// (bodyLinks): each link's weight preload on its child at its joint point (force, N;
+  /// couple, N·m) at the last evaluation, for its driving power (bodyLinkPreloadPower).
+  std::vector<std::array<Vec3, 2>> linkPreload;
 };
 
 /// LS in two parallel passes: each spring's force on its end a into
@@ -112,9 +115,16 @@ BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
                             const RigidMotion& parent);
 /// MODEL §1.7: shape matching of every body and the body links' wrenches; their
 /// potential and the power of their dampers.
+/// Also each link's weight preload (BodyLink::weightBodies) into `preload` (resized to
+/// the links; zero where none).
 ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
                                  const std::vector<Vec3>& position,
-                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                 std::vector<std::array<Vec3, 2>>& preload);
+/// The power (W) of the body links' weight preloads `preload` at the bodies' motion:
+/// Σ F·(v_child(s_c) − v_parent(s_c)) + T·(ω_child − ω_parent).
+double bodyLinkPreloadPower(const Model& model, const std::vector<RigidMotion>& motion,
+                            const std::vector<std::array<Vec3, 2>>& preload);
 
 /// MODEL §1.7: the servo effort (N·m or N) of a joint that acts through its bodies
 /// (−κ e − β q̇, q̇ the bodies' relative rigid rate); 0 for any other joint.

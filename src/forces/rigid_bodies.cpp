@@ -186,10 +186,54 @@ BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
   return f;
 }
 
+namespace {
+
+// MODEL §1.7, the weight preload: the wrench (F, T) on the child at its joint point that
+// holds the link's weight bodies against gravity, F = −Σ M_b g, T = −Σ (p̄_b − s_c) × M_b g,
+// less its part along the link's free direction n_p (revolute: T's, prismatic: F's).
+std::array<Vec3, 2> weightPreload(const Model& model, const BodyLink& link,
+                                  const std::vector<RigidMotion>& motion, const BodyLinkFrame& f) {
+  double mass = 0.0;
+  Vec3 moment{};
+  for (std::int32_t b : link.weightBodies) {
+    const RigidMotion& m = motion[static_cast<std::size_t>(b)];
+    mass += m.mass;
+    moment += m.center * m.mass;
+  }
+  if (!(mass > 0.0)) return {Vec3{}, Vec3{}};
+  const Vec3 weight = model.gravity * mass;
+  Vec3 pull = weight * -1.0;
+  Vec3 twist = cross(moment / mass - f.childPoint, weight) * -1.0;
+  if (link.kind == BodyLinkKind::kRevolute) twist -= f.parentAxis * dot(f.parentAxis, twist);
+  if (link.kind == BodyLinkKind::kPrismatic) pull -= f.parentAxis * dot(f.parentAxis, pull);
+  return {pull, twist};
+}
+
+}  // namespace
+
+double bodyLinkPreloadPower(const Model& model, const std::vector<RigidMotion>& motion,
+                            const std::vector<std::array<Vec3, 2>>& preload) {
+  double power = 0.0;
+  const std::size_t count = std::min(model.bodyLinks.size(), preload.size());
+  for (std::size_t k = 0; k < count; ++k) {
+    const BodyLink& link = model.bodyLinks[k];
+    if (link.weightBodies.empty()) continue;
+    const RigidMotion& child = motion[static_cast<std::size_t>(link.child)];
+    const RigidMotion& parent = motion[static_cast<std::size_t>(link.parent)];
+    if (!child.valid || !parent.valid) continue;
+    const Vec3 point = child.center + child.rotate(link.pointInChild);
+    power += dot(preload[k][0], child.velocityAt(point) - parent.velocityAt(point)) +
+             dot(preload[k][1], child.spin - parent.spin);
+  }
+  return power;
+}
+
 ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
                                  const std::vector<Vec3>& position,
-                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                 std::vector<std::array<Vec3, 2>>& preload) {
   ForceTally tally;
+  preload.assign(model.bodyLinks.size(), {Vec3{}, Vec3{}});
   if (model.bodies.empty()) return tally;
   // Shape matching: f_i = m_i ω² (p̄ + R r_i − p_i) − 2ζω m_i (v_i − v_rigid(p_i)).
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
@@ -208,7 +252,8 @@ ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMoti
     }
   }
   // Body links: the penalty wrench on the child at its joint point, its reaction on the parent.
-  for (const BodyLink& link : model.bodyLinks) {
+  for (std::size_t k = 0; k < model.bodyLinks.size(); ++k) {
+    const BodyLink& link = model.bodyLinks[k];
     const RigidMotion& child = motion[static_cast<std::size_t>(link.child)];
     const RigidMotion& parent = motion[static_cast<std::size_t>(link.parent)];
     if (!child.valid || !parent.valid) continue;
@@ -230,8 +275,13 @@ ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMoti
       turnRate = spin;
       misalignment += 1.0 - dot(f.parentNormal, f.childNormal);
     }
-    const Vec3 pull = e * -link.stiffness - u * link.damping;
-    const Vec3 twist = turn * -link.angularStiffness - turnRate * link.angularDamping;
+    Vec3 pull = e * -link.stiffness - u * link.damping;
+    Vec3 twist = turn * -link.angularStiffness - turnRate * link.angularDamping;
+    if (!link.weightBodies.empty()) {
+      preload[k] = weightPreload(model, link, motion, f);
+      pull += preload[k][0];
+      twist += preload[k][1];
+    }
     applyWrench(model, model.bodies[static_cast<std::size_t>(link.child)].particles, child,
                 position, pull, twist, f.childPoint, force);
     applyWrench(model, model.bodies[static_cast<std::size_t>(link.parent)].particles, parent,
