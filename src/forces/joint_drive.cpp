@@ -117,6 +117,7 @@ struct BodyJoint {
   const RigidMotion* parent = nullptr;
   const std::vector<ParticleIndex>* childParticles = nullptr;
   const std::vector<ParticleIndex>* parentParticles = nullptr;
+  BodyLinkFrame frame{};
   double rate = 0.0;  // rad/s or m/s
 };
 
@@ -134,6 +135,7 @@ BodyJoint bodyJoint(const Model& model, const Joint& joint,
   out.childParticles = &model.bodies[childIndex].particles;
   out.parentParticles = &model.bodies[parentIndex].particles;
   const BodyLinkFrame f = bodyLinkFrame(link, *out.child, *out.parent);
+  out.frame = f;
   out.axis = f.parentAxis;
   out.point = f.childPoint;
   out.rate =
@@ -154,19 +156,25 @@ void applyBodyEffort(const Model& model, const Joint& joint, const BodyJoint& b,
   applyWrench(model, *b.parentParticles, *b.parent, position, f * -1.0, t * -1.0, b.point, force);
 }
 
-// The body servo's position error (rad, wrapped; or m) at the state's positions.
-double servoError(const Model& model, const Joint& joint, const std::vector<Vec3>& position) {
+// The body servo's position error (rad, wrapped; or m), measured on the bodies as their
+// rate is: the raw value as built (the JS's rest angle, the drive LS's rest length) plus
+// the bodies' turn about n_p since (the angle from the parent's normal to the child's) or
+// their slide along it. Not the JS's own particles: a particle that the contacts or the
+// lattice move off its body's rigid motion would feed the servo an error the bodies do
+// not have (R2D2's wheels: a rim particle pushed by the ground spun the wheel).
+double servoError(const Model& model, const Joint& joint, const BodyJoint& b) {
+  const BodyLinkFrame& f = b.frame;
   if (joint.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[static_cast<std::size_t>(joint.connector)];
-    return wrapSigned(jointAngle(position[s.a], position[s.c], position[s.b], position[s.d]) -
-                      joint.servoTarget);
+    const double turn = std::atan2(dot(f.parentAxis, cross(f.parentNormal, f.childNormal)),
+                                   dot(f.parentNormal, f.childNormal));
+    return wrapSigned(s.restAngle + turn - joint.servoTarget);
   }
-  const TorsionSpring& s = model.torsionSprings[static_cast<std::size_t>(joint.connector)];
-  const Vec3 line = position[s.b] - position[s.a];
-  const double length = norm(line);
-  const double value = length > 0.0 ? dot(position[s.c] - position[s.a], line / length)
-                                    : norm(position[s.c] - position[s.a]);
-  return value - joint.servoTarget;
+  const double built =
+      joint.driveSpring >= 0
+          ? model.linearSprings[static_cast<std::size_t>(joint.driveSpring)].restLength
+          : 0.0;
+  return built + dot(f.parentAxis, f.childPoint - f.parentPoint) - joint.servoTarget;
 }
 
 // Minus gravity's generalized force on the joint's subtree (Joint::subtreeBodies):
@@ -206,7 +214,7 @@ double bodyServoEffort(const Model& model, const Joint& joint, const std::vector
   }
   const BodyJoint b = bodyJoint(model, joint, motion);
   if (!b.valid) return 0.0;
-  return -joint.servoStiffness * servoError(model, joint, position) - joint.servoDamping * b.rate;
+  return -joint.servoStiffness * servoError(model, joint, b) - joint.servoDamping * b.rate;
 }
 
 ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMotion>& motion,
@@ -240,7 +248,7 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMoti
       }
       if (servo) {
         // MODEL §1.7: the spring's energy ½ κ e², the damper's power −β q̇².
-        const double e = servoError(model, joint, position);
+        const double e = servoError(model, joint, b);
         q += -joint.servoStiffness * e - joint.servoDamping * b.rate;
         tally.potential += 0.5 * joint.servoStiffness * e * e;
         tally.dissipativePower -= joint.servoDamping * b.rate * b.rate;
