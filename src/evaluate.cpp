@@ -63,8 +63,12 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
                               out.force, workspace.forceScratch());
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
-  const ForceTally bodies = accumulateRigidBodies(model, position, velocity, out.force);
-  const ForceTally drives = accumulateJointDrives(model, position, velocity, out.force,
+  // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
+  std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
+  bodyMotions(model, position, velocity, motion);
+  const ForceTally bodies = accumulateRigidBodies(model, motion, position, velocity, out.force,
+                                                  workspace.forceScratch().linkPreload);
+  const ForceTally drives = accumulateJointDrives(model, motion, position, velocity, out.force,
                                                   out.jointMotorEffort, out.jointLossEffort);
   e.gravity = gravity.potential;
   e.linearSpring = linear.potential;
@@ -79,9 +83,21 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
                      velocity, state.spin, state.frictionHistory, workspace.contactScratch(), out);
 }
 
-void measureKinetic(const CompiledModel& model, const State& state, int threads, Evaluation& out) {
-  measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia, threads, state,
-                           out);
+void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
+                    Evaluation& out) {
+  // The bodies' motions of evaluateForces at these positions, at the state's velocities.
+  std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
+  if (motion.size() != model.model().bodies.size())
+    bodyMotions(model.model(), state.position, state.velocity, motion);
+  else
+    updateBodyVelocities(model.model(), state.position, state.velocity, motion);
+  measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia,
+                           workspace.threadCount(), motion, state, out);
+  // MODEL §1.7: the body links' weight preloads are driving work, as the motors' are.
+  const std::vector<std::array<Vec3, 2>>& preload = workspace.forceScratch().linkPreload;
+  if (preload.size() == model.model().bodyLinks.size() && !preload.empty())
+    if (const double power = bodyLinkPreloadPower(model.model(), motion, preload); power != 0.0)
+      out.drivingPower += power;
 }
 
 const Evaluation& evaluate(const CompiledModel& model, const State& state, Workspace& workspace) {
@@ -94,7 +110,7 @@ const Evaluation& evaluate(const CompiledModel& model, const State& state, Works
   }
   Evaluation& out = workspace.result();
   evaluateForces(model, state, workspace, out);
-  measureKinetic(model, state, workspace.threadCount(), out);
+  measureKinetic(model, state, workspace, out);
   out.energy.dissipated = state.dissipated;
   out.energy.external = state.external;
   return out;

@@ -21,7 +21,10 @@ namespace robophi {
 void evaluateForces(const CompiledModel& model, const State& state, Workspace& workspace,
                     Evaluation& out);
 
-/// The kinetic energy and driving power at the state (measureKineticAndDriving).
-void measureKinetic(const CompiledModel& model, const State& state, int threads, Evaluation& out);
+/// The kinetic energy and driving power at the state (measureKineticAndDriving), whose
+/// positions are those of the last evaluateForces in `workspace` (its bodies' motions are
+/// reused, their velocities re-measured).
+void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
+                    Evaluation& out);
 
 }  // namespace robophi

@@ -47,7 +47,7 @@ void World::evaluateCurrent() const {
   State& state = current_.state_;
   Evaluation& evaluation = current_.evaluation_;
   evaluateForces(model_, state, workspace_, evaluation);
-  measureKinetic(model_, state, workspace_.threadCount(), evaluation);
+  measureKinetic(model_, state, workspace_, evaluation);
 }
 
 void World::refresh() const {
@@ -146,7 +146,7 @@ StepStatus World::step(double dt) {
 
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
-  measureKinetic(model_, state, threads, evaluation);
+  measureKinetic(model_, state, workspace_, evaluation);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;

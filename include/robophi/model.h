@@ -269,6 +269,12 @@ struct BodyLink {
   Vec3 normalInChild{1, 0, 0}, normalInParent{1, 0, 0};
   /// Position: κ (N/m) and β (N·s/m); orientation: κ_θ (N·m/rad) and β_θ (N·m·s/rad); >= 0.
   double stiffness = 0.0, damping = 0.0, angularStiffness = 0.0, angularDamping = 0.0;
+  /// Indices into Model::bodies of the bodies whose weight the link carries (the child
+  /// and every body below it), or empty. MODEL §1.7, the weight preload: the link adds
+  /// the static wrench that holds them against gravity, less its part along the free
+  /// direction (a joint's gravity compensation), so that its springs hold a static
+  /// robot with no gap; its power is booked as driving work.
+  std::vector<std::int32_t> weightBodies{};
 };
 
 /// The model: particles as flat arrays, connectors as small structs.

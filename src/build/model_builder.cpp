@@ -464,6 +464,11 @@ std::int32_t ModelBuilder::addBodyLink(BodyLinkKind kind, std::int32_t child, st
   check::nonNegative(kSpec, "damping", gains.damping, "N·s/m");
   check::nonNegative(kSpec, "angularStiffness", gains.angularStiffness, "N·m/rad");
   check::nonNegative(kSpec, "angularDamping", gains.angularDamping, "N·m·s/rad");
+  for (std::int32_t b : gains.weightBodies)
+    if (b < 0 || b >= bodies)
+      check::fail(kSpec, "weightBodies",
+                  "'weightBodies': body " + std::to_string(b) + " is not placed (" +
+                      std::to_string(bodies) + " placed)");
   BodyLink link = gains;
   link.kind = kind;
   link.child = child;

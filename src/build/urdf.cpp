@@ -854,11 +854,28 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
         builder.addBody(robot.objects[static_cast<std::size_t>(link.object)].name,
                         std::move(particles), robot.bodyFrequency, robot.bodyDampingRatio);
   }
+  // The bodies at and below a link (its own and every link's below it), once each.
+  const auto bodiesBelow = [&](int top) {
+    std::vector<int> below{top};
+    for (std::size_t q = 0; q < below.size(); ++q)
+      for (const UrdfJoint& next : robot.joints)
+        if (next.parent == below[q]) below.push_back(next.child);
+    std::vector<std::int32_t> out;
+    for (int l : below) {
+      const std::int32_t b = placed.body[static_cast<std::size_t>(l)];
+      if (b >= 0 && std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
+    }
+    return out;
+  };
   std::vector<std::int32_t> bodyLinkOf;
-  for (const UrdfBodyLink& link : robot.bodyLinks)
+  for (const UrdfBodyLink& link : robot.bodyLinks) {
+    BodyLink gains = link.gains;
+    // MODEL §1.7: held joints' links carry their weight bodies (the weight preload).
+    if (robot.compensateGravity) gains.weightBodies = bodiesBelow(link.child);
     bodyLinkOf.push_back(builder.addBodyLink(
         link.kind, placed.body[static_cast<std::size_t>(link.child)],
-        placed.body[static_cast<std::size_t>(link.parent)], link.point, link.axis, link.gains));
+        placed.body[static_cast<std::size_t>(link.parent)], link.point, link.axis, gains));
+  }
   std::vector<std::int32_t> modelJointOf;
   for (const UrdfModelJoint& j : robot.modelJoints) {
     Joint model;
@@ -877,16 +894,10 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     // The bodies it carries: its child link's and every link's below it.
     for (const UrdfJoint& u : robot.joints) {
       if (u.modelJoint != j.name) continue;
-      std::vector<int> below{u.child};
-      for (std::size_t q = 0; q < below.size(); ++q)
-        for (const UrdfJoint& next : robot.joints)
-          if (next.parent == below[q]) below.push_back(next.child);
-      for (int l : below) {
-        const std::int32_t b = placed.body[static_cast<std::size_t>(l)];
-        if (b >= 0 && std::find(model.subtreeBodies.begin(), model.subtreeBodies.end(), b) ==
-                          model.subtreeBodies.end())
+      for (std::int32_t b : bodiesBelow(u.child))
+        if (std::find(model.subtreeBodies.begin(), model.subtreeBodies.end(), b) ==
+            model.subtreeBodies.end())
           model.subtreeBodies.push_back(b);
-      }
     }
     model.compensateGravity = robot.compensateGravity;
     modelJointOf.push_back(builder.addJoint(model));

@@ -457,7 +457,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   treesVersusGrid(model, position, grid, cache);
   const std::int32_t items = model.environment.itemCount();
   for (const TreeObject& tree : cache.trees) {
-    if (model.contact.selfCollision && !tree.allFixed)
+    if (model.contact.selfCollision && !tree.allFixed && !tree.rigid)
       treeSelf(model, position, cache, tree.rootNode);
     if (tree.allFixed) continue;
     for (std::int32_t e = 0; e < items; ++e) {

@@ -43,9 +43,29 @@ struct SpringIncidence {
 };
 SpringIncidence compileSpringIncidence(const Model& model);
 
+/// MODEL §1.7: a set of particles' rigid motion — mass (kg), centre (m), the
+/// centre's velocity (m/s), the inverse of the inertia tensor about the centre
+/// (1/(kg·m²)), the angular velocity ω = I⁻¹ L (rad/s) and, for a body with a rest
+/// shape, the rotation R from it that fits best (shape matching's).
+struct RigidMotion {
+  bool valid = false;
+  double mass = 0.0;
+  Vec3 center{}, velocity{}, spin{};
+  std::array<std::array<double, 3>, 3> inverseInertia{};
+  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  Vec3 solve(const Vec3& torque) const;       // I⁻¹ t
+  Vec3 rotate(const Vec3& restOffset) const;  // R r
+  Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
+};
 /// A workspace's buffers for the force stages.
 struct ForceScratch {
   std::vector<Vec3> springForce;  // (linearSprings): the force on end a
+  /// (bodies): every body's rigid motion at the last evaluation's positions (and, once
+  /// measureKinetic has run, at its state's velocities): measured once per evaluation.
+  std::vector<RigidMotion> bodyMotion;
+  /// (bodyLinks): each link's weight preload on its child at its joint point (force, N;
+  /// couple, N·m) at the last evaluation, for its driving power (bodyLinkPreloadPower).
+  std::vector<std::array<Vec3, 2>> linkPreload;
 };
 
 /// LS in two parallel passes: each spring's force on its end a into
@@ -71,30 +91,22 @@ double lossEffort(const JointDrive& drive, double rate);
 /// §1.7, whose servo energy is the tally's potential); `motor` and `loss` (resized to the joints)
 /// get each joint's efforts. Reports the losses' power (<= 0) as dissipative; the motors' power is
 /// the driving power's (jointMotorPower).
-ForceTally accumulateJointDrives(const Model& model, const std::vector<Vec3>& position,
+/// `motion`: every body's rigid motion at (position, velocity) (bodyMotions).
+ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMotion>& motion,
+                                 const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                  std::vector<double>& motor, std::vector<double>& loss);
-/// MODEL §1.7: a set of particles' rigid motion — mass (kg), centre (m), the
-/// centre's velocity (m/s), the inverse of the inertia tensor about the centre
-/// (1/(kg·m²)), the angular velocity ω = I⁻¹ L (rad/s) and, for a body with a rest
-/// shape, the rotation R from it that fits best (shape matching's).
-struct RigidMotion {
-  bool valid = false;
-  double mass = 0.0;
-  Vec3 center{}, velocity{}, spin{};
-  std::array<std::array<double, 3>, 3> inverseInertia{};
-  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-  Vec3 solve(const Vec3& torque) const;       // I⁻¹ t
-  Vec3 rotate(const Vec3& restOffset) const;  // R r
-  Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
-};
 /// The rigid motion of `particles`; `rest` (their rest offsets, same order) or null.
 RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& particles,
                         const std::vector<Vec3>* rest, const std::vector<Vec3>& position,
                         const std::vector<Vec3>& velocity);
-/// Every Model::bodies' rigid motion.
-std::vector<RigidMotion> bodyMotions(const Model& model, const std::vector<Vec3>& position,
-                                     const std::vector<Vec3>& velocity);
+/// Every Model::bodies' rigid motion, into `out` (resized to the bodies).
+void bodyMotions(const Model& model, const std::vector<Vec3>& position,
+                 const std::vector<Vec3>& velocity, std::vector<RigidMotion>& out);
+/// Re-measures the centre velocities and spins of `motion` (bodyMotions at the same
+/// positions) at new velocities, bit-identical to a fresh bodyMotions there.
+void updateBodyVelocities(const Model& model, const std::vector<Vec3>& position,
+                          const std::vector<Vec3>& velocity, std::vector<RigidMotion>& motion);
 /// Adds to `particles` the wrench (force f through `point`, couple t) as the rigid
 /// motion it causes: f_i = m_i (a + α × (p_i − p̄)), a = f/M, α = I⁻¹ (t + (point − p̄) × f);
 /// the forces sum to f, their moment about `point` is t, and their power is
@@ -110,15 +122,25 @@ BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
                             const RigidMotion& parent);
 /// MODEL §1.7: shape matching of every body and the body links' wrenches; their
 /// potential and the power of their dampers.
-ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& position,
-                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+/// Also each link's weight preload (BodyLink::weightBodies) into `preload` (resized to
+/// the links; zero where none).
+ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
+                                 const std::vector<Vec3>& position,
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                 std::vector<std::array<Vec3, 2>>& preload);
+/// The power (W) of the body links' weight preloads `preload` at the bodies' motion:
+/// Σ F·(v_child(s_c) − v_parent(s_c)) + T·(ω_child − ω_parent).
+double bodyLinkPreloadPower(const Model& model, const std::vector<RigidMotion>& motion,
+                            const std::vector<std::array<Vec3, 2>>& preload);
 
 /// MODEL §1.7: the servo effort (N·m or N) of a joint that acts through its bodies
 /// (−κ e − β q̇, q̇ the bodies' relative rigid rate); 0 for any other joint.
 double bodyServoEffort(const Model& model, const Joint& joint, const std::vector<Vec3>& position,
                        const std::vector<Vec3>& velocity);
 /// Σ τ_j q̇_j (W) of the joints' motor efforts `motor` at the given positions and velocities.
-double jointMotorPower(const Model& model, const std::vector<Vec3>& position,
-                       const std::vector<Vec3>& velocity, const std::vector<double>& motor);
+/// `motion`: every body's rigid motion at those positions and velocities.
+double jointMotorPower(const Model& model, const std::vector<RigidMotion>& motion,
+                       const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                       const std::vector<double>& motor);
 
 }  // namespace robophi

@@ -87,21 +87,35 @@ Vec3 RigidMotion::velocityAt(const Vec3& point) const {
   return velocity + cross(spin, point - center);
 }
 
+namespace {
+
+// The centre's velocity v̄ = Σ m_i v_i / M and the spin ω = I⁻¹ Σ m_i (p_i − p̄) × (v_i − v̄)
+// of a motion whose mass, centre and inverse inertia are set.
+void measureVelocity(const Model& model, const std::vector<ParticleIndex>& particles,
+                     const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                     RigidMotion& m) {
+  Vec3 momentum{}, angular{};
+  for (ParticleIndex i : particles) momentum += velocity[i] * model.mass[i];
+  m.velocity = momentum / m.mass;
+  for (ParticleIndex i : particles)
+    angular += cross(position[i] - m.center, velocity[i] - m.velocity) * model.mass[i];
+  m.spin = m.solve(angular);
+}
+
+}  // namespace
+
 RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& particles,
                         const std::vector<Vec3>* rest, const std::vector<Vec3>& position,
                         const std::vector<Vec3>& velocity) {
   RigidMotion m;
-  Vec3 moment{}, momentum{};
+  Vec3 moment{};
   for (ParticleIndex i : particles) {
     m.mass += model.mass[i];
     moment += position[i] * model.mass[i];
-    momentum += velocity[i] * model.mass[i];
   }
   if (!(m.mass > 0.0)) return m;
   m.center = moment / m.mass;
-  m.velocity = momentum / m.mass;
   Mat3 inertia{}, a{};
-  Vec3 angular{};
   for (std::size_t k = 0; k < particles.size(); ++k) {
     const ParticleIndex i = particles[k];
     const double w = model.mass[i];
@@ -110,7 +124,6 @@ RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& pa
     const double c[3] = {s.x, s.y, s.z};
     for (int r = 0; r < 3; ++r)
       for (int q = 0; q < 3; ++q) inertia[r][q] += w * ((r == q ? ss : 0.0) - c[r] * c[q]);
-    angular += cross(s, velocity[i] - m.velocity) * w;
     if (rest != nullptr) {
       const Vec3& x = (*rest)[k];
       const double e[3] = {x.x, x.y, x.z};
@@ -131,7 +144,7 @@ RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& pa
       const int r1 = (q + 1) % 3, r2 = (q + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
       m.inverseInertia[r][q] = (t[r1][c1] * t[r2][c2] - t[r1][c2] * t[r2][c1]) / det;
     }
-  m.spin = m.solve(angular);
+  measureVelocity(model, particles, position, velocity, m);
   if (rest != nullptr) m.rotation = rotationOf(a);
   m.valid = true;
   return m;
@@ -146,13 +159,19 @@ void applyWrench(const Model& model, const std::vector<ParticleIndex>& particles
     force[i] += (a + cross(alpha, position[i] - m.center)) * model.mass[i];
 }
 
-std::vector<RigidMotion> bodyMotions(const Model& model, const std::vector<Vec3>& position,
-                                     const std::vector<Vec3>& velocity) {
-  std::vector<RigidMotion> out;
+void bodyMotions(const Model& model, const std::vector<Vec3>& position,
+                 const std::vector<Vec3>& velocity, std::vector<RigidMotion>& out) {
+  out.clear();
   out.reserve(model.bodies.size());
   for (const RigidGroup& body : model.bodies)
     out.push_back(rigidMotion(model, body.particles, &body.rest, position, velocity));
-  return out;
+}
+
+void updateBodyVelocities(const Model& model, const std::vector<Vec3>& position,
+                          const std::vector<Vec3>& velocity, std::vector<RigidMotion>& motion) {
+  for (std::size_t b = 0; b < std::min(motion.size(), model.bodies.size()); ++b)
+    if (motion[b].valid)
+      measureVelocity(model, model.bodies[b].particles, position, velocity, motion[b]);
 }
 
 BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
@@ -167,11 +186,55 @@ BodyLinkFrame bodyLinkFrame(const BodyLink& link, const RigidMotion& child,
   return f;
 }
 
-ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& position,
-                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
+namespace {
+
+// MODEL §1.7, the weight preload: the wrench (F, T) on the child at its joint point that
+// holds the link's weight bodies against gravity, F = −Σ M_b g, T = −Σ (p̄_b − s_c) × M_b g,
+// less its part along the link's free direction n_p (revolute: T's, prismatic: F's).
+std::array<Vec3, 2> weightPreload(const Model& model, const BodyLink& link,
+                                  const std::vector<RigidMotion>& motion, const BodyLinkFrame& f) {
+  double mass = 0.0;
+  Vec3 moment{};
+  for (std::int32_t b : link.weightBodies) {
+    const RigidMotion& m = motion[static_cast<std::size_t>(b)];
+    mass += m.mass;
+    moment += m.center * m.mass;
+  }
+  if (!(mass > 0.0)) return {Vec3{}, Vec3{}};
+  const Vec3 weight = model.gravity * mass;
+  Vec3 pull = weight * -1.0;
+  Vec3 twist = cross(moment / mass - f.childPoint, weight) * -1.0;
+  if (link.kind == BodyLinkKind::kRevolute) twist -= f.parentAxis * dot(f.parentAxis, twist);
+  if (link.kind == BodyLinkKind::kPrismatic) pull -= f.parentAxis * dot(f.parentAxis, pull);
+  return {pull, twist};
+}
+
+}  // namespace
+
+double bodyLinkPreloadPower(const Model& model, const std::vector<RigidMotion>& motion,
+                            const std::vector<std::array<Vec3, 2>>& preload) {
+  double power = 0.0;
+  const std::size_t count = std::min(model.bodyLinks.size(), preload.size());
+  for (std::size_t k = 0; k < count; ++k) {
+    const BodyLink& link = model.bodyLinks[k];
+    if (link.weightBodies.empty()) continue;
+    const RigidMotion& child = motion[static_cast<std::size_t>(link.child)];
+    const RigidMotion& parent = motion[static_cast<std::size_t>(link.parent)];
+    if (!child.valid || !parent.valid) continue;
+    const Vec3 point = child.center + child.rotate(link.pointInChild);
+    power += dot(preload[k][0], child.velocityAt(point) - parent.velocityAt(point)) +
+             dot(preload[k][1], child.spin - parent.spin);
+  }
+  return power;
+}
+
+ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
+                                 const std::vector<Vec3>& position,
+                                 const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                 std::vector<std::array<Vec3, 2>>& preload) {
   ForceTally tally;
+  preload.assign(model.bodyLinks.size(), {Vec3{}, Vec3{}});
   if (model.bodies.empty()) return tally;
-  const std::vector<RigidMotion> motion = bodyMotions(model, position, velocity);
   // Shape matching: f_i = m_i ω² (p̄ + R r_i − p_i) − 2ζω m_i (v_i − v_rigid(p_i)).
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const RigidGroup& body = model.bodies[b];
@@ -189,7 +252,8 @@ ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& po
     }
   }
   // Body links: the penalty wrench on the child at its joint point, its reaction on the parent.
-  for (const BodyLink& link : model.bodyLinks) {
+  for (std::size_t k = 0; k < model.bodyLinks.size(); ++k) {
+    const BodyLink& link = model.bodyLinks[k];
     const RigidMotion& child = motion[static_cast<std::size_t>(link.child)];
     const RigidMotion& parent = motion[static_cast<std::size_t>(link.parent)];
     if (!child.valid || !parent.valid) continue;
@@ -211,8 +275,13 @@ ForceTally accumulateRigidBodies(const Model& model, const std::vector<Vec3>& po
       turnRate = spin;
       misalignment += 1.0 - dot(f.parentNormal, f.childNormal);
     }
-    const Vec3 pull = e * -link.stiffness - u * link.damping;
-    const Vec3 twist = turn * -link.angularStiffness - turnRate * link.angularDamping;
+    Vec3 pull = e * -link.stiffness - u * link.damping;
+    Vec3 twist = turn * -link.angularStiffness - turnRate * link.angularDamping;
+    if (!link.weightBodies.empty()) {
+      preload[k] = weightPreload(model, link, motion, f);
+      pull += preload[k][0];
+      twist += preload[k][1];
+    }
     applyWrench(model, model.bodies[static_cast<std::size_t>(link.child)].particles, child,
                 position, pull, twist, f.childPoint, force);
     applyWrench(model, model.bodies[static_cast<std::size_t>(link.parent)].particles, parent,

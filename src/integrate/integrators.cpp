@@ -76,7 +76,8 @@ void integrateVerletKick(const Model& model, const std::vector<double>& inverseS
 }
 
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              int threads, const State& state, Evaluation& evaluation) {
+                              int threads, const std::vector<RigidMotion>& bodyMotion,
+                              const State& state, Evaluation& evaluation) {
   const std::vector<Vec3>& velocity = state.velocity;
   // Sums in fixed chunks (core/parallel.h): {kinetic energy, driving power}.
   const std::array<double, 2> particles = detail::parallelSum<2>(
@@ -106,7 +107,7 @@ void measureKineticAndDriving(const Model& model, const std::vector<double>& inv
   const double driving = particles[1];
   // MODEL §1.6, §2.4: the motors' power τ q̇ at the state's velocities.
   const double motorPower =
-      jointMotorPower(model, state.position, velocity, evaluation.jointMotorEffort);
+      jointMotorPower(model, bodyMotion, state.position, velocity, evaluation.jointMotorEffort);
   evaluation.drivingPower = motorPower == 0.0 ? driving : driving + motorPower;
 }
 

@@ -13,6 +13,8 @@
 
 namespace robophi {
 
+struct RigidMotion;
+
 /// Paper's scheme: p += v δ + ½ a δ², then v += a δ (ω += J⁻¹τ δ).
 void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, int threads,
                      double dt, const Evaluation& evaluation, State& state);
@@ -30,8 +32,10 @@ void integrateVerletKick(const Model& model, const std::vector<double>& inverseS
 /// In one pass over the particles, at the state's velocities and the
 /// evaluation's forces: the kinetic energy ½ Σ m_i |v_i|² + ½ Σ J_i |ω_i|² of the
 /// free particles (J, into evaluation.energy.kinetic) and the power -Σ F_i·v_i put
-/// in by the fixed ones that move kinematically (W, into evaluation.drivingPower).
+/// in by the fixed ones that move kinematically, plus the joint motors' τ q̇ (W, into
+/// evaluation.drivingPower; `bodyMotion`: every body's rigid motion at the state).
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
-                              int threads, const State& state, Evaluation& evaluation);
+                              int threads, const std::vector<RigidMotion>& bodyMotion,
+                              const State& state, Evaluation& evaluation);
 
 }  // namespace robophi

@@ -213,6 +213,10 @@ std::string checkModel(const Model& model) {
       if (!(v >= 0.0) || !std::isfinite(v))
         return detail::text("body link {}-{}: gain {} must be finite and >= 0", link.child,
                             link.parent, v);
+    for (std::int32_t b : link.weightBodies)
+      if (b < 0 || b >= bodies)
+        return detail::text("body link {}-{}: weight body {} is not one of the {}", link.child,
+                            link.parent, b, bodies);
   }
   for (const auto& joint : model.joints) {
     const auto count = joint.kind == JointKind::kRevolute ? model.jointSprings.size()
