@@ -381,7 +381,11 @@ TEST(SceneFiles, EverySceneInScenesLoadsWithoutError) {
     ++count;
     const SceneLoadResult result = loadSceneFile(entry.path().string());
     EXPECT_TRUE(result.ok()) << entry.path() << ":\n" << test::allErrors(result);
-    for (const auto& w : result.warnings) ADD_FAILURE() << w.format("warning");
+    // A URDF as published names elements robophi does not model (docs/robots.md):
+    // those warnings are by design, every other one is a failure.
+    for (const auto& w : result.warnings)
+      if (w.message.find("(robophi does not model it") == std::string::npos)
+        ADD_FAILURE() << w.format("warning");
     if (!result.ok()) continue;
     const Scene& scene = *result.scene;
     EXPECT_GT(scene.model.particleCount(), 0) << entry.path();
