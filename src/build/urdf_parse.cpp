@@ -11,9 +11,11 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 #include "build/checks.h"
+#include "robophi/build/urdf.h"
 #include "robophi/build/urdf_error.h"
 
 namespace robophi::build {
@@ -23,6 +25,31 @@ std::string lineText(const std::string& file, int line) {
   return line > 0 ? file + ":" + std::to_string(line) + ": " : file + ": ";
 }
 }  // namespace
+
+std::string substituteRosArgs(std::string text) {
+  for (std::size_t at = text.find("$("); at != std::string::npos; at = text.find("$(", at)) {
+    const std::size_t end = text.find(')', at);
+    if (end == std::string::npos) break;
+    std::istringstream in(text.substr(at + 2, end - at - 2));
+    std::string command, name, rest, word;
+    in >> command >> name;
+    while (in >> word) rest += (rest.empty() ? "" : " ") + word;
+    const char* value = name.empty() ? nullptr : std::getenv(name.c_str());
+    std::string replacement;
+    if (command == "optenv") {
+      replacement = value != nullptr ? value : rest;
+    } else if (command == "env" && value != nullptr) {
+      replacement = value;
+    } else {
+      throw std::invalid_argument(
+          "'" + text.substr(at, end - at + 1) +
+          "': only $(optenv NAME default) and $(env NAME) (NAME set) are understood");
+    }
+    text.replace(at, end - at + 1, replacement);
+    at += replacement.size();
+  }
+  return text;
+}
 
 UrdfError::UrdfError(std::string file, int line, const std::string& message)
     : std::runtime_error(lineText(file, line) + message),
@@ -57,30 +84,13 @@ class Reader {
     return value;
   }
 
-  // roslaunch's substitution args, as generated URDFs keep them: $(optenv NAME default...)
-  // is NAME's value or the default, $(env NAME) NAME's value.
+  // roslaunch's substitution args, as generated URDFs keep them (substituteRosArgs).
   std::string substitute(const XMLElement* e, std::string text) const {
-    for (std::size_t at = text.find("$("); at != std::string::npos; at = text.find("$(", at)) {
-      const std::size_t end = text.find(')', at);
-      if (end == std::string::npos) break;
-      std::istringstream in(text.substr(at + 2, end - at - 2));
-      std::string command, name, rest, word;
-      in >> command >> name;
-      while (in >> word) rest += (rest.empty() ? "" : " ") + word;
-      const char* value = name.empty() ? nullptr : std::getenv(name.c_str());
-      std::string replacement;
-      if (command == "optenv") {
-        replacement = value != nullptr ? value : rest;
-      } else if (command == "env" && value != nullptr) {
-        replacement = value;
-      } else {
-        fail(e, "'" + text.substr(at, end - at + 1) +
-                    "': only $(optenv NAME default) and $(env NAME) (NAME set) are understood");
-      }
-      text.replace(at, end - at + 1, replacement);
-      at += replacement.size();
+    try {
+      return substituteRosArgs(std::move(text));
+    } catch (const std::invalid_argument& problem) {
+      fail(e, problem.what());
     }
-    return text;
   }
 
   // `count` numbers separated by spaces.

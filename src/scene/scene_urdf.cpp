@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 
 #include "robophi/build/urdf.h"
 
@@ -43,6 +44,21 @@ std::optional<build::Frame> readOrientation(ObjectReader& r) {
   return f;
 }
 
+// A path with roslaunch's $(optenv NAME default) or $(env NAME) expanded
+// (build::substituteRosArgs), then, when relative, taken from the scene's folder.
+std::optional<std::string> scenePath(ObjectReader& r, const std::string& pointer,
+                                     const std::string& text, const std::string& directory) {
+  std::filesystem::path p;
+  try {
+    p = build::substituteRosArgs(text);
+  } catch (const std::invalid_argument& problem) {
+    r.sink().error(pointer, problem.what());
+    return std::nullopt;
+  }
+  if (p.is_relative() && !directory.empty()) p = std::filesystem::path(directory) / p;
+  return p.string();
+}
+
 std::optional<std::vector<std::string>> readPaths(ObjectReader& r, const std::string& directory) {
   std::vector<std::string> paths;
   const nlohmann::json* value = r.member("packagePaths");
@@ -60,9 +76,10 @@ std::optional<std::vector<std::string>> readPaths(ObjectReader& r, const std::st
           fmt::format("'packagePaths': expected a folder path, got {}", describeJson(item)));
       return std::nullopt;
     }
-    std::filesystem::path p(item.get<std::string>());
-    if (p.is_relative() && !directory.empty()) p = std::filesystem::path(directory) / p;
-    paths.push_back(p.string());
+    const auto p = scenePath(r, fmt::format("{}/{}", r.memberPointer("packagePaths"), i),
+                             item.get<std::string>(), directory);
+    if (!p) return std::nullopt;
+    paths.push_back(*p);
   }
   return paths;
 }
@@ -111,11 +128,10 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
     }
   }
   reader.finish();
-  if (!file || !orientation || !paths || sink.errorCount() != errorsBefore) return object;
-  std::filesystem::path path(*file);
-  if (path.is_relative() && !sceneDirectory.empty())
-    path = std::filesystem::path(sceneDirectory) / path;
-  spec.path = path.string();
+  const auto path =
+      file ? scenePath(reader, reader.memberPointer("file"), *file, sceneDirectory) : std::nullopt;
+  if (!path || !orientation || !paths || sink.errorCount() != errorsBefore) return object;
+  spec.path = *path;
   spec.name = object.name;
   spec.placement = *orientation;
   spec.placement.origin = position.value_or(Vec3{});

@@ -89,6 +89,27 @@ TEST(UrdfScene, UrdfErrorsNameTheUrdfLineAndTheScenePlace) {
   EXPECT_EQ(result.errors[1].pointer, "/objects/0/wheels");
 }
 
+// "file" and "packagePaths" take roslaunch's $(optenv NAME default) and $(env NAME).
+TEST(UrdfScene, PathsTakeEnvironmentArguments) {
+  setenv("ROBOPHI_TEST_ROBOTS", kRobots.c_str(), 1);
+  SceneLoadResult result = loadSceneText(
+      R"js({"objects": [{"name": "c", "type": "urdf",
+          "file": "$(env ROBOPHI_TEST_ROBOTS)/cartpole/cartpole.urdf",
+          "packagePaths": ["$(optenv ROBOPHI_UNSET_VARIABLE_14 /nowhere)"]}]})js",
+      "s.json");
+  for (const auto& e : result.errors) ADD_FAILURE() << e.format();
+  EXPECT_TRUE(result.ok());
+  result = loadSceneText(R"js({"objects": [{"name": "c", "type": "urdf",
+          "file": "$(env ROBOPHI_UNSET_VARIABLE_14)/a.urdf"}]})js",
+                         "s.json");
+  ASSERT_EQ(result.errors.size(), 1u);
+  EXPECT_EQ(result.errors[0].pointer, "/objects/0/file");
+  EXPECT_NE(result.errors[0].message.find("'$(env ROBOPHI_UNSET_VARIABLE_14)': only $(optenv NAME "
+                                          "default) and $(env NAME) (NAME set) are understood"),
+            std::string::npos)
+      << result.errors[0].format();
+}
+
 TEST(UrdfCommand, ValidateABareUrdfAndABrokenOne) {
   const Outcome ok = robophi("validate " + kRobots + "/cartpole/cartpole.urdf");
   EXPECT_EQ(ok.exitCode, 0) << ok.errors;

@@ -211,6 +211,13 @@ struct UrdfRobot {
 /// value) for a file that cannot be imported, SpecError for a bad spec field.
 UrdfRobot makeUrdfRobot(const UrdfSpec& spec);
 
+/// roslaunch's substitution args in `text`: $(optenv NAME default...) is the environment
+/// variable NAME's value or the default (the words after NAME, joined by spaces; may be
+/// empty), $(env NAME) NAME's value. URDF attributes and a scene's URDF "file" and
+/// "packagePaths" use it. Throws std::invalid_argument naming the argument for any other
+/// command, or $(env NAME) with NAME unset.
+std::string substituteRosArgs(std::string text);
+
 /// Moves the whole robot (its particles, link frames and declared world values) by `offset` (m).
 void translateUrdfRobot(UrdfRobot& robot, const Vec3& offset);
 
