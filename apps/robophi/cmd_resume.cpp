@@ -64,11 +64,12 @@ int resumeCommand(const ResumeArguments& args) {
                  args.dir.c_str(), saved.scenePath.c_str(), saved.sceneHash.c_str());
     return kExitBadInput;
   }
-  auto scene = loadSceneOrReport(saved.scenePath);
+  auto scene = loadSceneOrReport(saved.scenePath, saved.urdf);
   if (!scene) return kExitBadInput;
 
   RunOptions options;
   options.settings = saved.settings;
+  options.urdf = saved.urdf;
   options.threads = args.threads;
   options.energyRate = saved.energyRate;
   options.checkpointEvery = saved.checkpointEvery;

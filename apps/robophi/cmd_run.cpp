@@ -104,6 +104,8 @@ int runCommand(const RunArguments& args) {
 
   RunOptions options;
   options.settings = scene->run;
+  options.urdf = args.urdf;  // kept in checkpoints, for resume
+  urdfOptionsOk("run", args.base, options.urdf);
   options.threads = args.threads;
   // The command line overrides the scene's run settings (the model is built:
   // --dt is the step only, it changes no stiffness).

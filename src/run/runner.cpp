@@ -42,6 +42,26 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 
 namespace {
 
+// The checkpoint's "scene": its file (absolute), its hash when the run started,
+// and for a bare URDF the options it was loaded with (package paths relative to
+// the working directory are made absolute: resume may run elsewhere).
+nlohmann::json sceneRecord(const Scene& scene, const std::string& hash,
+                           const UrdfSceneOptions& urdf) {
+  nlohmann::json record = {{"path", std::filesystem::absolute(scene.sourcePath).string()},
+                           {"hash", hash}};
+  if (isUrdfPath(scene.sourcePath)) {
+    std::vector<std::string> paths;
+    for (const std::string& p : urdf.packagePaths)
+      paths.push_back(std::filesystem::absolute(p).string());
+    record["urdf"] = {
+        {"package_paths", paths},
+        {"fixed_base", urdf.fixedBase ? nlohmann::json(*urdf.fixedBase) : nlohmann::json()},
+        {"particle_size", output::exactNumber(urdf.particleSize)},
+        {"particles_per_link", urdf.particlesPerLink}};
+  }
+  return record;
+}
+
 // Energy drift (relative to the account's scale, energyAccountScale: datum- and
 // observer-free) above which a finite run is reported as diverged.
 constexpr double kRunawayEnergyGrowth = 100.0;
@@ -324,8 +344,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
         {"robophi", kVersion},
         {"kind", "checkpoint"},
         {"format", 1},
-        {"scene",
-         {{"path", std::filesystem::absolute(scene.sourcePath).string()}, {"hash", sceneHash}}},
+        {"scene", sceneRecord(scene, sceneHash, options.urdf)},
         {"settings", runSettingsToJson(settings)},
         {"energy_rate", output::exactNumber(options.energyRate)},
         {"checkpoint_every", output::exactNumber(options.checkpointEvery)},
@@ -578,8 +597,16 @@ nlohmann::json readCheckpoint(const std::string& dir) {
 
 CheckpointedRun checkpointedRun(const nlohmann::json& checkpoint) {
   CheckpointedRun run;
-  run.scenePath = checkpoint.at("scene").at("path").get<std::string>();
-  run.sceneHash = checkpoint.at("scene").at("hash").get<std::string>();
+  const nlohmann::json& scene = checkpoint.at("scene");
+  run.scenePath = scene.at("path").get<std::string>();
+  run.sceneHash = scene.at("hash").get<std::string>();
+  if (scene.contains("urdf")) {
+    const nlohmann::json& urdf = scene.at("urdf");
+    run.urdf.packagePaths = urdf.at("package_paths").get<std::vector<std::string>>();
+    if (!urdf.at("fixed_base").is_null()) run.urdf.fixedBase = urdf.at("fixed_base").get<bool>();
+    run.urdf.particleSize = output::numberFromJson(urdf.at("particle_size"), "particle_size");
+    run.urdf.particlesPerLink = urdf.at("particles_per_link").get<int>();
+  }
   run.settings = runSettingsFromJson(checkpoint.at("settings"));
   run.energyRate = output::numberFromJson(checkpoint.at("energy_rate"), "energy_rate");
   run.checkpointEvery =

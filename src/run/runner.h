@@ -35,6 +35,9 @@ inline constexpr double kDefaultEnergyAccountBound = 0.05;
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
   RunSettings settings;
+  /// A bare URDF's load options (--package-path, --base), kept in the checkpoint
+  /// so that `robophi resume` loads the robot as the run did.
+  UrdfSceneOptions urdf;
   /// The most threads a step uses (World::setThreadCount): 0 = the cores available.
   /// Not part of the result: the state is bit-identical whatever the count.
   int threads = 0;
@@ -102,6 +105,8 @@ struct CheckpointedRun {
   std::string scenePath;
   /// The scene file's hash when the run started (fileHash).
   std::string sceneHash;
+  /// A bare URDF's load options as the run had them.
+  UrdfSceneOptions urdf;
   RunSettings settings;
   double energyRate = 1000.0;
   double checkpointEvery = 0.0;

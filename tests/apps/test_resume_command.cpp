@@ -55,6 +55,28 @@ TEST_F(ResumeCommand, StopAndResumeEndsWithTheUninterruptedStateHash) {
   EXPECT_TRUE(fs::exists(root_ / "cut" / "replay.html"));
 }
 
+// A bare URDF run keeps its --package-path (and --base) in its checkpoint: the
+// Panda's package:// meshes are found again on resume, and the resumed run ends
+// with the uninterrupted one's state hash.
+TEST_F(ResumeCommand, ABareUrdfResumesWithItsPackagePaths) {
+  fs::copy(std::string(ROBOPHI_ROBOTS_DIR) + "/franka_panda", root_ / "franka_panda",
+           fs::copy_options::recursive);
+  const std::string run =
+      "run franka_panda/panda.urdf --package-path franka_panda --base fixed "
+      "-q --duration 0.2";
+  ASSERT_EQ(robophi(run + " --out whole"), 0) << errors();
+  ASSERT_EQ(robophi(run + " --out cut --stop-after 0.1"), 0) << errors();
+  EXPECT_EQ(summary("cut")["status"], "stopped");
+  const nlohmann::json checkpoint =
+      nlohmann::json::parse(readText(root_ / "cut" / "checkpoint.json"));
+  EXPECT_EQ(checkpoint["scene"]["urdf"]["package_paths"][0],
+            fs::absolute(root_ / "franka_panda").string());
+  EXPECT_EQ(checkpoint["scene"]["urdf"]["fixed_base"], true);
+  ASSERT_EQ(robophi("resume cut -q"), 0) << errors();
+  EXPECT_EQ(summary("cut")["status"], "ok");
+  EXPECT_EQ(summary("cut")["state_hash"], summary("whole")["state_hash"]);
+}
+
 TEST_F(ResumeCommand, AGoalNotReachedExitsWithFive) {
   const std::string scene = ROBOPHI_SOURCE_DIR "/scenes/arm_obstacle.json";
   EXPECT_EQ(robophi("run " + scene + " -q --out short --duration 0.5"), 5) << errors();
