@@ -204,12 +204,18 @@ bool neighbourListHolds(const Model& model, const std::vector<Vec3>& position, d
   return holds;
 }
 
+// The number of chunks of the grid particles (of detail::kParallelChunk each).
+std::int64_t gridChunkCount(const ContactScratch& cache) {
+  const auto count = static_cast<std::int64_t>(cache.tables->gridParticles.size());
+  return (count + detail::kParallelChunk - 1) / detail::kParallelChunk;
+}
+
 // The grid particles' chunks (of detail::kParallelChunk) on up to `threads`
 // threads: body(work, begin, end) for each.
 template <class Body>
 void forGridChunks(int threads, ContactScratch& cache, const Body& body) {
   const auto count = static_cast<std::int64_t>(cache.tables->gridParticles.size());
-  const std::int64_t chunks = (count + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  const std::int64_t chunks = gridChunkCount(cache);
   if (cache.gridChunks.size() < static_cast<std::size_t>(chunks))
     cache.gridChunks.resize(static_cast<std::size_t>(chunks));
   struct Context {
@@ -228,11 +234,6 @@ void forGridChunks(int threads, ContactScratch& cache, const Body& body) {
                   std::min(x.count, (c + 1) * detail::kParallelChunk));
       },
       &context);
-}
-
-std::int64_t gridChunkCount(const ContactScratch& cache) {
-  const auto count = static_cast<std::int64_t>(cache.tables->gridParticles.size());
-  return (count + detail::kParallelChunk - 1) / detail::kParallelChunk;
 }
 
 // Rebuilds the neighbour list from `grid` (cells of the largest diameter + skin).

@@ -987,14 +987,16 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         });
   }
 
+  // Fewer contacts than a parallel loop's minimum: this thread alone.
+  const int stageThreads =
+      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
   const StageInput input{model, tables, p, v, spin, previous, cache};
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
   } context{&input, cache.chunks.data()};
   detail::runChunks(
-      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1,
-      static_cast<std::int64_t>(chunkCount),
+      stageThreads, static_cast<std::int64_t>(chunkCount),
       [](void* raw, std::int64_t c) {
         const Context& x = *static_cast<const Context*>(raw);
         runChunk(*x.input, x.chunks[c]);
@@ -1034,8 +1036,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     const double dampingRate = 2.0 * damping * model.inverseMass[i];
     return dampedCriticalStep(omega, dampingRate);
   };
-  const int stageThreads =
-      count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
   if (stageThreads <= 1) {
     for (std::size_t index = 0; index < count; ++index) {
       const ContactLoad& load = cache.loads[index];
