@@ -69,6 +69,15 @@ std::vector<BenchScene> standardBenchScenes(bool quick) {
     if (quick) pile.run.duration = 0.01;
     scenes.push_back({pile.name, std::move(pile), false, ""});
   }
+  // PILE-8000 in the paper's contact model (friction at the particle centres,
+  // no spin): the workload the contact code had before rolling (issue 11).
+  {
+    Scene pile = makePileScene(20);
+    pile.name = "PILE-NOROLL-8000";
+    pile.model.contact.rolling = false;
+    if (quick) pile.run.duration = 0.01;
+    scenes.push_back({pile.name, std::move(pile), false, ""});
+  }
   // The cost of one ATS step against one CTS step on the same steps (issue 4).
   for (const std::string& base : {std::string("CLOTH-64"), std::string("PILE-1000")}) {
     for (const BenchScene& b : scenes) {
