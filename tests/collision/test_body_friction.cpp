@@ -67,42 +67,50 @@ void tiltTo(World& world, double slope) {
   }
 }
 
-TEST(BodyFriction, HoldsOneDegreeBelowTheFrictionAngle) {
+// 1° below and above atan μ_s, for the block and the cube.
+class BodyOnIncline : public testing::TestWithParam<Body> {};
+
+TEST_P(BodyOnIncline, HoldsOneDegreeBelowTheFrictionAngle) {
+  const Body& body = GetParam();
   const double slope = std::atan(0.5) - kDegree;
-  World world = makeWorld(bodyScene(kBlock, 0.0, 0.4));
+  World world = makeWorld(bodyScene(*body.spec, 0.0, 0.4));
   tiltTo(world, slope);
   const Vec3 start = centerOfMass(world);
   run(world, 10.0);
   const double creep = centerOfMass(world).x - start.x;
-  std::printf("block 4x4x2 at %.2f deg: moved %.3g m in 10 s\n", slope / kDegree, creep);
+  std::printf("%s at %.2f deg: moved %.3g m in 10 s\n", body.name, slope / kDegree, creep);
   EXPECT_LT(std::fabs(creep), 1e-3);
 }
 
-TEST(BodyFriction, WithKineticEqualToStaticTheCreepDoesNotGrow) {
+TEST_P(BodyOnIncline, WithKineticEqualToStaticTheCreepDoesNotGrow) {
+  const Body& body = GetParam();
   const double slope = std::atan(0.5) - kDegree;
-  World world = makeWorld(bodyScene(kBlock, 0.0, 0.5));
+  World world = makeWorld(bodyScene(*body.spec, 0.0, 0.5));
   tiltTo(world, slope);
   run(world, 5.0);
   const double middle = centerOfMass(world).x;
   run(world, 5.0);
   const double late = centerOfMass(world).x - middle;
-  std::printf("block 4x4x2, mu_k = mu_s: moved %.3g m from 5 s to 10 s\n", late);
+  std::printf("%s, mu_k = mu_s: moved %.3g m from 5 s to 10 s\n", body.name, late);
   EXPECT_LT(std::fabs(late), 1e-5);
 }
 
-TEST(BodyFriction, SlidesOneDegreeAboveWithTheKineticLaw) {
+TEST_P(BodyOnIncline, SlidesOneDegreeAboveWithTheKineticLaw) {
+  const Body& body = GetParam();
   const double slope = std::atan(0.5) + kDegree;
   const double expected = kG * (std::sin(slope) - 0.4 * std::cos(slope));
-  World world = makeWorld(bodyScene(kBlock, slope, 0.4));
+  World world = makeWorld(bodyScene(*body.spec, slope, 0.4));
   run(world, 0.5);
   const double v1 = comVelocity(world).x;
   run(world, 1.0);
   const double v2 = comVelocity(world).x;
   const double acceleration = (v2 - v1) / 1.0;
-  std::printf("block at %.2f deg: a = %.5f m/s^2, g(sin - mu_k cos) = %.5f\n", slope / kDegree,
-              acceleration, expected);
+  std::printf("%s at %.2f deg: a = %.5f m/s^2, g(sin - mu_k cos) = %.5f\n", body.name,
+              slope / kDegree, acceleration, expected);
   EXPECT_NEAR(acceleration / expected, 1.0, 0.01);
 }
+
+INSTANTIATE_TEST_SUITE_P(Bodies, BodyOnIncline, testing::ValuesIn(kBodies));
 
 // In one run: the body is set down on level ground, gravity tilts to 22° over
 // 1 s, then on slowly (0.5°/s): the body breaks away within 0.5° of atan μ_s.
