@@ -134,7 +134,9 @@ struct ContactSettings {
   /// diameter) (-): the list keeps every pair closer than r_a + r_b + skin and is
   /// rebuilt only when some grid particle has moved more than skin / 2 since its
   /// build. The contacts found are those of a grid search at every evaluation,
-  /// in the same order. 0: no list (the grid is rebuilt at every evaluation).
+  /// in the same order. The tree objects' pair list uses the same fraction of
+  /// their largest particle's diameter. 0: no lists (the grid is rebuilt and
+  /// the trees searched at every evaluation).
   double neighbourSkin = 0.1;
   /// Overrides by object pair; looked up by binary search when not empty.
   std::vector<ContactPairOverride> pairOverrides;
@@ -230,6 +232,8 @@ struct ContactStats {
   double maxPenetrationFraction = 0.0;
   /// 1 when this evaluation rebuilt the grid particles' neighbour list, else 0.
   std::int64_t neighbourListBuilds = 0;
+  /// 1 when this evaluation rebuilt the tree objects' pair list, else 0.
+  std::int64_t treePairListBuilds = 0;
 };
 
 /// The deepest penetration of `contacts` as a fraction of the smaller radius

@@ -379,9 +379,10 @@ void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, cons
   }
 }
 
-// Sort-and-sweep along x over the tree objects' root spheres, then tree-vs-tree.
-void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
-                      ContactScratch& cache) {
+// Sort-and-sweep along x over the tree objects' root spheres (grown by pad / 2),
+// then visit(rootA, rootB) for each pair that may touch.
+template <class Visit>
+void sweepTrees(ContactScratch& cache, double pad, const Visit& visit) {
   const auto count = static_cast<std::int32_t>(cache.trees.size());
   if (count < 2) return;
   auto& order = cache.sweepOrder;
@@ -389,7 +390,7 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t t = 0; t < count; ++t) order[t] = t;
   const auto minX = [&](std::int32_t t) {
     const TreeNode& root = cache.nodes[cache.trees[t].rootNode];
-    return root.center.x - outerRadius(cache, root);
+    return root.center.x - outerRadius(cache, root) - 0.5 * pad;
   };
   std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
     const double xa = minX(a), xb = minX(b);
@@ -398,14 +399,42 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
   for (std::int32_t k = 0; k < count; ++k) {
     const TreeObject& a = cache.trees[order[k]];
     const TreeNode& rootA = cache.nodes[a.rootNode];
-    const double maxX = rootA.center.x + outerRadius(cache, rootA);
+    const double maxX = rootA.center.x + outerRadius(cache, rootA) + 0.5 * pad;
     for (std::int32_t l = k + 1; l < count && minX(order[l]) <= maxX; ++l) {
       const TreeObject& b = cache.trees[order[l]];
       if (a.allFixed && b.allFixed) continue;
       if (objectsExcluded(*cache.tables, a.object, b.object)) continue;
-      treeVersusTree(model, position, cache, a.rootNode, b.rootNode);
+      visit(a.rootNode, b.rootNode);
     }
   }
+}
+
+// The tree objects against each other and themselves (self-collision): through
+// their pair list when it applies (rebuilt when it no longer holds), else by
+// the tree search at every evaluation. The same finds either way.
+void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
+                      ContactScratch& cache) {
+  const auto selfSearched = [&](const TreeObject& tree) {
+    return model.contact.selfCollision && !tree.allFixed && !tree.rigid;
+  };
+  if (!treePairListApplies(model, cache)) {
+    sweepTrees(cache, 0.0, [&](std::int32_t rootA, std::int32_t rootB) {
+      treeVersusTree(model, position, cache, rootA, rootB);
+    });
+    for (const TreeObject& tree : cache.trees)
+      if (selfSearched(tree)) treeSelf(model, position, cache, tree.rootNode);
+    return;
+  }
+  const double skin = treePairSkin(model, cache);
+  if (!treePairListHolds(model, position, skin, cache)) {
+    startTreePairList(model, position, skin, cache);
+    sweepTrees(cache, skin, [&](std::int32_t rootA, std::int32_t rootB) {
+      listTreeVersusTree(model, position, cache, rootA, rootB);
+    });
+    for (const TreeObject& tree : cache.trees)
+      if (selfSearched(tree)) listTreeSelf(model, position, cache, tree.rootNode);
+  }
+  testTreePairs(model, position, cache);
 }
 
 }  // namespace
@@ -458,8 +487,6 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   treesVersusGrid(model, position, grid, cache);
   const std::int32_t items = model.environment.itemCount();
   for (const TreeObject& tree : cache.trees) {
-    if (model.contact.selfCollision && !tree.allFixed && !tree.rigid)
-      treeSelf(model, position, cache, tree.rootNode);
     if (tree.allFixed) continue;
     for (std::int32_t e = 0; e < items; ++e) {
       treeVersusEnvironment(model, position, cache, tree.rootNode, e);

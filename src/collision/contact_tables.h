@@ -160,6 +160,25 @@ struct NeighbourList {
   std::int64_t builds = 0;
 };
 
+/// The tree objects' pair list (docs/contact.md "Neighbour list"): every pair
+/// of particles of two trees, or of one tree with itself, closer than
+/// r_a + r_b + skin at the build (found by the tree search with every sphere
+/// grown by skin / 2), as (min, max). Valid while no tree particle has moved
+/// more than skin / 2 from its position at the build (nor changed its radius):
+/// then every touching pair of the tree search is in it, and each evaluation
+/// tests only those.
+struct TreePairList {
+  /// The ContactScratch::revision it was built for; -1: none.
+  std::int64_t revision = -1;
+  double skin = 0.0;  // (m)
+  /// Positions and radii of ContactScratch::treeParticles at the build.
+  std::vector<Vec3> reference;
+  std::vector<double> referenceRadius;
+  std::vector<std::array<std::int32_t, 2>> pairs;
+  /// Builds so far (the first one included).
+  std::int64_t builds = 0;
+};
+
 /// A contact the detection found, in Contact::key() order: a bare particle
 /// pair (full = -1: the contact (a, other) with every other field at its
 /// default), or one found with its geometry: ContactScratch::detectedContacts[full]
@@ -229,6 +248,7 @@ struct ContactScratch {
   std::vector<std::int64_t> sortedKey;       // (gridParticles) cell key of each slot
   std::vector<std::int32_t> sweepOrder;      // (trees) sort-and-sweep order
   NeighbourList neighbours;
+  TreePairList treePairs;
   std::vector<GridChunk> gridChunks;
   std::vector<ContactSeed> seeds;         // the detection's finds, sorted by key
   std::vector<ContactSeed> mergedSeeds;   // merge buffer

@@ -229,66 +229,184 @@ inline bool facetedNode(const ContactScratch& cache, const TreeNode& node) {
   return node.object >= 0 && cache.tables->objectFaceted[node.object] != 0;
 }
 
-inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNode& b) {
+// Whether two nodes' spheres, each grown by pad / 2, overlap.
+inline bool spheresTouch(ContactScratch& cache, const TreeNode& a, const TreeNode& b, double pad) {
   ++cache.stats.nodeTests;
   // Between two objects a faceted node reaches its surface (MODEL §3.8).
   const double reach =
-      a.object == b.object ? a.radius + b.radius : outerRadius(cache, a) + outerRadius(cache, b);
+      (a.object == b.object ? a.radius + b.radius : outerRadius(cache, a) + outerRadius(cache, b)) +
+      pad;
   return squaredNorm(a.center - b.center) < reach * reach;
 }
 
-}  // namespace
-
-// MODEL §3.2 Locate_Contact: descend the larger node while the spheres touch.
-void treeVersusTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
-                    std::int32_t nodeA, std::int32_t nodeB) {
+// MODEL §3.2 Locate_Contact: descend the larger node while the spheres (grown
+// by pad / 2) touch; leafPair(a, b) for each pair of touching leaves.
+template <class LeafPair>
+void descendPair(ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB, double pad,
+                 const LeafPair& leafPair) {
   const TreeNode& a = cache.nodes[nodeA];
   const TreeNode& b = cache.nodes[nodeB];
-  if (!spheresTouch(cache, a, b)) return;
+  if (!spheresTouch(cache, a, b, pad)) return;
   if (a.isLeaf() && b.isLeaf()) {
-    if (a.object != b.object && (facetedNode(cache, a) || facetedNode(cache, b))) {
-      leavesWithFacets(model, position, cache, a,
-                       b);  // MODEL §3.8: particles or vertices on triangles
-      return;
-    }
-    for (std::int32_t p = a.first; p < a.first + a.count; ++p) {
-      for (std::int32_t q = b.first; q < b.first + b.count; ++q) {
-        testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
-      }
-    }
+    leafPair(a, b);
     return;
   }
   if (b.isLeaf() || (!a.isLeaf() && a.radius >= b.radius)) {
     const std::int32_t first = a.firstChild, count = a.childCount;
-    for (std::int32_t c = first; c < first + count; ++c) {
-      treeVersusTree(model, position, cache, c, nodeB);
-    }
+    for (std::int32_t c = first; c < first + count; ++c) descendPair(cache, c, nodeB, pad, leafPair);
   } else {
     const std::int32_t first = b.firstChild, count = b.childCount;
-    for (std::int32_t c = first; c < first + count; ++c) {
-      treeVersusTree(model, position, cache, nodeA, c);
-    }
+    for (std::int32_t c = first; c < first + count; ++c) descendPair(cache, nodeA, c, pad, leafPair);
   }
 }
 
-void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
-              std::int32_t node) {
+// The pairs inside one node: leafSelf(leaf) for each leaf, leafPair(a, b) for
+// each pair of touching leaves of different children.
+template <class LeafSelf, class LeafPair>
+void descendSelf(ContactScratch& cache, std::int32_t node, double pad, const LeafSelf& leafSelf,
+                 const LeafPair& leafPair) {
   const TreeNode& n = cache.nodes[node];
   if (n.isLeaf()) {
-    for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
-      for (std::int32_t q = p + 1; q < n.first + n.count; ++q) {
-        testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
-      }
-    }
+    leafSelf(n);
     return;
   }
   const std::int32_t first = n.firstChild, count = n.childCount;
   for (std::int32_t c = first; c < first + count; ++c) {
-    treeSelf(model, position, cache, c);
-    for (std::int32_t d = c + 1; d < first + count; ++d) {
-      treeVersusTree(model, position, cache, c, d);
+    descendSelf(cache, c, pad, leafSelf, leafPair);
+    for (std::int32_t d = c + 1; d < first + count; ++d) descendPair(cache, c, d, pad, leafPair);
+  }
+}
+
+// The narrow phase of two leaves of the tree search.
+void testLeafPair(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  const TreeNode& a, const TreeNode& b) {
+  if (a.object != b.object && (facetedNode(cache, a) || facetedNode(cache, b))) {
+    leavesWithFacets(model, position, cache, a, b);  // MODEL §3.8: particles or vertices on triangles
+    return;
+  }
+  for (std::int32_t p = a.first; p < a.first + a.count; ++p) {
+    for (std::int32_t q = b.first; q < b.first + b.count; ++q) {
+      testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
     }
   }
+}
+
+void testLeafSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  const TreeNode& n) {
+  for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
+    for (std::int32_t q = p + 1; q < n.first + n.count; ++q) {
+      testParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q]);
+    }
+  }
+}
+
+// Appends (min, max) to the pair list when particles a, b are closer than
+// r_a + r_b + pad.
+inline void listParticlePair(const Model& model, const std::vector<Vec3>& position,
+                             ContactScratch& cache, std::int32_t a, std::int32_t b, double pad) {
+  const double reach = model.radius[a] + model.radius[b] + pad;
+  if (squaredNorm(position[a] - position[b]) >= reach * reach) return;
+  cache.treePairs.pairs.push_back({std::min(a, b), std::max(a, b)});
+}
+
+}  // namespace
+
+void treeVersusTree(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                    std::int32_t nodeA, std::int32_t nodeB) {
+  descendPair(cache, nodeA, nodeB, 0.0, [&](const TreeNode& a, const TreeNode& b) {
+    testLeafPair(model, position, cache, a, b);
+  });
+}
+
+void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+              std::int32_t node) {
+  descendSelf(
+      cache, node, 0.0, [&](const TreeNode& n) { testLeafSelf(model, position, cache, n); },
+      [&](const TreeNode& a, const TreeNode& b) { testLeafPair(model, position, cache, a, b); });
+}
+
+bool treePairListApplies(const Model& model, const ContactScratch& cache) {
+  if (cache.trees.empty() || !(model.contact.neighbourSkin > 0.0)) return false;
+  for (const TreeObject& tree : cache.trees)
+    if (tree.faceted) return false;  // their leaves meet on triangles (MODEL §3.8)
+  return true;
+}
+
+double treePairSkin(const Model& model, const ContactScratch& cache) {
+  double largest = 0.0;
+  for (const std::int32_t i : cache.treeParticles) largest = std::max(largest, model.radius[i]);
+  return model.contact.neighbourSkin * 2.0 * largest;
+}
+
+bool treePairListHolds(const Model& model, const std::vector<Vec3>& position, double skin,
+                       const ContactScratch& cache) {
+  const TreePairList& list = cache.treePairs;
+  if (list.revision != cache.revision || list.skin != skin || !(skin > 0.0) ||
+      list.reference.size() != cache.treeParticles.size()) {
+    return false;
+  }
+  // (1 - 1e-9): rounding in the distances cannot let a pair through.
+  const double limit = 0.25 * skin * skin * (1.0 - 1e-9);
+  bool holds = true;
+  for (std::size_t k = 0; k < cache.treeParticles.size(); ++k) {
+    const std::int32_t i = cache.treeParticles[k];
+    holds &= squaredNorm(position[i] - list.reference[k]) <= limit;
+    holds &= model.radius[i] == list.referenceRadius[k];
+  }
+  return holds;
+}
+
+void startTreePairList(const Model& model, const std::vector<Vec3>& position, double skin,
+                       ContactScratch& cache) {
+  TreePairList& list = cache.treePairs;
+  list.revision = cache.revision;
+  list.skin = skin;
+  list.pairs.clear();
+  list.reference.resize(cache.treeParticles.size());
+  list.referenceRadius.resize(cache.treeParticles.size());
+  for (std::size_t k = 0; k < cache.treeParticles.size(); ++k) {
+    const std::int32_t i = cache.treeParticles[k];
+    list.reference[k] = position[i];
+    list.referenceRadius[k] = model.radius[i];
+  }
+  ++list.builds;
+  ++cache.stats.treePairListBuilds;
+}
+
+void listTreeVersusTree(const Model& model, const std::vector<Vec3>& position,
+                        ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB) {
+  const double pad = cache.treePairs.skin;
+  descendPair(cache, nodeA, nodeB, pad, [&](const TreeNode& a, const TreeNode& b) {
+    for (std::int32_t p = a.first; p < a.first + a.count; ++p)
+      for (std::int32_t q = b.first; q < b.first + b.count; ++q)
+        listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q],
+                         pad);
+  });
+}
+
+void listTreeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  std::int32_t node) {
+  const double pad = cache.treePairs.skin;
+  const auto pairsOf = [&](const TreeNode& a, const TreeNode& b) {
+    for (std::int32_t p = a.first; p < a.first + a.count; ++p)
+      for (std::int32_t q = b.first; q < b.first + b.count; ++q)
+        listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q],
+                         pad);
+  };
+  descendSelf(
+      cache, node, pad,
+      [&](const TreeNode& n) {
+        for (std::int32_t p = n.first; p < n.first + n.count; ++p)
+          for (std::int32_t q = p + 1; q < n.first + n.count; ++q)
+            listParticlePair(model, position, cache, cache.treeParticles[p],
+                             cache.treeParticles[q], pad);
+      },
+      pairsOf);
+}
+
+void testTreePairs(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {
+  for (const auto& pair : cache.treePairs.pairs)
+    testParticlePair(model, position, cache, pair[0], pair[1]);
 }
 
 void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,

@@ -37,6 +37,24 @@ void treeVersusTree(const Model& model, const std::vector<Vec3>& position, Conta
 /// Pairs inside one object (self-collision).
 void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
               std::int32_t node);
+/// The tree objects' pair list (TreePairList): whether it applies (trees, a
+/// skin, no faceted tree), its skin (ContactSettings::neighbourSkin × the
+/// largest tree particle's diameter), whether it still holds at `position`, and
+/// its build: startTreePairList, then listTreeVersusTree and listTreeSelf where
+/// the tree search would call treeVersusTree and treeSelf. testTreePairs runs
+/// the narrow phase over the list: the same finds as the tree search.
+bool treePairListApplies(const Model& model, const ContactScratch& cache);
+double treePairSkin(const Model& model, const ContactScratch& cache);
+bool treePairListHolds(const Model& model, const std::vector<Vec3>& position, double skin,
+                       const ContactScratch& cache);
+void startTreePairList(const Model& model, const std::vector<Vec3>& position, double skin,
+                       ContactScratch& cache);
+void listTreeVersusTree(const Model& model, const std::vector<Vec3>& position,
+                        ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB);
+void listTreeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  std::int32_t node);
+void testTreePairs(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache);
+
 /// Pairs between a tree and one particle outside it.
 void treeVersusParticle(const Model& model, const std::vector<Vec3>& position,
                         ContactScratch& cache, std::int32_t node, std::int32_t particle);

@@ -193,13 +193,21 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     bounds[o].velocity = (vLow[o] + vHigh[o]) * 0.5;
     bounds[o].acceleration = (aLow[o] + aHigh[o]) * 0.5;
   }
+  // The spreads as squares first (the square root of the largest square is the
+  // largest root: the same bits).
   for (ParticleIndex i = 0; i < n; ++i) {
     ObjectBounds& b =
         bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
     b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
-    b.velocitySpread = std::max(b.velocitySpread, norm(state.velocity[i] - b.velocity));
-    b.accelerationSpread = std::max(b.accelerationSpread, norm(acceleration(i) - b.acceleration));
+    b.velocitySpread =
+        std::max(b.velocitySpread, squaredNorm(state.velocity[i] - b.velocity));
+    b.accelerationSpread =
+        std::max(b.accelerationSpread, squaredNorm(acceleration(i) - b.acceleration));
     b.smallestRadius = std::min(b.smallestRadius, model.radius[i]);
+  }
+  for (ObjectBounds& b : bounds) {
+    b.velocitySpread = std::sqrt(b.velocitySpread);
+    b.accelerationSpread = std::sqrt(b.accelerationSpread);
   }
   // Many objects (a pile): without the gaps, through the spread of all of them
   // (linear); few: pair by pair, with the gaps.

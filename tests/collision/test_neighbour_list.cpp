@@ -44,6 +44,16 @@ PairSet found(const std::vector<Contact>& contacts) {
   return pairs;
 }
 
+// A closed 12 cm box of planes (material 1): ground, four walls and a lid.
+void addClosedBox(Model& model) {
+  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 1});
+  model.environment.planes.push_back(GroundPlane{{0.06, 0.0, 0.0}, {-1.0, 0.0, 0.0}, 1});
+  model.environment.planes.push_back(GroundPlane{{-0.06, 0.0, 0.0}, {1.0, 0.0, 0.0}, 1});
+  model.environment.planes.push_back(GroundPlane{{0.0, 0.06, 0.0}, {0.0, -1.0, 0.0}, 1});
+  model.environment.planes.push_back(GroundPlane{{0.0, -0.06, 0.0}, {0.0, 1.0, 0.0}, 1});
+  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.12}, {0.0, 0.0, -1.0}, 1});
+}
+
 // A gas of 400 balls of two sizes (radius 5 and 8 mm) in a 12 cm box with
 // ground and walls, no gravity, random speeds up to 2 m/s: at a step of 1e-4 s
 // a fast ball moves half the default skin (0.1 × 16 mm) in 4 steps.
@@ -65,12 +75,7 @@ Model gasModel(State& state, double skin) {
     state.velocity.back() =
         Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * (k == 7 ? 0.0 : 1.2);
   }
-  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 1});
-  model.environment.planes.push_back(GroundPlane{{0.06, 0.0, 0.0}, {-1.0, 0.0, 0.0}, 1});
-  model.environment.planes.push_back(GroundPlane{{-0.06, 0.0, 0.0}, {1.0, 0.0, 0.0}, 1});
-  model.environment.planes.push_back(GroundPlane{{0.0, 0.06, 0.0}, {0.0, -1.0, 0.0}, 1});
-  model.environment.planes.push_back(GroundPlane{{0.0, -0.06, 0.0}, {0.0, 1.0, 0.0}, 1});
-  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.12}, {0.0, 0.0, -1.0}, 1});
+  addClosedBox(model);
   return model;
 }
 
@@ -173,6 +178,79 @@ TEST(NeighbourList, IsRebuiltOnlyWhenAParticleMovesMoreThanHalfTheSkin) {
   moved.position[0].x -= 0.0011;
   EXPECT_EQ(evaluateAt(moved), 1);
   EXPECT_EQ(found(evaluator(moved).contacts).count({0, 7}), 1u);
+}
+
+// Tree objects (docs/contact.md "Neighbour list", TreePairList): 40 soft
+// clusters of four particles (two sizes, tied by springs: each object is a
+// sphere tree, with self-collision) tumbling in a closed box, no gravity. The
+// pair list finds exactly what the tree search at every evaluation finds (the
+// run with skin 0), bit for bit, and is kept for several steps at a time.
+Model clusterModel(State& state, double skin) {
+  Model model;
+  model.gravity = {};
+  model.contact.neighbourSkin = skin;
+  model.contact.selfCollision = true;
+  Material material;
+  material.contactStiffness = 2.0e3;
+  material.contactDamping = 0.2;
+  material.staticFriction = 0.5;
+  material.kineticFriction = 0.4;
+  model.materials.push_back(material);
+  test::TestRandom random{77};
+  for (int k = 0; k < 40; ++k) {
+    const std::int32_t object = model.addObject("cluster", "cluster", 1);
+    const Vec3 centre{0.045 * random.symmetric(), 0.045 * random.symmetric(),
+                      0.06 + 0.045 * random.symmetric()};
+    const Vec3 velocity = Vec3{random.symmetric(), random.symmetric(), random.symmetric()} * 0.8;
+    const double radius = k % 2 == 0 ? 0.004 : 0.006;
+    const auto first = model.particleCount();
+    const Vec3 corners[4] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    for (const Vec3& corner : corners) {
+      model.addParticle(0.002, radius, false, object);
+      state.position.push_back(centre + corner * (1.1 * radius));
+      state.velocity.push_back(velocity);
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        model.linearSprings.push_back({first + a, first + b,
+                                       norm(state.position[first + a] - state.position[first + b]),
+                                       200.0, 0.01});
+  }
+  addClosedBox(model);
+  return model;
+}
+
+TEST(NeighbourList, TreeObjectsFindWhatTheTreeSearchFindsAndKeepTheirListForSteps) {
+  State start;
+  const Model model = clusterModel(start, 0.1);
+  State startWithout;
+  const Model without = clusterModel(startWithout, 0.0);
+  World world(model, start, Integrator::kSymplecticEuler);
+  World reference(without, startWithout, Integrator::kSymplecticEuler);
+  std::int64_t builds = 0, referenceBuilds = 0;
+  std::size_t mostPairContacts = 0;
+  constexpr int kSteps = 1500;
+  for (int step = 0; step <= kSteps; ++step) {
+    const std::vector<Contact>& got = world.evaluation().contacts;
+    const std::vector<Contact>& expected = reference.evaluation().contacts;
+    ASSERT_EQ(got.size(), expected.size()) << "step " << step;
+    for (std::size_t k = 0; k < expected.size(); ++k)
+      ASSERT_TRUE(got[k].key() == expected[k].key()) << "step " << step << ", contact " << k;
+    mostPairContacts = std::max(mostPairContacts, found(got).size());
+    builds += world.evaluation().contactStats.treePairListBuilds;
+    referenceBuilds += reference.evaluation().contactStats.treePairListBuilds;
+    ASSERT_EQ(world.state().position, reference.state().position) << "step " << step;
+    ASSERT_EQ(world.state().velocity, reference.state().velocity) << "step " << step;
+    if (step == kSteps) break;
+    ASSERT_EQ(world.step(1.0e-4), StepStatus::kOk);
+    ASSERT_EQ(reference.step(1.0e-4), StepStatus::kOk);
+  }
+  std::printf("tree pair list: %lld builds in %d evaluations, up to %zu pair contacts\n",
+              static_cast<long long>(builds), kSteps + 1, mostPairContacts);
+  EXPECT_GT(mostPairContacts, 10u);  // clusters touch each other and themselves
+  EXPECT_GT(builds, 5);              // rebuilt as they move on
+  EXPECT_LT(builds, kSteps / 3);     // but kept for several steps
+  EXPECT_EQ(referenceBuilds, 0);     // skin 0: the tree search at every evaluation
 }
 
 TEST(NeighbourList, ASkinThatIsNegativeOrNotFiniteIsRefused) {
