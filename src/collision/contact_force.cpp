@@ -61,7 +61,7 @@ inline Vec3 symmetricTimes(const double* m, const Vec3& v) {
 // The pseudo-inverse of a symmetric 3×3 matrix by Jacobi rotations; eigenvalues
 // below 1e-9 of the largest count as zero (a row of particles cannot turn about
 // its own line). Returns the largest eigenvalue of the inverse.
-double symmetricPseudoInverse(const double* packed, double* inverse) {
+double jacobiPseudoInverse(const double* packed, double* inverse) {
   double a[3][3] = {{packed[0], packed[3], packed[4]},
                     {packed[3], packed[1], packed[5]},
                     {packed[4], packed[5], packed[2]}};
@@ -113,6 +113,55 @@ double symmetricPseudoInverse(const double* packed, double* inverse) {
   inverse[4] = entry(0, 2);
   inverse[5] = entry(1, 2);
   return largestInverse;
+}
+
+// The smallest and largest eigenvalues of a symmetric 3×3 matrix (packed xx yy
+// zz xy xz yz) in closed form (the trigonometric solution of the characteristic
+// cubic: λ = q + 2p cos(φ + 2πk/3), q = tr A / 3, p² = tr((A − q1)²) / 6,
+// cos 3φ = det((A − q1)/p) / 2).
+inline void symmetricEigenRange(const double* m, double& smallest, double& largest) {
+  const double q = (m[0] + m[1] + m[2]) / 3.0;
+  const double dxx = m[0] - q, dyy = m[1] - q, dzz = m[2] - q;
+  const double off = m[3] * m[3] + m[4] * m[4] + m[5] * m[5];
+  const double p2 = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * off;
+  if (!(p2 > 0.0)) {
+    smallest = largest = q;
+    return;
+  }
+  const double p = std::sqrt(p2 / 6.0);
+  const double determinant = dxx * (dyy * dzz - m[5] * m[5]) - m[3] * (m[3] * dzz - m[5] * m[4]) +
+                             m[4] * (m[3] * m[5] - dyy * m[4]);
+  const double r = std::clamp(0.5 * determinant / (p * p * p), -1.0, 1.0);
+  const double phi = std::acos(r) / 3.0;
+  largest = q + 2.0 * p * std::cos(phi);
+  smallest = q + 2.0 * p * std::cos(phi + 2.0 * M_PI / 3.0);
+}
+
+// The pseudo-inverse of a symmetric positive semi-definite 3×3 matrix (packed
+// xx yy zz xy xz yz), eigenvalues below 1e-9 of the largest counting as zero (a
+// row of particles cannot turn about its own line); returns the largest
+// eigenvalue of the inverse. A well-conditioned matrix (smallest eigenvalue
+// above 1e-6 of the largest: every LS neighbourhood that is not a line) is
+// inverted by its cofactors, its eigenvalues in closed form; the others by
+// Jacobi rotations.
+double symmetricPseudoInverse(const double* packed, double* inverse) {
+  double smallest = 0.0, largest = 0.0;
+  symmetricEigenRange(packed, smallest, largest);
+  if (!(largest > 0.0) || !(smallest > 1.0e-6 * largest))
+    return jacobiPseudoInverse(packed, inverse);
+  const double xx = packed[0], yy = packed[1], zz = packed[2];
+  const double xy = packed[3], xz = packed[4], yz = packed[5];
+  const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
+  const double determinant = xx * cxx + xy * cxy + xz * cxz;
+  if (!(determinant > 0.0)) return jacobiPseudoInverse(packed, inverse);
+  const double scale = 1.0 / determinant;
+  inverse[0] = cxx * scale;
+  inverse[1] = (xx * zz - xz * xz) * scale;
+  inverse[2] = (xx * yy - xy * xy) * scale;
+  inverse[3] = cxy * scale;
+  inverse[4] = cxz * scale;
+  inverse[5] = (xy * xz - xx * yz) * scale;
+  return 1.0 / smallest;
 }
 
 // One point's share of a least-squares rotation fit (MODEL §3.3): A += w (|d|² 1 −
