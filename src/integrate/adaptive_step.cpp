@@ -163,11 +163,19 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
       1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
   if (objects < 2) return step;
-  std::vector<ObjectBounds> bounds(objects);
-  std::vector<Vec3> vLow(objects), vHigh(objects), aLow(objects), aHigh(objects), pSum(objects);
-  std::vector<double> count(objects, 0.0);
-  // Virtual objects (goals' copies, paths' ends) touch nothing: no bound.
-  std::vector<char> virtualObject(objects, 0);
+  // Per-object scratch, kept per thread (no allocation once grown).
+  struct Scratch {
+    std::vector<ObjectBounds> bounds;
+    std::vector<Vec3> vLow, vHigh, aLow, aHigh, pSum;
+    std::vector<double> count;
+    std::vector<char> virtualObject;  // goals' copies, paths' ends: they touch nothing
+  };
+  thread_local Scratch scratch;
+  auto& [bounds, vLow, vHigh, aLow, aHigh, pSum, count, virtualObject] = scratch;
+  bounds.assign(objects, ObjectBounds{});
+  for (std::vector<Vec3>* v : {&vLow, &vHigh, &aLow, &aHigh, &pSum}) v->assign(objects, Vec3{});
+  count.assign(objects, 0.0);
+  virtualObject.assign(objects, 0);
   for (std::size_t o = 0; o < objects && o < model.objects.size(); ++o)
     virtualObject[o] = model.objects[o].kind == "virtual" ? 1 : 0;
   for (ParticleIndex i = 0; i < n; ++i) {
@@ -199,8 +207,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     ObjectBounds& b =
         bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
     b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
-    b.velocitySpread =
-        std::max(b.velocitySpread, squaredNorm(state.velocity[i] - b.velocity));
+    b.velocitySpread = std::max(b.velocitySpread, squaredNorm(state.velocity[i] - b.velocity));
     b.accelerationSpread =
         std::max(b.accelerationSpread, squaredNorm(acceleration(i) - b.acceleration));
     b.smallestRadius = std::min(b.smallestRadius, model.radius[i]);
