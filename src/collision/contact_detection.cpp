@@ -409,10 +409,17 @@ void sweepTrees(ContactScratch& cache, double pad, const Visit& visit) {
   }
 }
 
+// Whether the tree objects' pair list applies and holds at `position`.
+bool treePairListKept(const Model& model, const std::vector<Vec3>& position,
+                      const ContactScratch& cache) {
+  return treePairListApplies(model, cache) &&
+         treePairListHolds(model, position, treePairSkin(model, cache), cache);
+}
+
 // The tree objects against each other and themselves (self-collision): through
-// their pair list when it applies (rebuilt when it no longer holds), else by
-// the tree search at every evaluation. The same finds either way.
-void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
+// their pair list when it applies (rebuilt unless `listKept`), else by the tree
+// search at every evaluation. The same finds either way.
+void treesVersusTrees(const Model& model, const std::vector<Vec3>& position, bool listKept,
                       ContactScratch& cache) {
   const auto selfSearched = [&](const TreeObject& tree) {
     return model.contact.selfCollision && !tree.allFixed && !tree.rigid;
@@ -425,8 +432,8 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position,
       if (selfSearched(tree)) treeSelf(model, position, cache, tree.rootNode);
     return;
   }
-  const double skin = treePairSkin(model, cache);
-  if (!treePairListHolds(model, position, skin, cache)) {
+  if (!listKept) {
+    const double skin = treePairSkin(model, cache);
     startTreePairList(model, position, skin, cache);
     sweepTrees(cache, skin, [&](std::int32_t rootA, std::int32_t rootB) {
       listTreeVersusTree(model, position, cache, rootA, rootB);
@@ -446,7 +453,13 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   cache.detectedContacts.clear();
   cache.treeContacts.clear();
   cache.facetCandidates.clear();
-  refitSphereTrees(model, position, cache);
+  // The trees' node spheres are refitted when a search reads them: the tree
+  // search, a rebuild of the trees' pair list, or the grid cells and
+  // environment items the trees search at every evaluation.
+  const std::int32_t items = model.environment.itemCount();
+  const bool treeListKept = treePairListKept(model, position, cache);
+  if (!treeListKept || !cache.tables->gridParticles.empty() || items > 0)
+    refitSphereTrees(model, position, cache);
   updateSurfacePositions(model, position, cache);  // MODEL §3.8
   // Grid particles: the neighbour list (rebuilt when a particle has moved more
   // than half the skin), then each particle's touching partners in ascending
@@ -483,9 +496,8 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   }
 
   // Tree objects: against each other, themselves, the grid and the environment.
-  treesVersusTrees(model, position, cache);
+  treesVersusTrees(model, position, treeListKept, cache);
   treesVersusGrid(model, position, grid, cache);
-  const std::int32_t items = model.environment.itemCount();
   for (const TreeObject& tree : cache.trees) {
     if (tree.allFixed) continue;
     for (std::int32_t e = 0; e < items; ++e) {
