@@ -1,11 +1,18 @@
 #include "output/json_numbers.h"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <limits>
 #include <stdexcept>
 
 namespace robophi::output {
+
+void appendShortest(std::string& out, double value) {
+  char text[32];  // the longest is 24: "-2.2250738585072014e-308"
+  char* end = fmt::format_to(text, FMT_COMPILE("{}"), value);
+  out.append(text, static_cast<std::size_t>(end - text));
+}
 
 void nullNonFinite(nlohmann::ordered_json& j, std::vector<std::string>& nonFinite,
                    const std::string& pointer) {

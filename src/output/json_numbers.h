@@ -14,6 +14,11 @@
 
 namespace robophi::output {
 
+/// Appends `value` in its shortest round-trip form, as fmt's "{}" writes it (a
+/// CSV or JSON read back gives the bits that were simulated), without parsing a
+/// format string or growing `out` one character at a time.
+void appendShortest(std::string& out, double value);
+
 /// `value` as JSON: itself when finite, else null, and `path` is added to
 /// `nonFinite` (when given) so that the file can say which numbers were not.
 inline nlohmann::json finiteOrNull(double value, const std::string& path,

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "output/json_numbers.h"
 #include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_reader.h"
@@ -44,7 +45,7 @@ std::size_t piecesSize(const std::string_view (&pieces)[N]) {
 // JSON has no NaN or infinity: a diverged run's values become null.
 void appendNumber(std::string& out, double value) {
   if (std::isfinite(value)) {
-    fmt::format_to(std::back_inserter(out), "{}", value);
+    output::appendShortest(out, value);
   } else {
     out += "null";
   }

@@ -26,7 +26,7 @@ std::ofstream openOrThrow(const std::filesystem::path& path) {
 // Numbers are written in their shortest round-trip form, so a CSV read back
 // gives the bits that were simulated.
 void appendNumber(std::string& line, double value) {
-  fmt::format_to(std::back_inserter(line), "{}", value);
+  output::appendShortest(line, value);
 }
 
 }  // namespace
