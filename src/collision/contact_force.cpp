@@ -176,7 +176,12 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
     return t;
   if (tables.inverseSpinInertia[i] > 0.0) {
     t.kind = 1;
-    if (static_cast<std::size_t>(i) < spin.size()) t.omega = spin[i];
+    if (static_cast<std::size_t>(i) < spin.size()) {
+      // Component by component: a block copy of the Vec3 is stored whole and
+      // read back in other pairs (a stalled store forward on every contact).
+      const Vec3& omega = spin[static_cast<std::size_t>(i)];
+      t.omega = Vec3{omega.x, omega.y, omega.z};
+    }
     t.armInverseInertia = arm * arm * tables.inverseSpinInertia[i];
     return t;
   }
@@ -436,12 +441,32 @@ Vec3 rollingResistanceMoment(const PairParameters& k, const Contact& c, const Ve
 //   is more than static friction can stop; a transient slows down under it):
 //   μ_k F_n against the slip, until every contact has slowed below the stick
 //   velocity or reversed.
-void decideGroups(std::vector<FrictionGroup>& groups) {
-  for (FrictionGroup& g : groups) {
+// The sums over a group's contacts (in contact order) that only the decision of
+// a group breaking away reads: Σ |V| at the last evaluation, the anchors'
+// elastic range Σ μ_s F_n / k_t and Σ μ_s F_n / √(k_t m_eff).
+void sumBreakingAway(const FrictionTrial* trials, std::size_t count, std::int32_t group,
+                     FrictionGroup& g) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const FrictionTrial& t = trials[k];
+    if (t.group != group) continue;
+    if (t.hadBefore) g.slipBefore += norm(t.slipBefore);
+    g.range += t.frictionLoad / t.tangentialStiffness;
+    g.elasticSpeed += t.frictionLoad * std::sqrt(t.tangentialInverse / t.tangentialStiffness);
+  }
+}
+
+void decideGroups(std::vector<FrictionGroup>& groups, const FrictionTrial* trials,
+                  std::size_t count) {
+  for (std::size_t index = 0; index < groups.size(); ++index) {
+    FrictionGroup& g = groups[index];
     g.scale = 1.0;
     if (g.wasSliding) {
       g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
-    } else if (g.total <= g.normal) {
+      continue;
+    }
+    if (g.total > g.normal && g.wasBreakingAway)
+      sumBreakingAway(trials, count, static_cast<std::int32_t>(index), g);
+    if (g.total <= g.normal) {
       g.regime = kSticking;
     } else if (g.wasBreakingAway &&
                (g.slip > kSlidingSpeed * g.elasticSpeed ||
@@ -464,10 +489,17 @@ struct StageInput {
   const std::vector<Vec3>& spin;
   const std::vector<Contact>& previous;
   ContactScratch& cache;
+  /// Set when the chunks run in order on one thread and no contact can be
+  /// deferred (no facets, rims or particles turning with their LS
+  /// neighbourhood): each contact's loads go to these as its run ends, in
+  /// contact order, the order of the scatter they replace (the same bits).
+  std::vector<Vec3>* force = nullptr;
+  std::vector<Vec3>* torque = nullptr;
 };
 
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
+
 
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
@@ -491,13 +523,14 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   chunk.inverses.clear();
   chunk.deferred.clear();
   const double stickVelocity = model.contact.stickVelocity;
+  const bool direct = in.force != nullptr;
 
   // A run: the contacts from the first of a's object (the first with friction)
   // to the next object's. Its groups decide, and its contacts' friction is
   // worked out, when it ends (its trials are still in the cache).
   std::size_t runFirst = chunk.begin;
   const auto finishRun = [&](std::size_t end) {
-    decideGroups(chunk.groups);
+    decideGroups(chunk.groups, chunk.trials.data(), end - runFirst);
     for (std::size_t index = runFirst; index < end; ++index) {
       Contact& c = contacts[index];
       const FrictionTrial& t = chunk.trials[index - runFirst];
@@ -509,12 +542,29 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
         c.sliding = 0;
       }
       c.frictionForce = friction;
-      ContactLoad& load = cache.loads[index];
+      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
       if (!load.deferred) {
         if (t.group >= 0) {
           load.force += friction;
           if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
           if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
+        }
+        if (direct) {
+          // As the scatter in accumulateContacts, contact by contact.
+          std::vector<Vec3>& f = *in.force;
+          std::vector<Vec3>& torque = *in.torque;
+          const auto a = static_cast<std::size_t>(load.a);
+          if (load.other >= 0) {
+            const auto b = static_cast<std::size_t>(load.other);
+            f[b] -= load.force;
+            torque[b] += load.torqueB;
+            cache.contactStiffnessSum[b] += load.stiffness;
+            cache.contactDampingSum[b] += load.damping;
+          }
+          f[a] += load.force;
+          torque[a] += load.torqueA;
+          cache.contactStiffnessSum[a] += load.stiffness;
+          cache.contactDampingSum[a] += load.damping;
         }
       } else if (t.group >= 0) {
         FrictionApplication& application = cache.applications[index];
@@ -575,6 +625,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       runObject = objectA;
     }
     if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
+    if (direct && chunk.runLoads.size() <= index - runFirst)
+      chunk.runLoads.resize(index - runFirst + 1);
     FrictionTrial& t = chunk.trials[index - runFirst];
     t.turnA = 0;
     t.turnB = 0;
@@ -654,18 +706,30 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
     const Vec3 normal = n * normalForce;
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
-    stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+    // -d / r, a division, only where it may be the deepest so far: the test
+    // lets through every quotient above the maximum (its rounding is far below
+    // the 1e-9 margin).
+    if (-c.depth > stats.maxPenetrationFraction * smallerRadius * (1.0 - 1e-9)) {
+      stats.maxPenetrationFraction =
+          std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+    }
 
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
     Vec3 rollMoment;  // rolling resistance on a
     // The contact's loads once its sides' turning is known: left for the gather
-    // by particle, or deferred (with what the serial pass needs).
-    const auto settle = [&](double rotationFactor, double tangentialDamping) {
+    // by particle, or deferred (with what the serial pass needs). (Inlined: a
+    // call reaches every capture through the closure, on every contact.)
+#if defined(__GNUC__)
+#define ROBOPHI_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define ROBOPHI_INLINE_LAMBDA
+#endif
+    const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_INLINE_LAMBDA {
       double stiffness = 0.0, damping = 0.0;
       contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
-      ContactLoad& load = cache.loads[index];
+      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
       load.a = a;
       load.other = c.other;
       load.deferred = faceted || c.rim >= 0 || t.turnA == 2 || t.turnB == 2;
@@ -791,14 +855,15 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     }
     FrictionGroup& group = chunk.groups[g];
     t.group = static_cast<std::int32_t>(g);
-    group.normal += k.staticFriction * normalForce;  // the group's μ_s Σ F_n
+    t.frictionLoad = k.staticFriction * normalForce;
+    group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
     group.total += norm(t.elastic + t.damper);
     group.giveWay += t.giveWayBefore;
     group.slip += t.slipSpeed;
-    if (before != nullptr) group.slipBefore += norm(before->slip);
-    group.range += k.staticFriction * normalForce / k.tangentialStiffness;
-    group.elasticSpeed +=
-        k.staticFriction * normalForce * std::sqrt(tangentialInverse / k.tangentialStiffness);
+    // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
+    t.tangentialInverse = tangentialInverse;
+    t.hadBefore = before != nullptr;
+    if (t.hadBefore) t.slipBefore = before->slip;
     group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
     group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
     group.allSlow = group.allSlow && t.slow;
@@ -924,7 +989,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // (Resized, not cleared: the buffer swapped back holds the list of two
   // evaluations ago, so only the difference is constructed.)
   cache.freshContacts.resize(count);
-  cache.loads.resize(count);
   cache.applications.resize(count);
 
   // The chunks: about kContactChunk contacts each, cut only where a's object
@@ -990,7 +1054,14 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // Fewer contacts than a parallel loop's minimum: this thread alone.
   const int stageThreads =
       count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
-  const StageInput input{model, tables, p, v, spin, previous, cache};
+  // One thread, and no contact can be deferred: the chunks add the loads as
+  // they go (StageInput::force).
+  const bool direct = stageThreads <= 1 && model.surfaceVertices.empty() &&
+                      model.surfaceTriangles.empty() && model.rims.empty() &&
+                      (!model.contact.rolling || tables.rollNeighbour.empty());
+  if (!direct) cache.loads.resize(count);
+  const StageInput input{model,    tables, p, v, spin, previous, cache,
+                         direct ? &f : nullptr, direct ? &torque : nullptr};
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
@@ -1037,7 +1108,21 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     return dampedCriticalStep(omega, dampingRate);
   };
   if (stageThreads <= 1) {
-    for (std::size_t index = 0; index < count; ++index) {
+    for (std::size_t index = 0; index < (direct ? 0 : count); ++index) {
+#if defined(__GNUC__)
+      // The other side is scattered: ask for its sums a few contacts ahead.
+      constexpr std::size_t kAhead = 8;
+      if (index + kAhead < count) {
+        const std::int32_t ahead = cache.loads[index + kAhead].other;
+        if (ahead >= 0) {
+          const auto b = static_cast<std::size_t>(ahead);
+          __builtin_prefetch(f.data() + b, 1);
+          __builtin_prefetch(torque.data() + b, 1);
+          __builtin_prefetch(cache.contactStiffnessSum.data() + b, 1);
+          __builtin_prefetch(cache.contactDampingSum.data() + b, 1);
+        }
+      }
+#endif
       const ContactLoad& load = cache.loads[index];
       if (load.deferred) continue;
       const auto a = static_cast<std::size_t>(load.a);
