@@ -589,12 +589,42 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // they are large, and most contacts need neither).
   FacetKinematics facet;
   RingMotion ring;  // the current rim contact's (a copy of chunk.rings.back())
+  // The geometry of the bare particle pairs (most contacts), worked out a batch
+  // ahead: a pair's chain of square roots and divisions (distance, normal,
+  // arms' lengths) is long, and the pairs of a batch overlap theirs, where
+  // within the loop each waited for its own. The same operations, in the same
+  // order, as the pair branch below.
+  struct PairGeometry {
+    Vec3 relative, normal, armA, armB;
+    double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
+  };
+  constexpr std::size_t kBatch = 16;
+  PairGeometry batch[kBatch];
+  std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
   for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
     // new one to write, the history's to read).
     constexpr std::size_t kAhead = 6;
     if (index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
     if (old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
+    if (index == batchEnd) {
+      batchBegin = index;
+      batchEnd = std::min(chunk.end, index + kBatch);
+      for (std::size_t j = batchBegin; j < batchEnd; ++j) {
+        const ContactSeed& pair = cache.seeds[j];
+        if (pair.full != -1) continue;
+        const std::int32_t a = pair.a(), b = pair.other();
+        PairGeometry& g = batch[j - batchBegin];
+        g.relative = p[a] - p[b];
+        const double distance = norm(g.relative);
+        g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
+        g.depth = distance - (model.radius[a] + model.radius[b]);
+        g.armA = g.normal * -(model.radius[a] + 0.5 * g.depth);
+        g.armB = g.normal * (model.radius[b] + 0.5 * g.depth);
+        g.armLengthA = norm(g.armA);
+        g.armLengthB = norm(g.armB);
+      }
+    }
     // The contact, built once from what the detection found.
     const ContactSeed& seed = cache.seeds[index];
     Contact& c = contacts[index];
@@ -639,6 +669,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // faceted side does not turn (its lattice rotates with its particles).
     const bool faceted = c.involvesFacets();
     double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
+    double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0;
     if (faceted) {
       facetKinematics(model, p, v, before, c, facet);
@@ -653,17 +684,28 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ++stats.facetContacts;
     } else if (c.other >= 0) {
       const std::int32_t b = c.other;
-      // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
-      t.relative = p[a] - p[b];
-      const double distance = norm(t.relative);
-      c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
-      c.depth = distance - (model.radius[a] + model.radius[b]);
+      if (seed.full == -1) {  // worked out with its batch (above)
+        const PairGeometry& g = batch[index - batchBegin];
+        t.relative = g.relative;
+        c.normal = g.normal;
+        c.depth = g.depth;
+        t.armA = g.armA;
+        t.armB = g.armB;
+        armLengthA = g.armLengthA;
+        armLengthB = g.armLengthB;
+      } else {
+        // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
+        t.relative = p[a] - p[b];
+        const double distance = norm(t.relative);
+        c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
+        c.depth = distance - (model.radius[a] + model.radius[b]);
+        // The contact point halfway through the overlap.
+        t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
+        t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
+      }
       smallerRadius = std::min(smallerRadius, model.radius[b]);
       relativeVelocity = v[a] - v[b];
       inverseMass += model.inverseMass[b];
-      // The contact point halfway through the overlap.
-      t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
-      t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
       ++stats.particleContacts;
     } else if (c.rim >= 0) {
       // A round rim or ball (rigid about its centre, above): the contact point on
@@ -782,11 +824,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
     } else if (c.vertex < 0) {
-      ta = turningOf(model, tables, cache, p, v, in.spin, a, norm(t.armA), t.inverseA);
+      ta = turningOf(model, tables, cache, p, v, in.spin, a,
+                     armLengthA >= 0.0 ? armLengthA : norm(t.armA), t.inverseA);
     }
     Turning tb;
     if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, cache, p, v, in.spin, c.other, norm(t.armB), t.inverseB);
+      tb = turningOf(model, tables, cache, p, v, in.spin, c.other,
+                     armLengthB >= 0.0 ? armLengthB : norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
