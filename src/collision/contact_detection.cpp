@@ -289,18 +289,7 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
   const double r = model.radius[i];
   const std::int32_t begin = list.start[k], end = list.start[k + 1];
   work.pairTests += end - begin;
-  const auto listed = static_cast<std::int32_t>(list.partner.size());
   for (std::int32_t s = begin; s < end; ++s) {
-#if defined(__GNUC__)
-    // The partners are scattered: ask for those a few entries ahead (the next
-    // rows' too, which follow in the list).
-    constexpr std::int32_t kAhead = 8;
-    if (s + kAhead < listed) {
-      const auto ahead = static_cast<std::size_t>(list.partner[static_cast<std::size_t>(s + kAhead)]);
-      __builtin_prefetch(position.data() + ahead);
-      __builtin_prefetch(model.radius.data() + ahead);
-    }
-#endif
     const std::int32_t j = list.partner[s];
     const Vec3& q = position[j];
     const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;

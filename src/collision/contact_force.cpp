@@ -1153,20 +1153,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   };
   if (stageThreads <= 1) {
     for (std::size_t index = 0; index < (direct ? 0 : count); ++index) {
-#if defined(__GNUC__)
-      // The other side is scattered: ask for its sums a few contacts ahead.
-      constexpr std::size_t kAhead = 8;
-      if (index + kAhead < count) {
-        const std::int32_t ahead = cache.loads[index + kAhead].other;
-        if (ahead >= 0) {
-          const auto b = static_cast<std::size_t>(ahead);
-          __builtin_prefetch(f.data() + b, 1);
-          __builtin_prefetch(torque.data() + b, 1);
-          __builtin_prefetch(cache.contactStiffnessSum.data() + b, 1);
-          __builtin_prefetch(cache.contactDampingSum.data() + b, 1);
-        }
-      }
-#endif
       const ContactLoad& load = cache.loads[index];
       if (load.deferred) continue;
       const auto a = static_cast<std::size_t>(load.a);
