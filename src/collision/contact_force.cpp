@@ -26,6 +26,13 @@
 #include "core/parallel.h"
 #include "robophi/stability.h"
 
+// A lambda the compiler must inline (GCC and Clang; elsewhere a hint left out).
+#if defined(__GNUC__)
+#define ROBOPHI_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define ROBOPHI_ALWAYS_INLINE
+#endif
+
 namespace robophi {
 
 namespace {
@@ -763,12 +770,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // The contact's loads once its sides' turning is known: left for the gather
     // by particle, or deferred (with what the serial pass needs). (Inlined: a
     // call reaches every capture through the closure, on every contact.)
-#if defined(__GNUC__)
-#define ROBOPHI_INLINE_LAMBDA __attribute__((always_inline))
-#else
-#define ROBOPHI_INLINE_LAMBDA
-#endif
-    const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_INLINE_LAMBDA {
+    const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
       double stiffness = 0.0, damping = 0.0;
       contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
       ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
