@@ -26,6 +26,13 @@
 #include "core/parallel.h"
 #include "robophi/stability.h"
 
+// A lambda the compiler must inline (GCC and Clang; elsewhere a hint left out).
+#if defined(__GNUC__)
+#define ROBOPHI_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define ROBOPHI_ALWAYS_INLINE
+#endif
+
 namespace robophi {
 
 namespace {
@@ -225,7 +232,12 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
     return t;
   if (tables.inverseSpinInertia[i] > 0.0) {
     t.kind = 1;
-    if (static_cast<std::size_t>(i) < spin.size()) t.omega = spin[i];
+    if (static_cast<std::size_t>(i) < spin.size()) {
+      // Component by component: a block copy of the Vec3 is stored whole and
+      // read back in other pairs (a stalled store forward on every contact).
+      const Vec3& omega = spin[static_cast<std::size_t>(i)];
+      t.omega = Vec3{omega.x, omega.y, omega.z};
+    }
     t.armInverseInertia = arm * arm * tables.inverseSpinInertia[i];
     return t;
   }
@@ -485,12 +497,32 @@ Vec3 rollingResistanceMoment(const PairParameters& k, const Contact& c, const Ve
 //   is more than static friction can stop; a transient slows down under it):
 //   μ_k F_n against the slip, until every contact has slowed below the stick
 //   velocity or reversed.
-void decideGroups(std::vector<FrictionGroup>& groups) {
-  for (FrictionGroup& g : groups) {
+// The sums over a group's contacts (in contact order) that only the decision of
+// a group breaking away reads: Σ |V| at the last evaluation, the anchors'
+// elastic range Σ μ_s F_n / k_t and Σ μ_s F_n / √(k_t m_eff).
+void sumBreakingAway(const FrictionTrial* trials, std::size_t count, std::int32_t group,
+                     FrictionGroup& g) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const FrictionTrial& t = trials[k];
+    if (t.group != group) continue;
+    if (t.hadBefore) g.slipBefore += norm(t.slipBefore);
+    g.range += t.frictionLoad / t.tangentialStiffness;
+    g.elasticSpeed += t.frictionLoad * std::sqrt(t.tangentialInverse / t.tangentialStiffness);
+  }
+}
+
+void decideGroups(std::vector<FrictionGroup>& groups, const FrictionTrial* trials,
+                  std::size_t count) {
+  for (std::size_t index = 0; index < groups.size(); ++index) {
+    FrictionGroup& g = groups[index];
     g.scale = 1.0;
     if (g.wasSliding) {
       g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
-    } else if (g.total <= g.normal) {
+      continue;
+    }
+    if (g.total > g.normal && g.wasBreakingAway)
+      sumBreakingAway(trials, count, static_cast<std::int32_t>(index), g);
+    if (g.total <= g.normal) {
       g.regime = kSticking;
     } else if (g.wasBreakingAway &&
                (g.slip > kSlidingSpeed * g.elasticSpeed ||
@@ -513,10 +545,17 @@ struct StageInput {
   const std::vector<Vec3>& spin;
   const std::vector<Contact>& previous;
   ContactScratch& cache;
+  /// Set when the chunks run in order on one thread and no contact can be
+  /// deferred (no facets, rims or particles turning with their LS
+  /// neighbourhood): each contact's loads go to these as its run ends, in
+  /// contact order, the order of the scatter they replace (the same bits).
+  std::vector<Vec3>* force = nullptr;
+  std::vector<Vec3>* torque = nullptr;
 };
 
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
+
 
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
@@ -540,13 +579,14 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   chunk.inverses.clear();
   chunk.deferred.clear();
   const double stickVelocity = model.contact.stickVelocity;
+  const bool direct = in.force != nullptr;
 
   // A run: the contacts from the first of a's object (the first with friction)
   // to the next object's. Its groups decide, and its contacts' friction is
   // worked out, when it ends (its trials are still in the cache).
   std::size_t runFirst = chunk.begin;
   const auto finishRun = [&](std::size_t end) {
-    decideGroups(chunk.groups);
+    decideGroups(chunk.groups, chunk.trials.data(), end - runFirst);
     for (std::size_t index = runFirst; index < end; ++index) {
       Contact& c = contacts[index];
       const FrictionTrial& t = chunk.trials[index - runFirst];
@@ -558,12 +598,29 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
         c.sliding = 0;
       }
       c.frictionForce = friction;
-      ContactLoad& load = cache.loads[index];
+      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
       if (!load.deferred) {
         if (t.group >= 0) {
           load.force += friction;
           if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
           if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
+        }
+        if (direct) {
+          // As the scatter in accumulateContacts, contact by contact.
+          std::vector<Vec3>& f = *in.force;
+          std::vector<Vec3>& torque = *in.torque;
+          const auto a = static_cast<std::size_t>(load.a);
+          if (load.other >= 0) {
+            const auto b = static_cast<std::size_t>(load.other);
+            f[b] -= load.force;
+            torque[b] += load.torqueB;
+            cache.contactStiffnessSum[b] += load.stiffness;
+            cache.contactDampingSum[b] += load.damping;
+          }
+          f[a] += load.force;
+          torque[a] += load.torqueA;
+          cache.contactStiffnessSum[a] += load.stiffness;
+          cache.contactDampingSum[a] += load.damping;
         }
       } else if (t.group >= 0) {
         FrictionApplication& application = cache.applications[index];
@@ -588,12 +645,42 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // they are large, and most contacts need neither).
   FacetKinematics facet;
   RingMotion ring;  // the current rim contact's (a copy of chunk.rings.back())
+  // The geometry of the bare particle pairs (most contacts), worked out a batch
+  // ahead: a pair's chain of square roots and divisions (distance, normal,
+  // arms' lengths) is long, and the pairs of a batch overlap theirs, where
+  // within the loop each waited for its own. The same operations, in the same
+  // order, as the pair branch below.
+  struct PairGeometry {
+    Vec3 relative, normal, armA, armB;
+    double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
+  };
+  constexpr std::size_t kBatch = 16;
+  PairGeometry batch[kBatch];
+  std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
   for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
     // new one to write, the history's to read).
     constexpr std::size_t kAhead = 6;
     if (index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
     if (old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
+    if (index == batchEnd) {
+      batchBegin = index;
+      batchEnd = std::min(chunk.end, index + kBatch);
+      for (std::size_t j = batchBegin; j < batchEnd; ++j) {
+        const ContactSeed& pair = cache.seeds[j];
+        if (pair.full != -1) continue;
+        const std::int32_t a = pair.a(), b = pair.other();
+        PairGeometry& g = batch[j - batchBegin];
+        g.relative = p[a] - p[b];
+        const double distance = norm(g.relative);
+        g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
+        g.depth = distance - (model.radius[a] + model.radius[b]);
+        g.armA = g.normal * -(model.radius[a] + 0.5 * g.depth);
+        g.armB = g.normal * (model.radius[b] + 0.5 * g.depth);
+        g.armLengthA = norm(g.armA);
+        g.armLengthB = norm(g.armB);
+      }
+    }
     // The contact, built once from what the detection found.
     const ContactSeed& seed = cache.seeds[index];
     Contact& c = contacts[index];
@@ -624,6 +711,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       runObject = objectA;
     }
     if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
+    if (direct && chunk.runLoads.size() <= index - runFirst)
+      chunk.runLoads.resize(index - runFirst + 1);
     FrictionTrial& t = chunk.trials[index - runFirst];
     t.turnA = 0;
     t.turnB = 0;
@@ -636,6 +725,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // faceted side does not turn (its lattice rotates with its particles).
     const bool faceted = c.involvesFacets();
     double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
+    double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0;
     if (faceted) {
       facetKinematics(model, p, v, before, c, facet);
@@ -650,17 +740,28 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ++stats.facetContacts;
     } else if (c.other >= 0) {
       const std::int32_t b = c.other;
-      // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
-      t.relative = p[a] - p[b];
-      const double distance = norm(t.relative);
-      c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
-      c.depth = distance - (model.radius[a] + model.radius[b]);
+      if (seed.full == -1) {  // worked out with its batch (above)
+        const PairGeometry& g = batch[index - batchBegin];
+        t.relative = g.relative;
+        c.normal = g.normal;
+        c.depth = g.depth;
+        t.armA = g.armA;
+        t.armB = g.armB;
+        armLengthA = g.armLengthA;
+        armLengthB = g.armLengthB;
+      } else {
+        // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
+        t.relative = p[a] - p[b];
+        const double distance = norm(t.relative);
+        c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
+        c.depth = distance - (model.radius[a] + model.radius[b]);
+        // The contact point halfway through the overlap.
+        t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
+        t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
+      }
       smallerRadius = std::min(smallerRadius, model.radius[b]);
       relativeVelocity = v[a] - v[b];
       inverseMass += model.inverseMass[b];
-      // The contact point halfway through the overlap.
-      t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
-      t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
       ++stats.particleContacts;
     } else if (c.rim >= 0) {
       // A round rim or ball (rigid about its centre, above): the contact point on
@@ -703,18 +804,25 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
     const Vec3 normal = n * normalForce;
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
-    stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+    // -d / r, a division, only where it may be the deepest so far: the test
+    // lets through every quotient above the maximum (its rounding is far below
+    // the 1e-9 margin).
+    if (-c.depth > stats.maxPenetrationFraction * smallerRadius * (1.0 - 1e-9)) {
+      stats.maxPenetrationFraction =
+          std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+    }
 
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
     Vec3 rollMoment;  // rolling resistance on a
     // The contact's loads once its sides' turning is known: left for the gather
-    // by particle, or deferred (with what the serial pass needs).
-    const auto settle = [&](double rotationFactor, double tangentialDamping) {
+    // by particle, or deferred (with what the serial pass needs). (Inlined: a
+    // call reaches every capture through the closure, on every contact.)
+    const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
       double stiffness = 0.0, damping = 0.0;
       contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
-      ContactLoad& load = cache.loads[index];
+      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
       load.a = a;
       load.other = c.other;
       load.deferred = faceted || c.rim >= 0 || t.turnA == 2 || t.turnB == 2;
@@ -767,11 +875,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
     } else if (c.vertex < 0) {
-      ta = turningOf(model, tables, cache, p, v, in.spin, a, norm(t.armA), t.inverseA);
+      ta = turningOf(model, tables, cache, p, v, in.spin, a,
+                     armLengthA >= 0.0 ? armLengthA : norm(t.armA), t.inverseA);
     }
     Turning tb;
     if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, cache, p, v, in.spin, c.other, norm(t.armB), t.inverseB);
+      tb = turningOf(model, tables, cache, p, v, in.spin, c.other,
+                     armLengthB >= 0.0 ? armLengthB : norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
     t.turnB = tb.kind;
@@ -840,14 +950,15 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     }
     FrictionGroup& group = chunk.groups[g];
     t.group = static_cast<std::int32_t>(g);
-    group.normal += k.staticFriction * normalForce;  // the group's μ_s Σ F_n
+    t.frictionLoad = k.staticFriction * normalForce;
+    group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
     group.total += norm(t.elastic + t.damper);
     group.giveWay += t.giveWayBefore;
     group.slip += t.slipSpeed;
-    if (before != nullptr) group.slipBefore += norm(before->slip);
-    group.range += k.staticFriction * normalForce / k.tangentialStiffness;
-    group.elasticSpeed +=
-        k.staticFriction * normalForce * std::sqrt(tangentialInverse / k.tangentialStiffness);
+    // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
+    t.tangentialInverse = tangentialInverse;
+    t.hadBefore = before != nullptr;
+    if (t.hadBefore) t.slipBefore = before->slip;
     group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
     group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
     group.allSlow = group.allSlow && t.slow;
@@ -973,7 +1084,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // (Resized, not cleared: the buffer swapped back holds the list of two
   // evaluations ago, so only the difference is constructed.)
   cache.freshContacts.resize(count);
-  cache.loads.resize(count);
   cache.applications.resize(count);
 
   // The chunks: about kContactChunk contacts each, cut only where a's object
@@ -1039,7 +1149,14 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   // Fewer contacts than a parallel loop's minimum: this thread alone.
   const int stageThreads =
       count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
-  const StageInput input{model, tables, p, v, spin, previous, cache};
+  // One thread, and no contact can be deferred: the chunks add the loads as
+  // they go (StageInput::force).
+  const bool direct = stageThreads <= 1 && model.surfaceVertices.empty() &&
+                      model.surfaceTriangles.empty() && model.rims.empty() &&
+                      (!model.contact.rolling || tables.rollNeighbour.empty());
+  if (!direct) cache.loads.resize(count);
+  const StageInput input{model,    tables, p, v, spin, previous, cache,
+                         direct ? &f : nullptr, direct ? &torque : nullptr};
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
@@ -1086,7 +1203,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     return dampedCriticalStep(omega, dampingRate);
   };
   if (stageThreads <= 1) {
-    for (std::size_t index = 0; index < count; ++index) {
+    for (std::size_t index = 0; index < (direct ? 0 : count); ++index) {
       const ContactLoad& load = cache.loads[index];
       if (load.deferred) continue;
       const auto a = static_cast<std::size_t>(load.a);

@@ -311,14 +311,10 @@ ContactScratch& prepareContactScratch(const Model& model, const ContactTables& t
   return scratch;
 }
 
-const PairParameters& pairParameters(const Model& model, const ContactTables& cache, std::int32_t a,
-                                     std::int32_t other, PairParameters& overrideOut) {
-  const std::int32_t materialA = cache.particleMaterial[a];
-  const std::int32_t materialB =
-      other >= 0 ? cache.particleMaterial[other] : cache.environmentMaterials[-1 - other];
-  const PairParameters& table =
-      cache.materialPairs[static_cast<std::size_t>(materialA) * cache.materialCount + materialB];
-  if (cache.overrides.empty()) return table;
+const PairParameters& overriddenPairParameters(const Model& model, const ContactTables& cache,
+                                               std::int32_t a, std::int32_t other,
+                                               const PairParameters& table,
+                                               PairParameters& overrideOut) {
   std::int32_t objectA = cache.particleObject[a];
   std::int32_t objectB = other >= 0 ? cache.particleObject[other] : -1;
   if (objectA < 0) return table;

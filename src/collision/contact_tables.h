@@ -276,13 +276,23 @@ struct ContactScratch {
     bool slow = false;              // |V| <= stick velocity, or V reversed
     std::int32_t regimeBefore = 0;  // Contact::sliding at the last evaluation
     double giveWayBefore = 0.0;     // Contact::giveWay at the last evaluation (m)
+    /// For the sums only a group breaking away needs (FrictionGroup::range,
+    /// elasticSpeed, slipBefore), taken when it decides: μ_s F_n (N), the
+    /// contact point's inverse effective mass (1/kg), and the slip at the last
+    /// evaluation (m/s) when the contact persists (hadBefore).
+    double frictionLoad = 0.0, tangentialInverse = 0.0;
+    Vec3 slipBefore;
+    bool hadBefore = false;
   };
   struct FrictionGroup {
     std::int64_t other = 0;
     double normal = 0.0;                  // μ_s Σ F_n (N)
     double total = 0.0;                   // Σ |k_t δ_t + c_t V| (N)
     double giveWay = 0.0;                 // Σ of the anchors' give-way so far (m)
-    double slip = 0.0, slipBefore = 0.0;  // Σ |V| now and at the last evaluation (m/s)
+    /// Σ |V| now and at the last evaluation (m/s). slipBefore, range and
+    /// elasticSpeed are summed only for a group that was breaking away and
+    /// is loaded above μ_s Σ F_n (decideGroups: the only one that reads them).
+    double slip = 0.0, slipBefore = 0.0;
     double range = 0.0;                   // Σ μ_s F_n / k_t, the anchors' elastic range (m)
     double elasticSpeed =
         0.0;  // Σ μ_s F_n / √(k_t m_eff): an anchor's speed within its range (m/s)
@@ -330,6 +340,9 @@ struct ContactScratch {
     std::size_t historyBegin = 0, historyEnd = 0;  // the history contacts it carries or releases
     /// The trials of the current run (a's object's contacts, decided together).
     std::vector<FrictionTrial> trials;
+    /// When the stage adds the loads as it goes (one thread, no deferred
+    /// contacts possible), the current run's loads, as `trials`.
+    std::vector<ContactLoad> runLoads;
     std::vector<FrictionGroup> groups;
     /// The rigid motion of each of its rim or ball contacts' bodies.
     std::vector<RingMotion> rings;
@@ -375,10 +388,26 @@ ContactScratch& prepareContactScratch(const Model& model, const ContactTables& t
                                       std::int64_t revision, const std::vector<Vec3>& position,
                                       ContactScratch& scratch);
 
+/// The parameters of an object pair's override (ContactTables::overrides) when
+/// it has one (set into overrideOut), else `table`.
+const PairParameters& overriddenPairParameters(const Model& model, const ContactTables& tables,
+                                               std::int32_t a, std::int32_t other,
+                                               const PairParameters& table,
+                                               PairParameters& overrideOut);
+
 /// The combined parameters of particles a and b (or b = -1 - item for the environment).
-const PairParameters& pairParameters(const Model& model, const ContactTables& tables,
-                                     std::int32_t a, std::int32_t other,
-                                     PairParameters& overrideOut);
+/// (Inline: the contact stage asks for them once per contact.)
+inline const PairParameters& pairParameters(const Model& model, const ContactTables& tables,
+                                            std::int32_t a, std::int32_t other,
+                                            PairParameters& overrideOut) {
+  const std::int32_t materialA = tables.particleMaterial[a];
+  const std::int32_t materialB =
+      other >= 0 ? tables.particleMaterial[other] : tables.environmentMaterials[-1 - other];
+  const PairParameters& table =
+      tables.materialPairs[static_cast<std::size_t>(materialA) * tables.materialCount + materialB];
+  if (tables.overrides.empty()) return table;
+  return overriddenPairParameters(model, tables, a, other, table, overrideOut);
+}
 
 /// Whether objects a and b (tree objects) never touch (Model::noContactPairs).
 inline bool objectsExcluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {
