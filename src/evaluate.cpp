@@ -43,7 +43,7 @@ void Workspace::setThreadCount(int threads) {
 }
 
 void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
-                    Evaluation& out) {
+                    Evaluation& out, const ParticleForceTally* started) {
   const Model& model = compiled.model();
   const int threads = workspace.threadCount();
   const std::vector<Vec3>& position = state.position;
@@ -55,7 +55,9 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS, JS, the bodies and the drives (a few per joint) on this thread.
   const ParticleForceTally start =
-      startParticleForces(model, threads, position, velocity, out.force, out.torque);
+      started != nullptr
+          ? *started
+          : startParticleForces(model, threads, position, velocity, out.force, out.torque);
   const ForceTally& gravity = start.gravity;
   const ForceTally& damping = start.damping;
   const ForceTally linear =
@@ -84,7 +86,7 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
 }
 
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out) {
+                    Evaluation& out, const ParticlePassSums* pass) {
   // The bodies' motions of evaluateForces at these positions, at the state's velocities.
   std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
   if (motion.size() != model.model().bodies.size())
@@ -92,7 +94,7 @@ void measureKinetic(const CompiledModel& model, const State& state, Workspace& w
   else
     updateBodyVelocities(model.model(), state.position, state.velocity, motion);
   measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia,
-                           workspace.threadCount(), motion, state, out);
+                           workspace.threadCount(), motion, state, out, pass);
   // MODEL §1.7: the body links' weight preloads are driving work, as the motors' are.
   const std::vector<std::array<Vec3, 2>>& preload = workspace.forceScratch().linkPreload;
   if (preload.size() == model.model().bodyLinks.size() && !preload.empty())

@@ -10,6 +10,9 @@
 
 namespace robophi {
 
+struct ParticleForceTally;
+struct ParticlePassSums;
+
 /// Net forces (and the spinning particles' torques) and potentials at the
 /// state's positions, velocities and spins with its friction history (only
 /// read) into `out`: clear → gravity → linear damping → LS → TS
@@ -18,13 +21,16 @@ namespace robophi {
 /// driving power (measureKineticAndDriving), which need the final velocities.
 /// The force stages, the integration and the sums use up to workspace.threadCount()
 /// threads (core/parallel.h), with the same result for any count.
+/// `started`: the first stage's tally when it has run already (integrateAndStartForces
+/// into out.force and out.torque), or null.
 void evaluateForces(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out);
+                    Evaluation& out, const ParticleForceTally* started = nullptr);
 
 /// The kinetic energy and driving power at the state (measureKineticAndDriving), whose
 /// positions are those of the last evaluateForces in `workspace` (its bodies' motions are
 /// reused, their velocities re-measured).
+/// `pass`: the kinetic sums of the integrateAndStartForces that made the state, or null.
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out);
+                    Evaluation& out, const ParticlePassSums* pass = nullptr);
 
 }  // namespace robophi

@@ -3,6 +3,7 @@
 // energy it holds and the power of its dissipative part.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -37,9 +38,16 @@ ParticleForceTally startParticleForces(const Model& model, int threads,
 /// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k
 /// (spring k's end a) or 2k + 1 (its end b), in ascending k, the order in which a
 /// serial scatter over the springs adds them.
+/// The parallel LS job's order (accumulateLinearSprings): the chunks of springs
+/// (item s >= 0: springs [s kParallelChunk, (s + 1) kParallelChunk)) with the
+/// gather of each chunk of particles (item -1 - g: particles [g kParallelChunk, ...))
+/// placed soon after the last spring chunk it reads, and for each particle chunk
+/// the first and last spring chunk it reads ({0, -1}: none).
 struct SpringIncidence {
   std::vector<std::int32_t> start;  // (particleCount + 1)
   std::vector<std::int32_t> entry;  // (2 * linearSprings)
+  std::vector<std::int32_t> order;  // (spring chunks + particle chunks)
+  std::vector<std::array<std::int32_t, 2>> reads;  // (particle chunks)
 };
 SpringIncidence compileSpringIncidence(const Model& model);
 
@@ -57,9 +65,23 @@ struct RigidMotion {
   Vec3 rotate(const Vec3& restOffset) const;  // R r
   Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
 };
+/// The sums of the fused per-particle pass (integrateAndStartForces), per chunk of
+/// kParallelChunk particles: {gravity's potential, damping's power, kinetic energy,
+/// the spins' kinetic energy (from chunk 1 on)}, and flags: 1 a fixed particle in
+/// the chunk, 2 a spinning one.
+struct ParticlePassSums {
+  std::vector<std::array<double, 4>> sums;
+  std::vector<std::uint8_t> flags;
+};
 /// A workspace's buffers for the force stages.
 struct ForceScratch {
   std::vector<Vec3> springForce;  // (linearSprings): the force on end a
+  /// The parallel LS job's state: each spring chunk's {potential, power}, and
+  /// the job's stamp in done[s] once spring chunk s is written.
+  std::vector<std::array<double, 2>> springChunkSums;
+  std::vector<std::atomic<std::uint32_t>> springChunkDone;
+  std::uint32_t springJob = 0;
+  ParticlePassSums particlePass;
   /// (bodies): every body's rigid motion at the last evaluation's positions (and, once
   /// measureKinetic has run, at its state's velocities): measured once per evaluation.
   std::vector<RigidMotion> bodyMotion;

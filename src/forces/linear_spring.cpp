@@ -3,6 +3,8 @@
 #include <emmintrin.h>
 #endif
 
+#include <thread>
+
 #include "core/parallel.h"
 #include "forces/forces.h"
 #include "robophi/connector_forces.h"
@@ -131,6 +133,35 @@ SpringIncidence compileSpringIncidence(const Model& model) {
     incidence.entry[static_cast<std::size_t>(next[static_cast<std::size_t>(s.a)]++)] = end;
     incidence.entry[static_cast<std::size_t>(next[static_cast<std::size_t>(s.b)]++)] = end + 1;
   }
+  // The parallel job's order: each particle chunk's gather two spring chunks
+  // after the last one it reads, so that those are done (or nearly) when it is
+  // taken, and the forces it reads are still in a cache.
+  constexpr std::int64_t kLag = 2;
+  const std::int64_t chunk = detail::kParallelChunk;
+  const auto springChunks =
+      static_cast<std::int64_t>((model.linearSprings.size() + chunk - 1) / chunk);
+  const auto particleChunks = static_cast<std::int64_t>((n + chunk - 1) / chunk);
+  incidence.reads.assign(static_cast<std::size_t>(particleChunks), {0, -1});
+  std::vector<std::vector<std::int32_t>> after(static_cast<std::size_t>(springChunks) + 1);
+  for (std::int64_t g = 0; g < particleChunks; ++g) {
+    std::int32_t first = -1, last = -1;
+    const std::size_t begin = static_cast<std::size_t>(g * chunk);
+    const std::size_t end = std::min(n, begin + static_cast<std::size_t>(chunk));
+    for (std::int32_t e = incidence.start[begin]; e < incidence.start[end]; ++e) {
+      const auto c = static_cast<std::int32_t>((incidence.entry[static_cast<std::size_t>(e)] >> 1) / chunk);
+      if (first < 0 || c < first) first = c;
+      if (c > last) last = c;
+    }
+    if (last >= 0) incidence.reads[static_cast<std::size_t>(g)] = {first, last};
+    // Gathers that read nothing first (slot 0), the others after spring chunk last + kLag.
+    const std::int64_t slot = last < 0 ? 0 : std::min(springChunks, last + kLag + 1);
+    after[static_cast<std::size_t>(slot)].push_back(static_cast<std::int32_t>(-1 - g));
+  }
+  incidence.order.reserve(static_cast<std::size_t>(springChunks + particleChunks));
+  for (std::int64_t s = 0; s <= springChunks; ++s) {
+    for (std::int32_t item : after[static_cast<std::size_t>(s)]) incidence.order.push_back(item);
+    if (s < springChunks) incidence.order.push_back(static_cast<std::int32_t>(s));
+  }
   return incidence;
 }
 
@@ -141,8 +172,12 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
   const std::vector<LinearSpring>& springs = model.linearSprings;
   const auto springCount = static_cast<std::int64_t>(springs.size());
   std::vector<Vec3>& springForce = scratch.springForce;
+  const std::size_t chunk = static_cast<std::size_t>(detail::kParallelChunk);
   const bool tableFits =
-      incidence.start.size() == position.size() + 1 && incidence.entry.size() == 2 * springs.size();
+      incidence.start.size() == position.size() + 1 &&
+      incidence.entry.size() == 2 * springs.size() &&
+      incidence.reads.size() == (position.size() + chunk - 1) / chunk &&
+      incidence.order.size() == incidence.reads.size() + (springs.size() + chunk - 1) / chunk;
   if (threads <= 1 || springCount < detail::kParallelMinimum || !tableFits) {
     // One thread: each chunk's forces into a buffer that stays in cache, then the
     // serial scatter `force[a] += F; force[b] -= F` in spring order, which is what
@@ -174,38 +209,88 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
     return tally;
   }
   springForce.resize(springs.size());
-  // Pass 1: per spring; potential and power summed in fixed chunks (core/parallel.h).
-  const std::array<double, 2> sums = detail::parallelSum<2>(
-      threads, springCount, {0.0, 0.0},
-      [&](std::int64_t begin, std::int64_t end, std::array<double, 2>& tally) {
-        // Local sums: the stores to springForce cannot alias them.
-        double potential = tally[0], power = tally[1];
-        linearSpringRange(springs.data(), position.data(), velocity.data(), springForce.data(),
-                          begin, end, potential, power);
-        tally = {potential, power};
-      });
-  // Pass 2: each particle adds its springs in ascending order, as the serial
-  // scatter `force[a] += F; force[b] -= F` does.
-  {
-    const std::int32_t* start = incidence.start.data();
-    const std::int32_t* entry = incidence.entry.data();
-    const Vec3* onA = springForce.data();
-    Vec3* sum = force.data();
-    detail::parallelFor(threads, static_cast<std::int64_t>(position.size()),
-                        [&](std::int64_t begin, std::int64_t end) {
-                          for (std::int64_t i = begin; i < end; ++i) {
-                            Vec3 f = sum[i];
-                            for (std::int32_t e = start[i]; e < start[i + 1]; ++e) {
-                              const std::int32_t code = entry[e];
-                              if ((code & 1) == 0) {
-                                f += onA[code >> 1];
-                              } else {
-                                f -= onA[code >> 1];
-                              }
-                            }
-                            sum[i] = f;
-                          }
-                        });
+  // One job (core/parallel.h): the spring chunks, each spring's force on its end
+  // a into springForce, potential and power summed per chunk; and the gathers by
+  // particle chunk, each adding its particles' springs in ascending order (as the
+  // serial scatter `force[a] += F; force[b] -= F` does) once the spring chunks it
+  // reads are done (incidence.order places it after them).
+  const auto springChunks =
+      static_cast<std::size_t>((springCount + detail::kParallelChunk - 1) / detail::kParallelChunk);
+  if (scratch.springChunkDone.size() != springChunks) {
+    scratch.springChunkDone = std::vector<std::atomic<std::uint32_t>>(springChunks);
+    scratch.springJob = 0;
+  }
+  scratch.springChunkSums.resize(springChunks);
+  if (++scratch.springJob == 0) {  // the stamps wrap: clear them
+    for (auto& d : scratch.springChunkDone) d.store(0, std::memory_order_relaxed);
+    scratch.springJob = 1;
+  }
+  struct Context {
+    const LinearSpring* springs;
+    std::int64_t springCount, particleCount;
+    const Vec3 *position, *velocity;
+    Vec3* onA;
+    Vec3* sum;
+    const std::int32_t *start, *entry, *order;
+    const std::array<std::int32_t, 2>* reads;
+    std::array<double, 2>* sums;
+    std::atomic<std::uint32_t>* done;
+    std::uint32_t job;
+  } context{springs.data(),
+            springCount,
+            static_cast<std::int64_t>(position.size()),
+            position.data(),
+            velocity.data(),
+            springForce.data(),
+            force.data(),
+            incidence.start.data(),
+            incidence.entry.data(),
+            incidence.order.data(),
+            incidence.reads.data(),
+            scratch.springChunkSums.data(),
+            scratch.springChunkDone.data(),
+            scratch.springJob};
+  detail::runChunks(
+      threads, static_cast<std::int64_t>(incidence.order.size()),
+      [](void* raw, std::int64_t item) {
+        const Context& x = *static_cast<const Context*>(raw);
+        const std::int32_t code = x.order[item];
+        if (code >= 0) {
+          const std::int64_t begin = code * detail::kParallelChunk;
+          const std::int64_t end = std::min(x.springCount, begin + detail::kParallelChunk);
+          double potential = 0.0, power = 0.0;
+          linearSpringRange(x.springs, x.position, x.velocity, x.onA, begin, end, potential,
+                            power);
+          x.sums[code] = {potential, power};
+          x.done[code].store(x.job, std::memory_order_release);
+          return;
+        }
+        const std::int64_t g = -1 - static_cast<std::int64_t>(code);
+        const std::array<std::int32_t, 2> reads = x.reads[g];
+        for (std::int32_t c = reads[0]; c <= reads[1]; ++c) {
+          // A chunk taken before this one, in progress on another thread.
+          while (x.done[c].load(std::memory_order_acquire) != x.job) std::this_thread::yield();
+        }
+        const std::int64_t end = std::min(x.particleCount, (g + 1) * detail::kParallelChunk);
+        for (std::int64_t i = g * detail::kParallelChunk; i < end; ++i) {
+          Vec3 f = x.sum[i];
+          for (std::int32_t e = x.start[i]; e < x.start[i + 1]; ++e) {
+            const std::int32_t spring = x.entry[e];
+            if ((spring & 1) == 0) {
+              f += x.onA[spring >> 1];
+            } else {
+              f -= x.onA[spring >> 1];
+            }
+          }
+          x.sum[i] = f;
+        }
+      },
+      &context);
+  // The chunks' sums in chunk order (core/parallel.h's parallelSum).
+  std::array<double, 2> sums = scratch.springChunkSums[0];
+  for (std::size_t c = 1; c < springChunks; ++c) {
+    sums[0] += scratch.springChunkSums[c][0];
+    sums[1] += scratch.springChunkSums[c][1];
   }
   ForceTally tally;
   tally.potential = sums[0];

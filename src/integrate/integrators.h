@@ -14,6 +14,8 @@
 namespace robophi {
 
 struct RigidMotion;
+struct ParticlePassSums;
+struct ParticleForceTally;
 
 /// Paper's scheme: p += v δ + ½ a δ², then v += a δ (ω += J⁻¹τ δ).
 void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinInertia, int threads,
@@ -34,8 +36,25 @@ void integrateVerletKick(const Model& model, const std::vector<double>& inverseS
 /// free particles (J, into evaluation.energy.kinetic) and the power -Σ F_i·v_i put
 /// in by the fixed ones that move kinematically, plus the joint motors' τ q̇ (W, into
 /// evaluation.drivingPower; `bodyMotion`: every body's rigid motion at the state).
+/// `pass`: the kinetic sums of an integrateAndStartForces at this state, or null.
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
                               int threads, const std::vector<RigidMotion>& bodyMotion,
-                              const State& state, Evaluation& evaluation);
+                              const State& state, Evaluation& evaluation,
+                              const ParticlePassSums* pass = nullptr);
+
+/// Whether integrateAndStartForces applies: a state and evaluation sized for the
+/// model, spins for every particle, and a spin table for every particle or none.
+bool canIntegrateAndStartForces(const Model& model, const std::vector<double>& inverseSpinInertia,
+                                const Evaluation& evaluation, const State& state);
+/// Symplectic Euler (Taylor's scheme if `taylor`) fused in one parallel pass with
+/// the first stage of the evaluation at t + δ (startParticleForces: force and
+/// torque reset, gravity, damping; its tally returned) and the kinetic energy's
+/// sums (into `pass`, for measureKineticAndDriving once the forces are final):
+/// the same bits as the three passes.
+ParticleForceTally integrateAndStartForces(const Model& model,
+                                           const std::vector<double>& inverseSpinInertia,
+                                           int threads, double dt, bool taylor,
+                                           Evaluation& evaluation, State& state,
+                                           ParticlePassSums& pass);
 
 }  // namespace robophi
