@@ -38,16 +38,15 @@ ParticleForceTally startParticleForces(const Model& model, int threads,
 /// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k
 /// (spring k's end a) or 2k + 1 (its end b), in ascending k, the order in which a
 /// serial scatter over the springs adds them.
-/// The parallel LS job's order (accumulateLinearSprings): the chunks of springs
-/// (item s >= 0: springs [s kParallelChunk, (s + 1) kParallelChunk)) with the
-/// gather of each chunk of particles (item -1 - g: particles [g kParallelChunk, ...))
-/// placed soon after the last spring chunk it reads, and for each particle chunk
-/// the first and last spring chunk it reads ({0, -1}: none).
+/// For the parallel LS job (accumulateLinearSprings), by chunks of kParallelChunk
+/// springs: dependent[k] bit 0 (bit 1) when spring k's end a (b) has a spring in an
+/// earlier chunk, and waitFrom[s] the first chunk before s that shares a particle
+/// with chunk s (s: none).
 struct SpringIncidence {
   std::vector<std::int32_t> start;  // (particleCount + 1)
   std::vector<std::int32_t> entry;  // (2 * linearSprings)
-  std::vector<std::int32_t> order;  // (spring chunks + particle chunks)
-  std::vector<std::array<std::int32_t, 2>> reads;  // (particle chunks)
+  std::vector<std::uint8_t> dependent;  // (linearSprings)
+  std::vector<std::int32_t> waitFrom;   // (spring chunks)
 };
 SpringIncidence compileSpringIncidence(const Model& model);
 

@@ -133,34 +133,27 @@ SpringIncidence compileSpringIncidence(const Model& model) {
     incidence.entry[static_cast<std::size_t>(next[static_cast<std::size_t>(s.a)]++)] = end;
     incidence.entry[static_cast<std::size_t>(next[static_cast<std::size_t>(s.b)]++)] = end + 1;
   }
-  // The parallel job's order: each particle chunk's gather two spring chunks
-  // after the last one it reads, so that those are done (or nearly) when it is
-  // taken, and the forces it reads are still in a cache.
-  constexpr std::int64_t kLag = 2;
+  // The parallel job's dependences: an end is dependent when its particle has a
+  // spring in an earlier chunk (its first entry is its lowest spring).
   const std::int64_t chunk = detail::kParallelChunk;
-  const auto springChunks =
-      static_cast<std::int64_t>((model.linearSprings.size() + chunk - 1) / chunk);
-  const auto particleChunks = static_cast<std::int64_t>((n + chunk - 1) / chunk);
-  incidence.reads.assign(static_cast<std::size_t>(particleChunks), {0, -1});
-  std::vector<std::vector<std::int32_t>> after(static_cast<std::size_t>(springChunks) + 1);
-  for (std::int64_t g = 0; g < particleChunks; ++g) {
-    std::int32_t first = -1, last = -1;
-    const std::size_t begin = static_cast<std::size_t>(g * chunk);
-    const std::size_t end = std::min(n, begin + static_cast<std::size_t>(chunk));
-    for (std::int32_t e = incidence.start[begin]; e < incidence.start[end]; ++e) {
-      const auto c = static_cast<std::int32_t>((incidence.entry[static_cast<std::size_t>(e)] >> 1) / chunk);
-      if (first < 0 || c < first) first = c;
-      if (c > last) last = c;
+  const std::size_t springCount = model.linearSprings.size();
+  const auto springChunks = static_cast<std::int64_t>((springCount + chunk - 1) / chunk);
+  incidence.dependent.assign(springCount, 0);
+  incidence.waitFrom.resize(static_cast<std::size_t>(springChunks));
+  auto firstChunk = [&](ParticleIndex p) {
+    return (incidence.entry[static_cast<std::size_t>(incidence.start[static_cast<std::size_t>(p)])] >> 1) / chunk;
+  };
+  for (std::int64_t c = 0; c < springChunks; ++c) {
+    std::int64_t from = c;
+    for (std::size_t k = static_cast<std::size_t>(c * chunk);
+         k < std::min(springCount, static_cast<std::size_t>((c + 1) * chunk)); ++k) {
+      const LinearSpring& s = model.linearSprings[k];
+      const std::int64_t fa = firstChunk(s.a), fb = firstChunk(s.b);
+      if (fa < c) incidence.dependent[k] |= 1;
+      if (fb < c) incidence.dependent[k] |= 2;
+      from = std::min(from, std::min(fa, fb));
     }
-    if (last >= 0) incidence.reads[static_cast<std::size_t>(g)] = {first, last};
-    // Gathers that read nothing first (slot 0), the others after spring chunk last + kLag.
-    const std::int64_t slot = last < 0 ? 0 : std::min(springChunks, last + kLag + 1);
-    after[static_cast<std::size_t>(slot)].push_back(static_cast<std::int32_t>(-1 - g));
-  }
-  incidence.order.reserve(static_cast<std::size_t>(springChunks + particleChunks));
-  for (std::int64_t s = 0; s <= springChunks; ++s) {
-    for (std::int32_t item : after[static_cast<std::size_t>(s)]) incidence.order.push_back(item);
-    if (s < springChunks) incidence.order.push_back(static_cast<std::int32_t>(s));
+    incidence.waitFrom[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(from);
   }
   return incidence;
 }
@@ -176,8 +169,8 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
   const bool tableFits =
       incidence.start.size() == position.size() + 1 &&
       incidence.entry.size() == 2 * springs.size() &&
-      incidence.reads.size() == (position.size() + chunk - 1) / chunk &&
-      incidence.order.size() == incidence.reads.size() + (springs.size() + chunk - 1) / chunk;
+      incidence.dependent.size() == springs.size() &&
+      incidence.waitFrom.size() == (springs.size() + chunk - 1) / chunk;
   if (threads <= 1 || springCount < detail::kParallelMinimum || !tableFits) {
     // One thread: each chunk's forces into a buffer that stays in cache, then the
     // serial scatter `force[a] += F; force[b] -= F` in spring order, which is what
@@ -208,12 +201,15 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
     tally.dissipativePower = power;
     return tally;
   }
+  // One job (core/parallel.h) of spring chunks, each as the one-thread loop above:
+  // its forces into a buffer of the thread's, then the scatter `force[a] += F;
+  // force[b] -= F` in spring order to its particles that have no spring in an
+  // earlier chunk (incidence.dependent). The other ends' forces wait in
+  // springForce; their scatters run in chunk order, each once its chunk and all
+  // before it are ready, on whichever thread finds them so (a try-lock: no thread
+  // waits for another). Each particle gets its springs' forces in ascending
+  // order, as from the serial scatter: the same bits.
   springForce.resize(springs.size());
-  // One job (core/parallel.h): the spring chunks, each spring's force on its end
-  // a into springForce, potential and power summed per chunk; and the gathers by
-  // particle chunk, each adding its particles' springs in ascending order (as the
-  // serial scatter `force[a] += F; force[b] -= F` does) once the spring chunks it
-  // reads are done (incidence.order places it after them).
   const auto springChunks =
       static_cast<std::size_t>((springCount + detail::kParallelChunk - 1) / detail::kParallelChunk);
   if (scratch.springChunkDone.size() != springChunks) {
@@ -227,62 +223,71 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
   }
   struct Context {
     const LinearSpring* springs;
-    std::int64_t springCount, particleCount;
+    std::int64_t springCount, chunks;
     const Vec3 *position, *velocity;
-    Vec3* onA;
     Vec3* sum;
-    const std::int32_t *start, *entry, *order;
-    const std::array<std::int32_t, 2>* reads;
+    Vec3* held;
+    const std::uint8_t* dependent;
+    const std::int32_t* waitFrom;
     std::array<double, 2>* sums;
-    std::atomic<std::uint32_t>* done;
+    std::atomic<std::uint32_t>* ready;
     std::uint32_t job;
+    std::atomic<bool> combining{false};
+    std::atomic<std::int64_t> scattered{0};  // chunks whose dependent ends are scattered
   } context{springs.data(),
             springCount,
-            static_cast<std::int64_t>(position.size()),
+            static_cast<std::int64_t>(springChunks),
             position.data(),
             velocity.data(),
-            springForce.data(),
             force.data(),
-            incidence.start.data(),
-            incidence.entry.data(),
-            incidence.order.data(),
-            incidence.reads.data(),
+            springForce.data(),
+            incidence.dependent.data(),
+            incidence.waitFrom.data(),
             scratch.springChunkSums.data(),
             scratch.springChunkDone.data(),
             scratch.springJob};
   detail::runChunks(
-      threads, static_cast<std::int64_t>(incidence.order.size()),
-      [](void* raw, std::int64_t item) {
-        const Context& x = *static_cast<const Context*>(raw);
-        const std::int32_t code = x.order[item];
-        if (code >= 0) {
-          const std::int64_t begin = code * detail::kParallelChunk;
-          const std::int64_t end = std::min(x.springCount, begin + detail::kParallelChunk);
-          double potential = 0.0, power = 0.0;
-          linearSpringRange(x.springs, x.position, x.velocity, x.onA, begin, end, potential,
-                            power);
-          x.sums[code] = {potential, power};
-          x.done[code].store(x.job, std::memory_order_release);
-          return;
+      threads, static_cast<std::int64_t>(springChunks),
+      [](void* raw, std::int64_t c) {
+        Context& x = *static_cast<Context*>(raw);
+        alignas(64) thread_local Vec3 onA[detail::kParallelChunk];
+        const std::int64_t begin = c * detail::kParallelChunk;
+        const std::int64_t end = std::min(x.springCount, begin + detail::kParallelChunk);
+        double potential = 0.0, power = 0.0;
+        const LinearSpring* spring = x.springs + begin;
+        const std::uint8_t* dependent = x.dependent + begin;
+        const std::int64_t count = end - begin;
+        linearSpringRange(spring, x.position, x.velocity, onA, 0, count, potential, power);
+        x.sums[c] = {potential, power};
+        Vec3* sum = x.sum;
+        Vec3* held = x.held + begin;
+        for (std::int64_t k = 0; k < count; ++k) {
+          const std::uint8_t d = dependent[k];
+          if ((d & 1) == 0) sum[spring[k].a] += onA[k];
+          if ((d & 2) == 0) sum[spring[k].b] -= onA[k];
+          if (d != 0) held[k] = onA[k];
         }
-        const std::int64_t g = -1 - static_cast<std::int64_t>(code);
-        const std::array<std::int32_t, 2> reads = x.reads[g];
-        for (std::int32_t c = reads[0]; c <= reads[1]; ++c) {
-          // A chunk taken before this one, in progress on another thread.
-          while (x.done[c].load(std::memory_order_acquire) != x.job) std::this_thread::yield();
-        }
-        const std::int64_t end = std::min(x.particleCount, (g + 1) * detail::kParallelChunk);
-        for (std::int64_t i = g * detail::kParallelChunk; i < end; ++i) {
-          Vec3 f = x.sum[i];
-          for (std::int32_t e = x.start[i]; e < x.start[i + 1]; ++e) {
-            const std::int32_t spring = x.entry[e];
-            if ((spring & 1) == 0) {
-              f += x.onA[spring >> 1];
-            } else {
-              f -= x.onA[spring >> 1];
+        // Sequentially consistent: a thread that fails to take the lock has made
+        // its chunk ready before, and the holder looks again after letting go.
+        x.ready[c].store(x.job);
+        for (;;) {
+          if (x.combining.exchange(true)) return;  // the holder scatters it
+          std::int64_t next = x.scattered.load(std::memory_order_relaxed);
+          while (next < x.chunks && x.ready[next].load() == x.job) {
+            if (x.waitFrom[next] < next) {  // it has dependent ends
+              const std::int64_t from = next * detail::kParallelChunk;
+              const std::int64_t to = std::min(x.springCount, from + detail::kParallelChunk);
+              for (std::int64_t k = from; k < to; ++k) {
+                const std::uint8_t d = x.dependent[k];
+                if ((d & 1) != 0) sum[x.springs[k].a] += x.held[k];
+                if ((d & 2) != 0) sum[x.springs[k].b] -= x.held[k];
+              }
             }
+            ++next;
           }
-          x.sum[i] = f;
+          x.scattered.store(next, std::memory_order_relaxed);
+          x.combining.store(false);
+          if (!(next < x.chunks && x.ready[next].load() == x.job)) return;
         }
       },
       &context);
