@@ -43,7 +43,7 @@ void Workspace::setThreadCount(int threads) {
 }
 
 void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
-                    Evaluation& out, const ParticleForceTally* started) {
+                    Evaluation& out, FusedParticlePass* pass) {
   const Model& model = compiled.model();
   const int threads = workspace.threadCount();
   const std::vector<Vec3>& position = state.position;
@@ -54,15 +54,22 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS, JS, the bodies and the drives (a few per joint) on this thread.
-  const ParticleForceTally start =
-      started != nullptr
-          ? *started
-          : startParticleForces(model, threads, position, velocity, out.force, out.torque);
-  const ForceTally& gravity = start.gravity;
-  const ForceTally& damping = start.damping;
+  // With a fused pass, the first stage runs in LS's job, each chunk of particles
+  // before the springs that read it.
+  ParticlePrologue prologue;
+  ParticleForceTally start;
+  if (pass != nullptr) {
+    prologue = {&FusedParticlePass::run, pass};
+  } else {
+    start = startParticleForces(model, threads, position, velocity, out.force, out.torque);
+  }
   const ForceTally linear =
       accumulateLinearSprings(model, compiled.springIncidence(), threads, position, velocity,
-                              out.force, workspace.forceScratch());
+                              out.force, workspace.forceScratch(),
+                              pass != nullptr ? &prologue : nullptr);
+  if (pass != nullptr) start = pass->tally();
+  const ForceTally& gravity = start.gravity;
+  const ForceTally& damping = start.damping;
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
   // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.

@@ -10,7 +10,7 @@
 
 namespace robophi {
 
-struct ParticleForceTally;
+struct FusedParticlePass;
 struct ParticlePassSums;
 
 /// Net forces (and the spinning particles' torques) and potentials at the
@@ -21,15 +21,16 @@ struct ParticlePassSums;
 /// driving power (measureKineticAndDriving), which need the final velocities.
 /// The force stages, the integration and the sums use up to workspace.threadCount()
 /// threads (core/parallel.h), with the same result for any count.
-/// `started`: the first stage's tally when it has run already (integrateAndStartForces
-/// into out.force and out.torque), or null.
+/// `pass`: an integration fused with the first stage (clear, gravity, damping) to
+/// run in place of that stage, in the LS job (its chunks before the springs that
+/// read their particles), or null.
 void evaluateForces(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out, const ParticleForceTally* started = nullptr);
+                    Evaluation& out, FusedParticlePass* pass = nullptr);
 
 /// The kinetic energy and driving power at the state (measureKineticAndDriving), whose
 /// positions are those of the last evaluateForces in `workspace` (its bodies' motions are
 /// reused, their velocities re-measured).
-/// `pass`: the kinetic sums of the integrateAndStartForces that made the state, or null.
+/// `pass`: the kinetic sums of the FusedParticlePass that made the state, or null.
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
                     Evaluation& out, const ParticlePassSums* pass = nullptr);
 

@@ -137,10 +137,10 @@ StepStatus World::step(double dt) {
     case Integrator::kSymplecticEuler:
       if (canIntegrateAndStartForces(model, spinInertia, evaluation, state)) {
         pass = &workspace_.forceScratch().particlePass;
-        const ParticleForceTally start =
-            integrateAndStartForces(model, spinInertia, threads, dt,
-                                    integrator_ == Integrator::kTaylor, evaluation, state, *pass);
-        evaluateForces(model_, state, workspace_, evaluation, &start);
+        FusedParticlePass fused =
+            makeFusedParticlePass(model, spinInertia, dt, integrator_ == Integrator::kTaylor,
+                                  evaluation, state, *pass);
+        evaluateForces(model_, state, workspace_, evaluation, &fused);
       } else {
         if (integrator_ == Integrator::kTaylor)
           integrateTaylor(model, spinInertia, threads, dt, evaluation, state);

@@ -47,6 +47,11 @@ struct SpringIncidence {
   std::vector<std::int32_t> entry;  // (2 * linearSprings)
   std::vector<std::uint8_t> dependent;  // (linearSprings)
   std::vector<std::int32_t> waitFrom;   // (spring chunks)
+  /// With a ParticlePrologue: the chunks of particles each spring chunk reads
+  /// ({0, -1}: none), and the job's order: spring chunk s as s, particle chunk g
+  /// as -1 - g, each particle chunk soon before the first spring chunk that reads it.
+  std::vector<std::array<std::int32_t, 2>> reads;  // (spring chunks)
+  std::vector<std::int32_t> order;                 // (spring chunks + particle chunks)
 };
 SpringIncidence compileSpringIncidence(const Model& model);
 
@@ -64,7 +69,7 @@ struct RigidMotion {
   Vec3 rotate(const Vec3& restOffset) const;  // R r
   Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
 };
-/// The sums of the fused per-particle pass (integrateAndStartForces), per chunk of
+/// The sums of the fused per-particle pass (FusedParticlePass), per chunk of
 /// kParallelChunk particles: {gravity's potential, damping's power, kinetic energy,
 /// the spins' kinetic energy (from chunk 1 on)}, and flags: 1 a fixed particle in
 /// the chunk, 2 a spinning one.
@@ -79,6 +84,7 @@ struct ForceScratch {
   /// the job's stamp in done[s] once spring chunk s is written.
   std::vector<std::array<double, 2>> springChunkSums;
   std::vector<std::atomic<std::uint32_t>> springChunkDone;
+  std::vector<std::atomic<std::uint32_t>> particleChunkDone;  // the same, for a ParticlePrologue
   std::uint32_t springJob = 0;
   ParticlePassSums particlePass;
   /// (bodies): every body's rigid motion at the last evaluation's positions (and, once
@@ -89,6 +95,13 @@ struct ForceScratch {
   std::vector<std::array<Vec3, 2>> linkPreload;
 };
 
+/// A per-particle pass run in the LS job (accumulateLinearSprings): run(context, g)
+/// once for each chunk g of kParallelChunk particles, before the springs that
+/// read or load its particles (FusedParticlePass, in one job with LS).
+struct ParticlePrologue {
+  void (*run)(void* context, std::int64_t chunk) = nullptr;
+  void* context = nullptr;
+};
 /// LS in two parallel passes: each spring's force on its end a into
 /// scratch.springForce (energy and power summed in fixed chunks), then each
 /// particle gathers its springs in ascending order (`incidence`): the forces are
@@ -96,7 +109,8 @@ struct ForceScratch {
 ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& incidence,
                                    int threads, const std::vector<Vec3>& position,
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
-                                   ForceScratch& scratch);
+                                   ForceScratch& scratch,
+                                   const ParticlePrologue* prologue = nullptr);
 ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>& position,
                                     const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
 ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,

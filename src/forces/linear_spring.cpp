@@ -155,13 +155,36 @@ SpringIncidence compileSpringIncidence(const Model& model) {
     }
     incidence.waitFrom[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(from);
   }
+  // With a prologue: each particle chunk one spring chunk ahead of the first that reads it.
+  const auto particleChunks = static_cast<std::int64_t>((n + chunk - 1) / chunk);
+  incidence.reads.assign(static_cast<std::size_t>(springChunks), {0, -1});
+  incidence.order.clear();
+  incidence.order.reserve(static_cast<std::size_t>(springChunks + particleChunks));
+  std::int64_t emitted = 0;  // particle chunks [0, emitted) are in the order
+  for (std::int64_t c = 0; c < springChunks; ++c) {
+    std::int64_t low = particleChunks, high = -1;
+    for (std::size_t k = static_cast<std::size_t>(c * chunk);
+         k < std::min(springCount, static_cast<std::size_t>((c + 1) * chunk)); ++k) {
+      const LinearSpring& s = model.linearSprings[k];
+      low = std::min(low, static_cast<std::int64_t>(std::min(s.a, s.b)) / chunk);
+      high = std::max(high, static_cast<std::int64_t>(std::max(s.a, s.b)) / chunk);
+    }
+    if (high >= 0)
+      incidence.reads[static_cast<std::size_t>(c)] = {static_cast<std::int32_t>(low),
+                                                      static_cast<std::int32_t>(high)};
+    for (; emitted < std::min(particleChunks, high + 2); ++emitted)
+      incidence.order.push_back(static_cast<std::int32_t>(-1 - emitted));
+    incidence.order.push_back(static_cast<std::int32_t>(c));
+  }
+  for (; emitted < particleChunks; ++emitted)
+    incidence.order.push_back(static_cast<std::int32_t>(-1 - emitted));
   return incidence;
 }
 
 ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& incidence,
                                    int threads, const std::vector<Vec3>& position,
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
-                                   ForceScratch& scratch) {
+                                   ForceScratch& scratch, const ParticlePrologue* prologue) {
   const std::vector<LinearSpring>& springs = model.linearSprings;
   const auto springCount = static_cast<std::int64_t>(springs.size());
   std::vector<Vec3>& springForce = scratch.springForce;
@@ -170,8 +193,16 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
       incidence.start.size() == position.size() + 1 &&
       incidence.entry.size() == 2 * springs.size() &&
       incidence.dependent.size() == springs.size() &&
-      incidence.waitFrom.size() == (springs.size() + chunk - 1) / chunk;
+      incidence.waitFrom.size() == (springs.size() + chunk - 1) / chunk &&
+      incidence.reads.size() == incidence.waitFrom.size() &&
+      incidence.order.size() == incidence.reads.size() + (position.size() + chunk - 1) / chunk;
   if (threads <= 1 || springCount < detail::kParallelMinimum || !tableFits) {
+    if (prologue != nullptr) {  // first, as a parallel loop of its own
+      const auto particles = static_cast<std::int64_t>(position.size());
+      detail::runChunks(particles >= detail::kParallelMinimum ? threads : 1,
+                        (particles + detail::kParallelChunk - 1) / detail::kParallelChunk,
+                        prologue->run, prologue->context);
+    }
     // One thread: each chunk's forces into a buffer that stays in cache, then the
     // serial scatter `force[a] += F; force[b] -= F` in spring order, which is what
     // the gather below adds for each particle (ascending springs); the sums are
@@ -216,9 +247,15 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
     scratch.springChunkDone = std::vector<std::atomic<std::uint32_t>>(springChunks);
     scratch.springJob = 0;
   }
+  const std::size_t particleChunks = incidence.order.size() - springChunks;
+  if (scratch.particleChunkDone.size() != particleChunks) {
+    scratch.particleChunkDone = std::vector<std::atomic<std::uint32_t>>(particleChunks);
+    scratch.springJob = 0;
+  }
   scratch.springChunkSums.resize(springChunks);
   if (++scratch.springJob == 0) {  // the stamps wrap: clear them
     for (auto& d : scratch.springChunkDone) d.store(0, std::memory_order_relaxed);
+    for (auto& d : scratch.particleChunkDone) d.store(0, std::memory_order_relaxed);
     scratch.springJob = 1;
   }
   struct Context {
@@ -232,6 +269,10 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
     std::array<double, 2>* sums;
     std::atomic<std::uint32_t>* ready;
     std::uint32_t job;
+    const ParticlePrologue* prologue;
+    const std::int32_t* order;
+    const std::array<std::int32_t, 2>* reads;
+    std::atomic<std::uint32_t>* prologueDone;
     std::atomic<bool> combining{false};
     std::atomic<std::int64_t> scattered{0};  // chunks whose dependent ends are scattered
   } context{springs.data(),
@@ -245,11 +286,29 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
             incidence.waitFrom.data(),
             scratch.springChunkSums.data(),
             scratch.springChunkDone.data(),
-            scratch.springJob};
+            scratch.springJob,
+            prologue,
+            incidence.order.data(),
+            incidence.reads.data(),
+            scratch.particleChunkDone.data()};
   detail::runChunks(
-      threads, static_cast<std::int64_t>(springChunks),
-      [](void* raw, std::int64_t c) {
+      threads, static_cast<std::int64_t>(prologue != nullptr ? incidence.order.size() : springChunks),
+      [](void* raw, std::int64_t item) {
         Context& x = *static_cast<Context*>(raw);
+        std::int64_t c = item;
+        if (x.prologue != nullptr) {
+          c = x.order[item];
+          if (c < 0) {  // a chunk of the particle pass
+            x.prologue->run(x.prologue->context, -1 - c);
+            x.prologueDone[-1 - c].store(x.job, std::memory_order_release);
+            return;
+          }
+          // Taken before this chunk: done, or in progress on another thread.
+          for (std::int32_t g = x.reads[c][0]; g <= x.reads[c][1]; ++g) {
+            while (x.prologueDone[g].load(std::memory_order_acquire) != x.job)
+              std::this_thread::yield();
+          }
+        }
         alignas(64) thread_local Vec3 onA[detail::kParallelChunk];
         const std::int64_t begin = c * detail::kParallelChunk;
         const std::int64_t end = std::min(x.springCount, begin + detail::kParallelChunk);

@@ -84,79 +84,90 @@ bool canIntegrateAndStartForces(const Model& model, const std::vector<double>& i
          (inverseSpinInertia.empty() || inverseSpinInertia.size() == n);
 }
 
-ParticleForceTally integrateAndStartForces(const Model& model,
-                                           const std::vector<double>& inverseSpinInertia,
-                                           int threads, double dt, bool taylor,
-                                           Evaluation& evaluation, State& state,
-                                           ParticlePassSums& pass) {
-  const std::int64_t n = model.particleCount();
-  const std::int64_t chunks = (n + detail::kParallelChunk - 1) / detail::kParallelChunk;
-  pass.sums.resize(static_cast<std::size_t>(chunks));
-  pass.flags.resize(static_cast<std::size_t>(chunks));
-  // forEachParticle's spin kick, startParticleForces' loop and measureKineticAndDriving's
-  // terms, particle by particle, each sum in its own chunks (core/parallel.h).
+FusedParticlePass makeFusedParticlePass(const Model& model,
+                                        const std::vector<double>& inverseSpinInertia, double dt,
+                                        bool taylor, Evaluation& evaluation, State& state,
+                                        ParticlePassSums& sums) {
+  const std::int64_t chunks =
+      (model.particleCount() + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  sums.sums.resize(static_cast<std::size_t>(chunks));
+  sums.flags.resize(static_cast<std::size_t>(chunks));
+  return {&model, &inverseSpinInertia, dt, taylor, &evaluation, &state, &sums};
+}
+
+void FusedParticlePass::run(void* raw, std::int64_t chunk) {
+  // forEachParticle's body and spin kick, startParticleForces' loop and
+  // measureKineticAndDriving's terms, particle by particle, each sum in its own
+  // chunks (core/parallel.h).
+  const FusedParticlePass& x = *static_cast<const FusedParticlePass*>(raw);
+  const Model& model = *x.model;
+  const std::vector<double>& inverseSpinInertia = *x.inverseSpinInertia;
   const bool spins = !inverseSpinInertia.empty();
+  const double dt = x.dt;
   const double halfDtSquared = 0.5 * dt * dt;
-  Vec3* force = evaluation.force.data();
-  Vec3* torque = evaluation.torque.data();
-  Vec3* position = state.position.data();
-  Vec3* velocity = state.velocity.data();
-  Vec3* spin = state.spin.data();
-  detail::parallelFor(threads, n, [&](std::int64_t begin, std::int64_t end) {
-    double potential = 0.0, power = 0.0, kinetic = 0.0, spinning = 0.0;
-    std::uint8_t flags = 0;
-    const bool first = begin == 0;
-    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
-      // The integrator (integrateSymplecticEuler, integrateTaylor).
-      if (taylor) {
-        const Vec3 acceleration = force[i] * model.inverseMass[i];
-        position[i] += velocity[i] * dt + acceleration * halfDtSquared;
-        velocity[i] += acceleration * dt;
-      } else {
-        velocity[i] += force[i] * (model.inverseMass[i] * dt);
-        position[i] += velocity[i] * dt;
-      }
-      if (spins && inverseSpinInertia[i] != 0.0)
-        spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
-      // startParticleForces.
-      Vec3 f;
-      torque[i] = Vec3{};
-      if (model.inverseMass[i] != 0.0) {
-        f += model.gravity * model.mass[i];
-        potential -= model.mass[i] * dot(model.gravity, position[i]);
-      }
-      const double c = model.linearDamping[i];
-      if (c != 0.0) {
-        f -= velocity[i] * c;
-        power -= c * squaredNorm(velocity[i]);
-      }
-      force[i] = f;
-      // measureKineticAndDriving's terms (the driving power's once the forces are final).
-      if (model.inverseMass[i] == 0.0) {
-        flags |= 1;
-      } else {
-        kinetic += 0.5 * model.mass[i] * squaredNorm(velocity[i]);
-        if (spins && inverseSpinInertia[i] != 0.0) {
-          flags |= 2;
-          // Chunk 0's spin sum starts from the kinetic total: measureKineticAndDriving.
-          if (!first) spinning += 0.5 * squaredNorm(spin[i]) / inverseSpinInertia[i];
-        }
+  Vec3* force = x.evaluation->force.data();
+  Vec3* torque = x.evaluation->torque.data();
+  Vec3* position = x.state->position.data();
+  Vec3* velocity = x.state->velocity.data();
+  Vec3* spin = x.state->spin.data();
+  const std::int64_t begin = chunk * detail::kParallelChunk;
+  const std::int64_t end =
+      std::min(static_cast<std::int64_t>(model.particleCount()), begin + detail::kParallelChunk);
+  double potential = 0.0, power = 0.0, kinetic = 0.0, spinning = 0.0;
+  std::uint8_t flags = 0;
+  const bool first = chunk == 0;
+  for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+    // The integrator (integrateSymplecticEuler, integrateTaylor).
+    if (x.taylor) {
+      const Vec3 acceleration = force[i] * model.inverseMass[i];
+      position[i] += velocity[i] * dt + acceleration * halfDtSquared;
+      velocity[i] += acceleration * dt;
+    } else {
+      velocity[i] += force[i] * (model.inverseMass[i] * dt);
+      position[i] += velocity[i] * dt;
+    }
+    if (spins && inverseSpinInertia[i] != 0.0) spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
+    // startParticleForces.
+    Vec3 f;
+    torque[i] = Vec3{};
+    if (model.inverseMass[i] != 0.0) {
+      f += model.gravity * model.mass[i];
+      potential -= model.mass[i] * dot(model.gravity, position[i]);
+    }
+    const double c = model.linearDamping[i];
+    if (c != 0.0) {
+      f -= velocity[i] * c;
+      power -= c * squaredNorm(velocity[i]);
+    }
+    force[i] = f;
+    // measureKineticAndDriving's terms (the driving power's once the forces are final).
+    if (model.inverseMass[i] == 0.0) {
+      flags |= 1;
+    } else {
+      kinetic += 0.5 * model.mass[i] * squaredNorm(velocity[i]);
+      if (spins && inverseSpinInertia[i] != 0.0) {
+        flags |= 2;
+        // Chunk 0's spin sum starts from the kinetic total: measureKineticAndDriving.
+        if (!first) spinning += 0.5 * squaredNorm(spin[i]) / inverseSpinInertia[i];
       }
     }
-    const auto c = static_cast<std::size_t>(begin / detail::kParallelChunk);
-    pass.sums[c] = {potential, power, kinetic, spinning};
-    pass.flags[c] = flags;
-  });
-  // The chunks' sums in chunk order.
-  std::array<double, 2> total = {pass.sums[0][0], pass.sums[0][1]};
-  for (std::size_t c = 1; c < pass.sums.size(); ++c) {
-    total[0] += pass.sums[c][0];
-    total[1] += pass.sums[c][1];
   }
-  ParticleForceTally tally;
-  tally.gravity.potential = total[0];
-  tally.damping.dissipativePower = total[1];
-  return tally;
+  const auto c = static_cast<std::size_t>(chunk);
+  x.sums->sums[c] = {potential, power, kinetic, spinning};
+  x.sums->flags[c] = flags;
+}
+
+ParticleForceTally FusedParticlePass::tally() const {
+  // The chunks' sums in chunk order.
+  std::array<double, 2> total = {sums->sums[0][0], sums->sums[0][1]};
+  for (std::size_t c = 1; c < sums->sums.size(); ++c) {
+    total[0] += sums->sums[c][0];
+    total[1] += sums->sums[c][1];
+  }
+  ParticleForceTally result;
+  result.gravity.potential = total[0];
+  result.damping.dissipativePower = total[1];
+  return result;
 }
 
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
