@@ -103,6 +103,39 @@ void linearSpringRange(const LinearSpring* spring, const Vec3* p, const Vec3* v,
   for (; k < end; ++k) single(k);
 }
 
+// The serial scatter `sum[a] += F; sum[b] -= F` over springs [0, count), in
+// spring order, of the ends whose bit in dependent[k] (bit 0: a, bit 1: b) is
+// `want` (null `dependent`: every end, want 0). The particle last reached by an
+// end a stays in a register while the next springs' ends reach it (a cloth's
+// springs share their end a by threes): the same additions in the same order.
+inline void scatterSprings(const LinearSpring* spring, const std::uint8_t* dependent,
+                           const Vec3* onA, std::int64_t count, bool want, Vec3* sum) {
+  ParticleIndex current = -1;
+  Vec3 held{};
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::uint8_t d = dependent != nullptr ? dependent[k] : 0;
+    const Vec3 f = onA[k];
+    if (((d & 1) != 0) == want) {
+      const ParticleIndex a = spring[k].a;
+      if (a != current) {
+        if (current >= 0) sum[current] = held;
+        current = a;
+        held = sum[a];
+      }
+      held += f;
+    }
+    if (((d & 2) != 0) == want) {
+      const ParticleIndex b = spring[k].b;
+      if (b == current) {
+        held -= f;
+      } else {
+        sum[b] -= f;
+      }
+    }
+  }
+  if (current >= 0) sum[current] = held;
+}
+
 }  // namespace
 
 LinearSpringForce linearSpringForce(const LinearSpring& spring, const Vec3& pA, const Vec3& pB,
@@ -214,11 +247,8 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
       double chunkPotential = 0.0, chunkPower = 0.0;
       linearSpringRange(springs.data() + begin, position.data(), velocity.data(),
                         springForce.data(), 0, end - begin, chunkPotential, chunkPower);
-      for (std::int64_t k = begin; k < end; ++k) {
-        const Vec3& onA = springForce[static_cast<std::size_t>(k - begin)];
-        force[springs[static_cast<std::size_t>(k)].a] += onA;
-        force[springs[static_cast<std::size_t>(k)].b] -= onA;
-      }
+      scatterSprings(springs.data() + begin, nullptr, springForce.data(), end - begin, false,
+                     force.data());
       if (begin == 0) {
         potential = chunkPotential;
         power = chunkPower;
@@ -320,11 +350,9 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
         x.sums[c] = {potential, power};
         Vec3* sum = x.sum;
         Vec3* held = x.held + begin;
+        scatterSprings(spring, dependent, onA, count, false, sum);
         for (std::int64_t k = 0; k < count; ++k) {
-          const std::uint8_t d = dependent[k];
-          if ((d & 1) == 0) sum[spring[k].a] += onA[k];
-          if ((d & 2) == 0) sum[spring[k].b] -= onA[k];
-          if (d != 0) held[k] = onA[k];
+          if (dependent[k] != 0) held[k] = onA[k];
         }
         // Sequentially consistent: a thread that fails to take the lock has made
         // its chunk ready before, and the holder looks again after letting go.
@@ -336,11 +364,8 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
             if (x.waitFrom[next] < next) {  // it has dependent ends
               const std::int64_t from = next * detail::kParallelChunk;
               const std::int64_t to = std::min(x.springCount, from + detail::kParallelChunk);
-              for (std::int64_t k = from; k < to; ++k) {
-                const std::uint8_t d = x.dependent[k];
-                if ((d & 1) != 0) sum[x.springs[k].a] += x.held[k];
-                if ((d & 2) != 0) sum[x.springs[k].b] -= x.held[k];
-              }
+              scatterSprings(x.springs + from, x.dependent + from, x.held + from, to - from, true,
+                             sum);
             }
             ++next;
           }
