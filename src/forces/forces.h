@@ -79,7 +79,8 @@ struct ParticlePassSums {
 };
 /// A workspace's buffers for the force stages.
 struct ForceScratch {
-  std::vector<Vec3> springForce;  // (linearSprings): the force on end a
+  /// The forces on ends a: one chunk's on one thread; the dependent ends' (by spring) on more.
+  std::vector<Vec3> springForce;
   /// The parallel LS job's state: each spring chunk's {potential, power}, and
   /// the job's stamp in done[s] once spring chunk s is written.
   std::vector<std::array<double, 2>> springChunkSums;
@@ -102,10 +103,14 @@ struct ParticlePrologue {
   void (*run)(void* context, std::int64_t chunk) = nullptr;
   void* context = nullptr;
 };
-/// LS in two parallel passes: each spring's force on its end a into
-/// scratch.springForce (energy and power summed in fixed chunks), then each
-/// particle gathers its springs in ascending order (`incidence`): the forces are
-/// bit-identical to a serial scatter's, whatever the thread count.
+/// LS in one parallel job of spring chunks (energy and power summed in fixed
+/// chunks): each chunk's forces, then their scatter to the particles whose first
+/// spring is in it; the other ends (incidence.dependent) wait in
+/// scratch.springForce and are scattered in chunk order once every earlier chunk
+/// is done. Each particle adds its springs in ascending order: the forces are
+/// bit-identical to a serial scatter's, whatever the thread count. `prologue`:
+/// a per-particle pass to run first, each chunk of it in the job before the
+/// spring chunks that read its particles (or, off the job, as a loop of its own).
 ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& incidence,
                                    int threads, const std::vector<Vec3>& position,
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
