@@ -362,13 +362,14 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
   springForce.resize(springs.size());
   const auto springChunks =
       static_cast<std::size_t>((springCount + detail::kParallelChunk - 1) / detail::kParallelChunk);
-  if (scratch.springChunkDone.size() != springChunks) {
-    scratch.springChunkDone = std::vector<std::atomic<std::uint32_t>>(springChunks);
-    scratch.springJob = 0;
-  }
   const std::size_t particleChunks = incidence.order.size() - springChunks;
-  if (scratch.particleChunkDone.size() != particleChunks) {
+  if (scratch.springChunkDone.size() != springChunks ||
+      scratch.particleChunkDone.size() != particleChunks) {
+    // Both anew (their stamps zero), as the job count restarts.
+    scratch.springChunkDone = std::vector<std::atomic<std::uint32_t>>(springChunks);
     scratch.particleChunkDone = std::vector<std::atomic<std::uint32_t>>(particleChunks);
+    for (auto& d : scratch.springChunkDone) d.store(0, std::memory_order_relaxed);
+    for (auto& d : scratch.particleChunkDone) d.store(0, std::memory_order_relaxed);
     scratch.springJob = 0;
   }
   scratch.springChunkSums.resize(springChunks);
