@@ -43,7 +43,7 @@ void Workspace::setThreadCount(int threads) {
 }
 
 void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
-                    Evaluation& out) {
+                    Evaluation& out, FusedParticlePass* pass) {
   const Model& model = compiled.model();
   const int threads = workspace.threadCount();
   const std::vector<Vec3>& position = state.position;
@@ -54,13 +54,22 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS, JS, the bodies and the drives (a few per joint) on this thread.
-  const ParticleForceTally start =
-      startParticleForces(model, threads, position, velocity, out.force, out.torque);
-  const ForceTally& gravity = start.gravity;
-  const ForceTally& damping = start.damping;
+  // With a fused pass, the first stage runs in LS's job, each chunk of particles
+  // before the springs that read it.
+  ParticlePrologue prologue;
+  ParticleForceTally start;
+  if (pass != nullptr) {
+    prologue = {&FusedParticlePass::run, pass};
+  } else {
+    start = startParticleForces(model, threads, position, velocity, out.force, out.torque);
+  }
   const ForceTally linear =
       accumulateLinearSprings(model, compiled.springIncidence(), threads, position, velocity,
-                              out.force, workspace.forceScratch());
+                              out.force, workspace.forceScratch(),
+                              pass != nullptr ? &prologue : nullptr);
+  if (pass != nullptr) start = pass->tally();
+  const ForceTally& gravity = start.gravity;
+  const ForceTally& damping = start.damping;
   const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
   const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
   // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
@@ -84,7 +93,7 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
 }
 
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out) {
+                    Evaluation& out, const ParticlePassSums* pass) {
   // The bodies' motions of evaluateForces at these positions, at the state's velocities.
   std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
   if (motion.size() != model.model().bodies.size())
@@ -92,7 +101,7 @@ void measureKinetic(const CompiledModel& model, const State& state, Workspace& w
   else
     updateBodyVelocities(model.model(), state.position, state.velocity, motion);
   measureKineticAndDriving(model.model(), model.contactTables().inverseSpinInertia,
-                           workspace.threadCount(), motion, state, out);
+                           workspace.threadCount(), motion, state, out, pass);
   // MODEL §1.7: the body links' weight preloads are driving work, as the motors' are.
   const std::vector<std::array<Vec3, 2>>& preload = workspace.forceScratch().linkPreload;
   if (preload.size() == model.model().bodyLinks.size() && !preload.empty())

@@ -10,6 +10,9 @@
 
 namespace robophi {
 
+struct FusedParticlePass;
+struct ParticlePassSums;
+
 /// Net forces (and the spinning particles' torques) and potentials at the
 /// state's positions, velocities and spins with its friction history (only
 /// read) into `out`: clear → gravity → linear damping → LS → TS
@@ -18,13 +21,17 @@ namespace robophi {
 /// driving power (measureKineticAndDriving), which need the final velocities.
 /// The force stages, the integration and the sums use up to workspace.threadCount()
 /// threads (core/parallel.h), with the same result for any count.
+/// `pass`: an integration fused with the first stage (clear, gravity, damping) to
+/// run in place of that stage, in the LS job (its chunks before the springs that
+/// read their particles), or null.
 void evaluateForces(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out);
+                    Evaluation& out, FusedParticlePass* pass = nullptr);
 
 /// The kinetic energy and driving power at the state (measureKineticAndDriving), whose
 /// positions are those of the last evaluateForces in `workspace` (its bodies' motions are
 /// reused, their velocities re-measured).
+/// `pass`: the kinetic sums of the FusedParticlePass that made the state, or null.
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,
-                    Evaluation& out);
+                    Evaluation& out, const ParticlePassSums* pass = nullptr);
 
 }  // namespace robophi

@@ -8,6 +8,7 @@
 #include "core/parallel.h"
 #include "core/text.h"
 #include "evaluate.h"
+#include "forces/forces.h"
 #include "integrate/integrators.h"
 
 namespace robophi {
@@ -127,15 +128,26 @@ StepStatus World::step(double dt) {
                       });
   const std::vector<double>& spinInertia = model_.contactTables().inverseSpinInertia;
 
-  // 2. Integrate to t + δ; 3. forces and potentials at t + δ.
+  // 2. Integrate to t + δ; 3. forces and potentials at t + δ. Taylor's scheme and
+  // symplectic Euler leave the velocities final: one pass integrates, starts the
+  // evaluation (clear, gravity, damping) and sums the kinetic energy.
+  ParticlePassSums* pass = nullptr;
   switch (integrator_) {
     case Integrator::kTaylor:
-      integrateTaylor(model, spinInertia, threads, dt, evaluation, state);
-      evaluateForces(model_, state, workspace_, evaluation);
-      break;
     case Integrator::kSymplecticEuler:
-      integrateSymplecticEuler(model, spinInertia, threads, dt, evaluation, state);
-      evaluateForces(model_, state, workspace_, evaluation);
+      if (canIntegrateAndStartForces(model, spinInertia, evaluation, state)) {
+        pass = &workspace_.forceScratch().particlePass;
+        FusedParticlePass fused =
+            makeFusedParticlePass(model, spinInertia, dt, integrator_ == Integrator::kTaylor,
+                                  evaluation, state, *pass);
+        evaluateForces(model_, state, workspace_, evaluation, &fused);
+      } else {
+        if (integrator_ == Integrator::kTaylor)
+          integrateTaylor(model, spinInertia, threads, dt, evaluation, state);
+        else
+          integrateSymplecticEuler(model, spinInertia, threads, dt, evaluation, state);
+        evaluateForces(model_, state, workspace_, evaluation);
+      }
       break;
     case Integrator::kVelocityVerlet:
       integrateVerletDrift(model, spinInertia, threads, dt, evaluation, state);
@@ -146,7 +158,7 @@ StepStatus World::step(double dt) {
 
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
-  measureKinetic(model_, state, workspace_, evaluation);
+  measureKinetic(model_, state, workspace_, evaluation, pass);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;

@@ -3,6 +3,7 @@
 // energy it holds and the power of its dissipative part.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -37,9 +38,20 @@ ParticleForceTally startParticleForces(const Model& model, int threads,
 /// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k
 /// (spring k's end a) or 2k + 1 (its end b), in ascending k, the order in which a
 /// serial scatter over the springs adds them.
+/// For the parallel LS job (accumulateLinearSprings), by chunks of kParallelChunk
+/// springs: dependent[k] bit 0 (bit 1) when spring k's end a (b) has a spring in an
+/// earlier chunk, and waitFrom[s] the first chunk before s that shares a particle
+/// with chunk s (s: none).
 struct SpringIncidence {
   std::vector<std::int32_t> start;  // (particleCount + 1)
   std::vector<std::int32_t> entry;  // (2 * linearSprings)
+  std::vector<std::uint8_t> dependent;  // (linearSprings)
+  std::vector<std::int32_t> waitFrom;   // (spring chunks)
+  /// With a ParticlePrologue: the chunks of particles each spring chunk reads
+  /// ({0, -1}: none), and the job's order: spring chunk s as s, particle chunk g
+  /// as -1 - g, each particle chunk soon before the first spring chunk that reads it.
+  std::vector<std::array<std::int32_t, 2>> reads;  // (spring chunks)
+  std::vector<std::int32_t> order;                 // (spring chunks + particle chunks)
 };
 SpringIncidence compileSpringIncidence(const Model& model);
 
@@ -57,9 +69,25 @@ struct RigidMotion {
   Vec3 rotate(const Vec3& restOffset) const;  // R r
   Vec3 velocityAt(const Vec3& point) const;   // v̄ + ω × (point − p̄)
 };
+/// The sums of the fused per-particle pass (FusedParticlePass), per chunk of
+/// kParallelChunk particles: {gravity's potential, damping's power, kinetic energy,
+/// the spins' kinetic energy (from chunk 1 on)}, and flags: 1 a fixed particle in
+/// the chunk, 2 a spinning one.
+struct ParticlePassSums {
+  std::vector<std::array<double, 4>> sums;
+  std::vector<std::uint8_t> flags;
+};
 /// A workspace's buffers for the force stages.
 struct ForceScratch {
-  std::vector<Vec3> springForce;  // (linearSprings): the force on end a
+  /// The forces on ends a: one chunk's on one thread; the dependent ends' (by spring) on more.
+  std::vector<Vec3> springForce;
+  /// The parallel LS job's state: each spring chunk's {potential, power}, and
+  /// the job's stamp in done[s] once spring chunk s is written.
+  std::vector<std::array<double, 2>> springChunkSums;
+  std::vector<std::atomic<std::uint32_t>> springChunkDone;
+  std::vector<std::atomic<std::uint32_t>> particleChunkDone;  // the same, for a ParticlePrologue
+  std::uint32_t springJob = 0;
+  ParticlePassSums particlePass;
   /// (bodies): every body's rigid motion at the last evaluation's positions (and, once
   /// measureKinetic has run, at its state's velocities): measured once per evaluation.
   std::vector<RigidMotion> bodyMotion;
@@ -68,14 +96,26 @@ struct ForceScratch {
   std::vector<std::array<Vec3, 2>> linkPreload;
 };
 
-/// LS in two parallel passes: each spring's force on its end a into
-/// scratch.springForce (energy and power summed in fixed chunks), then each
-/// particle gathers its springs in ascending order (`incidence`): the forces are
-/// bit-identical to a serial scatter's, whatever the thread count.
+/// A per-particle pass run in the LS job (accumulateLinearSprings): run(context, g)
+/// once for each chunk g of kParallelChunk particles, before the springs that
+/// read or load its particles (FusedParticlePass, in one job with LS).
+struct ParticlePrologue {
+  void (*run)(void* context, std::int64_t chunk) = nullptr;
+  void* context = nullptr;
+};
+/// LS in one parallel job of spring chunks (energy and power summed in fixed
+/// chunks): each chunk's forces, then their scatter to the particles whose first
+/// spring is in it; the other ends (incidence.dependent) wait in
+/// scratch.springForce and are scattered in chunk order once every earlier chunk
+/// is done. Each particle adds its springs in ascending order: the forces are
+/// bit-identical to a serial scatter's, whatever the thread count. `prologue`:
+/// a per-particle pass to run first, each chunk of it in the job before the
+/// spring chunks that read its particles (or, off the job, as a loop of its own).
 ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& incidence,
                                    int threads, const std::vector<Vec3>& position,
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
-                                   ForceScratch& scratch);
+                                   ForceScratch& scratch,
+                                   const ParticlePrologue* prologue = nullptr);
 ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>& position,
                                     const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
 ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,

@@ -75,10 +75,141 @@ void integrateVerletKick(const Model& model, const std::vector<double>& inverseS
       [&](std::size_t i) { state.velocity[i] += force[i] * (model.inverseMass[i] * 0.5 * dt); });
 }
 
+bool canIntegrateAndStartForces(const Model& model, const std::vector<double>& inverseSpinInertia,
+                                const Evaluation& evaluation, const State& state) {
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  return n > 0 && state.position.size() == n && state.velocity.size() == n &&
+         state.spin.size() == n && evaluation.force.size() == n &&
+         evaluation.torque.size() == n &&
+         (inverseSpinInertia.empty() || inverseSpinInertia.size() == n);
+}
+
+FusedParticlePass makeFusedParticlePass(const Model& model,
+                                        const std::vector<double>& inverseSpinInertia, double dt,
+                                        bool taylor, Evaluation& evaluation, State& state,
+                                        ParticlePassSums& sums) {
+  const std::int64_t chunks =
+      (model.particleCount() + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  sums.sums.resize(static_cast<std::size_t>(chunks));
+  sums.flags.resize(static_cast<std::size_t>(chunks));
+  return {&model, &inverseSpinInertia, dt, taylor, &evaluation, &state, &sums};
+}
+
+void FusedParticlePass::run(void* raw, std::int64_t chunk) {
+  // forEachParticle's body and spin kick, startParticleForces' loop and
+  // measureKineticAndDriving's terms, particle by particle, each sum in its own
+  // chunks (core/parallel.h).
+  const FusedParticlePass& x = *static_cast<const FusedParticlePass*>(raw);
+  const Model& model = *x.model;
+  const std::vector<double>& inverseSpinInertia = *x.inverseSpinInertia;
+  const bool spins = !inverseSpinInertia.empty();
+  const double dt = x.dt;
+  const double halfDtSquared = 0.5 * dt * dt;
+  Vec3* force = x.evaluation->force.data();
+  Vec3* torque = x.evaluation->torque.data();
+  Vec3* position = x.state->position.data();
+  Vec3* velocity = x.state->velocity.data();
+  Vec3* spin = x.state->spin.data();
+  const std::int64_t begin = chunk * detail::kParallelChunk;
+  const std::int64_t end =
+      std::min(static_cast<std::int64_t>(model.particleCount()), begin + detail::kParallelChunk);
+  double potential = 0.0, power = 0.0, kinetic = 0.0, spinning = 0.0;
+  std::uint8_t flags = 0;
+  const bool first = chunk == 0;
+  for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+    // The integrator (integrateSymplecticEuler, integrateTaylor).
+    if (x.taylor) {
+      const Vec3 acceleration = force[i] * model.inverseMass[i];
+      position[i] += velocity[i] * dt + acceleration * halfDtSquared;
+      velocity[i] += acceleration * dt;
+    } else {
+      velocity[i] += force[i] * (model.inverseMass[i] * dt);
+      position[i] += velocity[i] * dt;
+    }
+    if (spins && inverseSpinInertia[i] != 0.0) spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
+    // startParticleForces.
+    Vec3 f;
+    torque[i] = Vec3{};
+    if (model.inverseMass[i] != 0.0) {
+      f += model.gravity * model.mass[i];
+      potential -= model.mass[i] * dot(model.gravity, position[i]);
+    }
+    const double c = model.linearDamping[i];
+    if (c != 0.0) {
+      f -= velocity[i] * c;
+      power -= c * squaredNorm(velocity[i]);
+    }
+    force[i] = f;
+    // measureKineticAndDriving's terms (the driving power's once the forces are final).
+    if (model.inverseMass[i] == 0.0) {
+      flags |= 1;
+    } else {
+      kinetic += 0.5 * model.mass[i] * squaredNorm(velocity[i]);
+      if (spins && inverseSpinInertia[i] != 0.0) {
+        flags |= 2;
+        // Chunk 0's spin sum starts from the kinetic total: measureKineticAndDriving.
+        if (!first) spinning += 0.5 * squaredNorm(spin[i]) / inverseSpinInertia[i];
+      }
+    }
+  }
+  const auto c = static_cast<std::size_t>(chunk);
+  x.sums->sums[c] = {potential, power, kinetic, spinning};
+  x.sums->flags[c] = flags;
+}
+
+ParticleForceTally FusedParticlePass::tally() const {
+  // The chunks' sums in chunk order.
+  std::array<double, 2> total = {sums->sums[0][0], sums->sums[0][1]};
+  for (std::size_t c = 1; c < sums->sums.size(); ++c) {
+    total[0] += sums->sums[c][0];
+    total[1] += sums->sums[c][1];
+  }
+  ParticleForceTally result;
+  result.gravity.potential = total[0];
+  result.damping.dissipativePower = total[1];
+  return result;
+}
+
 void measureKineticAndDriving(const Model& model, const std::vector<double>& inverseSpinInertia,
                               int threads, const std::vector<RigidMotion>& bodyMotion,
-                              const State& state, Evaluation& evaluation) {
+                              const State& state, Evaluation& evaluation,
+                              const ParticlePassSums* pass) {
   const std::vector<Vec3>& velocity = state.velocity;
+  if (pass != nullptr) {
+    // The parallelSums below from the pass's chunk sums: a chunk with no fixed
+    // (spinning) particle adds +0 to the driving power (the spins' energy), which
+    // changes no sum that starts from +0 (none becomes -0).
+    const std::int64_t n = model.particleCount();
+    double kinetic = pass->sums[0][2];
+    for (std::size_t c = 1; c < pass->sums.size(); ++c) kinetic += pass->sums[c][2];
+    double driving = 0.0, energy = kinetic;
+    for (std::size_t c = 0; c < pass->sums.size(); ++c) {
+      const auto begin = static_cast<std::size_t>(static_cast<std::int64_t>(c) * detail::kParallelChunk);
+      const auto end = static_cast<std::size_t>(std::min(n, static_cast<std::int64_t>(c + 1) * detail::kParallelChunk));
+      if ((pass->flags[c] & 1) != 0) {
+        double sum = 0.0;
+        for (std::size_t i = begin; i < end; ++i) {
+          if (model.inverseMass[i] == 0.0) sum -= dot(evaluation.force[i], velocity[i]);
+        }
+        if (c == 0) driving = sum; else driving += sum;
+      }
+      if ((pass->flags[c] & 2) != 0) {
+        if (c == 0) {
+          for (std::size_t i = begin; i < end; ++i) {
+            if (inverseSpinInertia[i] != 0.0 && model.inverseMass[i] != 0.0)
+              energy += 0.5 * squaredNorm(state.spin[i]) / inverseSpinInertia[i];
+          }
+        } else {
+          energy += pass->sums[c][3];
+        }
+      }
+    }
+    evaluation.energy.kinetic = energy;
+    const double motorPower =
+        jointMotorPower(model, bodyMotion, state.position, velocity, evaluation.jointMotorEffort);
+    evaluation.drivingPower = motorPower == 0.0 ? driving : driving + motorPower;
+    return;
+  }
   // Sums in fixed chunks (core/parallel.h): {kinetic energy, driving power}.
   const std::array<double, 2> particles = detail::parallelSum<2>(
       threads, model.particleCount(), {0.0, 0.0},
