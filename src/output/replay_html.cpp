@@ -107,6 +107,13 @@ std::string modelJson(const RunFolder& run) {
   return out;
 }
 
+// "[row]" appended in place.
+void appendBracketed(std::string& out, const std::string& row) {
+  out += '[';
+  out += row;
+  out += ']';
+}
+
 // Rows of a table rendered one string per row ("v0,v1,..."), for sizing and writing.
 std::vector<std::string> renderRows(const CsvTable& table) {
   std::vector<std::string> rows(table.rowCount);
@@ -163,7 +170,7 @@ void appendTable(std::string& out, const char* name, const CsvTable& table,
   for (std::size_t i : keptIndices(rows.size(), stride)) {
     if (!first) out += ',';
     first = false;
-    out += '[' + rows[i] + ']';
+    appendBracketed(out, rows[i]);
   }
   out += "]}";
 }
@@ -189,7 +196,7 @@ void appendContacts(std::string& out, const CsvTable& table, const std::vector<s
     for (std::size_t r = groupStart[g]; r < end; ++r) {
       if (!first) out += ',';
       first = false;
-      out += '[' + rows[r] + ']';
+      appendBracketed(out, rows[r]);
     }
   }
   out += "]}";
@@ -300,6 +307,8 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
 
   // The data object, in the order viewer/replay.js reads it.
   std::string data = "{" + model;
+  data.reserve(data.size() + keptBytes(frames, frameStride) + keptBytes(energy, energyStride) +
+               keptBytes(joints, jointsStride) + keptBytes(contacts, contactsStride) + 4096);
   fmt::format_to(std::back_inserter(data), ",\"threeVersion\":\"{}\",\"sizeCapBytes\":{}",
                  replay_assets::kThreeVersion, cap);
   const std::vector<std::size_t> keptFrames = keptIndices(frames.size(), frameStride);
@@ -308,7 +317,7 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
                  frameStride);
   for (std::size_t i = 0; i < keptFrames.size(); ++i) {
     if (i > 0) data += ',';
-    data += '[' + frames[keptFrames[i]] + ']';
+    appendBracketed(data, frames[keptFrames[i]]);
   }
   data += "]}";
   appendTable(data, "energy", run.energy, energy, energyStride);

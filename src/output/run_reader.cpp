@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string_view>
 
 namespace robophi::output {
@@ -21,9 +20,19 @@ bool readWholeFile(const fs::path& path, std::string& text, std::string& error) 
     error = fmt::format("{}: cannot open", path.string());
     return false;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  text = std::move(buffer).str();
+  // One read into a string of the file's size (no stream buffer grown and copied).
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (!in || size < 0) {
+    error = fmt::format("{}: cannot be read", path.string());
+    return false;
+  }
+  text.resize(static_cast<std::size_t>(size));
+  if (size > 0 && !in.read(text.data(), size)) {
+    error = fmt::format("{}: cannot be read", path.string());
+    return false;
+  }
   return true;
 }
 
