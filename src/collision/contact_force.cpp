@@ -59,6 +59,24 @@ constexpr double kPresliding = 10.0;
 // √(k_t m_eff)) slides: a body that lands or is launched with a slip (V ≠ 0).
 constexpr double kSlidingSpeed = 2.0;
 
+// A pair contact's load on its particles (the other side's first), and its
+// stiffness and damping into their stability sums.
+inline void scatterLoad(const ContactScratch::ContactLoad& load, std::vector<Vec3>& f,
+                        std::vector<Vec3>& torque, ContactScratch& cache) {
+  const auto a = static_cast<std::size_t>(load.a);
+  if (load.other >= 0) {
+    const auto b = static_cast<std::size_t>(load.other);
+    f[b] -= load.force;
+    torque[b] += load.torqueB;
+    cache.contactStiffnessSum[b] += load.stiffness;
+    cache.contactDampingSum[b] += load.damping;
+  }
+  f[a] += load.force;
+  torque[a] += load.torqueA;
+  cache.contactStiffnessSum[a] += load.stiffness;
+  cache.contactDampingSum[a] += load.damping;
+}
+
 // I⁺ v for the packed symmetric matrix (xx, yy, zz, xy, xz, yz).
 inline Vec3 symmetricTimes(const double* m, const Vec3& v) {
   return {m[0] * v.x + m[3] * v.y + m[4] * v.z, m[3] * v.x + m[1] * v.y + m[5] * v.z,
@@ -605,23 +623,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
           if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
           if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
         }
-        if (direct) {
-          // As the scatter in accumulateContacts, contact by contact.
-          std::vector<Vec3>& f = *in.force;
-          std::vector<Vec3>& torque = *in.torque;
-          const auto a = static_cast<std::size_t>(load.a);
-          if (load.other >= 0) {
-            const auto b = static_cast<std::size_t>(load.other);
-            f[b] -= load.force;
-            torque[b] += load.torqueB;
-            cache.contactStiffnessSum[b] += load.stiffness;
-            cache.contactDampingSum[b] += load.damping;
-          }
-          f[a] += load.force;
-          torque[a] += load.torqueA;
-          cache.contactStiffnessSum[a] += load.stiffness;
-          cache.contactDampingSum[a] += load.damping;
-        }
+        // As the scatter in accumulateContacts, contact by contact.
+        if (direct) scatterLoad(load, *in.force, *in.torque, cache);
       } else if (t.group >= 0) {
         FrictionApplication& application = cache.applications[index];
         application.force = friction;
@@ -1205,19 +1208,7 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   if (stageThreads <= 1) {
     for (std::size_t index = 0; index < (direct ? 0 : count); ++index) {
       const ContactLoad& load = cache.loads[index];
-      if (load.deferred) continue;
-      const auto a = static_cast<std::size_t>(load.a);
-      if (load.other >= 0) {
-        const auto b = static_cast<std::size_t>(load.other);
-        f[b] -= load.force;
-        torque[b] += load.torqueB;
-        cache.contactStiffnessSum[b] += load.stiffness;
-        cache.contactDampingSum[b] += load.damping;
-      }
-      f[a] += load.force;
-      torque[a] += load.torqueA;
-      cache.contactStiffnessSum[a] += load.stiffness;
-      cache.contactDampingSum[a] += load.damping;
+      if (!load.deferred) scatterLoad(load, f, torque, cache);
     }
     for (std::size_t i = 0; i < particles; ++i) {
       const double stiffness = cache.contactStiffnessSum[i];

@@ -33,6 +33,24 @@ ParticleForceTally startParticleForces(const Model& model, int threads,
                                        const std::vector<Vec3>& position,
                                        const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                        std::vector<Vec3>& torque);
+/// startParticleForces for particle i: its force and torque set, gravity's
+/// potential added to `potential` and damping's power to `power`.
+inline void startParticleForce(const Model& model, std::size_t i, const Vec3* position,
+                               const Vec3* velocity, Vec3* force, Vec3* torque, double& potential,
+                               double& power) {
+  Vec3 f;
+  torque[i] = Vec3{};
+  if (model.inverseMass[i] != 0.0) {  // a fixed particle gets no gravity
+    f += model.gravity * model.mass[i];
+    potential -= model.mass[i] * dot(model.gravity, position[i]);
+  }
+  const double c = model.linearDamping[i];
+  if (c != 0.0) {
+    f -= velocity[i] * c;
+    power -= c * squaredNorm(velocity[i]);
+  }
+  force[i] = f;
+}
 
 /// The linear springs that meet at each particle, compiled once per model topology
 /// (CompiledModel): particle i's entries are entry[start[i] .. start[i + 1]), each 2k

@@ -14,19 +14,8 @@ ParticleForceTally startParticleForces(const Model& model, int threads,
       [&](std::int64_t begin, std::int64_t end, std::array<double, 2>& sum) {
         double potential = sum[0], power = sum[1];  // local sums: the stores cannot alias them
         for (std::int64_t k = begin; k < end; ++k) {
-          const auto i = static_cast<std::size_t>(k);
-          Vec3 f;
-          torque[i] = Vec3{};
-          if (model.inverseMass[i] != 0.0) {  // a fixed particle gets no gravity
-            f += model.gravity * model.mass[i];
-            potential -= model.mass[i] * dot(model.gravity, position[i]);
-          }
-          const double c = model.linearDamping[i];
-          if (c != 0.0) {
-            f -= velocity[i] * c;
-            power -= c * squaredNorm(velocity[i]);
-          }
-          force[i] = f;
+          startParticleForce(model, static_cast<std::size_t>(k), position.data(), velocity.data(),
+                             force.data(), torque.data(), potential, power);
         }
         sum = {potential, power};
       });

@@ -34,6 +34,21 @@ inline bool linearSpringKernel(const LinearSpring& s, const Vec3& pA, const Vec3
   return true;
 }
 
+// Spring j by the scalar kernel: the force on end a into out[j], its energy and
+// power added.
+inline void scalarSpring(const LinearSpring* spring, const Vec3* p, const Vec3* v, Vec3* out,
+                         std::int64_t j, double& potential, double& power) {
+  const LinearSpring& s = spring[j];
+  Vec3 forceOnA;
+  double springEnergy = 0.0, springPower = 0.0;
+  if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
+                         springPower)) {
+    potential += springEnergy;
+    power += springPower;
+  }
+  out[j] = forceOnA;
+}
+
 #if defined(__x86_64__) && defined(__GNUC__)
 // Four springs at a time, one in each AVX lane, from `k` while four are left;
 // returns where it stopped. The scalar kernel's operations in its order (no
@@ -57,17 +72,7 @@ __attribute__((target("avx2"))) std::int64_t linearSpringLanes4(
         _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz)));
     if (_mm256_movemask_pd(_mm256_cmp_pd(length, _mm256_setzero_pd(), _CMP_GT_OQ)) != 15) {
       // Coincident particles in a lane: the scalar kernel takes the four.
-      for (std::int64_t j = k; j < k + 4; ++j) {
-        const LinearSpring& s = spring[j];
-        Vec3 forceOnA;
-        double springEnergy = 0.0, springPower = 0.0;
-        if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
-                               springPower)) {
-          potential += springEnergy;
-          power += springPower;
-        }
-        out[j] = forceOnA;
-      }
+      for (std::int64_t j = k; j < k + 4; ++j) scalarSpring(spring, p, v, out, j, potential, power);
       continue;
     }
     const __m256d inverse = _mm256_div_pd(_mm256_set1_pd(1.0), length);
@@ -122,17 +127,7 @@ const bool kHaveAvx2 = [] {
 void linearSpringRange(const LinearSpring* spring, const Vec3* p, const Vec3* v, Vec3* out,
                        std::int64_t begin, std::int64_t end, double& potential, double& power) {
   // One spring by the scalar kernel.
-  auto single = [&](std::int64_t j) {
-    const LinearSpring& s = spring[j];
-    Vec3 forceOnA;
-    double springEnergy = 0.0, springPower = 0.0;
-    if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
-                           springPower)) {
-      potential += springEnergy;
-      power += springPower;
-    }
-    out[j] = forceOnA;
-  };
+  auto single = [&](std::int64_t j) { scalarSpring(spring, p, v, out, j, potential, power); };
   std::int64_t k = begin;
 #if defined(__x86_64__) && defined(__GNUC__)
   if (kHaveAvx2) k = linearSpringLanes4(spring, p, v, out, k, end, potential, power);

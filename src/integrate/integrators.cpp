@@ -127,19 +127,7 @@ void FusedParticlePass::run(void* raw, std::int64_t chunk) {
       position[i] += velocity[i] * dt;
     }
     if (spins && inverseSpinInertia[i] != 0.0) spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
-    // startParticleForces.
-    Vec3 f;
-    torque[i] = Vec3{};
-    if (model.inverseMass[i] != 0.0) {
-      f += model.gravity * model.mass[i];
-      potential -= model.mass[i] * dot(model.gravity, position[i]);
-    }
-    const double c = model.linearDamping[i];
-    if (c != 0.0) {
-      f -= velocity[i] * c;
-      power -= c * squaredNorm(velocity[i]);
-    }
-    force[i] = f;
+    startParticleForce(model, i, position, velocity, force, torque, potential, power);
     // measureKineticAndDriving's terms (the driving power's once the forces are final).
     if (model.inverseMass[i] == 0.0) {
       flags |= 1;
