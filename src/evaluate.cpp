@@ -70,8 +70,10 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   if (pass != nullptr) start = pass->tally();
   const ForceTally& gravity = start.gravity;
   const ForceTally& damping = start.damping;
-  const ForceTally torsion = accumulateTorsionSprings(model, position, velocity, out.force);
-  const ForceTally joint = accumulateJointSprings(model, position, velocity, out.force);
+  const ForceTally torsion = accumulateTorsionSprings(model, threads, position, velocity,
+                                                      out.force, workspace.forceScratch());
+  const ForceTally joint = accumulateJointSprings(model, threads, position, velocity, out.force,
+                                                  workspace.forceScratch());
   // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
   std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
   bodyMotions(model, position, velocity, motion);

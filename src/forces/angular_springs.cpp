@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "robophi/connector_forces.h"
+#include "core/parallel.h"
 #include "forces/forces.h"
 
 namespace robophi {
@@ -183,35 +184,77 @@ AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, c
   return out;
 }
 
-ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>& position,
-                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
-  ForceTally tally;
-  for (const TorsionSpring& s : model.torsionSprings) {
-    const AngularSpringForce f = torsionSpringForce(s, position[s.a], position[s.c], position[s.b],
-                                                    velocity[s.a], velocity[s.c], velocity[s.b]);
-    force[s.a] += f.onA;
-    force[s.b] += f.onB;
-    force[s.c] += f.onC;
-    tally.potential += f.energy;
-    tally.dissipativePower += f.dissipativePower;
+namespace {
+
+// The connectors' forces f(k) for k in [0, count): on the threads into
+// scratch.angularForce when there are enough of them, then add(k, f(k)) in
+// ascending k on this thread; serially add(k, f(k)) one by one otherwise.
+template <class Force, class Add>
+void angularSprings(int threads, std::size_t count, ForceScratch& scratch, const Force& forceOf,
+                    const Add& add) {
+  if (threads <= 1 || count < static_cast<std::size_t>(detail::kParallelMinimum)) {
+    for (std::size_t k = 0; k < count; ++k) add(k, forceOf(k));
+    return;
   }
+  std::vector<AngularSpringForce>& buffer = scratch.angularForce;
+  buffer.resize(count);
+  detail::parallelFor(threads, static_cast<std::int64_t>(count),
+                      [&](std::int64_t begin, std::int64_t end) {
+                        for (auto k = static_cast<std::size_t>(begin);
+                             k < static_cast<std::size_t>(end); ++k)
+                          buffer[k] = forceOf(k);
+                      });
+  for (std::size_t k = 0; k < count; ++k) add(k, buffer[k]);
+}
+
+}  // namespace
+
+ForceTally accumulateTorsionSprings(const Model& model, int threads,
+                                    const std::vector<Vec3>& position,
+                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                    ForceScratch& scratch) {
+  ForceTally tally;
+  const std::vector<TorsionSpring>& springs = model.torsionSprings;
+  angularSprings(
+      threads, springs.size(), scratch,
+      [&](std::size_t k) {
+        const TorsionSpring& s = springs[k];
+        return torsionSpringForce(s, position[s.a], position[s.c], position[s.b], velocity[s.a],
+                                  velocity[s.c], velocity[s.b]);
+      },
+      [&](std::size_t k, const AngularSpringForce& f) {
+        const TorsionSpring& s = springs[k];
+        force[s.a] += f.onA;
+        force[s.b] += f.onB;
+        force[s.c] += f.onC;
+        tally.potential += f.energy;
+        tally.dissipativePower += f.dissipativePower;
+      });
   return tally;
 }
 
-ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,
-                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force) {
+ForceTally accumulateJointSprings(const Model& model, int threads,
+                                  const std::vector<Vec3>& position,
+                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                  ForceScratch& scratch) {
   ForceTally tally;
-  for (const JointSpring& s : model.jointSprings) {
-    const AngularSpringForce f =
-        jointSpringForce(s, position[s.a], position[s.c], position[s.b], position[s.d],
-                         velocity[s.a], velocity[s.c], velocity[s.b], velocity[s.d]);
-    force[s.a] += f.onA;
-    force[s.b] += f.onB;
-    force[s.c] += f.onC;
-    force[s.d] += f.onD;
-    tally.potential += f.energy;
-    tally.dissipativePower += f.dissipativePower;
-  }
+  const std::vector<JointSpring>& springs = model.jointSprings;
+  angularSprings(
+      threads, springs.size(), scratch,
+      [&](std::size_t k) {
+        const JointSpring& s = springs[k];
+        return jointSpringForce(s, position[s.a], position[s.c], position[s.b], position[s.d],
+                                velocity[s.a], velocity[s.c], velocity[s.b], velocity[s.d]);
+      },
+      [&](std::size_t k, const AngularSpringForce& f) {
+        const JointSpring& s = springs[k];
+        force[s.a] += f.onA;
+        force[s.b] += f.onB;
+        force[s.c] += f.onC;
+        force[s.d] += f.onD;
+        tally.potential += f.energy;
+        tally.dissipativePower += f.dissipativePower;
+      });
   return tally;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "robophi/connector_forces.h"
 #include "robophi/model.h"
 #include "robophi/vec3.h"
 
@@ -112,6 +113,9 @@ struct ForceScratch {
   /// (bodyLinks): each link's weight preload on its child at its joint point (force, N;
   /// couple, N·m) at the last evaluation, for its driving power (bodyLinkPreloadPower).
   std::vector<std::array<Vec3, 2>> linkPreload;
+  /// (torsion or joint springs): each one's forces, computed on the threads
+  /// before they are added in order (accumulateTorsionSprings, accumulateJointSprings).
+  std::vector<AngularSpringForce> angularForce;
 };
 
 /// A per-particle pass run in the LS job (accumulateLinearSprings): run(context, g)
@@ -134,10 +138,18 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
                                    ForceScratch& scratch,
                                    const ParticlePrologue* prologue = nullptr);
-ForceTally accumulateTorsionSprings(const Model& model, const std::vector<Vec3>& position,
-                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
-ForceTally accumulateJointSprings(const Model& model, const std::vector<Vec3>& position,
-                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force);
+/// TS and JS: each connector's forces computed on up to `threads` threads
+/// (from kParallelMinimum connectors) into scratch.angularForce, then added to
+/// the particles and summed in connector order, as the serial loop does: the
+/// same bits on any count.
+ForceTally accumulateTorsionSprings(const Model& model, int threads,
+                                    const std::vector<Vec3>& position,
+                                    const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                    ForceScratch& scratch);
+ForceTally accumulateJointSprings(const Model& model, int threads,
+                                  const std::vector<Vec3>& position,
+                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
+                                  ForceScratch& scratch);
 
 /// MODEL §1.6: the motor effort τ (N·m or N) of a drive at joint rate `rate`, after
 /// its effort and velocity limits, and the losses' effort (damping and friction).

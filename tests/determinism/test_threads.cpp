@@ -77,6 +77,51 @@ TEST(Threads, ALargeClothEndsWithOneHashOnOneTwoFourAndEightThreads) {
   }
 }
 
+// The same cloth with bending: a TS along every row and column (three
+// particles in line, rest angle π) and a JS over every pair of neighbouring
+// rows (about the edge (i+1, j)-(i+1, j+1), rest angle as built): 12 480 TS and
+// 6 162 JS, above the threshold at which their forces are computed on the
+// threads.
+Cloth makeBendingCloth(int n) {
+  Cloth cloth = makeCloth(n);
+  Model& model = cloth.model;
+  const std::vector<Vec3>& p = cloth.initial.position;
+  auto index = [n](int i, int j) { return static_cast<ParticleIndex>(j * n + i); };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i + 2 < n; ++i) {
+      model.torsionSprings.push_back({index(i, j), index(i + 1, j), index(i + 2, j),
+                                      torsionAngle(p[index(i, j)], p[index(i + 1, j)],
+                                                   p[index(i + 2, j)]),
+                                      1.0e-3, 1.0e-6});
+      model.torsionSprings.push_back({index(j, i), index(j, i + 1), index(j, i + 2),
+                                      torsionAngle(p[index(j, i)], p[index(j, i + 1)],
+                                                   p[index(j, i + 2)]),
+                                      1.0e-3, 1.0e-6});
+    }
+  }
+  for (int j = 0; j + 1 < n; ++j) {
+    for (int i = 0; i + 2 < n; ++i) {
+      const ParticleIndex a = index(i, j), c = index(i + 1, j), b = index(i + 2, j),
+                          d = index(i + 1, j + 1);
+      model.jointSprings.push_back({a, c, b, d, jointAngle(p[a], p[c], p[b], p[d]), 1.0e-3, 1.0e-6});
+    }
+  }
+  return cloth;
+}
+
+TEST(Threads, TorsionAndJointSpringsOnTheThreadsGiveOneHash) {
+  const Cloth cloth = makeBendingCloth(80);
+  ASSERT_GT(cloth.model.torsionSprings.size(), 3u * 4096u);
+  ASSERT_GT(cloth.model.jointSprings.size(), 4096u);
+  for (Integrator integrator : {Integrator::kSymplecticEuler, Integrator::kVelocityVerlet}) {
+    const std::uint64_t one = clothHash(cloth, integrator, 1, 40);
+    for (int threads : {2, 4, 8}) {
+      EXPECT_EQ(clothHash(cloth, integrator, threads, 40), one)
+          << threads << " threads, integrator " << static_cast<int>(integrator);
+    }
+  }
+}
+
 // The gather adds each particle's springs in ascending order, as the serial
 // scatter `F_a += f; F_b -= f` does: the same bits, at any thread count.
 TEST(Threads, TheLinearSpringGatherGivesTheSerialScattersForcesBitForBit) {
