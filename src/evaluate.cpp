@@ -53,7 +53,8 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   EnergyTally& e = out.energy;
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
-  // TS, JS, the bodies and the drives (a few per joint) on this thread.
+  // TS and JS compute in parallel and add in order; the bodies and the drives (a
+  // few per joint) on this thread.
   // With a fused pass, the first stage runs in LS's job, each chunk of particles
   // before the springs that read it.
   ParticlePrologue prologue;

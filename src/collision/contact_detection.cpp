@@ -412,8 +412,7 @@ void sweepTrees(ContactScratch& cache, double pad, const Visit& visit) {
 // Whether the tree objects' pair list applies and holds at `position`.
 bool treePairListKept(const Model& model, const std::vector<Vec3>& position,
                       const ContactScratch& cache) {
-  return treePairListApplies(model, cache) &&
-         treePairListHolds(model, position, treePairSkin(model, cache), cache);
+  return treePairListApplies(model, cache) && treePairListHolds(model, position, cache);
 }
 
 // The tree objects against each other and themselves (self-collision): through
@@ -433,9 +432,8 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position, boo
     return;
   }
   if (!listKept) {
-    const double skin = treePairSkin(model, cache);
-    startTreePairList(model, position, skin, cache);
-    sweepTrees(cache, skin, [&](std::int32_t rootA, std::int32_t rootB) {
+    startTreePairList(model, position, treePairSkin(model, cache), cache);
+    sweepTrees(cache, cache.treePairs.skin, [&](std::int32_t rootA, std::int32_t rootB) {
       listTreeVersusTree(model, position, cache, rootA, rootB);
     });
     for (const TreeObject& tree : cache.trees)

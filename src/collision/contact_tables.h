@@ -170,7 +170,8 @@ struct NeighbourList {
 struct TreePairList {
   /// The ContactScratch::revision it was built for; -1: none.
   std::int64_t revision = -1;
-  double skin = 0.0;  // (m)
+  double skin = 0.0;          // (m)
+  double skinFraction = 0.0;  // ContactSettings::neighbourSkin at the build (-)
   /// Positions and radii of ContactScratch::treeParticles at the build.
   std::vector<Vec3> reference;
   std::vector<double> referenceRadius;

@@ -253,10 +253,12 @@ void descendPair(ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB, 
   }
   if (b.isLeaf() || (!a.isLeaf() && a.radius >= b.radius)) {
     const std::int32_t first = a.firstChild, count = a.childCount;
-    for (std::int32_t c = first; c < first + count; ++c) descendPair(cache, c, nodeB, pad, leafPair);
+    for (std::int32_t c = first; c < first + count; ++c)
+      descendPair(cache, c, nodeB, pad, leafPair);
   } else {
     const std::int32_t first = b.firstChild, count = b.childCount;
-    for (std::int32_t c = first; c < first + count; ++c) descendPair(cache, nodeA, c, pad, leafPair);
+    for (std::int32_t c = first; c < first + count; ++c)
+      descendPair(cache, nodeA, c, pad, leafPair);
   }
 }
 
@@ -281,7 +283,8 @@ void descendSelf(ContactScratch& cache, std::int32_t node, double pad, const Lea
 void testLeafPair(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
                   const TreeNode& a, const TreeNode& b) {
   if (a.object != b.object && (facetedNode(cache, a) || facetedNode(cache, b))) {
-    leavesWithFacets(model, position, cache, a, b);  // MODEL §3.8: particles or vertices on triangles
+    leavesWithFacets(model, position, cache, a,
+                     b);  // MODEL §3.8: particles or vertices on triangles
     return;
   }
   for (std::int32_t p = a.first; p < a.first + a.count; ++p) {
@@ -307,6 +310,23 @@ inline void listParticlePair(const Model& model, const std::vector<Vec3>& positi
   const double reach = model.radius[a] + model.radius[b] + pad;
   if (squaredNorm(position[a] - position[b]) >= reach * reach) return;
   cache.treePairs.pairs.push_back({std::min(a, b), std::max(a, b)});
+}
+
+// The pair list's share of two leaves, or of one leaf with itself.
+void listLeafPair(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  const TreeNode& a, const TreeNode& b) {
+  const double pad = cache.treePairs.skin;
+  for (std::int32_t p = a.first; p < a.first + a.count; ++p)
+    for (std::int32_t q = b.first; q < b.first + b.count; ++q)
+      listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q], pad);
+}
+
+void listLeafSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  const TreeNode& n) {
+  const double pad = cache.treePairs.skin;
+  for (std::int32_t p = n.first; p < n.first + n.count; ++p)
+    for (std::int32_t q = p + 1; q < n.first + n.count; ++q)
+      listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q], pad);
 }
 
 }  // namespace
@@ -338,15 +358,17 @@ double treePairSkin(const Model& model, const ContactScratch& cache) {
   return model.contact.neighbourSkin * 2.0 * largest;
 }
 
-bool treePairListHolds(const Model& model, const std::vector<Vec3>& position, double skin,
+bool treePairListHolds(const Model& model, const std::vector<Vec3>& position,
                        const ContactScratch& cache) {
+  // The skin follows from neighbourSkin and the radii (treePairSkin): with both
+  // as at the build, it is the list's.
   const TreePairList& list = cache.treePairs;
-  if (list.revision != cache.revision || list.skin != skin || !(skin > 0.0) ||
-      list.reference.size() != cache.treeParticles.size()) {
+  if (list.revision != cache.revision || list.skinFraction != model.contact.neighbourSkin ||
+      !(list.skin > 0.0) || list.reference.size() != cache.treeParticles.size()) {
     return false;
   }
   // (1 - 1e-9): rounding in the distances cannot let a pair through.
-  const double limit = 0.25 * skin * skin * (1.0 - 1e-9);
+  const double limit = 0.25 * list.skin * list.skin * (1.0 - 1e-9);
   bool holds = true;
   for (std::size_t k = 0; k < cache.treeParticles.size(); ++k) {
     const std::int32_t i = cache.treeParticles[k];
@@ -361,6 +383,7 @@ void startTreePairList(const Model& model, const std::vector<Vec3>& position, do
   TreePairList& list = cache.treePairs;
   list.revision = cache.revision;
   list.skin = skin;
+  list.skinFraction = model.contact.neighbourSkin;
   list.pairs.clear();
   list.reference.resize(cache.treeParticles.size());
   list.referenceRadius.resize(cache.treeParticles.size());
@@ -375,33 +398,17 @@ void startTreePairList(const Model& model, const std::vector<Vec3>& position, do
 
 void listTreeVersusTree(const Model& model, const std::vector<Vec3>& position,
                         ContactScratch& cache, std::int32_t nodeA, std::int32_t nodeB) {
-  const double pad = cache.treePairs.skin;
-  descendPair(cache, nodeA, nodeB, pad, [&](const TreeNode& a, const TreeNode& b) {
-    for (std::int32_t p = a.first; p < a.first + a.count; ++p)
-      for (std::int32_t q = b.first; q < b.first + b.count; ++q)
-        listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q],
-                         pad);
+  descendPair(cache, nodeA, nodeB, cache.treePairs.skin, [&](const TreeNode& a, const TreeNode& b) {
+    listLeafPair(model, position, cache, a, b);
   });
 }
 
 void listTreeSelf(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
                   std::int32_t node) {
-  const double pad = cache.treePairs.skin;
-  const auto pairsOf = [&](const TreeNode& a, const TreeNode& b) {
-    for (std::int32_t p = a.first; p < a.first + a.count; ++p)
-      for (std::int32_t q = b.first; q < b.first + b.count; ++q)
-        listParticlePair(model, position, cache, cache.treeParticles[p], cache.treeParticles[q],
-                         pad);
-  };
   descendSelf(
-      cache, node, pad,
-      [&](const TreeNode& n) {
-        for (std::int32_t p = n.first; p < n.first + n.count; ++p)
-          for (std::int32_t q = p + 1; q < n.first + n.count; ++q)
-            listParticlePair(model, position, cache, cache.treeParticles[p],
-                             cache.treeParticles[q], pad);
-      },
-      pairsOf);
+      cache, node, cache.treePairs.skin,
+      [&](const TreeNode& n) { listLeafSelf(model, position, cache, n); },
+      [&](const TreeNode& a, const TreeNode& b) { listLeafPair(model, position, cache, a, b); });
 }
 
 void testTreePairs(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache) {

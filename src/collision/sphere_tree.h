@@ -45,7 +45,7 @@ void treeSelf(const Model& model, const std::vector<Vec3>& position, ContactScra
 /// the narrow phase over the list: the same finds as the tree search.
 bool treePairListApplies(const Model& model, const ContactScratch& cache);
 double treePairSkin(const Model& model, const ContactScratch& cache);
-bool treePairListHolds(const Model& model, const std::vector<Vec3>& position, double skin,
+bool treePairListHolds(const Model& model, const std::vector<Vec3>& position,
                        const ContactScratch& cache);
 void startTreePairList(const Model& model, const std::vector<Vec3>& position, double skin,
                        ContactScratch& cache);
