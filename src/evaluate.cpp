@@ -64,15 +64,14 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   } else {
     start = startParticleForces(model, threads, position, velocity, out.force, out.torque);
   }
-  const ForceTally linear =
-      accumulateLinearSprings(model, compiled.springIncidence(), threads, position, velocity,
-                              out.force, workspace.forceScratch(),
-                              pass != nullptr ? &prologue : nullptr);
+  const ForceTally linear = accumulateLinearSprings(
+      model, compiled.springIncidence(), threads, position, velocity, out.force,
+      workspace.forceScratch(), pass != nullptr ? &prologue : nullptr);
   if (pass != nullptr) start = pass->tally();
   const ForceTally& gravity = start.gravity;
   const ForceTally& damping = start.damping;
-  const ForceTally torsion = accumulateTorsionSprings(model, threads, position, velocity,
-                                                      out.force, workspace.forceScratch());
+  const ForceTally torsion = accumulateTorsionSprings(model, threads, position, velocity, out.force,
+                                                      workspace.forceScratch());
   const ForceTally joint = accumulateJointSprings(model, threads, position, velocity, out.force,
                                                   workspace.forceScratch());
   // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.

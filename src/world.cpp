@@ -137,9 +137,8 @@ StepStatus World::step(double dt) {
     case Integrator::kSymplecticEuler:
       if (canIntegrateAndStartForces(model, spinInertia, evaluation, state)) {
         pass = &workspace_.forceScratch().particlePass;
-        FusedParticlePass fused =
-            makeFusedParticlePass(model, spinInertia, dt, integrator_ == Integrator::kTaylor,
-                                  evaluation, state, *pass);
+        FusedParticlePass fused = makeFusedParticlePass(
+            model, spinInertia, dt, integrator_ == Integrator::kTaylor, evaluation, state, *pass);
         evaluateForces(model_, state, workspace_, evaluation, &fused);
       } else {
         if (integrator_ == Integrator::kTaylor)

@@ -574,7 +574,6 @@ struct StageInput {
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
 
-
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
 // the groups decide and the friction forces follow. A contact between two
@@ -727,7 +726,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
     const bool faceted = c.involvesFacets();
-    double squeezeRate = 0.0;  // rims: n·u, ∂d/∂R
+    double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
     double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0;
     if (faceted) {
@@ -1158,8 +1157,15 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
                       model.surfaceTriangles.empty() && model.rims.empty() &&
                       (!model.contact.rolling || tables.rollNeighbour.empty());
   if (!direct) cache.loads.resize(count);
-  const StageInput input{model,    tables, p, v, spin, previous, cache,
-                         direct ? &f : nullptr, direct ? &torque : nullptr};
+  const StageInput input{model,
+                         tables,
+                         p,
+                         v,
+                         spin,
+                         previous,
+                         cache,
+                         direct ? &f : nullptr,
+                         direct ? &torque : nullptr};
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;

@@ -287,14 +287,14 @@ struct ContactScratch {
   };
   struct FrictionGroup {
     std::int64_t other = 0;
-    double normal = 0.0;                  // μ_s Σ F_n (N)
-    double total = 0.0;                   // Σ |k_t δ_t + c_t V| (N)
-    double giveWay = 0.0;                 // Σ of the anchors' give-way so far (m)
+    double normal = 0.0;   // μ_s Σ F_n (N)
+    double total = 0.0;    // Σ |k_t δ_t + c_t V| (N)
+    double giveWay = 0.0;  // Σ of the anchors' give-way so far (m)
     /// Σ |V| now and at the last evaluation (m/s). slipBefore, range and
     /// elasticSpeed are summed only for a group that was breaking away and
     /// is loaded above μ_s Σ F_n (decideGroups: the only one that reads them).
     double slip = 0.0, slipBefore = 0.0;
-    double range = 0.0;                   // Σ μ_s F_n / k_t, the anchors' elastic range (m)
+    double range = 0.0;  // Σ μ_s F_n / k_t, the anchors' elastic range (m)
     double elasticSpeed =
         0.0;  // Σ μ_s F_n / √(k_t m_eff): an anchor's speed within its range (m/s)
     bool wasSliding = false, wasBreakingAway = false, allSlow = true;

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "robophi/connector_forces.h"
 #include "core/parallel.h"
 #include "forces/forces.h"
+#include "robophi/connector_forces.h"
 
 namespace robophi {
 
@@ -198,12 +198,11 @@ void angularSprings(int threads, std::size_t count, ForceScratch& scratch, const
   }
   std::vector<AngularSpringForce>& buffer = scratch.angularForce;
   buffer.resize(count);
-  detail::parallelFor(threads, static_cast<std::int64_t>(count),
-                      [&](std::int64_t begin, std::int64_t end) {
-                        for (auto k = static_cast<std::size_t>(begin);
-                             k < static_cast<std::size_t>(end); ++k)
-                          buffer[k] = forceOf(k);
-                      });
+  detail::parallelFor(
+      threads, static_cast<std::int64_t>(count), [&](std::int64_t begin, std::int64_t end) {
+        for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k)
+          buffer[k] = forceOf(k);
+      });
   for (std::size_t k = 0; k < count; ++k) add(k, buffer[k]);
 }
 

@@ -62,8 +62,8 @@ inline void startParticleForce(const Model& model, std::size_t i, const Vec3* po
 /// earlier chunk, and waitFrom[s] the first chunk before s that shares a particle
 /// with chunk s (s: none).
 struct SpringIncidence {
-  std::vector<std::int32_t> start;  // (particleCount + 1)
-  std::vector<std::int32_t> entry;  // (2 * linearSprings)
+  std::vector<std::int32_t> start;      // (particleCount + 1)
+  std::vector<std::int32_t> entry;      // (2 * linearSprings)
   std::vector<std::uint8_t> dependent;  // (linearSprings)
   std::vector<std::int32_t> waitFrom;   // (spring chunks)
   /// With a ParticlePrologue: the chunks of particles each spring chunk reads

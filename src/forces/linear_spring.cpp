@@ -41,8 +41,7 @@ inline void scalarSpring(const LinearSpring* spring, const Vec3* p, const Vec3* 
   const LinearSpring& s = spring[j];
   Vec3 forceOnA;
   double springEnergy = 0.0, springPower = 0.0;
-  if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy,
-                         springPower)) {
+  if (linearSpringKernel(s, p[s.a], p[s.b], v[s.a], v[s.b], forceOnA, springEnergy, springPower)) {
     potential += springEnergy;
     power += springPower;
   }
@@ -54,20 +53,22 @@ inline void scalarSpring(const LinearSpring* spring, const Vec3* p, const Vec3* 
 // returns where it stopped. The scalar kernel's operations in its order (no
 // fused multiply-add: only AVX2 is enabled here, and -ffp-contract=off): the
 // same bits. Called only when the processor has AVX2 (checked at run time).
-__attribute__((target("avx2"))) std::int64_t linearSpringLanes4(
-    const LinearSpring* spring, const Vec3* p, const Vec3* v, Vec3* out, std::int64_t k,
-    std::int64_t end, double& potential, double& power) {
+__attribute__((target("avx2"))) std::int64_t linearSpringLanes4(const LinearSpring* spring,
+                                                                const Vec3* p, const Vec3* v,
+                                                                Vec3* out, std::int64_t k,
+                                                                std::int64_t end, double& potential,
+                                                                double& power) {
   for (; k + 3 < end; k += 4) {
     const LinearSpring &s0 = spring[k], &s1 = spring[k + 1], &s2 = spring[k + 2],
                        &s3 = spring[k + 3];
     const Vec3 &a0 = p[s0.a], &a1 = p[s1.a], &a2 = p[s2.a], &a3 = p[s3.a];
     const Vec3 &b0 = p[s0.b], &b1 = p[s1.b], &b2 = p[s2.b], &b3 = p[s3.b];
-    const __m256d dx = _mm256_sub_pd(_mm256_set_pd(a3.x, a2.x, a1.x, a0.x),
-                                     _mm256_set_pd(b3.x, b2.x, b1.x, b0.x));
-    const __m256d dy = _mm256_sub_pd(_mm256_set_pd(a3.y, a2.y, a1.y, a0.y),
-                                     _mm256_set_pd(b3.y, b2.y, b1.y, b0.y));
-    const __m256d dz = _mm256_sub_pd(_mm256_set_pd(a3.z, a2.z, a1.z, a0.z),
-                                     _mm256_set_pd(b3.z, b2.z, b1.z, b0.z));
+    const __m256d dx =
+        _mm256_sub_pd(_mm256_set_pd(a3.x, a2.x, a1.x, a0.x), _mm256_set_pd(b3.x, b2.x, b1.x, b0.x));
+    const __m256d dy =
+        _mm256_sub_pd(_mm256_set_pd(a3.y, a2.y, a1.y, a0.y), _mm256_set_pd(b3.y, b2.y, b1.y, b0.y));
+    const __m256d dz =
+        _mm256_sub_pd(_mm256_set_pd(a3.z, a2.z, a1.z, a0.z), _mm256_set_pd(b3.z, b2.z, b1.z, b0.z));
     const __m256d length = _mm256_sqrt_pd(_mm256_add_pd(
         _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz)));
     if (_mm256_movemask_pd(_mm256_cmp_pd(length, _mm256_setzero_pd(), _CMP_GT_OQ)) != 15) {
@@ -90,10 +91,9 @@ __attribute__((target("avx2"))) std::int64_t linearSpringLanes4(
                                      _mm256_set_pd(vb3.z, vb2.z, vb1.z, vb0.z));
     const __m256d stretchRate = _mm256_add_pd(
         _mm256_add_pd(_mm256_mul_pd(ux, kx), _mm256_mul_pd(uy, ky)), _mm256_mul_pd(uz, kz));
-    const __m256d stiffness =
-        _mm256_set_pd(s3.stiffness, s2.stiffness, s1.stiffness, s0.stiffness);
-    const __m256d dampingForce = _mm256_mul_pd(
-        _mm256_set_pd(s3.damping, s2.damping, s1.damping, s0.damping), stretchRate);
+    const __m256d stiffness = _mm256_set_pd(s3.stiffness, s2.stiffness, s1.stiffness, s0.stiffness);
+    const __m256d dampingForce =
+        _mm256_mul_pd(_mm256_set_pd(s3.damping, s2.damping, s1.damping, s0.damping), stretchRate);
     const __m256d magnitude = _mm256_sub_pd(
         _mm256_mul_pd(_mm256_set_pd(-s3.stiffness, -s2.stiffness, -s1.stiffness, -s0.stiffness),
                       stretch),
@@ -258,7 +258,10 @@ SpringIncidence compileSpringIncidence(const Model& model) {
   incidence.dependent.assign(springCount, 0);
   incidence.waitFrom.resize(static_cast<std::size_t>(springChunks));
   auto firstChunk = [&](ParticleIndex p) {
-    return (incidence.entry[static_cast<std::size_t>(incidence.start[static_cast<std::size_t>(p)])] >> 1) / chunk;
+    return (incidence
+                .entry[static_cast<std::size_t>(incidence.start[static_cast<std::size_t>(p)])] >>
+            1) /
+           chunk;
   };
   for (std::int64_t c = 0; c < springChunks; ++c) {
     std::int64_t from = c;
@@ -407,7 +410,8 @@ ForceTally accumulateLinearSprings(const Model& model, const SpringIncidence& in
             incidence.reads.data(),
             scratch.particleChunkDone.data()};
   detail::runChunks(
-      threads, static_cast<std::int64_t>(prologue != nullptr ? incidence.order.size() : springChunks),
+      threads,
+      static_cast<std::int64_t>(prologue != nullptr ? incidence.order.size() : springChunks),
       [](void* raw, std::int64_t item) {
         Context& x = *static_cast<Context*>(raw);
         std::int64_t c = item;

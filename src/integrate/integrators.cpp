@@ -79,8 +79,7 @@ bool canIntegrateAndStartForces(const Model& model, const std::vector<double>& i
                                 const Evaluation& evaluation, const State& state) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   return n > 0 && state.position.size() == n && state.velocity.size() == n &&
-         state.spin.size() == n && evaluation.force.size() == n &&
-         evaluation.torque.size() == n &&
+         state.spin.size() == n && evaluation.force.size() == n && evaluation.torque.size() == n &&
          (inverseSpinInertia.empty() || inverseSpinInertia.size() == n);
 }
 
@@ -172,14 +171,19 @@ void measureKineticAndDriving(const Model& model, const std::vector<double>& inv
     for (std::size_t c = 1; c < pass->sums.size(); ++c) kinetic += pass->sums[c][2];
     double driving = 0.0, energy = kinetic;
     for (std::size_t c = 0; c < pass->sums.size(); ++c) {
-      const auto begin = static_cast<std::size_t>(static_cast<std::int64_t>(c) * detail::kParallelChunk);
-      const auto end = static_cast<std::size_t>(std::min(n, static_cast<std::int64_t>(c + 1) * detail::kParallelChunk));
+      const auto begin =
+          static_cast<std::size_t>(static_cast<std::int64_t>(c) * detail::kParallelChunk);
+      const auto end = static_cast<std::size_t>(
+          std::min(n, static_cast<std::int64_t>(c + 1) * detail::kParallelChunk));
       if ((pass->flags[c] & 1) != 0) {
         double sum = 0.0;
         for (std::size_t i = begin; i < end; ++i) {
           if (model.inverseMass[i] == 0.0) sum -= dot(evaluation.force[i], velocity[i]);
         }
-        if (c == 0) driving = sum; else driving += sum;
+        if (c == 0)
+          driving = sum;
+        else
+          driving += sum;
       }
       if ((pass->flags[c] & 2) != 0) {
         if (c == 0) {

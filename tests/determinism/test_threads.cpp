@@ -89,21 +89,20 @@ Cloth makeBendingCloth(int n) {
   auto index = [n](int i, int j) { return static_cast<ParticleIndex>(j * n + i); };
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i + 2 < n; ++i) {
-      model.torsionSprings.push_back({index(i, j), index(i + 1, j), index(i + 2, j),
-                                      torsionAngle(p[index(i, j)], p[index(i + 1, j)],
-                                                   p[index(i + 2, j)]),
-                                      1.0e-3, 1.0e-6});
-      model.torsionSprings.push_back({index(j, i), index(j, i + 1), index(j, i + 2),
-                                      torsionAngle(p[index(j, i)], p[index(j, i + 1)],
-                                                   p[index(j, i + 2)]),
-                                      1.0e-3, 1.0e-6});
+      model.torsionSprings.push_back(
+          {index(i, j), index(i + 1, j), index(i + 2, j),
+           torsionAngle(p[index(i, j)], p[index(i + 1, j)], p[index(i + 2, j)]), 1.0e-3, 1.0e-6});
+      model.torsionSprings.push_back(
+          {index(j, i), index(j, i + 1), index(j, i + 2),
+           torsionAngle(p[index(j, i)], p[index(j, i + 1)], p[index(j, i + 2)]), 1.0e-3, 1.0e-6});
     }
   }
   for (int j = 0; j + 1 < n; ++j) {
     for (int i = 0; i + 2 < n; ++i) {
       const ParticleIndex a = index(i, j), c = index(i + 1, j), b = index(i + 2, j),
                           d = index(i + 1, j + 1);
-      model.jointSprings.push_back({a, c, b, d, jointAngle(p[a], p[c], p[b], p[d]), 1.0e-3, 1.0e-6});
+      model.jointSprings.push_back(
+          {a, c, b, d, jointAngle(p[a], p[c], p[b], p[d]), 1.0e-3, 1.0e-6});
     }
   }
   return cloth;
