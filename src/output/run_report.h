@@ -28,7 +28,8 @@ struct FailurePlace {
 /// What a run did.
 struct RunReport {
   /// "ok"; "diverged" when a state became NaN or infinite, or the energy grew
-  /// over 100 times its initial scale (RunReport::initialScale); "stalled" when
+  /// over 100 times its initial scale (RunReport::initialScale) or the work
+  /// done on it from outside, whichever is larger; "stalled" when
   /// the adaptive step fell below its floor, or the touching contacts overload
   /// the particles (particles inside one another); "interrupted" when a stop was
   /// requested (SIGINT, SIGTERM: RunOptions::stop) before the end: the results

@@ -505,15 +505,21 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   report.energyDrift = (report.finalTotal - report.initialTotal) / report.energyScale;
   report.largestAccountError = largestAccountError / report.energyScale;
   // Runaway energy is numerical trouble even while every number stays finite.
-  const double growth = (report.finalTotal - report.initialTotal) / report.initialScale;
+  // Its scale is what the run had to spend: the initial scale, or the work done
+  // on it from outside (drives, servos, edits) when that is larger. A scene that
+  // starts at rest, out of contact and without gravity has an initial scale of
+  // zero, and its account moves by the round-off of the driven work.
+  const double runawayScale = std::max(report.initialScale, std::abs(report.externalWork));
+  const double growth = (report.finalTotal - report.initialTotal) / runawayScale;
   if (report.ok() && growth > kRunawayEnergyGrowth) {
     report.status = "diverged";
     report.failurePlace = placeOf(world, mostEnergetic(world));
     report.failure = fmt::format(
-        "the energy grew to {:.3g} times its initial scale {:.3g} J (E + dissipated - external, "
+        "the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or the work from "
+        "outside, whichever is larger; E + dissipated - external, "
         "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large for the "
         "model's stiffness (estimate 2/omega_max = {:.3g} s)",
-        growth, report.initialScale, report.initialTotal, report.finalTotal,
+        growth, runawayScale, report.initialTotal, report.finalTotal,
         describePlace(*report.failurePlace), report.stability.criticalStep);
     report.warnings.push_back(report.failure);
   }

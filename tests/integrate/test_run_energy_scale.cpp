@@ -16,12 +16,14 @@
 namespace robophi {
 namespace {
 
-std::string pendulumText() {
-  std::ifstream in(ROBOPHI_SOURCE_DIR "/scenes/pendulum.json");
+std::string sceneText(const std::string& name) {
+  std::ifstream in(ROBOPHI_SOURCE_DIR "/scenes/" + name);
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
 }
+
+std::string pendulumText() { return sceneText("pendulum.json"); }
 
 // The shipped pendulum with its pivot (and everything else) moved so that the
 // pivot sits at z = `pivotZ` (it is at 1.5 m in the file).
@@ -45,8 +47,8 @@ std::string pendulumAt(double pivotZ) {
 }
 
 RunReport runText(const std::string& text, StepMode mode, double duration, double dt,
-                  State* last = nullptr) {
-  const SceneLoadResult loaded = loadSceneText(text, "pendulum.json");
+                  State* last = nullptr, const std::string& name = "pendulum.json") {
+  const SceneLoadResult loaded = loadSceneText(text, name);
   EXPECT_TRUE(loaded.ok());
   RunOptions options;
   options.settings = loaded.scene->run;
@@ -85,6 +87,24 @@ TEST(RunEnergyScale, PendulumAtZAndAtTwoExitZeroFromTheCommandLine) {
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(RunEnergyScale, ASceneThatStartsWithNoEnergyIsNotCalledDiverged) {
+  // The hand grasp with a larger, heavier ball that starts just out of reach:
+  // no gravity, nothing moving, nothing touching, so the initial scale is 0.
+  // The fingers' drives then do work on the hand and the ball; the account moves
+  // by about 1 % of that work (a healthy run), which the runaway check must
+  // weigh against the work, not against the zero it started from.
+  std::string text = sceneText("hand_grasp.json");
+  const std::string from = R"("center": [-0.0098, 0, 0.095], "radius": 0.05, "mass": 0.1)";
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), R"("center": [-0.0098, 0, 0.090], "radius": 0.045, "mass": 0.15)");
+  const RunReport report = runText(text, StepMode::kAdaptive, 4.0, 2e-4, nullptr, "hand.json");
+  EXPECT_LT(report.initialScale, 1e-200);
+  EXPECT_GT(report.externalWork, 1e-4);
+  EXPECT_EQ(report.status, "ok") << report.failure;
+  EXPECT_LT(std::abs(report.finalTotal - report.initialTotal), 0.05 * report.externalWork);
 }
 
 TEST(RunEnergyScale, ConstantStepLandsOnTheDurationExactly) {
