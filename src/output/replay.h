@@ -7,6 +7,7 @@
 /// docs/viewer.md describes the page.
 
 #include <string>
+#include <vector>
 
 namespace robophi {
 
@@ -26,5 +27,32 @@ struct ReplayOptions {
 /// folder is added to its marker. On failure returns false, writes nothing and
 /// sets `error` to a message that names the file and what is wrong.
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error);
+
+/// One series of the page: its columns (the CSV header's) and its rows, each the
+/// row's numbers comma-separated as the page writes them (shortest round-trip
+/// form; a robophi CSV line of finite numbers is such a row).
+struct ReplaySeries {
+  std::vector<std::string> columns;
+  std::vector<std::string> rows;
+};
+
+/// A run's series as the page's rows, gathered by the run as it writes its
+/// files (RunWriter), so that the page is made without reading them back.
+struct ReplayRows {
+  /// particles.csv's frames as the page's rows: t, then x,y,z of each particle.
+  std::vector<std::string> frames;
+  ReplaySeries energy, joints, contacts;
+  /// The t of each contacts row (the page keeps a time's contacts together).
+  std::vector<double> contactTimes;
+  bool hasJoints = false, hasContacts = false;
+  /// The rows' bytes, to bound what a run holds in memory.
+  std::size_t bytes = 0;
+};
+
+/// The same page from `rows` (what the run wrote into `runDir`) and the folder's
+/// model.json and world.json: byte for byte the page writeReplayHtml makes from
+/// the folder's files.
+bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
+                     const ReplayRows& rows, std::string& error);
 
 }  // namespace robophi

@@ -157,42 +157,44 @@ std::size_t strideToFit(const std::vector<std::string>& rows, std::size_t budget
 }
 
 // A decimated table: "name":{"columns":[..],"sourceRows":R,"stride":s,"rows":[[..],..]}.
-void appendTable(std::string& out, const char* name, const CsvTable& table,
-                 const std::vector<std::string>& rows, std::size_t stride) {
+void appendTable(std::string& out, const char* name, const ReplaySeries& series,
+                 std::size_t stride) {
   fmt::format_to(std::back_inserter(out), ",\"{}\":{{\"columns\":[", name);
-  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+  for (std::size_t c = 0; c < series.columns.size(); ++c) {
     if (c > 0) out += ',';
-    out += jsonString(table.columns[c]);
+    out += jsonString(series.columns[c]);
   }
   fmt::format_to(std::back_inserter(out), "],\"sourceRows\":{},\"stride\":{},\"rows\":[",
-                 table.rowCount, stride);
+                 series.rows.size(), stride);
   bool first = true;
-  for (std::size_t i : keptIndices(rows.size(), stride)) {
+  for (std::size_t i : keptIndices(series.rows.size(), stride)) {
     if (!first) out += ',';
     first = false;
-    appendBracketed(out, rows[i]);
+    appendBracketed(out, series.rows[i]);
   }
   out += "]}";
 }
 
-// Contacts are decimated by time groups, so a kept time keeps all its contacts.
-void appendContacts(std::string& out, const CsvTable& table, const std::vector<std::string>& rows,
+// Contacts are decimated by time groups (`times`: each row's t), so a kept time
+// keeps all its contacts.
+void appendContacts(std::string& out, const ReplaySeries& series, const std::vector<double>& times,
                     std::size_t stride) {
+  const std::vector<std::string>& rows = series.rows;
   std::vector<std::size_t> groupStart;
-  for (std::size_t r = 0; r < table.rowCount; ++r) {
-    if (r == 0 || table.at(r, 0) != table.at(r - 1, 0)) groupStart.push_back(r);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (r == 0 || times[r] != times[r - 1]) groupStart.push_back(r);
   }
   out += ",\"contacts\":{\"columns\":[";
-  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+  for (std::size_t c = 0; c < series.columns.size(); ++c) {
     if (c > 0) out += ',';
-    out += jsonString(table.columns[c]);
+    out += jsonString(series.columns[c]);
   }
   fmt::format_to(std::back_inserter(out),
-                 "],\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"rows\":[", table.rowCount,
+                 "],\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"rows\":[", rows.size(),
                  groupStart.size(), stride);
   bool first = true;
   for (std::size_t g : keptIndices(groupStart.size(), stride)) {
-    const std::size_t end = g + 1 < groupStart.size() ? groupStart[g + 1] : table.rowCount;
+    const std::size_t end = g + 1 < groupStart.size() ? groupStart[g + 1] : rows.size();
     for (std::size_t r = groupStart[g]; r < end; ++r) {
       if (!first) out += ',';
       first = false;
@@ -255,11 +257,10 @@ bool writePage(const fs::path& path, const std::string& data, std::string& error
   return true;
 }
 
-}  // namespace
-
-bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {
-  RunFolder run;
-  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/true, run, error)) return false;
+// The page of the run in `runDir` from its model (`run`: model.json's fields)
+// and its series as rows.
+bool writePageFrom(const std::string& runDir, const ReplayOptions& options, const RunFolder& run,
+                   const ReplayRows& rows, std::string& error) {
   const fs::path outPath =
       options.outputPath.empty() ? fs::path(runDir) / "replay.html" : fs::path(options.outputPath);
 
@@ -267,10 +268,10 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
   if (!readWorldView(fs::path(runDir), world, error)) return false;
   std::string model = modelJson(run);
   if (!world.empty()) model += ",\"world\":" + world;
-  const std::vector<std::string> frames = renderFrames(run);
-  const std::vector<std::string> energy = renderRows(run.energy);
-  const std::vector<std::string> joints = renderRows(run.joints);
-  const std::vector<std::string> contacts = renderRows(run.contacts);
+  const std::vector<std::string>& frames = rows.frames;
+  const std::vector<std::string>& energy = rows.energy.rows;
+  const std::vector<std::string>& joints = rows.joints.rows;
+  const std::vector<std::string>& contacts = rows.contacts.rows;
 
   // Budget: the cap less the page itself and the model; plot rows may take up to
   // a quarter of what is left, frames the rest.
@@ -295,11 +296,11 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
                       : 1.0;
     frameStride = strideToFit(frames, available - seriesBudget);
   }
-  auto seriesStride = [&](const std::vector<std::string>& rows) {
+  auto seriesStride = [&](const std::vector<std::string>& series) {
     return seriesShare >= 1.0
                ? std::size_t{1}
-               : strideToFit(rows, static_cast<std::size_t>(
-                                       seriesShare * static_cast<double>(keptBytes(rows, 1))));
+               : strideToFit(series, static_cast<std::size_t>(
+                                         seriesShare * static_cast<double>(keptBytes(series, 1))));
   };
   const std::size_t energyStride = seriesStride(energy);
   const std::size_t jointsStride = seriesStride(joints);
@@ -320,9 +321,9 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
     appendBracketed(data, frames[keptFrames[i]]);
   }
   data += "]}";
-  appendTable(data, "energy", run.energy, energy, energyStride);
-  if (run.hasJoints) {
-    appendTable(data, "joints", run.joints, joints, jointsStride);
+  appendTable(data, "energy", rows.energy, energyStride);
+  if (rows.hasJoints) {
+    appendTable(data, "joints", rows.joints, jointsStride);
     data += ",\"jointKinds\":[";
     for (std::size_t j = 0; j < run.jointKinds.size(); ++j) {
       if (j > 0) data += ',';
@@ -330,7 +331,7 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
     }
     data += ']';
   }
-  if (run.hasContacts) appendContacts(data, run.contacts, contacts, contactsStride);
+  if (rows.hasContacts) appendContacts(data, rows.contacts, rows.contactTimes, contactsStride);
   data += '}';
 
   const std::size_t pageBytes =
@@ -343,6 +344,33 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
     return false;
   }
   return writePage(outPath, data, error);
+}
+
+}  // namespace
+
+bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {
+  RunFolder run;
+  if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/true, run, error)) return false;
+  ReplayRows rows;
+  rows.frames = renderFrames(run);
+  rows.energy = {run.energy.columns, renderRows(run.energy)};
+  rows.joints = {run.joints.columns, renderRows(run.joints)};
+  rows.contacts = {run.contacts.columns, renderRows(run.contacts)};
+  rows.contactTimes.reserve(run.contacts.rowCount);
+  for (std::size_t r = 0; r < run.contacts.rowCount; ++r)
+    rows.contactTimes.push_back(run.contacts.at(r, 0));
+  rows.hasJoints = run.hasJoints;
+  rows.hasContacts = run.hasContacts;
+  return writePageFrom(runDir, options, run, rows, error);
+}
+
+bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
+                     const ReplayRows& rows, std::string& error) {
+  // No frame: the files' own path says what is missing.
+  if (rows.frames.empty()) return writeReplayHtml(runDir, options, error);
+  RunFolder run;
+  if (!output::readRunModel(runDir, run, error)) return false;
+  return writePageFrom(runDir, options, run, rows, error);
 }
 
 }  // namespace robophi

@@ -135,6 +135,20 @@ bool readModel(const fs::path& path, RunFolder& run, std::string& error) {
 
 }  // namespace
 
+std::vector<std::string> csvHeaderColumns(std::string_view line) {
+  std::vector<std::string_view> fields;
+  splitFields(trim(line), fields);
+  std::vector<std::string> columns;
+  columns.reserve(fields.size());
+  for (std::string_view f : fields) columns.emplace_back(trim(f));
+  return columns;
+}
+
+bool readRunModel(const std::string& runDir, RunFolder& run, std::string& error) {
+  run = RunFolder{};
+  return readModel(fs::path(runDir) / "model.json", run, error);
+}
+
 std::size_t CsvTable::columnIndex(const std::string& name) const {
   for (std::size_t c = 0; c < columns.size(); ++c) {
     if (columns[c] == name) return c;
@@ -157,11 +171,11 @@ bool readCsvTable(const std::string& path, const std::vector<std::string>& requi
     start = end + 1;
     ++lineNumber;
     if (line.empty()) continue;
-    splitFields(line, fields);
     if (table.columns.empty()) {
-      for (std::string_view f : fields) table.columns.emplace_back(trim(f));
+      table.columns = csvHeaderColumns(line);
       continue;
     }
+    splitFields(line, fields);
     if (fields.size() != table.columns.size()) {
       error = fmt::format("{}:{}: expected {} values (one per header column), found {}", path,
                           lineNumber, table.columns.size(), fields.size());

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace robophi::output {
@@ -69,6 +70,14 @@ struct RunFolder {
                           3];
   }
 };
+
+/// The column names of a CSV header line, as readCsvTable takes them (split at
+/// commas, blanks trimmed).
+std::vector<std::string> csvHeaderColumns(std::string_view line);
+
+/// Reads model.json alone (the model's fields of `run`); on failure returns false
+/// and sets `error` naming the file.
+bool readRunModel(const std::string& runDir, RunFolder& run, std::string& error);
 
 /// Reads model.json and particles.csv (required), energy.csv (required when
 /// `needEnergy`), joints.csv and contacts.csv (when present). On failure returns

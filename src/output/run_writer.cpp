@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "output/json_numbers.h"
 #include "output/results_folder.h"
+#include "output/run_reader.h"
 #include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 #include "robophi/version.h"
@@ -23,18 +25,36 @@ std::ofstream openOrThrow(const std::filesystem::path& path) {
   return out;
 }
 
-// Numbers are written in their shortest round-trip form, so a CSV read back
-// gives the bits that were simulated.
-void appendNumber(std::string& line, double value) {
-  output::appendShortest(line, value);
-}
-
 }  // namespace
 
+// Numbers are written in their shortest round-trip form, so a CSV read back
+// gives the bits that were simulated (and the replay page's rows are the lines).
+void RunWriter::add(double value) {
+  output::appendShortest(line_, value);
+  lineFinite_ = lineFinite_ && std::isfinite(value);
+}
+
+void RunWriter::countGathered(std::size_t bytes) {
+  if (!replay_) return;
+  replay_->bytes += bytes;
+  if (replay_->bytes > kReplayGatherBytes) replay_.reset();
+}
+
+void RunWriter::gather(ReplaySeries& series) {
+  // JSON has no NaN: a row that is not finite leaves the page to the files
+  // (whose reader writes null for it).
+  if (!lineFinite_) {
+    replay_.reset();
+    return;
+  }
+  series.rows.push_back(line_);
+  countGathered(line_.size());
+}
+
 const std::vector<std::string>& runFileNames() {
-  static const std::vector<std::string> names = {"summary.json",  "model.json",  "energy.csv",
-                                                 "particles.csv", "objects.csv", "joints.csv",
-                                                 "contacts.csv",  "replay.html", "checkpoint.json", "world.json"};
+  static const std::vector<std::string> names = {
+      "summary.json", "model.json",   "energy.csv",  "particles.csv",   "objects.csv",
+      "joints.csv",   "contacts.csv", "replay.html", "checkpoint.json", "world.json"};
   return names;
 }
 
@@ -58,13 +78,17 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
 
 }  // namespace
 
-RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), world_(scene) {
+RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay)
+    : dir_(dir), world_(scene) {
+  if (gatherReplay) replay_.emplace();
   // The marker first: a folder cut short at any point is still robophi's.
   files_ = seriesFiles(scene);
   std::filesystem::create_directories(dir_);
   output::writeResultsMarker(dir_, "run", files_);
   energy_ = open("energy.csv");
-  energy_ << "t,dt,kinetic,potential,dissipated,external,total\n";
+  const char* energyHeader = "t,dt,kinetic,potential,dissipated,external,total";
+  energy_ << energyHeader << '\n';
+  if (replay_) replay_->energy.columns = output::csvHeaderColumns(energyHeader);
   particles_ = open("particles.csv");
   line_ = "t";
   for (ParticleIndex i = 0; i < scene.model.particleCount(); ++i) {
@@ -75,7 +99,12 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), wo
   objects_ << "t,object,mass,kinetic,gravity,elastic,x,y,z,vx,vy,vz\n";
   if (scene.model.contact.enabled) {
     contacts_ = open("contacts.csv");
-    contacts_ << "t,a,b,fx,fy,fz,tx,ty,tz,sliding,fn,ft\n";
+    const char* contactsHeader = "t,a,b,fx,fy,fz,tx,ty,tz,sliding,fn,ft";
+    contacts_ << contactsHeader << '\n';
+    if (replay_) {
+      replay_->hasContacts = true;
+      replay_->contacts.columns = output::csvHeaderColumns(contactsHeader);
+    }
   }
   if (!scene.model.joints.empty()) {
     joints_ = open("joints.csv");
@@ -84,6 +113,10 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene) : dir_(dir), wo
     for (const Joint& joint : scene.model.joints)
       fmt::format_to(std::back_inserter(line_), ",{0}:q,{0}:rate,{0}:effort", joint.name);
     joints_ << line_ << '\n';
+    if (replay_) {
+      replay_->hasJoints = true;
+      replay_->joints.columns = output::csvHeaderColumns(line_);
+    }
   }
 }
 
@@ -117,17 +150,17 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene,
 
 std::map<std::string, std::uintmax_t> RunWriter::progress() {
   std::map<std::string, std::uintmax_t> sizes;
-  auto add = [&](const char* name, std::ofstream& out) {
+  auto length = [&](const char* name, std::ofstream& out) {
     if (!out.is_open()) return;
     out.flush();
     if (!out) throw std::runtime_error(fmt::format("cannot write {}/{}", dir_, name));
     sizes[name] = static_cast<std::uintmax_t>(out.tellp());
   };
-  add("energy.csv", energy_);
-  add("particles.csv", particles_);
-  add("objects.csv", objects_);
-  add("contacts.csv", contacts_);
-  add("joints.csv", joints_);
+  length("energy.csv", energy_);
+  length("particles.csv", particles_);
+  length("objects.csv", objects_);
+  length("contacts.csv", contacts_);
+  length("joints.csv", joints_);
   return sizes;
 }
 
@@ -142,14 +175,16 @@ void RunWriter::writeCheckpoint(const nlohmann::json& checkpoint) {
 
 void RunWriter::writeEnergyRow(const World& world, double dt) {
   line_.clear();
+  lineFinite_ = true;
   const State& state = world.state();
   const EnergyTally e = world.energy();
   for (double value :
        {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.external, e.total()}) {
     if (!line_.empty()) line_ += ',';
-    appendNumber(line_, value);
+    add(value);
   }
   energy_ << line_ << '\n';
+  if (replay_) gather(replay_->energy);
 }
 
 void RunWriter::writeFrame(const World& world) {
@@ -157,16 +192,37 @@ void RunWriter::writeFrame(const World& world) {
   const State& state = world.state();
   world_.observe(world);  // virtual obstacles appear during the run
   line_.clear();
-  appendNumber(line_, state.time);
+  lineFinite_ = true;
+  add(state.time);
+  // The page's frame: t and the positions, the same text as the line's.
+  std::string frame;
+  if (replay_) {
+    frame.reserve(line_.capacity() / 2);
+    frame = line_;
+  }
   for (std::size_t i = 0; i < state.position.size(); ++i) {
     const Vec3& p = state.position[i];
     const Vec3& v = state.velocity[i];
-    for (double value : {p.x, p.y, p.z, v.x, v.y, v.z}) {
+    const std::size_t from = line_.size();
+    for (double value : {p.x, p.y, p.z}) {
       line_ += ',';
-      appendNumber(line_, value);
+      add(value);
+    }
+    if (replay_) frame.append(line_, from, line_.size() - from);
+    for (double value : {v.x, v.y, v.z}) {
+      line_ += ',';
+      add(value);
     }
   }
   particles_ << line_ << '\n';
+  if (replay_) {
+    if (lineFinite_) {
+      countGathered(frame.size());
+      if (replay_) replay_->frames.push_back(std::move(frame));
+    } else {
+      replay_.reset();
+    }
+  }
   writeObjects(world);
   if (contacts_.is_open()) {
     // The normal and the friction force on a (N); b is the other particle, or
@@ -174,7 +230,8 @@ void RunWriter::writeFrame(const World& world) {
     for (const Contact& c : world.contacts()) {
       if (c.normalForce <= 0.0) continue;
       line_.clear();
-      appendNumber(line_, state.time);
+      lineFinite_ = true;
+      add(state.time);
       const std::int64_t b =
           c.withEnvironment()
               ? static_cast<std::int64_t>(model.particleCount()) + c.environmentItem()
@@ -184,21 +241,26 @@ void RunWriter::writeFrame(const World& world) {
       for (double value :
            {f.x, f.y, f.z, c.frictionForce.x, c.frictionForce.y, c.frictionForce.z}) {
         line_ += ',';
-        appendNumber(line_, value);
+        add(value);
       }
       fmt::format_to(std::back_inserter(line_), ",{},", c.sliding);
-      appendNumber(line_, c.normalForce);
+      add(c.normalForce);
       line_ += ',';
-      appendNumber(line_, norm(c.frictionForce));
+      add(norm(c.frictionForce));
       contacts_ << line_ << '\n';
+      if (replay_) {
+        replay_->contactTimes.push_back(state.time);
+        gather(replay_->contacts);
+      }
     }
   }
   if (joints_.is_open()) {
     line_.clear();
-    appendNumber(line_, state.time);
+    lineFinite_ = true;
+    add(state.time);
     for (std::size_t j = 0; j < model.joints.size(); ++j) {
       line_ += ',';
-      appendNumber(line_, jointValue(model, state, j));
+      add(jointValue(model, state, j));
     }
     // Per joint: q (rad or m), its rate, and the effort applied to it: servo (a
     // limit's included) + motor + losses (MODEL §1.5, §1.6).
@@ -209,10 +271,11 @@ void RunWriter::writeFrame(const World& world) {
       for (double value : {jointPosition(model, state, j), jointRate(model, state, j),
                            jointServoEffort(model, state, j) + drive}) {
         line_ += ',';
-        appendNumber(line_, value);
+        add(value);
       }
     }
     joints_ << line_ << '\n';
+    if (replay_) gather(replay_->joints);
   }
 }
 
@@ -268,7 +331,7 @@ void RunWriter::writeObjects(const World& world) {
   for (std::size_t o = 0; o <= objectCount; ++o) {
     const Sums& s = sums[o];
     line_.clear();
-    appendNumber(line_, state.time);
+    add(state.time);
     fmt::format_to(std::back_inserter(line_), ",{}",
                    o == objectCount ? -1 : static_cast<std::int64_t>(o));
     const Vec3 com = s.mass > 0.0 ? s.moment / s.mass : Vec3{};
@@ -276,7 +339,7 @@ void RunWriter::writeObjects(const World& world) {
     for (double value :
          {s.mass, s.kinetic, s.gravity, s.elastic, com.x, com.y, com.z, vcom.x, vcom.y, vcom.z}) {
       line_ += ',';
-      appendNumber(line_, value);
+      add(value);
     }
     objects_ << line_ << '\n';
   }

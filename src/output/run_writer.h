@@ -6,11 +6,12 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "output/replay.h"
 #include "output/run_report.h"
-#include "output/world_view.h"
 #include "output/world_view.h"
 #include "robophi/scene/scene.h"
 
@@ -20,7 +21,9 @@ class RunWriter {
  public:
   /// Creates `dir` (which must not exist), writes the results marker
   /// (output/results_folder.h) that lists the series files, and opens them.
-  RunWriter(const std::string& dir, const Scene& scene);
+  /// With `gatherReplay`, also keeps the rows the replay page shows
+  /// (takeReplayRows), so that the page is made without reading the files back.
+  RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay = false);
   /// Continues the series files already in `dir` (a resumed run, robophi
   /// resume): each is cut back to its length in `progress` (what progress()
   /// said at the checkpoint) and appended to. Throws std::runtime_error naming a
@@ -41,10 +44,23 @@ class RunWriter {
   /// Lists model.json and summary.json in the marker, writes them and closes
   /// every file.
   void finish(const Scene& scene, const RunSettings& settings, const RunReport& report);
+  /// The replay page's rows of everything written, when they were gathered and
+  /// are whole (none once a number was not finite, or past kReplayGatherBytes:
+  /// the page then reads the files).
+  std::optional<ReplayRows> takeReplayRows() { return std::move(replay_); }
+
+  /// The most bytes of replay rows a run keeps in memory.
+  static constexpr std::size_t kReplayGatherBytes = std::size_t{256} << 20;
 
  private:
   std::ofstream open(const std::string& name, bool append = false);
   void writeObjects(const World& world);
+  /// Appends `value` to line_ in its shortest round-trip form.
+  void add(double value);
+  /// Keeps line_ (a finished row) in `series` of the replay rows.
+  void gather(ReplaySeries& series);
+  /// Counts `bytes` more of replay rows; drops them all past the bound.
+  void countGathered(std::size_t bytes);
 
   std::string dir_;
   std::vector<std::string> files_;  // written so far, for the marker
@@ -54,7 +70,9 @@ class RunWriter {
   std::ofstream contacts_;
   std::ofstream objects_;
   output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
-  std::string line_;  // reused buffer for one CSV row
+  std::string line_;         // reused buffer for one CSV row
+  bool lineFinite_ = true;   // whether every number of line_ is finite
+  std::optional<ReplayRows> replay_;
 };
 
 /// Every file a run folder may hold besides the marker (docs/output-format.md).

@@ -294,7 +294,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
       writer.emplace(staging->path(), scene, sizes);
     } else {
-      writer.emplace(staging->path(), scene);
+      writer.emplace(staging->path(), scene, options.writeReplay);
     }
   }
   const std::string sceneHash =
@@ -566,12 +566,15 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
                       report.status, options.outDir));
     }
     writer->finish(scene, settings, report);
+    const std::optional<ReplayRows> rows = writer->takeReplayRows();
     writer.reset();
-    // The replay page is built from the finished files; a failure there is a
-    // warning (the results are complete without it).
+    // The replay page is built from the rows the run kept (else, after a resume
+    // or a number that is not finite, from the finished files); a failure there
+    // is a warning (the results are complete without it).
     std::string replayError;
     if (options.writeReplay && !report.interrupted() &&
-        !writeReplayHtml(staging->path(), ReplayOptions{}, replayError)) {
+        !(rows ? writeReplayHtml(staging->path(), ReplayOptions{}, *rows, replayError)
+               : writeReplayHtml(staging->path(), ReplayOptions{}, replayError))) {
       report.warnings.push_back("replay.html not written: " + replayError);
     }
     try {

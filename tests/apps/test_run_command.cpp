@@ -239,5 +239,25 @@ TEST_F(RunCommandTest, DtChangesTheStepNotTheStiffness) {
   EXPECT_EQ(omega[0], omega[1]);
 }
 
+// The run makes its replay page from the rows it wrote (without reading its
+// files back): byte for byte the page `robophi export html` makes from the files,
+// for scenes with joints and contacts, goals and an environment.
+TEST_F(RunCommandTest, TheRunsReplayPageIsThePageExportMakesFromItsFiles) {
+  for (const char* scene : {"hand_grasp.json --duration 1.5", "wheel_cube_ramp.json --duration 0.5",
+                            "arm_obstacle.json --duration 0.5", "pendulum.json --duration 0.3"}) {
+    fs::remove_all(out_);
+    const Outcome o = run(kScenes + scene + " --quiet --out " + out_.string());
+    // (5: the arm's goal is not reached this soon; the page is written all the same.)
+    ASSERT_TRUE(o.exitCode == 0 || o.exitCode == 5) << scene << ": " << o.errors;
+    const fs::path exported = root_ / "exported.html";
+    const std::string command = std::string(ROBOPHI_BINARY) + " export html " + out_.string() +
+                                " --out " + exported.string() + " > /dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const std::string page = readText(out_ / "replay.html");
+    EXPECT_GT(page.size(), 100000u) << scene;
+    EXPECT_TRUE(page == readText(exported)) << scene << ": the pages differ";
+  }
+}
+
 }  // namespace
 }  // namespace robophi
