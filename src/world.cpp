@@ -75,6 +75,7 @@ void World::resumeAfterStep(Evaluation evaluation) {
         detail::text("World::resumeAfterStep: an evaluation of {} particles for a model of {}",
                      evaluation.force.size(), current_.state_.position.size()));
   }
+  ++changes_;
   Snapshot& s = current_;
   s.evaluation_ = std::move(evaluation);
   s.evaluated_ = true;
@@ -106,6 +107,7 @@ StepStatus World::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) {
     throw std::invalid_argument(detail::text("World::step: dt = {} s must be > 0 and finite", dt));
   }
+  ++changes_;
   // 1. Forces at t (cached from the previous step when nothing changed).
   refresh();
   const Model& model = model_.model();
@@ -178,6 +180,7 @@ void World::restore(const Snapshot& saved) {
                      saved.state_.position.size(), n));
   }
   current_ = saved;
+  ++changes_;
 }
 
 ParticleIndex World::firstNonFiniteParticle() const {

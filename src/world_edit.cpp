@@ -57,6 +57,7 @@ void requireMaterial(const char* function, const Material& m) {
 }  // namespace
 
 void World::edited() {
+  ++changes_;
   Snapshot& s = current_;
   if (s.evaluated_ && !s.edited_) {
     s.edited_ = true;

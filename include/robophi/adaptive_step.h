@@ -208,6 +208,18 @@ class AdaptiveStepper {
   World::Snapshot saved_;
   /// Whether stabilityLimit_ has been refined with the first state's positions.
   bool refinedLimit_ = false;
+  /// What the last accepted step measured at the state it ended at: its active
+  /// energy and deepest penetration, the next step's "before" while that world
+  /// has not changed since (World::changeCount, its time and step count).
+  struct Measured {
+    const World* world = nullptr;
+    std::uint64_t changes = 0;
+    std::int64_t step = -1;
+    double time = 0.0;
+    double activeEnergy = 0.0;
+    double penetration = 0.0;
+    bool holdsFor(const World& w) const;
+  } after_;
 };
 
 }  // namespace robophi

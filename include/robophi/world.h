@@ -176,6 +176,11 @@ class World {
   /// The first particle whose state is not finite, or kNoParticle.
   ParticleIndex firstNonFiniteParticle() const;
 
+  /// Counts what changed the state or the model: steps, edits, restores. Two
+  /// equal counts mean the same state and model (and so the same evaluation):
+  /// a caller may keep what it measured at the first for the second.
+  std::uint64_t changeCount() const { return changes_; }
+
  private:
   /// Marks the evaluation stale after an edit of the state or the model,
   /// remembering the energy total that the edit's work is booked against.
@@ -192,6 +197,7 @@ class World {
   mutable Workspace workspace_;
   /// Work booked as external for edits since the last bookExternalWork() (J).
   mutable double unreportedWork_ = 0.0;
+  std::uint64_t changes_ = 0;  // changeCount()
 };
 
 }  // namespace robophi

@@ -345,6 +345,11 @@ double AdaptiveStepper::energyError(const EnergyTally& before, const EnergyTally
   return beyond / scale;
 }
 
+bool AdaptiveStepper::Measured::holdsFor(const World& w) const {
+  return world == &w && changes == w.changeCount() && step == w.state().stepCount &&
+         time == w.state().time;
+}
+
 AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   AdaptiveStepResult result;
   world.refresh();
@@ -375,9 +380,13 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   }
   saved_ = world.snapshot();
   const EnergyTally energyBefore = saved_.energy();
-  const double activeBefore = activeEnergy(world.model(), saved_.state(), energyBefore);
+  // The state the last accepted step ended at, unchanged: what it measured there.
+  const bool measured = after_.holdsFor(world);
+  const double activeBefore =
+      measured ? after_.activeEnergy : activeEnergy(world.model(), saved_.state(), energyBefore);
   const double penetrationBefore =
-      settings_.maxPenetrationFraction > 0.0
+      measured ? after_.penetration
+      : settings_.maxPenetrationFraction > 0.0
           ? deepestPenetrationFraction(world.model(), saved_.evaluation().contacts)
           : 0.0;
   // The touching contacts' own stability limit (they are not in the model's).
@@ -388,21 +397,26 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);
-    const double error =
-        status == StepStatus::kOk
-            ? energyError(energyBefore, world.energy(), activeBefore,
-                          activeEnergy(world.model(), world.state(), world.energy()))
-            : std::numeric_limits<double>::infinity();
+    const bool finite = status == StepStatus::kOk;
+    const double activeAfter =
+        finite ? activeEnergy(world.model(), world.state(), world.energy()) : 0.0;
+    const double error = finite
+                             ? energyError(energyBefore, world.energy(), activeBefore, activeAfter)
+                             : std::numeric_limits<double>::infinity();
     // Geometric control (MODEL §4): one step may not push the deepest contact
     // further in by more than the set fraction of a radius. (The depth a soft
     // contact reaches at rest is physics, set by κ_c, and is not capped.)
-    const bool tooDeep =
-        status == StepStatus::kOk && settings_.maxPenetrationFraction > 0.0 &&
-        deepestPenetrationFraction(world.model(), world.contacts()) - penetrationBefore >
-            settings_.maxPenetrationFraction;
+    const double penetrationAfter =
+        finite && settings_.maxPenetrationFraction > 0.0
+            ? deepestPenetrationFraction(world.model(), world.contacts())
+            : 0.0;
+    const bool tooDeep = finite && settings_.maxPenetrationFraction > 0.0 &&
+                         penetrationAfter - penetrationBefore > settings_.maxPenetrationFraction;
     const bool accepted = !tooDeep && error <= settings_.energyTolerance &&
                           error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
     if (accepted) {
+      after_ = {&world,      world.changeCount(), world.state().stepCount, world.state().time,
+                activeAfter, penetrationAfter};
       result.dt = dt;
       result.energyError = error;
       ++stats_.accepted;
