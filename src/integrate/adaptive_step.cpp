@@ -137,13 +137,10 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   const Environment& env = model.environment;
   const bool solidEnvironment =
       !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
-  // Particles against the environment (fixed particles move kinematically and
+  // A particle against the environment (fixed particles move kinematically and
   // do not collide with it).
-  for (ParticleIndex i = 0; i < n; ++i) {
-    if (model.isFixed(i)) continue;
+  const auto againstEnvironment = [&](ParticleIndex i, const Vec3& v, const Vec3& a) {
     const double reach = fraction * model.radius[i];
-    const Vec3& v = state.velocity[i];
-    const Vec3 a = acceleration(i);
     // Against the planes: the speed along the normal, beyond the gap.
     for (const GroundPlane& plane : env.planes) {
       const double gap =
@@ -154,7 +151,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     }
     // Against the other environment items: the full speed.
     if (solidEnvironment) step = std::min(step, closingStep(norm(v), norm(a), reach));
-  }
+  };
   // Objects against each other, through their bounds: two particles of objects
   // A and B close at most at |V_A − V_B| + s_A + s_B (velocity differences
   // only: no observer enters), beyond the gap between the objects' spheres.
@@ -162,7 +159,11 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   // by connectors, and self-contacts are between neighbours.)
   const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
       1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
-  if (objects < 2) return step;
+  if (objects < 2) {
+    for (ParticleIndex i = 0; i < n; ++i)
+      if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+    return step;
+  }
   // Per-object scratch, kept per thread (no allocation once grown).
   struct Scratch {
     std::vector<ObjectBounds> bounds;
@@ -178,21 +179,45 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   virtualObject.assign(objects, 0);
   for (std::size_t o = 0; o < objects && o < model.objects.size(); ++o)
     virtualObject[o] = model.objects[o].kind == "virtual" ? 1 : 0;
-  for (ParticleIndex i = 0; i < n; ++i) {
+  // The particles go by runs of one object (an object's particles are usually
+  // one run): a run's bounds are kept in locals, not read back from memory
+  // particle by particle. The same operations in the same order per object.
+  const auto runEnd = [&](ParticleIndex i) {
+    ParticleIndex end = i + 1;
+    while (end < n && model.objectOf[end] == model.objectOf[i]) ++end;
+    return end;
+  };
+  for (ParticleIndex i = 0; i < n;) {
+    const ParticleIndex end = runEnd(i);
     const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
-    if (model.objectOf[i] >= 0 && virtualObject[o] != 0) continue;
-    const Vec3& v = state.velocity[i];
-    const Vec3 a = acceleration(i);
-    if (count[o] == 0.0) {
-      vLow[o] = vHigh[o] = v;
-      aLow[o] = aHigh[o] = a;
+    if (model.objectOf[i] >= 0 && virtualObject[o] != 0) {
+      for (; i < end; ++i)
+        if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+      continue;
     }
-    vLow[o] = {std::min(vLow[o].x, v.x), std::min(vLow[o].y, v.y), std::min(vLow[o].z, v.z)};
-    vHigh[o] = {std::max(vHigh[o].x, v.x), std::max(vHigh[o].y, v.y), std::max(vHigh[o].z, v.z)};
-    aLow[o] = {std::min(aLow[o].x, a.x), std::min(aLow[o].y, a.y), std::min(aLow[o].z, a.z)};
-    aHigh[o] = {std::max(aHigh[o].x, a.x), std::max(aHigh[o].y, a.y), std::max(aHigh[o].z, a.z)};
-    pSum[o] += state.position[i];
-    count[o] += 1.0;
+    Vec3 lowV = vLow[o], highV = vHigh[o], lowA = aLow[o], highA = aHigh[o], sum = pSum[o];
+    double counted = count[o];
+    for (; i < end; ++i) {
+      const Vec3& v = state.velocity[i];
+      const Vec3 a = acceleration(i);
+      if (!model.isFixed(i)) againstEnvironment(i, v, a);
+      if (counted == 0.0) {
+        lowV = highV = v;
+        lowA = highA = a;
+      }
+      lowV = {std::min(lowV.x, v.x), std::min(lowV.y, v.y), std::min(lowV.z, v.z)};
+      highV = {std::max(highV.x, v.x), std::max(highV.y, v.y), std::max(highV.z, v.z)};
+      lowA = {std::min(lowA.x, a.x), std::min(lowA.y, a.y), std::min(lowA.z, a.z)};
+      highA = {std::max(highA.x, a.x), std::max(highA.y, a.y), std::max(highA.z, a.z)};
+      sum += state.position[i];
+      counted += 1.0;
+    }
+    vLow[o] = lowV;
+    vHigh[o] = highV;
+    aLow[o] = lowA;
+    aHigh[o] = highA;
+    pSum[o] = sum;
+    count[o] = counted;
   }
   for (std::size_t o = 0; o < objects; ++o) {
     if (count[o] == 0.0) continue;
@@ -202,15 +227,28 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     bounds[o].acceleration = (aLow[o] + aHigh[o]) * 0.5;
   }
   // The spreads as squares first (the square root of the largest square is the
-  // largest root: the same bits).
-  for (ParticleIndex i = 0; i < n; ++i) {
+  // largest root: the same bits). A virtual object's bounds stay empty.
+  for (ParticleIndex i = 0; i < n;) {
+    const ParticleIndex end = runEnd(i);
     ObjectBounds& b =
         bounds[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
-    b.radius = std::max(b.radius, norm(state.position[i] - b.centre) + model.radius[i]);
-    b.velocitySpread = std::max(b.velocitySpread, squaredNorm(state.velocity[i] - b.velocity));
-    b.accelerationSpread =
-        std::max(b.accelerationSpread, squaredNorm(acceleration(i) - b.acceleration));
-    b.smallestRadius = std::min(b.smallestRadius, model.radius[i]);
+    if (b.empty) {
+      i = end;
+      continue;
+    }
+    double radius = b.radius, velocitySpread = b.velocitySpread,
+           accelerationSpread = b.accelerationSpread, smallestRadius = b.smallestRadius;
+    for (; i < end; ++i) {
+      radius = std::max(radius, norm(state.position[i] - b.centre) + model.radius[i]);
+      velocitySpread = std::max(velocitySpread, squaredNorm(state.velocity[i] - b.velocity));
+      accelerationSpread =
+          std::max(accelerationSpread, squaredNorm(acceleration(i) - b.acceleration));
+      smallestRadius = std::min(smallestRadius, model.radius[i]);
+    }
+    b.radius = radius;
+    b.velocitySpread = velocitySpread;
+    b.accelerationSpread = accelerationSpread;
+    b.smallestRadius = smallestRadius;
   }
   for (ObjectBounds& b : bounds) {
     b.velocitySpread = std::sqrt(b.velocitySpread);
