@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "output/json_numbers.h"
 #include "output/results_folder.h"
@@ -118,6 +119,7 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherRepl
       replay_->joints.columns = output::csvHeaderColumns(line_);
     }
   }
+  start(scene);
 }
 
 RunWriter::RunWriter(const std::string& dir, const Scene& scene,
@@ -146,9 +148,82 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene,
   objects_ = open("objects.csv", true);
   if (scene.model.contact.enabled) contacts_ = open("contacts.csv", true);
   if (!scene.model.joints.empty()) joints_ = open("joints.csv", true);
+  start(scene);
+}
+
+RunWriter::~RunWriter() {
+  try {
+    drain();
+  } catch (...) {  // NOLINT(bugprone-empty-catch): a writer given up on (an error elsewhere)
+  }
+  stop();
+}
+
+void RunWriter::start(const Scene& scene) {
+  particleCount_ = static_cast<std::size_t>(scene.model.particleCount());
+  jointCount_ = scene.model.joints.size();
+  // A second core formats while the run steps; one core formats at each hand-over.
+  if (std::thread::hardware_concurrency() > 1) thread_ = std::thread([this] { writeLoop(); });
+}
+
+void RunWriter::writeLoop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [this] { return handed_ || stopped_; });
+    if (!handed_) return;  // stopped with nothing left
+    lock.unlock();
+    try {
+      writeBatch(writing_);
+    } catch (...) {
+      lock.lock();
+      failure_ = std::current_exception();
+      lock.unlock();
+    }
+    lock.lock();
+    handed_ = false;
+    changed_.notify_all();
+  }
+}
+
+void RunWriter::handOver() {
+  if (taken_.kinds.empty()) return;
+  if (!thread_.joinable()) {
+    writeBatch(taken_);
+    taken_.kinds.clear();
+    taken_.values.clear();
+    return;
+  }
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return !handed_; });
+  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+  std::swap(writing_, taken_);
+  handed_ = true;
+  changed_.notify_all();
+  lock.unlock();
+  taken_.kinds.clear();
+  taken_.values.clear();
+}
+
+void RunWriter::drain() {
+  handOver();
+  if (!thread_.joinable()) return;
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return !handed_; });
+  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+}
+
+void RunWriter::stop() {
+  if (!thread_.joinable()) return;
+  {
+    const std::lock_guard lock(mutex_);
+    stopped_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
 }
 
 std::map<std::string, std::uintmax_t> RunWriter::progress() {
+  drain();
   std::map<std::string, std::uintmax_t> sizes;
   auto length = [&](const char* name, std::ofstream& out) {
     if (!out.is_open()) return;
@@ -173,109 +248,141 @@ void RunWriter::writeCheckpoint(const nlohmann::json& checkpoint) {
   }
 }
 
+// How many rows are taken before they are handed to the writer thread.
+constexpr std::size_t kBatchValues = std::size_t{1} << 15;
+
 void RunWriter::writeEnergyRow(const World& world, double dt) {
-  line_.clear();
-  lineFinite_ = true;
   const State& state = world.state();
   const EnergyTally e = world.energy();
-  for (double value :
-       {state.time, dt, e.kinetic, e.potential(), e.dissipated, e.external, e.total()}) {
-    if (!line_.empty()) line_ += ',';
-    add(value);
-  }
-  energy_ << line_ << '\n';
-  if (replay_) gather(replay_->energy);
+  taken_.kinds.push_back(RowKind::kEnergy);
+  taken_.values.insert(taken_.values.end(), {state.time, dt, e.kinetic, e.potential(), e.dissipated,
+                                             e.external, e.total()});
+  if (taken_.values.size() >= kBatchValues) handOver();
 }
 
 void RunWriter::writeFrame(const World& world) {
   const Model& model = world.model();
   const State& state = world.state();
   world_.observe(world);  // virtual obstacles appear during the run
-  line_.clear();
-  lineFinite_ = true;
-  add(state.time);
-  // The page's frame: t and the positions, the same text as the line's.
-  std::string frame;
-  if (replay_) {
-    frame.reserve(line_.capacity() / 2);
-    frame = line_;
-  }
+  std::vector<double>& values = taken_.values;
+  taken_.kinds.push_back(RowKind::kFrame);
+  values.push_back(state.time);
   for (std::size_t i = 0; i < state.position.size(); ++i) {
     const Vec3& p = state.position[i];
     const Vec3& v = state.velocity[i];
-    const std::size_t from = line_.size();
-    for (double value : {p.x, p.y, p.z}) {
-      line_ += ',';
-      add(value);
-    }
-    if (replay_) frame.append(line_, from, line_.size() - from);
-    for (double value : {v.x, v.y, v.z}) {
-      line_ += ',';
-      add(value);
-    }
+    values.insert(values.end(), {p.x, p.y, p.z, v.x, v.y, v.z});
   }
-  particles_ << line_ << '\n';
-  if (replay_) {
-    if (lineFinite_) {
-      countGathered(frame.size());
-      if (replay_) replay_->frames.push_back(std::move(frame));
-    } else {
-      replay_.reset();
-    }
-  }
-  writeObjects(world);
+  takeObjects(world);
   if (contacts_.is_open()) {
     // The normal and the friction force on a (N); b is the other particle, or
     // particleCount + the environment item.
     for (const Contact& c : world.contacts()) {
       if (c.normalForce <= 0.0) continue;
-      line_.clear();
-      lineFinite_ = true;
-      add(state.time);
       const std::int64_t b =
           c.withEnvironment()
               ? static_cast<std::int64_t>(model.particleCount()) + c.environmentItem()
               : c.other;
-      fmt::format_to(std::back_inserter(line_), ",{},{}", c.a, b);
       const Vec3 f = c.normal * c.normalForce;
-      for (double value :
-           {f.x, f.y, f.z, c.frictionForce.x, c.frictionForce.y, c.frictionForce.z}) {
-        line_ += ',';
-        add(value);
-      }
-      fmt::format_to(std::back_inserter(line_), ",{},", c.sliding);
-      add(c.normalForce);
-      line_ += ',';
-      add(norm(c.frictionForce));
-      contacts_ << line_ << '\n';
-      if (replay_) {
-        replay_->contactTimes.push_back(state.time);
-        gather(replay_->contacts);
-      }
+      taken_.kinds.push_back(RowKind::kContact);
+      // (Indices and the regime as doubles: exact, far below 2^53.)
+      values.insert(values.end(),
+                    {state.time, static_cast<double>(c.a), static_cast<double>(b), f.x, f.y, f.z,
+                     c.frictionForce.x, c.frictionForce.y, c.frictionForce.z,
+                     static_cast<double>(c.sliding), c.normalForce, norm(c.frictionForce)});
     }
   }
   if (joints_.is_open()) {
-    line_.clear();
-    lineFinite_ = true;
-    add(state.time);
-    for (std::size_t j = 0; j < model.joints.size(); ++j) {
-      line_ += ',';
-      add(jointValue(model, state, j));
-    }
+    taken_.kinds.push_back(RowKind::kJoints);
+    values.push_back(state.time);
+    for (std::size_t j = 0; j < model.joints.size(); ++j)
+      values.push_back(jointValue(model, state, j));
     // Per joint: q (rad or m), its rate, and the effort applied to it: servo (a
     // limit's included) + motor + losses (MODEL §1.5, §1.6).
     const Evaluation& e = world.evaluation();
     for (std::size_t j = 0; j < model.joints.size(); ++j) {
       const double drive = (j < e.jointMotorEffort.size() ? e.jointMotorEffort[j] : 0.0) +
                            (j < e.jointLossEffort.size() ? e.jointLossEffort[j] : 0.0);
-      for (double value : {jointPosition(model, state, j), jointRate(model, state, j),
-                           jointServoEffort(model, state, j) + drive}) {
-        line_ += ',';
-        add(value);
-      }
+      values.insert(values.end(), {jointPosition(model, state, j), jointRate(model, state, j),
+                                   jointServoEffort(model, state, j) + drive});
     }
-    joints_ << line_ << '\n';
-    if (replay_) gather(replay_->joints);
+  }
+  if (values.size() >= kBatchValues) handOver();
+}
+
+void RunWriter::writeBatch(const Batch& batch) {
+  const double* v = batch.values.data();
+  // line_ from `count` numbers at v (comma-separated), v moved past them.
+  const auto numbers = [&](std::size_t count) {
+    for (std::size_t k = 0; k < count; ++k) {
+      if (k > 0) line_ += ',';
+      add(*v++);
+    }
+  };
+  const auto index = [&] { return static_cast<std::int64_t>(*v++); };
+  for (const RowKind kind : batch.kinds) {
+    line_.clear();
+    lineFinite_ = true;
+    switch (kind) {
+      case RowKind::kEnergy:
+        numbers(7);
+        energy_ << line_ << '\n';
+        if (replay_) gather(replay_->energy);
+        break;
+      case RowKind::kFrame: {
+        add(*v++);
+        // The page's frame: t and the positions, the same text as the line's.
+        std::string frame;
+        if (replay_) {
+          frame.reserve(line_.capacity() / 2);
+          frame = line_;
+        }
+        for (std::size_t i = 0; i < particleCount_; ++i) {
+          const std::size_t from = line_.size();
+          line_ += ',';
+          numbers(3);
+          if (replay_) frame.append(line_, from, line_.size() - from);
+          line_ += ',';
+          numbers(3);
+        }
+        particles_ << line_ << '\n';
+        if (replay_) {
+          if (lineFinite_) {
+            countGathered(frame.size());
+            if (replay_) replay_->frames.push_back(std::move(frame));
+          } else {
+            replay_.reset();
+          }
+        }
+        break;
+      }
+      case RowKind::kObjects: {
+        add(*v++);
+        fmt::format_to(std::back_inserter(line_), ",{},", index());
+        numbers(10);
+        objects_ << line_ << '\n';
+        break;
+      }
+      case RowKind::kContact: {
+        const double t = *v;
+        add(*v++);
+        const std::int64_t a = index(), b = index();
+        fmt::format_to(std::back_inserter(line_), ",{},{},", a, b);
+        numbers(6);
+        fmt::format_to(std::back_inserter(line_), ",{},", index());
+        numbers(2);
+        contacts_ << line_ << '\n';
+        if (replay_) {
+          replay_->contactTimes.push_back(t);
+          gather(replay_->contacts);
+        }
+        break;
+      }
+      case RowKind::kJoints:
+        numbers(1 + 4 * jointCount_);
+        joints_ << line_ << '\n';
+        if (replay_) gather(replay_->joints);
+        break;
+    }
   }
 }
 
@@ -284,7 +391,7 @@ void RunWriter::writeFrame(const World& world) {
 // its velocity (m/s); then a row for object -1: the connectors between objects
 // and the contacts (their potential and the friction anchors). The rows of a
 // frame sum to energy.csv's kinetic + potential at that state.
-void RunWriter::writeObjects(const World& world) {
+void RunWriter::takeObjects(const World& world) {
   const Model& model = world.model();
   const State& state = world.state();
   const auto objectCount = model.objects.size();
@@ -330,18 +437,13 @@ void RunWriter::writeObjects(const World& world) {
   sums[objectCount].elastic += world.energy().contact;
   for (std::size_t o = 0; o <= objectCount; ++o) {
     const Sums& s = sums[o];
-    line_.clear();
-    add(state.time);
-    fmt::format_to(std::back_inserter(line_), ",{}",
-                   o == objectCount ? -1 : static_cast<std::int64_t>(o));
     const Vec3 com = s.mass > 0.0 ? s.moment / s.mass : Vec3{};
     const Vec3 vcom = s.mass > 0.0 ? s.momentum / s.mass : Vec3{};
-    for (double value :
-         {s.mass, s.kinetic, s.gravity, s.elastic, com.x, com.y, com.z, vcom.x, vcom.y, vcom.z}) {
-      line_ += ',';
-      add(value);
-    }
-    objects_ << line_ << '\n';
+    taken_.kinds.push_back(RowKind::kObjects);
+    taken_.values.insert(
+        taken_.values.end(),
+        {state.time, o == objectCount ? -1.0 : static_cast<double>(o), s.mass, s.kinetic, s.gravity,
+         s.elastic, com.x, com.y, com.z, vcom.x, vcom.y, vcom.z});
   }
 }
 
@@ -461,6 +563,8 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
 }
 
 void RunWriter::finish(const Scene& scene, const RunSettings& settings, const RunReport& report) {
+  drain();
+  stop();
   energy_.close();
   particles_.close();
   objects_.close();

@@ -2,12 +2,16 @@
 // Writes a run's files (docs/output-format.md) into a folder, streaming the
 // sampled series as the run goes.
 
+#include <condition_variable>
 #include <cstdint>
+#include <exception>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "output/replay.h"
@@ -17,6 +21,9 @@
 
 namespace robophi {
 
+/// The numbers of each row are taken on the run's thread and formatted and
+/// written on a thread of the writer's own (where the machine has a second
+/// core): the files are the same either way.
 class RunWriter {
  public:
   /// Creates `dir` (which must not exist), writes the results marker
@@ -30,6 +37,9 @@ class RunWriter {
   /// file that is missing or shorter.
   RunWriter(const std::string& dir, const Scene& scene,
             const std::map<std::string, std::uintmax_t>& progress);
+  ~RunWriter();
+  RunWriter(const RunWriter&) = delete;
+  RunWriter& operator=(const RunWriter&) = delete;
 
   /// The energy row of the world's current state, reached with a step of `dt` (s).
   void writeEnergyRow(const World& world, double dt);
@@ -47,14 +57,38 @@ class RunWriter {
   /// The replay page's rows of everything written, when they were gathered and
   /// are whole (none once a number was not finite, or past kReplayGatherBytes:
   /// the page then reads the files).
-  std::optional<ReplayRows> takeReplayRows() { return std::move(replay_); }
+  std::optional<ReplayRows> takeReplayRows() {
+    drain();
+    return std::move(replay_);
+  }
 
   /// The most bytes of replay rows a run keeps in memory.
   static constexpr std::size_t kReplayGatherBytes = std::size_t{256} << 20;
 
  private:
+  /// A row whose numbers wait in a Batch for the writer thread.
+  enum class RowKind : std::uint8_t { kEnergy, kFrame, kObjects, kContact, kJoints };
+  /// Rows taken on the run's thread: their kinds and their numbers, in order.
+  struct Batch {
+    std::vector<RowKind> kinds;
+    std::vector<double> values;
+  };
+
   std::ofstream open(const std::string& name, bool append = false);
-  void writeObjects(const World& world);
+  void takeObjects(const World& world);
+  /// Sizes what a row holds (from the scene) and starts the writer thread.
+  void start(const Scene& scene);
+  /// Hands the rows taken so far to the writer thread (waiting for it to finish
+  /// the previous batch first).
+  void handOver();
+  /// Hands over and waits until every row is written; rethrows what failed there.
+  void drain();
+  /// Ends the writer thread (after drain()).
+  void stop();
+  /// The writer thread: formats and writes the batches it is handed.
+  void writeLoop();
+  /// Formats and writes one batch's rows into their files.
+  void writeBatch(const Batch& batch);
   /// Appends `value` to line_ in its shortest round-trip form.
   void add(double value);
   /// Keeps line_ (a finished row) in `series` of the replay rows.
@@ -73,6 +107,16 @@ class RunWriter {
   std::string line_;         // reused buffer for one CSV row
   bool lineFinite_ = true;   // whether every number of line_ is finite
   std::optional<ReplayRows> replay_;
+
+  std::size_t particleCount_ = 0, jointCount_ = 0;  // a frame's particles, a joints row's joints
+  Batch taken_;    // rows taken on the run's thread, not yet handed over
+  Batch writing_;  // the batch the writer thread has (or had) to write
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool handed_ = false;         // writing_ holds rows the thread has not finished
+  bool stopped_ = false;        // the thread is to end
+  std::exception_ptr failure_;  // what went wrong on the writer thread
 };
 
 /// Every file a run folder may hold besides the marker (docs/output-format.md).
