@@ -13,6 +13,26 @@ namespace robophi {
 
 namespace {
 
+// One particle's update by each integrator (and by the fused pass, which must
+// do the same operations).
+inline void taylorUpdate(const Vec3& force, double inverseMass, double dt, double halfDtSquared,
+                         Vec3& position, Vec3& velocity) {
+  const Vec3 acceleration = force * inverseMass;
+  position += velocity * dt + acceleration * halfDtSquared;
+  velocity += acceleration * dt;
+}
+
+inline void symplecticEulerUpdate(const Vec3& force, double inverseMass, double dt, Vec3& position,
+                                  Vec3& velocity) {
+  velocity += force * (inverseMass * dt);
+  position += velocity * dt;
+}
+
+// The spin's kick ω += J⁻¹ τ dt of a spinning particle.
+inline void kickSpin(const Vec3& torque, double inverseSpinInertia, double dt, Vec3& spin) {
+  spin += torque * (inverseSpinInertia * dt);
+}
+
 // body(i) for every particle, then the kick of its spin, ω_i += J_i⁻¹ τ_i spinDt,
 // for the spinning particles (orientation is not tracked: a sphere looks the
 // same whichever way it has turned), in one parallel pass.
@@ -28,7 +48,7 @@ void forEachParticle(const Model& model, const std::vector<double>& inverseSpinI
     for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
       body(i);
       if (spins && inverseSpinInertia[i] != 0.0)
-        state.spin[i] += torque[i] * (inverseSpinInertia[i] * spinDt);
+        kickSpin(torque[i], inverseSpinInertia[i], spinDt, state.spin[i]);
     }
   });
 }
@@ -41,9 +61,8 @@ void integrateTaylor(const Model& model, const std::vector<double>& inverseSpinI
   const std::vector<Vec3>& force = evaluation.force;
   forEachParticle(model, inverseSpinInertia, threads, dt, evaluation.torque, state,
                   [&](std::size_t i) {
-                    const Vec3 acceleration = force[i] * model.inverseMass[i];
-                    state.position[i] += state.velocity[i] * dt + acceleration * halfDtSquared;
-                    state.velocity[i] += acceleration * dt;
+                    taylorUpdate(force[i], model.inverseMass[i], dt, halfDtSquared,
+                                 state.position[i], state.velocity[i]);
                   });
 }
 
@@ -52,8 +71,8 @@ void integrateSymplecticEuler(const Model& model, const std::vector<double>& inv
   const std::vector<Vec3>& force = evaluation.force;
   forEachParticle(model, inverseSpinInertia, threads, dt, evaluation.torque, state,
                   [&](std::size_t i) {
-                    state.velocity[i] += force[i] * (model.inverseMass[i] * dt);
-                    state.position[i] += state.velocity[i] * dt;
+                    symplecticEulerUpdate(force[i], model.inverseMass[i], dt, state.position[i],
+                                          state.velocity[i]);
                   });
 }
 
@@ -118,14 +137,12 @@ void FusedParticlePass::run(void* raw, std::int64_t chunk) {
   for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
     // The integrator (integrateSymplecticEuler, integrateTaylor).
     if (x.taylor) {
-      const Vec3 acceleration = force[i] * model.inverseMass[i];
-      position[i] += velocity[i] * dt + acceleration * halfDtSquared;
-      velocity[i] += acceleration * dt;
+      taylorUpdate(force[i], model.inverseMass[i], dt, halfDtSquared, position[i], velocity[i]);
     } else {
-      velocity[i] += force[i] * (model.inverseMass[i] * dt);
-      position[i] += velocity[i] * dt;
+      symplecticEulerUpdate(force[i], model.inverseMass[i], dt, position[i], velocity[i]);
     }
-    if (spins && inverseSpinInertia[i] != 0.0) spin[i] += torque[i] * (inverseSpinInertia[i] * dt);
+    if (spins && inverseSpinInertia[i] != 0.0)
+      kickSpin(torque[i], inverseSpinInertia[i], dt, spin[i]);
     startParticleForce(model, i, position, velocity, force, torque, potential, power);
     // measureKineticAndDriving's terms (the driving power's once the forces are final).
     if (model.inverseMass[i] == 0.0) {
