@@ -302,12 +302,15 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
 }
 
 // Particle i against every environment item, appended to work.seeds (the
-// contacts to work.found) in item order.
+// contacts to work.found) in key order: Contact::key() puts item e at other =
+// -1 - e, so the last item first. (In item order, a ball touching two items
+// was out of key order: the history merge passed over the second item's record
+// when the first's contact started, and its friction anchor restarted.)
 inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::int32_t i,
                                       const ContactScratch& cache, GridChunk& work) {
   const std::int32_t items = model.environment.itemCount();
   const double r = model.radius[i];
-  for (std::int32_t e = 0; e < items; ++e) {
+  for (std::int32_t e = items - 1; e >= 0; --e) {
     // Cheap cull: the particle's sphere must reach the item's bounding box.
     const Vec3& low = cache.tables->environmentLow[e];
     const Vec3& high = cache.tables->environmentHigh[e];

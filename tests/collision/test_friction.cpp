@@ -93,5 +93,50 @@ TEST(Friction, EnergyAccountCloses) {
   EXPECT_NEAR(final, initial, 1e-3 * 0.5 * 1.25);
 }
 
+// A ball sliding down a wall (a box, environment item 1) lands on the ground (a
+// plane, item 0): the wall's contact goes on through the landing, its friction
+// history carried and nothing released (a ball touching two items lists them
+// in key order, the last item first; docs/contact.md).
+TEST(Friction, AWallContactKeepsItsHistoryWhenTheGroundContactStarts) {
+  Model model;
+  model.contact.rolling = false;
+  State state;
+  constexpr double kPush = 2.0;  // m/s², towards the wall
+  model.gravity = {-kPush, 0.0, -kG};
+  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kMass);  // ζ = 0.5
+  test::addBall(model, state, {kRadius - kMass * kPush / kStiffness, 0.0, 0.2}, kMass, kRadius);
+  model.environment.planes.push_back(GroundPlane{});
+  BoxObstacle wall;  // its face at x = 0
+  wall.center = {-0.5, 0.0, 0.5};
+  wall.halfExtents = {0.5, 1.0, 1.0};
+  model.environment.boxes.push_back(wall);
+  test::overrideWithEnvironment(model, 0, kStiffness, damping, kStaticFriction, kKineticFriction);
+  World world(model, state, Integrator::kSymplecticEuler);
+  const auto wallContact = [](const std::vector<Contact>& contacts) -> const Contact* {
+    for (const Contact& c : contacts)
+      if (c.withEnvironment() && c.environmentItem() == 1) return &c;
+    return nullptr;
+  };
+  bool landed = false;
+  for (int step = 0; step < 100'000 && !landed; ++step) {
+    const std::vector<Contact> before = world.contacts();
+    world.step(1.0e-5);
+    const std::vector<Contact>& after = world.contacts();
+    if (before.size() != 1 || after.size() != 2) continue;
+    landed = true;
+    const Contact* was = wallContact(before);
+    const Contact* is = wallContact(after);
+    ASSERT_NE(was, nullptr);
+    ASSERT_NE(is, nullptr);
+    EXPECT_EQ(was->sliding, 1);  // sliding down the wall, its anchor holding μ_k F_n
+    EXPECT_GT(was->anchorEnergy, 0.0);
+    // The wall's record goes on: still sliding, nothing released.
+    EXPECT_EQ(is->sliding, 1);
+    EXPECT_EQ(world.evaluation().releasedAnchorEnergy, 0.0);
+    EXPECT_LT(after[0].key(), after[1].key());
+  }
+  EXPECT_TRUE(landed);
+}
+
 }  // namespace
 }  // namespace robophi
