@@ -380,11 +380,10 @@ inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle)
 // The stability rates of one contact (the larger of the normal and the
 // tangential stiffness and damping, the tangential ones for the contact point's
 // effective mass: rotationFactor), 0 when both its sides are fixed.
-inline void contactRates(const Model& model, const PairParameters& k, const Contact& c,
-                         double rotationFactor, double tangentialDamping, double& stiffness,
-                         double& damping) {
-  const double inverseMass =
-      model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
+inline void contactRates(const Model& model, const PairParameters& k, std::int32_t a,
+                         std::int32_t other, double rotationFactor, double tangentialDamping,
+                         double& stiffness, double& damping) {
+  const double inverseMass = model.inverseMass[a] + (other >= 0 ? model.inverseMass[other] : 0.0);
   if (inverseMass == 0.0) {
     stiffness = 0.0;
     damping = 0.0;
@@ -448,8 +447,8 @@ struct FrictionTerms {
 };
 
 // Friction of one contact once its group has decided. Returns F_t on a.
-Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
-                   FrictionTerms& terms) {
+inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
+                          FrictionTerms& terms) {
   const double stiffness = t.tangentialStiffness;
   if (g.regime != kSliding) {
     // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
@@ -529,28 +528,62 @@ void sumBreakingAway(const FrictionTrial* trials, std::size_t count, std::int32_
   }
 }
 
+// Group `index` decides; `trials` holds the `count` contacts of its run.
+inline void decideGroup(FrictionGroup& g, const FrictionTrial* trials, std::size_t count,
+                        std::int32_t index) {
+  g.scale = 1.0;
+  if (g.wasSliding) {
+    g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
+    return;
+  }
+  if (g.total > g.normal && g.wasBreakingAway) sumBreakingAway(trials, count, index, g);
+  if (g.total <= g.normal) {
+    g.regime = kSticking;
+  } else if (g.wasBreakingAway && (g.slip > kSlidingSpeed * g.elasticSpeed ||
+                                   (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
+    g.regime = kSliding;
+  } else {
+    g.regime = kBreakingAway;
+    g.scale = g.normal / g.total;
+  }
+}
+
 void decideGroups(std::vector<FrictionGroup>& groups, const FrictionTrial* trials,
                   std::size_t count) {
-  for (std::size_t index = 0; index < groups.size(); ++index) {
-    FrictionGroup& g = groups[index];
-    g.scale = 1.0;
-    if (g.wasSliding) {
-      g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
-      continue;
-    }
-    if (g.total > g.normal && g.wasBreakingAway)
-      sumBreakingAway(trials, count, static_cast<std::int32_t>(index), g);
-    if (g.total <= g.normal) {
-      g.regime = kSticking;
-    } else if (g.wasBreakingAway &&
-               (g.slip > kSlidingSpeed * g.elasticSpeed ||
-                (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
-      g.regime = kSliding;
-    } else {
-      g.regime = kBreakingAway;
-      g.scale = g.normal / g.total;
-    }
+  for (std::size_t index = 0; index < groups.size(); ++index)
+    decideGroup(groups[index], trials, count, static_cast<std::int32_t>(index));
+}
+
+// Adds a contact's trial to its group's sums (in contact order).
+inline void joinGroup(FrictionGroup& group, const FrictionTrial& t) {
+  group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
+  group.total += norm(t.elastic + t.damper);
+  group.giveWay += t.giveWayBefore;
+  group.slip += t.slipSpeed;
+  // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
+  group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
+  group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
+  group.allSlow = group.allSlow && t.slow;
+}
+
+// A contact's friction once its group `g` has decided (none for a contact
+// without friction: g null) into c, and onto its load unless it is deferred.
+// Returns F_t on a.
+inline Vec3 contactFriction(const FrictionTrial& t, const FrictionGroup* g, Contact& c,
+                            ContactScratch::ContactLoad& load, FrictionTerms& terms) {
+  Vec3 friction;
+  if (g != nullptr) {
+    friction = frictionForce(t, *g, c, terms);
+  } else {
+    c.sliding = 0;
   }
+  c.frictionForce = friction;
+  if (g != nullptr && !load.deferred) {
+    load.force += friction;
+    if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
+    if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
+  }
+  return friction;
 }
 
 // What the contact stage reads and writes, for its chunks: the contacts, loads
@@ -574,12 +607,23 @@ struct StageInput {
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
 
+// A bare pair's contact before the stage fills it in: copied from here, not
+// cleared in place (GCC clears the 232 bytes with rep stos, slow to start, on
+// every contact).
+const Contact kBareContact{};
+
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
 // the groups decide and the friction forces follow. A contact between two
 // particles, or one and the environment, whose sides spin or do not turn, leaves
 // its loads for the gather by particle; the others (facets, rims, a side turning
 // with its LS neighbourhood) are deferred to the serial pass.
+// Lean: the loads are added as the stage goes (StageInput::force) and every
+// group is one contact (ContactTables::singleParticleBodies): each contact's
+// group decides, and its friction and loads follow, as soon as its trial is
+// taken, the same operations as at the end of its run; the run's end adds
+// what it left for the stage's sums (ContactChunk::runTerms), in the same order.
+template <bool Lean>
 void runChunk(const StageInput& in, ContactChunk& chunk) {
   const Model& model = in.model;
   const ContactTables& tables = in.tables;
@@ -603,25 +647,26 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // worked out, when it ends (its trials are still in the cache).
   std::size_t runFirst = chunk.begin;
   const auto finishRun = [&](std::size_t end) {
+    if constexpr (Lean) {  // (its contacts have decided and added their loads)
+      for (std::size_t k = 0; k < end - runFirst; ++k) {
+        const ContactScratch::ContactChunk::RunTerms& terms = chunk.runTerms[k];
+        tally.releasedEnergy += terms.released;
+        tally.dissipativePower -= terms.dissipated;
+        tally.potential += terms.anchorEnergy;
+      }
+      runFirst = end;
+      return;
+    }
     decideGroups(chunk.groups, chunk.trials.data(), end - runFirst);
     for (std::size_t index = runFirst; index < end; ++index) {
       Contact& c = contacts[index];
       const FrictionTrial& t = chunk.trials[index - runFirst];
       FrictionTerms terms;
-      Vec3 friction;
-      if (t.group >= 0) {
-        friction = frictionForce(t, chunk.groups[static_cast<std::size_t>(t.group)], c, terms);
-      } else {
-        c.sliding = 0;
-      }
-      c.frictionForce = friction;
       ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
+      const Vec3 friction = contactFriction(
+          t, t.group >= 0 ? &chunk.groups[static_cast<std::size_t>(t.group)] : nullptr, c, load,
+          terms);
       if (!load.deferred) {
-        if (t.group >= 0) {
-          load.force += friction;
-          if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
-          if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
-        }
         // As the scatter in accumulateContacts, contact by contact.
         if (direct) scatterLoad(load, *in.force, *in.torque, cache);
       } else if (t.group >= 0) {
@@ -643,6 +688,9 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   const std::size_t oldEnd = chunk.historyEnd;
   std::int64_t runObject = -1;
   PairParameters overrideParameters;
+  // Lean: the current contact's trial and loads.
+  FrictionTrial leanTrial;
+  ContactLoad leanLoad;
   // Per contact, filled only for facet and rim contacts (kept out of the loop:
   // they are large, and most contacts need neither).
   FacetKinematics facet;
@@ -683,27 +731,28 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
         g.armLengthB = norm(g.armB);
       }
     }
-    // The contact, built once from what the detection found.
+    // The contact, built once from what the detection found. (Its key and
+    // sides are read from the seed: read back from c, they stall on its stores.)
     const ContactSeed& seed = cache.seeds[index];
+    const std::int32_t a = seed.a(), other = seed.other();
     Contact& c = contacts[index];
     if (seed.full == -1) {
-      c = Contact{};
-      c.a = seed.a();
-      c.other = seed.other();
+      c = kBareContact;
+      c.a = a;
+      c.other = other;
     } else {
       c = seed.full >= 0 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
                          : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
     }
     // Carry the friction anchor of a contact that persists (both lists sorted).
-    const Contact::Key key = c.key();
+    const Contact::Key key = seed.key;
     while (old < oldEnd && previous[old].key() < key) {
       tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
       ++old;
     }
     const Contact* before = old < oldEnd && previous[old].key() == key ? &previous[old] : nullptr;
     if (before != nullptr) ++old;
-    const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
-    const std::int32_t a = c.a;
+    const PairParameters& k = pairParameters(model, tables, a, other, overrideParameters);
     const bool frictionless =
         k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
     // The group: (a's object, the other's object or the environment item).
@@ -712,10 +761,16 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       finishRun(index);
       runObject = objectA;
     }
-    if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
-    if (direct && chunk.runLoads.size() <= index - runFirst)
-      chunk.runLoads.resize(index - runFirst + 1);
-    FrictionTrial& t = chunk.trials[index - runFirst];
+    FrictionTrial* trial = &leanTrial;
+    if constexpr (Lean) {
+      if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
+    } else {
+      if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
+      if (direct && chunk.runLoads.size() <= index - runFirst)
+        chunk.runLoads.resize(index - runFirst + 1);
+      trial = &chunk.trials[index - runFirst];
+    }
+    FrictionTrial& t = *trial;
     t.turnA = 0;
     t.turnB = 0;
     t.ring = -1;
@@ -725,7 +780,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // MODEL §3.8 flat faces (collision/facets.h): a vertex or a particle against a
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
-    const bool faceted = c.involvesFacets();
+    const bool faceted = !Lean && c.involvesFacets();
+    const bool rimmed = !Lean && c.rim >= 0;      // (Lean: neither facets nor rims)
     double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
     double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0;
@@ -740,8 +796,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       t.armB = Vec3{};
       facetStiffness = facetExtraStiffness(model, k.stiffness, c);
       ++stats.facetContacts;
-    } else if (c.other >= 0) {
-      const std::int32_t b = c.other;
+    } else if (other >= 0) {
+      const std::int32_t b = other;
       if (seed.full == -1) {  // worked out with its batch (above)
         const PairGeometry& g = batch[index - batchBegin];
         t.relative = g.relative;
@@ -765,7 +821,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       relativeVelocity = v[a] - v[b];
       inverseMass += model.inverseMass[b];
       ++stats.particleContacts;
-    } else if (c.rim >= 0) {
+    } else if (rimmed) {
       // A round rim or ball (rigid about its centre, above): the contact point on
       // the surface is c.arm from the body's centre.
       const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
@@ -795,9 +851,9 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
     const Vec3 n = c.normal;  // (a copy: read back from c, it stalls on its own stores)
     const double d = c.depth;
-    const double dDot = c.rim >= 0 ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
-                                         squeezeRate * ring.radiusRate
-                                   : dot(relativeVelocity, n);
+    const double dDot = rimmed ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
+                                     squeezeRate * ring.radiusRate
+                               : dot(relativeVelocity, n);
     double normalForce = -k.stiffness * d - k.damping * dDot;
     if (normalForce < 0.0) normalForce = 0.0;
     c.normalForce = normalForce;
@@ -823,11 +879,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // call reaches every capture through the closure, on every contact.)
     const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
       double stiffness = 0.0, damping = 0.0;
-      contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
-      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
+      contactRates(model, k, a, other, rotationFactor, tangentialDamping, stiffness, damping);
+      ContactLoad& load = Lean     ? leanLoad
+                          : direct ? chunk.runLoads[index - runFirst]
+                                   : cache.loads[index];
       load.a = a;
-      load.other = c.other;
-      load.deferred = faceted || c.rim >= 0 || t.turnA == 2 || t.turnB == 2;
+      load.other = other;
+      load.deferred = !Lean && (faceted || rimmed || t.turnA == 2 || t.turnB == 2);
       if (!load.deferred) {
         load.force = normal;
         load.torqueA = t.turnA == 1 ? rollMoment : Vec3{};
@@ -859,12 +917,21 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       }
       chunk.deferred.push_back(static_cast<std::int32_t>(index));
     };
+    // Lean: the contact's friction (its group, itself, has decided: `group`;
+    // null without friction) and its loads, now.
+    const auto finishAlone = [&](const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
+      FrictionTerms terms;
+      contactFriction(t, group, c, leanLoad, terms);
+      scatterLoad(leanLoad, *in.force, *in.torque, cache);
+      chunk.runTerms[index - runFirst] = {terms.released, terms.dissipated, c.anchorEnergy};
+    };
     // A contact without friction holds no anchor (its old one's energy is released).
     const auto withoutAnchor = [&] {
       c.anchor = t.relative;
       c.anchorEnergy = 0.0;
       if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
       settle(1.0, 0.0);
+      if constexpr (Lean) finishAlone(nullptr);
     };
     if (frictionless && k.rollingResistance <= 0.0) {
       withoutAnchor();
@@ -872,17 +939,17 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     }
     // The contact points' velocities: the rotation of each body adds ω × arm.
     Turning ta;
-    if (c.rim >= 0) {  // the ring turns as a whole (kind 3)
+    if (rimmed) {  // the ring turns as a whole (kind 3)
       ta.kind = 3;
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
-    } else if (c.vertex < 0) {
+    } else if (Lean || c.vertex < 0) {
       ta = turningOf(model, tables, cache, p, v, in.spin, a,
                      armLengthA >= 0.0 ? armLengthA : norm(t.armA), t.inverseA);
     }
     Turning tb;
-    if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, cache, p, v, in.spin, c.other,
+    if (other >= 0 && (Lean || c.facet < 0)) {
+      tb = turningOf(model, tables, cache, p, v, in.spin, other,
                      armLengthB >= 0.0 ? armLengthB : norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
@@ -900,7 +967,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const Vec3 pointVelocity = relativeVelocity + rollVelocity;
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
-        inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
+        inverseMass + ta.armInverseInertia + (other >= 0 ? tb.armInverseInertia : 0.0);
     t.tangentialDamping =
         k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / tangentialInverse);
     settle(inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0, t.tangentialDamping);
@@ -944,26 +1011,26 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
     t.slow = t.slipSpeed <= stickVelocity || reversed;
 
-    const std::int64_t other = c.other >= 0 ? groupKey(tables, c.other) : c.other;
-    std::size_t g = 0;
-    while (g < chunk.groups.size() && chunk.groups[g].other != other) ++g;
-    if (g == chunk.groups.size()) {
-      chunk.groups.emplace_back().other = other;
-    }
-    FrictionGroup& group = chunk.groups[g];
-    t.group = static_cast<std::int32_t>(g);
     t.frictionLoad = k.staticFriction * normalForce;
-    group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
-    group.total += norm(t.elastic + t.damper);
-    group.giveWay += t.giveWayBefore;
-    group.slip += t.slipSpeed;
-    // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
     t.tangentialInverse = tangentialInverse;
     t.hadBefore = before != nullptr;
     if (t.hadBefore) t.slipBefore = before->slip;
-    group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
-    group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
-    group.allSlow = group.allSlow && t.slow;
+    if constexpr (Lean) {
+      FrictionGroup group;
+      t.group = 0;
+      joinGroup(group, t);
+      decideGroup(group, &t, 1, 0);
+      finishAlone(&group);
+    } else {
+      const std::int64_t otherBody = other >= 0 ? groupKey(tables, other) : other;
+      std::size_t g = 0;
+      while (g < chunk.groups.size() && chunk.groups[g].other != otherBody) ++g;
+      if (g == chunk.groups.size()) {
+        chunk.groups.emplace_back().other = otherBody;
+      }
+      t.group = static_cast<std::int32_t>(g);
+      joinGroup(chunk.groups[g], t);
+    }
   }
   for (; old < oldEnd; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
   finishRun(chunk.end);
@@ -1169,12 +1236,17 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
-  } context{&input, cache.chunks.data()};
+    bool lean;
+  } context{&input, cache.chunks.data(), direct && tables.singleParticleBodies};
   detail::runChunks(
       stageThreads, static_cast<std::int64_t>(chunkCount),
       [](void* raw, std::int64_t c) {
         const Context& x = *static_cast<const Context*>(raw);
-        runChunk(*x.input, x.chunks[c]);
+        if (x.lean) {
+          runChunk<true>(*x.input, x.chunks[c]);
+        } else {
+          runChunk<false>(*x.input, x.chunks[c]);
+        }
       },
       &context);
 
