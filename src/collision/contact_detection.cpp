@@ -289,6 +289,27 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
   const double r = model.radius[i];
   const std::int32_t begin = list.start[k], end = list.start[k + 1];
   work.pairTests += end - begin;
+  const ContactTables& tables = *cache.tables;
+  if (model.inverseMass[i] != 0.0 && tables.exclusionStart[i] == tables.exclusionStart[i + 1]) {
+    // The common row (i moves, no connector ties it): every partner within
+    // reach touches. Each is written and kept by the test's outcome, not
+    // branched on: about half the listed partners touch, a coin toss for the
+    // branch predictor.
+    const std::size_t first = work.seeds.size();
+    work.seeds.resize(first + static_cast<std::size_t>(end - begin));
+    ContactSeed* out = work.seeds.data() + first;
+    for (std::int32_t s = begin; s < end; ++s) {
+      const std::int32_t j = list.partner[s];
+      const Vec3& q = position[j];
+      const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+      const double reach = r + model.radius[j];
+      const bool touching = !(dx * dx + dy * dy + dz * dz >= reach * reach);  // (as below)
+      *out = ContactSeed::pair(i, j);
+      out += static_cast<std::ptrdiff_t>(touching);
+    }
+    work.seeds.resize(static_cast<std::size_t>(out - work.seeds.data()));
+    return;
+  }
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = list.partner[s];
     const Vec3& q = position[j];
