@@ -607,10 +607,23 @@ struct StageInput {
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
 
-// A bare pair's contact before the stage fills it in: copied from here, not
-// cleared in place (GCC clears the 232 bytes with rep stos, slow to start, on
-// every contact).
-const Contact kBareContact{};
+// A bare pair's contact (a, other) before the stage fills it in: the fields
+// that some of its paths leave at their defaults (Contact{}) are set here; the
+// others (depth, normal, normalForce, anchor, anchorEnergy, frictionForce,
+// sliding) every path sets. (A whole Contact{} is 232 bytes cleared on every
+// contact, with rep stos.)
+inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
+  c.a = a;
+  c.other = other;
+  c.slip = Vec3{};          // (set when it has friction)
+  c.rollVelocity = Vec3{};  // (set when it has friction or rolling resistance)
+  c.giveWay = 0.0;          // (set when it has friction)
+  c.rim = -1;
+  c.arm = Vec3{};
+  c.vertex = -1;
+  c.facet = -1;
+  c.facetWeights = Vec3{};
+}
 
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
@@ -737,9 +750,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const std::int32_t a = seed.a(), other = seed.other();
     Contact& c = contacts[index];
     if (seed.full == -1) {
-      c = kBareContact;
-      c.a = a;
-      c.other = other;
+      startBarePair(c, a, other);
     } else {
       c = seed.full >= 0 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
                          : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
