@@ -608,16 +608,13 @@ using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
 
 // A bare pair's contact (a, other) before the stage fills it in: the fields
-// that some of its paths leave at their defaults (Contact{}) are set here; the
-// others (depth, normal, normalForce, anchor, anchorEnergy, frictionForce,
-// sliding) every path sets. (A whole Contact{} is 232 bytes cleared on every
-// contact, with rep stos.)
+// that are not the stage's are set here to their defaults (Contact{}); the
+// stage sets the others on every path (a contact without friction its slip,
+// give-way and, without rolling resistance, its roll velocity to zero). (A
+// whole Contact{} is 232 bytes written twice over on every contact.)
 inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
   c.a = a;
   c.other = other;
-  c.slip = Vec3{};          // (set when it has friction)
-  c.rollVelocity = Vec3{};  // (set when it has friction or rolling resistance)
-  c.giveWay = 0.0;          // (set when it has friction)
   c.rim = -1;
   c.arm = Vec3{};
   c.vertex = -1;
@@ -940,11 +937,14 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const auto withoutAnchor = [&] {
       c.anchor = t.relative;
       c.anchorEnergy = 0.0;
+      c.slip = Vec3{};
+      c.giveWay = 0.0;
       if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
       settle(1.0, 0.0);
       if constexpr (Lean) finishAlone(nullptr);
     };
     if (frictionless && k.rollingResistance <= 0.0) {
+      c.rollVelocity = Vec3{};
       withoutAnchor();
       continue;
     }
@@ -984,16 +984,16 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     settle(inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0, t.tangentialDamping);
     // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
     // from where the contact stuck.
+    // (Its new anchor is set when its group has decided: frictionForce.)
     t.previousEnergy = 0.0;
     t.regimeBefore = kSticking;
     t.giveWayBefore = 0.0;
+    Vec3 anchor = t.relative;
     if (before != nullptr) {
-      c.anchor = before->anchor;
+      anchor = before->anchor;
       t.regimeBefore = before->sliding;
       t.giveWayBefore = before->giveWay;
       t.previousEnergy = before->anchorEnergy;
-    } else {
-      c.anchor = t.relative;
     }
     // Tangential parts, projected twice: the displacement and the velocity are
     // mostly normal when the contact sticks, and one projection leaves a normal
@@ -1002,7 +1002,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       const Vec3 once = x - n * dot(x, n);
       return once - n * dot(once, n);
     };
-    t.delta = tangential(t.relative - c.anchor);
+    t.delta = tangential(t.relative - anchor);
     if (t.regimeBefore == kSliding) {
       // A sliding anchor follows the slip: over the last step the contact was
       // loaded by kinetic friction (its work booked as dissipation), not by its
