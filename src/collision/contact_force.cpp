@@ -622,6 +622,35 @@ inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
   c.facetWeights = Vec3{};
 }
 
+// The contact point of a pair halfway through its overlap: the arms from a's
+// and the other's centre for the normal k̂ (from the other to a) and depth d.
+inline void pairArms(const Vec3& normal, double depth, double radiusA, double radiusB, Vec3& armA,
+                     Vec3& armB) {
+  armA = normal * -(radiusA + 0.5 * depth);
+  armB = normal * (radiusB + 0.5 * depth);
+}
+
+// The geometry of a particle pair (a, b): p_a - p_b, the normal k̂ from b to a,
+// d = |p_a - p_b| - (r_a + r_b), and the lengths of its arms (pairArms). (Its
+// arms are worked out again from the normal and depth where they are needed:
+// fewer stores and loads than keeping them.)
+struct PairGeometry {
+  Vec3 relative, normal;
+  double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
+};
+
+inline void pairGeometry(const Model& model, const std::vector<Vec3>& p, std::int32_t a,
+                         std::int32_t b, PairGeometry& g) {
+  g.relative = p[a] - p[b];
+  const double distance = norm(g.relative);
+  g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
+  g.depth = distance - (model.radius[a] + model.radius[b]);
+  Vec3 armA, armB;
+  pairArms(g.normal, g.depth, model.radius[a], model.radius[b], armA, armB);
+  g.armLengthA = norm(armA);
+  g.armLengthB = norm(armB);
+}
+
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
 // the groups decide and the friction forces follow. A contact between two
@@ -708,14 +737,10 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // The geometry of the bare particle pairs (most contacts), worked out a batch
   // ahead: a pair's chain of square roots and divisions (distance, normal,
   // arms' lengths) is long, and the pairs of a batch overlap theirs, where
-  // within the loop each waited for its own. The same operations, in the same
-  // order, as the pair branch below.
-  struct PairGeometry {
-    Vec3 relative, normal, armA, armB;
-    double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
-  };
+  // within the loop each waited for its own.
   constexpr std::size_t kBatch = 16;
   PairGeometry batch[kBatch];
+  PairGeometry treePair;  // (a pair the trees found: not in the batch)
   std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
   for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
@@ -728,17 +753,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       batchEnd = std::min(chunk.end, index + kBatch);
       for (std::size_t j = batchBegin; j < batchEnd; ++j) {
         const ContactSeed& pair = cache.seeds[j];
-        if (pair.full != -1) continue;
-        const std::int32_t a = pair.a(), b = pair.other();
-        PairGeometry& g = batch[j - batchBegin];
-        g.relative = p[a] - p[b];
-        const double distance = norm(g.relative);
-        g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
-        g.depth = distance - (model.radius[a] + model.radius[b]);
-        g.armA = g.normal * -(model.radius[a] + 0.5 * g.depth);
-        g.armB = g.normal * (model.radius[b] + 0.5 * g.depth);
-        g.armLengthA = norm(g.armA);
-        g.armLengthB = norm(g.armB);
+        if (pair.full == -1) pairGeometry(model, p, pair.a(), pair.other(), batch[j - batchBegin]);
       }
     }
     // The contact, built once from what the detection found. (Its key and
@@ -806,25 +821,15 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       ++stats.facetContacts;
     } else if (other >= 0) {
       const std::int32_t b = other;
-      if (seed.full == -1) {  // worked out with its batch (above)
-        const PairGeometry& g = batch[index - batchBegin];
-        t.relative = g.relative;
-        c.normal = g.normal;
-        c.depth = g.depth;
-        t.armA = g.armA;
-        t.armB = g.armB;
-        armLengthA = g.armLengthA;
-        armLengthB = g.armLengthB;
-      } else {
-        // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
-        t.relative = p[a] - p[b];
-        const double distance = norm(t.relative);
-        c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
-        c.depth = distance - (model.radius[a] + model.radius[b]);
-        // The contact point halfway through the overlap.
-        t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
-        t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
-      }
+      // Worked out with its batch (above), or now (a pair the trees found).
+      if (seed.full != -1) pairGeometry(model, p, a, b, treePair);
+      const PairGeometry& g = seed.full == -1 ? batch[index - batchBegin] : treePair;
+      t.relative = g.relative;
+      c.normal = g.normal;
+      c.depth = g.depth;
+      pairArms(g.normal, g.depth, model.radius[a], model.radius[b], t.armA, t.armB);
+      armLengthA = g.armLengthA;
+      armLengthB = g.armLengthB;
       smallerRadius = std::min(smallerRadius, model.radius[b]);
       relativeVelocity = v[a] - v[b];
       inverseMass += model.inverseMass[b];
