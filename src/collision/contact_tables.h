@@ -210,9 +210,13 @@ struct GridChunk {
   std::vector<std::int32_t> partners;  // its rows' partners, row after row
   std::vector<std::int32_t> rowEnds;   // the end of each row's partners in `partners`
   std::vector<std::int32_t> row;       // one particle's partners, to sort
-  std::vector<ContactSeed> seeds;      // its particles' finds, in order
-  std::vector<Contact> found;          // its environment contacts (seeds' `full` index them)
-  Contact probe;                       // a particle's test against an item
+  /// Its particles' finds, in order: seeds[0, seedCount). (The vector keeps its
+  /// largest size: a row's candidates are written over old entries, not
+  /// constructed first.)
+  std::vector<ContactSeed> seeds;
+  std::size_t seedCount = 0;
+  std::vector<Contact> found;  // its environment contacts (seeds' `full` index them)
+  Contact probe;               // a particle's test against an item
   std::int64_t pairTests = 0, environmentTests = 0;
 };
 
