@@ -132,17 +132,23 @@ inline void scanSlots(const ContactScratch& cache, GridChunk& work, std::int32_t
                       double r, double skin, std::int32_t begin, std::int32_t end, bool checkKey,
                       std::int64_t key) {
   const double* data = cache.sortedData.data();
+  // Each slot is written and kept by the tests' outcome, not branched on:
+  // about half the slots are partners, a coin toss for the branch predictor.
+  const std::size_t first = work.row.size();
+  work.row.resize(first + static_cast<std::size_t>(std::max(end - begin, 0)));
+  std::int32_t* out = work.row.data() + first;
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = cache.sortedParticle[s];
-    if (j <= i) continue;
-    if (checkKey && cache.sortedKey[s] != key) continue;
-    ++work.pairTests;
+    const bool tested = j > i && (!checkKey || cache.sortedKey[s] == key);
+    work.pairTests += static_cast<std::int64_t>(tested);
     const double* q = data + 4 * static_cast<std::size_t>(s);
     const double dx = p.x - q[0], dy = p.y - q[1], dz = p.z - q[2];
     const double reach = r + q[3] + skin;
-    if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
-    work.row.push_back(j);
+    const bool near = !(dx * dx + dy * dy + dz * dz >= reach * reach);
+    *out = j;
+    out += static_cast<std::ptrdiff_t>(tested & near);
   }
+  work.row.resize(static_cast<std::size_t>(out - work.row.data()));
 }
 
 // The partners j > i of grid particle i within r_i + r_j + skin, from its 27
