@@ -133,7 +133,7 @@ inline void scanSlots(const ContactScratch& cache, GridChunk& work, std::int32_t
                       std::int64_t key) {
   const double* data = cache.sortedData.data();
   // Each slot is written and kept by the tests' outcome, not branched on:
-  // about half the slots are partners, a coin toss for the branch predictor.
+  // whether a slot is a partner is a coin toss for the branch predictor.
   const std::size_t first = work.row.size();
   work.row.resize(first + static_cast<std::size_t>(std::max(end - begin, 0)));
   std::int32_t* out = work.row.data() + first;

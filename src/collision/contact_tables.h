@@ -352,7 +352,7 @@ struct ContactScratch {
     /// When the stage adds the loads as it goes (one thread, no deferred
     /// contacts possible), the current run's loads, as `trials`.
     std::vector<ContactLoad> runLoads;
-    /// When besides every group is one contact (ContactTables::
+    /// When, besides, every group is one contact (ContactTables::
     /// singleParticleBodies), each contact decides as it is found: what it adds
     /// to the stage's sums, added in contact order when its run ends.
     struct RunTerms {
