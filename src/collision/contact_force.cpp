@@ -622,6 +622,20 @@ inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
   c.facetWeights = Vec3{};
 }
 
+// A contact the detection found with its geometry (an environment, rim or
+// facet contact, or a pair the trees found): its fields from the detection;
+// the others, as a bare pair's, the stage sets (not copied, to be written over).
+inline void startFoundContact(Contact& c, const Contact& found) {
+  startBarePair(c, found.a, found.other);
+  c.depth = found.depth;
+  c.normal = found.normal;
+  c.rim = found.rim;
+  c.arm = found.arm;
+  c.vertex = found.vertex;
+  c.facet = found.facet;
+  c.facetWeights = found.facetWeights;
+}
+
 // The contact point of a pair halfway through its overlap: the arms from a's
 // and the other's centre for the normal k̂ (from the other to a) and depth d.
 inline void pairArms(const Vec3& normal, double depth, double radiusA, double radiusB, Vec3& armA,
@@ -764,8 +778,9 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     if (seed.full == -1) {
       startBarePair(c, a, other);
     } else {
-      c = seed.full >= 0 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
-                         : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
+      startFoundContact(c, seed.full >= 0
+                               ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                               : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
     }
     // Carry the friction anchor of a contact that persists (both lists sorted).
     const Contact::Key key = seed.key;
