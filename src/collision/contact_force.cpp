@@ -626,7 +626,8 @@ inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
 // facet contact, or a pair the trees found): its fields from the detection;
 // the others, as a bare pair's, the stage sets (not copied, to be written over).
 inline void startFoundContact(Contact& c, const Contact& found) {
-  startBarePair(c, found.a, found.other);
+  c.a = found.a;
+  c.other = found.other;
   c.depth = found.depth;
   c.normal = found.normal;
   c.rim = found.rim;
