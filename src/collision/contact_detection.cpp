@@ -132,17 +132,23 @@ inline void scanSlots(const ContactScratch& cache, GridChunk& work, std::int32_t
                       double r, double skin, std::int32_t begin, std::int32_t end, bool checkKey,
                       std::int64_t key) {
   const double* data = cache.sortedData.data();
+  // Each slot is written and kept by the tests' outcome, not branched on:
+  // whether a slot is a partner is a coin toss for the branch predictor.
+  const std::size_t first = work.row.size();
+  work.row.resize(first + static_cast<std::size_t>(std::max(end - begin, 0)));
+  std::int32_t* out = work.row.data() + first;
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = cache.sortedParticle[s];
-    if (j <= i) continue;
-    if (checkKey && cache.sortedKey[s] != key) continue;
-    ++work.pairTests;
+    const bool tested = j > i && (!checkKey || cache.sortedKey[s] == key);
+    work.pairTests += static_cast<std::int64_t>(tested);
     const double* q = data + 4 * static_cast<std::size_t>(s);
     const double dx = p.x - q[0], dy = p.y - q[1], dz = p.z - q[2];
     const double reach = r + q[3] + skin;
-    if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
-    work.row.push_back(j);
+    const bool near = !(dx * dx + dy * dy + dz * dz >= reach * reach);
+    *out = j;
+    out += static_cast<std::ptrdiff_t>(tested & near);
   }
+  work.row.resize(static_cast<std::size_t>(out - work.row.data()));
 }
 
 // The partners j > i of grid particle i within r_i + r_j + skin, from its 27
@@ -280,6 +286,17 @@ void buildNeighbourList(const Model& model, const std::vector<Vec3>& position, c
   }
 }
 
+// Room for `more` seeds after a chunk's finds (GridChunk::seeds, grown only).
+inline ContactSeed* seedRoom(GridChunk& work, std::size_t more) {
+  if (work.seeds.size() < work.seedCount + more) work.seeds.resize(work.seedCount + more);
+  return work.seeds.data() + work.seedCount;
+}
+
+inline void addSeed(GridChunk& work, const ContactSeed& seed) {
+  *seedRoom(work, 1) = seed;
+  ++work.seedCount;
+}
+
 // Appends to work.seeds the touching partners of grid particle k of the
 // neighbour list (ascending partner): bare pairs, built by the contact stage.
 inline void listedContacts(const Model& model, const std::vector<Vec3>& position, std::int32_t k,
@@ -289,6 +306,26 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
   const double r = model.radius[i];
   const std::int32_t begin = list.start[k], end = list.start[k + 1];
   work.pairTests += end - begin;
+  const ContactTables& tables = *cache.tables;
+  if (model.inverseMass[i] != 0.0 && tables.exclusionStart[i] == tables.exclusionStart[i + 1]) {
+    // The common row (i moves, no connector ties it): every partner within
+    // reach touches. Each is written and kept by the test's outcome, not
+    // branched on: about half the listed partners touch, a coin toss for the
+    // branch predictor.
+    ContactSeed* const first = seedRoom(work, static_cast<std::size_t>(end - begin));
+    ContactSeed* out = first;
+    for (std::int32_t s = begin; s < end; ++s) {
+      const std::int32_t j = list.partner[s];
+      const Vec3& q = position[j];
+      const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+      const double reach = r + model.radius[j];
+      const bool touching = !(dx * dx + dy * dy + dz * dz >= reach * reach);  // (as below)
+      *out = ContactSeed::pair(i, j);
+      out += static_cast<std::ptrdiff_t>(touching);
+    }
+    work.seedCount += static_cast<std::size_t>(out - first);
+    return;
+  }
   for (std::int32_t s = begin; s < end; ++s) {
     const std::int32_t j = list.partner[s];
     const Vec3& q = position[j];
@@ -297,7 +334,7 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
     if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
     if (excluded(*cache.tables, i, j)) continue;
-    work.seeds.push_back(ContactSeed::pair(i, j));
+    addSeed(work, ContactSeed::pair(i, j));
   }
 }
 
@@ -321,8 +358,7 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
     ++work.environmentTests;
     // (The probe is written only when it touches: nothing to clear per test.)
     if (touchesEnvironment(model.environment, i, p, r, e, work.probe)) {
-      work.seeds.push_back(
-          ContactSeed::found(work.probe, static_cast<std::int32_t>(work.found.size())));
+      addSeed(work, ContactSeed::found(work.probe, static_cast<std::int32_t>(work.found.size())));
       work.found.push_back(work.probe);
     }
   }
@@ -474,7 +510,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   if (!listHolds) buildNeighbourList(model, position, grid, skin, threads, cache);
   const std::vector<std::int32_t>& gridParticles = cache.tables->gridParticles;
   forGridChunks(threads, cache, [&](GridChunk& work, std::int64_t begin, std::int64_t end) {
-    work.seeds.clear();
+    work.seedCount = 0;
     work.found.clear();
     for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
       const std::int32_t i = gridParticles[k];
@@ -486,7 +522,8 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   for (std::int64_t c = 0; c < gridChunkCount(cache); ++c) {
     const GridChunk& work = cache.gridChunks[static_cast<std::size_t>(c)];
     const auto offset = static_cast<std::int32_t>(cache.detectedContacts.size());
-    for (ContactSeed seed : work.seeds) {
+    for (std::size_t s = 0; s < work.seedCount; ++s) {
+      ContactSeed seed = work.seeds[s];
       if (seed.full >= 0) seed.full += offset;
       cache.seeds.push_back(seed);
     }

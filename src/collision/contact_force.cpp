@@ -380,11 +380,10 @@ inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle)
 // The stability rates of one contact (the larger of the normal and the
 // tangential stiffness and damping, the tangential ones for the contact point's
 // effective mass: rotationFactor), 0 when both its sides are fixed.
-inline void contactRates(const Model& model, const PairParameters& k, const Contact& c,
-                         double rotationFactor, double tangentialDamping, double& stiffness,
-                         double& damping) {
-  const double inverseMass =
-      model.inverseMass[c.a] + (c.other >= 0 ? model.inverseMass[c.other] : 0.0);
+inline void contactRates(const Model& model, const PairParameters& k, std::int32_t a,
+                         std::int32_t other, double rotationFactor, double tangentialDamping,
+                         double& stiffness, double& damping) {
+  const double inverseMass = model.inverseMass[a] + (other >= 0 ? model.inverseMass[other] : 0.0);
   if (inverseMass == 0.0) {
     stiffness = 0.0;
     damping = 0.0;
@@ -448,8 +447,8 @@ struct FrictionTerms {
 };
 
 // Friction of one contact once its group has decided. Returns F_t on a.
-Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
-                   FrictionTerms& terms) {
+inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
+                          FrictionTerms& terms) {
   const double stiffness = t.tangentialStiffness;
   if (g.regime != kSliding) {
     // Sticking: friction cancels the tangential load (MODEL §3.3 F_f = -F_t).
@@ -529,28 +528,62 @@ void sumBreakingAway(const FrictionTrial* trials, std::size_t count, std::int32_
   }
 }
 
+// Group `index` decides; `trials` holds the `count` contacts of its run.
+inline void decideGroup(FrictionGroup& g, const FrictionTrial* trials, std::size_t count,
+                        std::int32_t index) {
+  g.scale = 1.0;
+  if (g.wasSliding) {
+    g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
+    return;
+  }
+  if (g.total > g.normal && g.wasBreakingAway) sumBreakingAway(trials, count, index, g);
+  if (g.total <= g.normal) {
+    g.regime = kSticking;
+  } else if (g.wasBreakingAway && (g.slip > kSlidingSpeed * g.elasticSpeed ||
+                                   (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
+    g.regime = kSliding;
+  } else {
+    g.regime = kBreakingAway;
+    g.scale = g.normal / g.total;
+  }
+}
+
 void decideGroups(std::vector<FrictionGroup>& groups, const FrictionTrial* trials,
                   std::size_t count) {
-  for (std::size_t index = 0; index < groups.size(); ++index) {
-    FrictionGroup& g = groups[index];
-    g.scale = 1.0;
-    if (g.wasSliding) {
-      g.regime = g.allSlow && g.total <= g.normal ? kSticking : kSliding;
-      continue;
-    }
-    if (g.total > g.normal && g.wasBreakingAway)
-      sumBreakingAway(trials, count, static_cast<std::int32_t>(index), g);
-    if (g.total <= g.normal) {
-      g.regime = kSticking;
-    } else if (g.wasBreakingAway &&
-               (g.slip > kSlidingSpeed * g.elasticSpeed ||
-                (g.giveWay > kPresliding * g.range && g.slip > g.slipBefore))) {
-      g.regime = kSliding;
-    } else {
-      g.regime = kBreakingAway;
-      g.scale = g.normal / g.total;
-    }
+  for (std::size_t index = 0; index < groups.size(); ++index)
+    decideGroup(groups[index], trials, count, static_cast<std::int32_t>(index));
+}
+
+// Adds a contact's trial to its group's sums (in contact order).
+inline void joinGroup(FrictionGroup& group, const FrictionTrial& t) {
+  group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
+  group.total += norm(t.elastic + t.damper);
+  group.giveWay += t.giveWayBefore;
+  group.slip += t.slipSpeed;
+  // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
+  group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
+  group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
+  group.allSlow = group.allSlow && t.slow;
+}
+
+// A contact's friction once its group `g` has decided (none for a contact
+// without friction: g null) into c, and onto its load unless it is deferred.
+// Returns F_t on a.
+inline Vec3 contactFriction(const FrictionTrial& t, const FrictionGroup* g, Contact& c,
+                            ContactScratch::ContactLoad& load, FrictionTerms& terms) {
+  Vec3 friction;
+  if (g != nullptr) {
+    friction = frictionForce(t, *g, c, terms);
+  } else {
+    c.sliding = 0;
   }
+  c.frictionForce = friction;
+  if (g != nullptr && !load.deferred) {
+    load.force += friction;
+    if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
+    if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
+  }
+  return friction;
 }
 
 // What the contact stage reads and writes, for its chunks: the contacts, loads
@@ -574,12 +607,77 @@ struct StageInput {
 using ContactChunk = ContactScratch::ContactChunk;
 using ContactLoad = ContactScratch::ContactLoad;
 
+// A bare pair's contact (a, other) before the stage fills it in: the fields
+// that are not the stage's are set here to their defaults (Contact{}); the
+// stage sets the others on every path (a contact without friction its slip,
+// give-way and, without rolling resistance, its roll velocity to zero). (A
+// whole Contact{} is 232 bytes written twice over on every contact.)
+inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
+  c.a = a;
+  c.other = other;
+  c.rim = -1;
+  c.arm = Vec3{};
+  c.vertex = -1;
+  c.facet = -1;
+  c.facetWeights = Vec3{};
+}
+
+// A contact the detection found with its geometry (an environment, rim or
+// facet contact, or a pair the trees found): its fields from the detection;
+// the others, as a bare pair's, the stage sets (not copied, to be written over).
+inline void startFoundContact(Contact& c, const Contact& found) {
+  c.a = found.a;
+  c.other = found.other;
+  c.depth = found.depth;
+  c.normal = found.normal;
+  c.rim = found.rim;
+  c.arm = found.arm;
+  c.vertex = found.vertex;
+  c.facet = found.facet;
+  c.facetWeights = found.facetWeights;
+}
+
+// The contact point of a pair halfway through its overlap: the arms from a's
+// and the other's centre for the normal k̂ (from the other to a) and depth d.
+inline void pairArms(const Vec3& normal, double depth, double radiusA, double radiusB, Vec3& armA,
+                     Vec3& armB) {
+  armA = normal * -(radiusA + 0.5 * depth);
+  armB = normal * (radiusB + 0.5 * depth);
+}
+
+// The geometry of a particle pair (a, b): p_a - p_b, the normal k̂ from b to a,
+// d = |p_a - p_b| - (r_a + r_b), and the lengths of its arms (pairArms). (Its
+// arms are worked out again from the normal and depth where they are needed:
+// fewer stores and loads than keeping them.)
+struct PairGeometry {
+  Vec3 relative, normal;
+  double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
+};
+
+inline void pairGeometry(const Model& model, const std::vector<Vec3>& p, std::int32_t a,
+                         std::int32_t b, PairGeometry& g) {
+  g.relative = p[a] - p[b];
+  const double distance = norm(g.relative);
+  g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
+  g.depth = distance - (model.radius[a] + model.radius[b]);
+  Vec3 armA, armB;
+  pairArms(g.normal, g.depth, model.radius[a], model.radius[b], armA, armB);
+  g.armLengthA = norm(armA);
+  g.armLengthB = norm(armB);
+}
+
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
 // the groups decide and the friction forces follow. A contact between two
 // particles, or one and the environment, whose sides spin or do not turn, leaves
 // its loads for the gather by particle; the others (facets, rims, a side turning
 // with its LS neighbourhood) are deferred to the serial pass.
+// Lean: the loads are added as the stage goes (StageInput::force) and every
+// group is one contact (ContactTables::singleParticleBodies): each contact's
+// group decides, and its friction and loads follow, as soon as its trial is
+// taken, the same operations as at the end of its run; the run's end adds
+// what it left for the stage's sums (ContactChunk::runTerms), in the same order.
+template <bool Lean>
 void runChunk(const StageInput& in, ContactChunk& chunk) {
   const Model& model = in.model;
   const ContactTables& tables = in.tables;
@@ -603,25 +701,26 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // worked out, when it ends (its trials are still in the cache).
   std::size_t runFirst = chunk.begin;
   const auto finishRun = [&](std::size_t end) {
+    if constexpr (Lean) {  // (its contacts have decided and added their loads)
+      for (std::size_t k = 0; k < end - runFirst; ++k) {
+        const ContactScratch::ContactChunk::RunTerms& terms = chunk.runTerms[k];
+        tally.releasedEnergy += terms.released;
+        tally.dissipativePower -= terms.dissipated;
+        tally.potential += terms.anchorEnergy;
+      }
+      runFirst = end;
+      return;
+    }
     decideGroups(chunk.groups, chunk.trials.data(), end - runFirst);
     for (std::size_t index = runFirst; index < end; ++index) {
       Contact& c = contacts[index];
       const FrictionTrial& t = chunk.trials[index - runFirst];
       FrictionTerms terms;
-      Vec3 friction;
-      if (t.group >= 0) {
-        friction = frictionForce(t, chunk.groups[static_cast<std::size_t>(t.group)], c, terms);
-      } else {
-        c.sliding = 0;
-      }
-      c.frictionForce = friction;
       ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
+      const Vec3 friction = contactFriction(
+          t, t.group >= 0 ? &chunk.groups[static_cast<std::size_t>(t.group)] : nullptr, c, load,
+          terms);
       if (!load.deferred) {
-        if (t.group >= 0) {
-          load.force += friction;
-          if (t.turnA == 1) load.torqueA += cross(t.armA, friction);
-          if (t.turnB == 1) load.torqueB += cross(t.armB, friction * -1.0);
-        }
         // As the scatter in accumulateContacts, contact by contact.
         if (direct) scatterLoad(load, *in.force, *in.torque, cache);
       } else if (t.group >= 0) {
@@ -643,6 +742,9 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   const std::size_t oldEnd = chunk.historyEnd;
   std::int64_t runObject = -1;
   PairParameters overrideParameters;
+  // Lean: the current contact's trial and loads.
+  FrictionTrial leanTrial;
+  ContactLoad leanLoad;
   // Per contact, filled only for facet and rim contacts (kept out of the loop:
   // they are large, and most contacts need neither).
   FacetKinematics facet;
@@ -650,14 +752,10 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // The geometry of the bare particle pairs (most contacts), worked out a batch
   // ahead: a pair's chain of square roots and divisions (distance, normal,
   // arms' lengths) is long, and the pairs of a batch overlap theirs, where
-  // within the loop each waited for its own. The same operations, in the same
-  // order, as the pair branch below.
-  struct PairGeometry {
-    Vec3 relative, normal, armA, armB;
-    double depth = 0.0, armLengthA = 0.0, armLengthB = 0.0;
-  };
+  // within the loop each waited for its own.
   constexpr std::size_t kBatch = 16;
   PairGeometry batch[kBatch];
+  PairGeometry treePair;  // (a pair the trees found: not in the batch)
   std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
   for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
@@ -670,40 +768,30 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       batchEnd = std::min(chunk.end, index + kBatch);
       for (std::size_t j = batchBegin; j < batchEnd; ++j) {
         const ContactSeed& pair = cache.seeds[j];
-        if (pair.full != -1) continue;
-        const std::int32_t a = pair.a(), b = pair.other();
-        PairGeometry& g = batch[j - batchBegin];
-        g.relative = p[a] - p[b];
-        const double distance = norm(g.relative);
-        g.normal = distance > 0.0 ? g.relative / distance : Vec3{0.0, 0.0, 1.0};
-        g.depth = distance - (model.radius[a] + model.radius[b]);
-        g.armA = g.normal * -(model.radius[a] + 0.5 * g.depth);
-        g.armB = g.normal * (model.radius[b] + 0.5 * g.depth);
-        g.armLengthA = norm(g.armA);
-        g.armLengthB = norm(g.armB);
+        if (pair.full == -1) pairGeometry(model, p, pair.a(), pair.other(), batch[j - batchBegin]);
       }
     }
-    // The contact, built once from what the detection found.
+    // The contact, built once from what the detection found. (Its key and
+    // sides are read from the seed: read back from c, they stall on its stores.)
     const ContactSeed& seed = cache.seeds[index];
+    const std::int32_t a = seed.a(), other = seed.other();
     Contact& c = contacts[index];
     if (seed.full == -1) {
-      c = Contact{};
-      c.a = seed.a();
-      c.other = seed.other();
+      startBarePair(c, a, other);
     } else {
-      c = seed.full >= 0 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
-                         : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
+      startFoundContact(c, seed.full >= 0
+                               ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                               : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
     }
     // Carry the friction anchor of a contact that persists (both lists sorted).
-    const Contact::Key key = c.key();
+    const Contact::Key key = seed.key;
     while (old < oldEnd && previous[old].key() < key) {
       tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
       ++old;
     }
     const Contact* before = old < oldEnd && previous[old].key() == key ? &previous[old] : nullptr;
     if (before != nullptr) ++old;
-    const PairParameters& k = pairParameters(model, tables, c.a, c.other, overrideParameters);
-    const std::int32_t a = c.a;
+    const PairParameters& k = pairParameters(model, tables, a, other, overrideParameters);
     const bool frictionless =
         k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
     // The group: (a's object, the other's object or the environment item).
@@ -712,10 +800,16 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       finishRun(index);
       runObject = objectA;
     }
-    if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
-    if (direct && chunk.runLoads.size() <= index - runFirst)
-      chunk.runLoads.resize(index - runFirst + 1);
-    FrictionTrial& t = chunk.trials[index - runFirst];
+    FrictionTrial* trial = &leanTrial;
+    if constexpr (Lean) {
+      if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
+    } else {
+      if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
+      if (direct && chunk.runLoads.size() <= index - runFirst)
+        chunk.runLoads.resize(index - runFirst + 1);
+      trial = &chunk.trials[index - runFirst];
+    }
+    FrictionTrial& t = *trial;
     t.turnA = 0;
     t.turnB = 0;
     t.ring = -1;
@@ -725,7 +819,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // MODEL §3.8 flat faces (collision/facets.h): a vertex or a particle against a
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
-    const bool faceted = c.involvesFacets();
+    const bool faceted = !Lean && c.involvesFacets();
+    const bool rimmed = !Lean && c.rim >= 0;      // (Lean: neither facets nor rims)
     double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
     double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0;
@@ -740,32 +835,22 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       t.armB = Vec3{};
       facetStiffness = facetExtraStiffness(model, k.stiffness, c);
       ++stats.facetContacts;
-    } else if (c.other >= 0) {
-      const std::int32_t b = c.other;
-      if (seed.full == -1) {  // worked out with its batch (above)
-        const PairGeometry& g = batch[index - batchBegin];
-        t.relative = g.relative;
-        c.normal = g.normal;
-        c.depth = g.depth;
-        t.armA = g.armA;
-        t.armB = g.armB;
-        armLengthA = g.armLengthA;
-        armLengthB = g.armLengthB;
-      } else {
-        // k̂ from b to a; d = |p_a - p_b| - (r_a + r_b).
-        t.relative = p[a] - p[b];
-        const double distance = norm(t.relative);
-        c.normal = distance > 0.0 ? t.relative / distance : Vec3{0.0, 0.0, 1.0};
-        c.depth = distance - (model.radius[a] + model.radius[b]);
-        // The contact point halfway through the overlap.
-        t.armA = c.normal * -(model.radius[a] + 0.5 * c.depth);
-        t.armB = c.normal * (model.radius[b] + 0.5 * c.depth);
-      }
+    } else if (other >= 0) {
+      const std::int32_t b = other;
+      // Worked out with its batch (above), or now (a pair the trees found).
+      if (seed.full != -1) pairGeometry(model, p, a, b, treePair);
+      const PairGeometry& g = seed.full == -1 ? batch[index - batchBegin] : treePair;
+      t.relative = g.relative;
+      c.normal = g.normal;
+      c.depth = g.depth;
+      pairArms(g.normal, g.depth, model.radius[a], model.radius[b], t.armA, t.armB);
+      armLengthA = g.armLengthA;
+      armLengthB = g.armLengthB;
       smallerRadius = std::min(smallerRadius, model.radius[b]);
       relativeVelocity = v[a] - v[b];
       inverseMass += model.inverseMass[b];
       ++stats.particleContacts;
-    } else if (c.rim >= 0) {
+    } else if (rimmed) {
       // A round rim or ball (rigid about its centre, above): the contact point on
       // the surface is c.arm from the body's centre.
       const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
@@ -795,9 +880,9 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
     const Vec3 n = c.normal;  // (a copy: read back from c, it stalls on its own stores)
     const double d = c.depth;
-    const double dDot = c.rim >= 0 ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
-                                         squeezeRate * ring.radiusRate
-                                   : dot(relativeVelocity, n);
+    const double dDot = rimmed ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
+                                     squeezeRate * ring.radiusRate
+                               : dot(relativeVelocity, n);
     double normalForce = -k.stiffness * d - k.damping * dDot;
     if (normalForce < 0.0) normalForce = 0.0;
     c.normalForce = normalForce;
@@ -823,11 +908,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // call reaches every capture through the closure, on every contact.)
     const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
       double stiffness = 0.0, damping = 0.0;
-      contactRates(model, k, c, rotationFactor, tangentialDamping, stiffness, damping);
-      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
+      contactRates(model, k, a, other, rotationFactor, tangentialDamping, stiffness, damping);
+      ContactLoad& load = Lean     ? leanLoad
+                          : direct ? chunk.runLoads[index - runFirst]
+                                   : cache.loads[index];
       load.a = a;
-      load.other = c.other;
-      load.deferred = faceted || c.rim >= 0 || t.turnA == 2 || t.turnB == 2;
+      load.other = other;
+      load.deferred = !Lean && (faceted || rimmed || t.turnA == 2 || t.turnB == 2);
       if (!load.deferred) {
         load.force = normal;
         load.torqueA = t.turnA == 1 ? rollMoment : Vec3{};
@@ -859,30 +946,42 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       }
       chunk.deferred.push_back(static_cast<std::int32_t>(index));
     };
+    // Lean: the contact's friction (its group, itself, has decided: `group`;
+    // null without friction) and its loads, now.
+    const auto finishAlone = [&](const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
+      FrictionTerms terms;
+      contactFriction(t, group, c, leanLoad, terms);
+      scatterLoad(leanLoad, *in.force, *in.torque, cache);
+      chunk.runTerms[index - runFirst] = {terms.released, terms.dissipated, c.anchorEnergy};
+    };
     // A contact without friction holds no anchor (its old one's energy is released).
     const auto withoutAnchor = [&] {
       c.anchor = t.relative;
       c.anchorEnergy = 0.0;
+      c.slip = Vec3{};
+      c.giveWay = 0.0;
       if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
       settle(1.0, 0.0);
+      if constexpr (Lean) finishAlone(nullptr);
     };
     if (frictionless && k.rollingResistance <= 0.0) {
+      c.rollVelocity = Vec3{};
       withoutAnchor();
       continue;
     }
     // The contact points' velocities: the rotation of each body adds ω × arm.
     Turning ta;
-    if (c.rim >= 0) {  // the ring turns as a whole (kind 3)
+    if (rimmed) {  // the ring turns as a whole (kind 3)
       ta.kind = 3;
       ta.omega = ring.omega;
       ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
-    } else if (c.vertex < 0) {
+    } else if (Lean || c.vertex < 0) {
       ta = turningOf(model, tables, cache, p, v, in.spin, a,
                      armLengthA >= 0.0 ? armLengthA : norm(t.armA), t.inverseA);
     }
     Turning tb;
-    if (c.other >= 0 && c.facet < 0) {
-      tb = turningOf(model, tables, cache, p, v, in.spin, c.other,
+    if (other >= 0 && (Lean || c.facet < 0)) {
+      tb = turningOf(model, tables, cache, p, v, in.spin, other,
                      armLengthB >= 0.0 ? armLengthB : norm(t.armB), t.inverseB);
     }
     t.turnA = ta.kind;
@@ -900,22 +999,22 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const Vec3 pointVelocity = relativeVelocity + rollVelocity;
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
-        inverseMass + ta.armInverseInertia + (c.other >= 0 ? tb.armInverseInertia : 0.0);
+        inverseMass + ta.armInverseInertia + (other >= 0 ? tb.armInverseInertia : 0.0);
     t.tangentialDamping =
         k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / tangentialInverse);
     settle(inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0, t.tangentialDamping);
     // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
     // from where the contact stuck.
+    // (Its new anchor is set when its group has decided: frictionForce.)
     t.previousEnergy = 0.0;
     t.regimeBefore = kSticking;
     t.giveWayBefore = 0.0;
+    Vec3 anchor = t.relative;
     if (before != nullptr) {
-      c.anchor = before->anchor;
+      anchor = before->anchor;
       t.regimeBefore = before->sliding;
       t.giveWayBefore = before->giveWay;
       t.previousEnergy = before->anchorEnergy;
-    } else {
-      c.anchor = t.relative;
     }
     // Tangential parts, projected twice: the displacement and the velocity are
     // mostly normal when the contact sticks, and one projection leaves a normal
@@ -924,7 +1023,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       const Vec3 once = x - n * dot(x, n);
       return once - n * dot(once, n);
     };
-    t.delta = tangential(t.relative - c.anchor);
+    t.delta = tangential(t.relative - anchor);
     if (t.regimeBefore == kSliding) {
       // A sliding anchor follows the slip: over the last step the contact was
       // loaded by kinetic friction (its work booked as dissipation), not by its
@@ -944,26 +1043,26 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
     t.slow = t.slipSpeed <= stickVelocity || reversed;
 
-    const std::int64_t other = c.other >= 0 ? groupKey(tables, c.other) : c.other;
-    std::size_t g = 0;
-    while (g < chunk.groups.size() && chunk.groups[g].other != other) ++g;
-    if (g == chunk.groups.size()) {
-      chunk.groups.emplace_back().other = other;
-    }
-    FrictionGroup& group = chunk.groups[g];
-    t.group = static_cast<std::int32_t>(g);
     t.frictionLoad = k.staticFriction * normalForce;
-    group.normal += t.frictionLoad;  // the group's μ_s Σ F_n
-    group.total += norm(t.elastic + t.damper);
-    group.giveWay += t.giveWayBefore;
-    group.slip += t.slipSpeed;
-    // (slipBefore, range and elasticSpeed: sumBreakingAway, when needed.)
     t.tangentialInverse = tangentialInverse;
     t.hadBefore = before != nullptr;
     if (t.hadBefore) t.slipBefore = before->slip;
-    group.wasSliding = group.wasSliding || t.regimeBefore == kSliding;
-    group.wasBreakingAway = group.wasBreakingAway || t.regimeBefore == kBreakingAway;
-    group.allSlow = group.allSlow && t.slow;
+    if constexpr (Lean) {
+      FrictionGroup group;
+      t.group = 0;
+      joinGroup(group, t);
+      decideGroup(group, &t, 1, 0);
+      finishAlone(&group);
+    } else {
+      const std::int64_t otherBody = other >= 0 ? groupKey(tables, other) : other;
+      std::size_t g = 0;
+      while (g < chunk.groups.size() && chunk.groups[g].other != otherBody) ++g;
+      if (g == chunk.groups.size()) {
+        chunk.groups.emplace_back().other = otherBody;
+      }
+      t.group = static_cast<std::int32_t>(g);
+      joinGroup(chunk.groups[g], t);
+    }
   }
   for (; old < oldEnd; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
   finishRun(chunk.end);
@@ -1169,12 +1268,17 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
-  } context{&input, cache.chunks.data()};
+    bool lean;
+  } context{&input, cache.chunks.data(), direct && tables.singleParticleBodies};
   detail::runChunks(
       stageThreads, static_cast<std::int64_t>(chunkCount),
       [](void* raw, std::int64_t c) {
         const Context& x = *static_cast<const Context*>(raw);
-        runChunk(*x.input, x.chunks[c]);
+        if (x.lean) {
+          runChunk<true>(*x.input, x.chunks[c]);
+        } else {
+          runChunk<false>(*x.input, x.chunks[c]);
+        }
       },
       &context);
 

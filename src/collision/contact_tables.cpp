@@ -79,6 +79,11 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     cache.particleMaterial[i] = material >= 0 && material < cache.materialCount ? material : 0;
     ++objectSize[object];
   }
+  cache.singleParticleBodies = true;
+  for (std::int32_t object = 0; object < objectCount; ++object) {
+    if (objectSize[object] > 1 && model.objects[object].kind != "rope")
+      cache.singleParticleBodies = false;
+  }
   // Single particles go to the grid unless they are much larger than the
   // typical one (they would make the cells too large): those get a tree.
   // Virtual particles (robotics goals and paths, docs/robotics.md) touch nothing.

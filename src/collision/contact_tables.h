@@ -83,6 +83,10 @@ struct ContactTables {
   /// rolling body's; it stiffened the contacts' tangential coupling so much
   /// that a rope on a box edge needed 4e-8 s steps).
   std::vector<std::uint8_t> ropeParticle;
+  /// Every contact body (contact_force.cpp's group key) is one particle: each
+  /// object has one particle or is a rope. Then every friction group (MODEL
+  /// §3.3, a pair of bodies) holds one contact and decides on its own.
+  bool singleParticleBodies = true;
   /// 1 / J_i (1/(kg·m²)) of the particles that spin on their own (those no LS
   /// ties to another: J = 2/5 m r², a solid sphere), 0 for the others,
   /// (particleCount). The others turn with their LS neighbours (CSR, both
@@ -206,9 +210,13 @@ struct GridChunk {
   std::vector<std::int32_t> partners;  // its rows' partners, row after row
   std::vector<std::int32_t> rowEnds;   // the end of each row's partners in `partners`
   std::vector<std::int32_t> row;       // one particle's partners, to sort
-  std::vector<ContactSeed> seeds;      // its particles' finds, in order
-  std::vector<Contact> found;          // its environment contacts (seeds' `full` index them)
-  Contact probe;                       // a particle's test against an item
+  /// Its particles' finds, in order: seeds[0, seedCount). (The vector keeps its
+  /// largest size: a row's candidates are written over old entries, not
+  /// constructed first.)
+  std::vector<ContactSeed> seeds;
+  std::size_t seedCount = 0;
+  std::vector<Contact> found;  // its environment contacts (seeds' `full` index them)
+  Contact probe;               // a particle's test against an item
   std::int64_t pairTests = 0, environmentTests = 0;
 };
 
@@ -344,6 +352,15 @@ struct ContactScratch {
     /// When the stage adds the loads as it goes (one thread, no deferred
     /// contacts possible), the current run's loads, as `trials`.
     std::vector<ContactLoad> runLoads;
+    /// When, besides, every group is one contact (ContactTables::
+    /// singleParticleBodies), each contact decides as it is found: what it adds
+    /// to the stage's sums, added in contact order when its run ends.
+    struct RunTerms {
+      double released = 0.0;      // anchor energy released (J)
+      double dissipated = 0.0;    // power dissipated by friction (W)
+      double anchorEnergy = 0.0;  // ½ k_t |δ_t|² of its anchor (J)
+    };
+    std::vector<RunTerms> runTerms;
     std::vector<FrictionGroup> groups;
     /// The rigid motion of each of its rim or ball contacts' bodies.
     std::vector<RingMotion> rings;
