@@ -79,7 +79,7 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
 
 }  // namespace
 
-RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay)
+RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay, bool ownThread)
     : dir_(dir), world_(scene) {
   if (gatherReplay) replay_.emplace();
   // The marker first: a folder cut short at any point is still robophi's.
@@ -119,11 +119,11 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherRepl
       replay_->joints.columns = output::csvHeaderColumns(line_);
     }
   }
-  start(scene);
+  start(scene, ownThread);
 }
 
 RunWriter::RunWriter(const std::string& dir, const Scene& scene,
-                     const std::map<std::string, std::uintmax_t>& progress)
+                     const std::map<std::string, std::uintmax_t>& progress, bool ownThread)
     : dir_(dir), world_(scene) {
   files_ = seriesFiles(scene);
   if (std::filesystem::exists(std::filesystem::path(dir_) / "checkpoint.json"))
@@ -148,7 +148,7 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene,
   objects_ = open("objects.csv", true);
   if (scene.model.contact.enabled) contacts_ = open("contacts.csv", true);
   if (!scene.model.joints.empty()) joints_ = open("joints.csv", true);
-  start(scene);
+  start(scene, ownThread);
 }
 
 RunWriter::~RunWriter() {
@@ -159,11 +159,12 @@ RunWriter::~RunWriter() {
   stop();
 }
 
-void RunWriter::start(const Scene& scene) {
+void RunWriter::start(const Scene& scene, bool ownThread) {
   particleCount_ = static_cast<std::size_t>(scene.model.particleCount());
   jointCount_ = scene.model.joints.size();
   // A second core formats while the run steps; one core formats at each hand-over.
-  if (std::thread::hardware_concurrency() > 1) thread_ = std::thread([this] { writeLoop(); });
+  if (ownThread && std::thread::hardware_concurrency() > 1)
+    thread_ = std::thread([this] { writeLoop(); });
 }
 
 void RunWriter::writeLoop() {

@@ -30,13 +30,16 @@ class RunWriter {
   /// (output/results_folder.h) that lists the series files, and opens them.
   /// With `gatherReplay`, also keeps the rows the replay page shows
   /// (takeReplayRows), so that the page is made without reading the files back.
-  RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay = false);
+  /// With `ownThread` (and a second core), formats and writes on a thread of
+  /// its own; else on the caller's, at each hand-over.
+  RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay = false,
+            bool ownThread = true);
   /// Continues the series files already in `dir` (a resumed run, robophi
   /// resume): each is cut back to its length in `progress` (what progress()
   /// said at the checkpoint) and appended to. Throws std::runtime_error naming a
   /// file that is missing or shorter.
   RunWriter(const std::string& dir, const Scene& scene,
-            const std::map<std::string, std::uintmax_t>& progress);
+            const std::map<std::string, std::uintmax_t>& progress, bool ownThread = true);
   ~RunWriter();
   RunWriter(const RunWriter&) = delete;
   RunWriter& operator=(const RunWriter&) = delete;
@@ -76,8 +79,9 @@ class RunWriter {
 
   std::ofstream open(const std::string& name, bool append = false);
   void takeObjects(const World& world);
-  /// Sizes what a row holds (from the scene) and starts the writer thread.
-  void start(const Scene& scene);
+  /// Sizes what a row holds (from the scene) and, with `ownThread` on a
+  /// machine with a second core, starts the writer thread.
+  void start(const Scene& scene, bool ownThread);
   /// Hands the rows taken so far to the writer thread (waiting for it to finish
   /// the previous batch first).
   void handOver();

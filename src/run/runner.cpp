@@ -292,9 +292,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
               fmt::format("{}: missing; the checkpoint needs it", from.string()));
         std::filesystem::copy_file(from, std::filesystem::path(staging->path()) / name);
       }
-      writer.emplace(staging->path(), scene, sizes);
+      writer.emplace(staging->path(), scene, sizes, options.threads != 1);
     } else {
-      writer.emplace(staging->path(), scene, options.writeReplay);
+      writer.emplace(staging->path(), scene, options.writeReplay, options.threads != 1);
     }
   }
   const std::string sceneHash =

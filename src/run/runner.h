@@ -39,6 +39,8 @@ struct RunOptions {
   /// so that `robophi resume` loads the robot as the run did.
   UrdfSceneOptions urdf;
   /// The most threads a step uses (World::setThreadCount): 0 = the cores available.
+  /// Above 1 (or 0 on a machine with a second core) the run's output is also
+  /// formatted and written on a thread of its own (RunWriter).
   /// Not part of the result: the state is bit-identical whatever the count.
   int threads = 0;
   /// Rows of energy.csv per model second (plus the first and last step).
