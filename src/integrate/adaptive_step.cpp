@@ -152,6 +152,11 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     // Against the other environment items: the full speed.
     if (solidEnvironment) step = std::min(step, closingStep(norm(v), norm(a), reach));
   };
+  // Particles [begin, end) against the environment only (no object bounds).
+  const auto environmentOnly = [&](ParticleIndex begin, ParticleIndex end) {
+    for (ParticleIndex i = begin; i < end; ++i)
+      if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+  };
   // Objects against each other, through their bounds: two particles of objects
   // A and B close at most at |V_A − V_B| + s_A + s_B (velocity differences
   // only: no observer enters), beyond the gap between the objects' spheres.
@@ -160,8 +165,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
       1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
   if (objects < 2) {
-    for (ParticleIndex i = 0; i < n; ++i)
-      if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+    environmentOnly(0, n);
     return step;
   }
   // Per-object scratch, kept per thread (no allocation once grown).
@@ -191,8 +195,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     const ParticleIndex end = runEnd(i);
     const auto o = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
     if (model.objectOf[i] >= 0 && virtualObject[o] != 0) {
-      for (; i < end; ++i)
-        if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+      environmentOnly(i, end);
+      i = end;
       continue;
     }
     Vec3 lowV = vLow[o], highV = vHigh[o], lowA = aLow[o], highA = aHigh[o], sum = pSum[o];

@@ -188,19 +188,16 @@ void RunWriter::writeLoop() {
 
 void RunWriter::handOver() {
   if (taken_.kinds.empty()) return;
-  if (!thread_.joinable()) {
+  if (thread_.joinable()) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return !handed_; });
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+    std::swap(writing_, taken_);  // taken_ now holds the batch written last
+    handed_ = true;
+    changed_.notify_all();
+  } else {
     writeBatch(taken_);
-    taken_.kinds.clear();
-    taken_.values.clear();
-    return;
   }
-  std::unique_lock lock(mutex_);
-  changed_.wait(lock, [this] { return !handed_; });
-  if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
-  std::swap(writing_, taken_);
-  handed_ = true;
-  changed_.notify_all();
-  lock.unlock();
   taken_.kinds.clear();
   taken_.values.clear();
 }
