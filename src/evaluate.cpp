@@ -42,6 +42,24 @@ void Workspace::setThreadCount(int threads) {
   threads_ = threads == 0 ? detail::availableThreads() : threads;
 }
 
+namespace {
+
+// A small model (every stage below a parallel loop's minimum) on more than one
+// thread: its connector stages run on one thread while its contacts are found
+// and their loads worked out on another, and the loads are added afterwards, in
+// the order the serial stage adds them (the same bits).
+bool contactsBesideConnectors(const Model& model, const State& state, int threads) {
+  constexpr auto kSmall = static_cast<std::size_t>(detail::kParallelMinimum);
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  return threads > 1 && model.contact.enabled && n > 0 && n < kSmall &&
+         model.linearSprings.size() < kSmall && model.torsionSprings.size() < kSmall &&
+         model.jointSprings.size() < kSmall && state.frictionHistory.size() < kSmall &&
+         (!model.linearSprings.empty() || !model.torsionSprings.empty() ||
+          !model.jointSprings.empty() || !model.bodies.empty());
+}
+
+}  // namespace
+
 void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
                     Evaluation& out, FusedParticlePass* pass) {
   const Model& model = compiled.model();
@@ -51,36 +69,78 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   out.force.resize(position.size());
   out.torque.resize(position.size());
   EnergyTally& e = out.energy;
+  const bool beside = contactsBesideConnectors(model, state, threads);
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS and JS compute in parallel and add in order; the bodies and the drives (a
   // few per joint) on this thread.
   // With a fused pass, the first stage runs in LS's job, each chunk of particles
-  // before the springs that read it.
+  // before the springs that read it; beside the contacts, which read the
+  // positions it makes, it runs first as a loop of its own.
   ParticlePrologue prologue;
   ParticleForceTally start;
   if (pass != nullptr) {
     prologue = {&FusedParticlePass::run, pass};
-  } else {
-    start = startParticleForces(model, threads, position, velocity, out.force, out.torque);
+    if (beside) {
+      const std::int64_t chunks =
+          (static_cast<std::int64_t>(position.size()) + detail::kParallelChunk - 1) /
+          detail::kParallelChunk;
+      for (std::int64_t c = 0; c < chunks; ++c) prologue.run(prologue.context, c);
+    }
   }
-  const ForceTally linear = accumulateLinearSprings(
-      model, compiled.springIncidence(), threads, position, velocity, out.force,
-      workspace.forceScratch(), pass != nullptr ? &prologue : nullptr);
-  if (pass != nullptr) start = pass->tally();
+  ForceTally linear, torsion, joint, bodies, drives;
+  const auto connectors = [&](int stageThreads) {
+    if (pass == nullptr) {
+      start = startParticleForces(model, stageThreads, position, velocity, out.force, out.torque);
+    }
+    linear = accumulateLinearSprings(model, compiled.springIncidence(), stageThreads, position,
+                                     velocity, out.force, workspace.forceScratch(),
+                                     pass != nullptr && !beside ? &prologue : nullptr);
+    if (pass != nullptr) start = pass->tally();
+    torsion = accumulateTorsionSprings(model, stageThreads, position, velocity, out.force,
+                                       workspace.forceScratch());
+    joint = accumulateJointSprings(model, stageThreads, position, velocity, out.force,
+                                   workspace.forceScratch());
+    // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
+    std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
+    bodyMotions(model, position, velocity, motion);
+    bodies = accumulateRigidBodies(model, motion, position, velocity, out.force,
+                                   workspace.forceScratch().linkPreload);
+    drives = accumulateJointDrives(model, motion, position, velocity, out.force,
+                                   out.jointMotorEffort, out.jointLossEffort);
+  };
+  // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
+  const auto findContacts = [&](int stageThreads, bool direct) {
+    findContactLoads(model, compiled.contactTables(), compiled.contactRevision(), stageThreads,
+                     position, velocity, state.spin, state.frictionHistory,
+                     workspace.contactScratch(), direct ? &out.force : nullptr,
+                     direct ? &out.torque : nullptr);
+  };
+  if (beside) {
+    // Two jobs: the contacts (the larger, taken first by this thread), the connectors.
+    using Connectors = decltype(connectors);
+    using Contacts = decltype(findContacts);
+    struct Jobs {
+      const Connectors* connectorStages;
+      const Contacts* contactStage;
+    } jobs{&connectors, &findContacts};
+    detail::runChunks(
+        2, 2,
+        [](void* raw, std::int64_t job) {
+          const Jobs& x = *static_cast<const Jobs*>(raw);
+          if (job == 0) {
+            (*x.contactStage)(1, false);
+          } else {
+            (*x.connectorStages)(1);
+          }
+        },
+        &jobs);
+  } else {
+    connectors(threads);
+    findContacts(threads, true);
+  }
   const ForceTally& gravity = start.gravity;
   const ForceTally& damping = start.damping;
-  const ForceTally torsion = accumulateTorsionSprings(model, threads, position, velocity, out.force,
-                                                      workspace.forceScratch());
-  const ForceTally joint = accumulateJointSprings(model, threads, position, velocity, out.force,
-                                                  workspace.forceScratch());
-  // MODEL §1.7: every body's rigid motion, once, for shape matching, the links and the drives.
-  std::vector<RigidMotion>& motion = workspace.forceScratch().bodyMotion;
-  bodyMotions(model, position, velocity, motion);
-  const ForceTally bodies = accumulateRigidBodies(model, motion, position, velocity, out.force,
-                                                  workspace.forceScratch().linkPreload);
-  const ForceTally drives = accumulateJointDrives(model, motion, position, velocity, out.force,
-                                                  out.jointMotorEffort, out.jointLossEffort);
   e.gravity = gravity.potential;
   e.linearSpring = linear.potential;
   e.torsionSpring = torsion.potential;
@@ -89,9 +149,8 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   out.dissipativePower = damping.dissipativePower + linear.dissipativePower +
                          torsion.dissipativePower + joint.dissipativePower +
                          bodies.dissipativePower + drives.dissipativePower;
-  // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
-  accumulateContacts(model, compiled.contactTables(), compiled.contactRevision(), threads, position,
-                     velocity, state.spin, state.frictionHistory, workspace.contactScratch(), out);
+  applyContactLoads(model, compiled.contactTables(), position, velocity, state.spin,
+                    state.frictionHistory, workspace.contactScratch(), out);
 }
 
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,

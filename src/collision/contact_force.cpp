@@ -1159,18 +1159,14 @@ void indexLoads(std::size_t particles, ContactScratch& cache) {
 
 }  // namespace
 
-void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
-                        int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
-                        ContactScratch& scratch, Evaluation& out) {
-  if (!model.contact.enabled || model.particleCount() == 0) {
-    out.contactCriticalStep = std::numeric_limits<double>::infinity();
-    out.contacts.clear();
-    out.energy.contact = 0.0;
-    out.releasedAnchorEnergy = 0.0;
-    out.contactStats = ContactStats{};
-    return;
-  }
+void findContactLoads(const Model& model, const ContactTables& tables, std::int64_t revision,
+                      int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                      const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                      ContactScratch& scratch, std::vector<Vec3>* force,
+                      std::vector<Vec3>* torque) {
+  scratch.chunkCount = 0;
+  scratch.direct = false;
+  if (!model.contact.enabled || model.particleCount() == 0) return;
   ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
   detectContacts(model, p, threads, cache);
 
@@ -1179,8 +1175,6 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
     cache.contactStiffnessSum.assign(particles, 0.0);
     cache.contactDampingSum.assign(particles, 0.0);
   }
-  std::vector<Vec3>& f = out.force;
-  std::vector<Vec3>& torque = out.torque;
   const std::size_t count = cache.seeds.size();
   // (Resized, not cleared: the buffer swapped back holds the list of two
   // evaluations ago, so only the difference is constructed.)
@@ -1251,11 +1245,14 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   const int stageThreads =
       count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
   // One thread, and no contact can be deferred: the chunks add the loads as
-  // they go (StageInput::force).
-  const bool direct = stageThreads <= 1 && model.surfaceVertices.empty() &&
+  // they go (StageInput::force), when the caller allows it.
+  const bool direct = force != nullptr && stageThreads <= 1 && model.surfaceVertices.empty() &&
                       model.surfaceTriangles.empty() && model.rims.empty() &&
                       (!model.contact.rolling || tables.rollNeighbour.empty());
   if (!direct) cache.loads.resize(count);
+  cache.chunkCount = chunkCount;
+  cache.stageThreads = stageThreads;
+  cache.direct = direct;
   const StageInput input{model,
                          tables,
                          p,
@@ -1263,8 +1260,8 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
                          spin,
                          previous,
                          cache,
-                         direct ? &f : nullptr,
-                         direct ? &torque : nullptr};
+                         direct ? force : nullptr,
+                         direct ? torque : nullptr};
   struct Context {
     const StageInput* input;
     ContactChunk* chunks;
@@ -1281,6 +1278,37 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
         }
       },
       &context);
+}
+
+void applyContactLoads(const Model& model, const ContactTables& tables,
+                       const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                       const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                       ContactScratch& cache, Evaluation& out) {
+  if (!model.contact.enabled || model.particleCount() == 0) {
+    out.contactCriticalStep = std::numeric_limits<double>::infinity();
+    out.contacts.clear();
+    out.energy.contact = 0.0;
+    out.releasedAnchorEnergy = 0.0;
+    out.contactStats = ContactStats{};
+    return;
+  }
+  const auto particles = static_cast<std::size_t>(model.particleCount());
+  std::vector<Vec3>& f = out.force;
+  std::vector<Vec3>& torque = out.torque;
+  const std::size_t count = cache.seeds.size();
+  const std::size_t chunkCount = cache.chunkCount;
+  const int stageThreads = cache.stageThreads;
+  const bool direct = cache.direct;
+  TurningCache& turning = cache.turning;
+  const StageInput input{model,
+                         tables,
+                         p,
+                         v,
+                         spin,
+                         previous,
+                         cache,
+                         direct ? &f : nullptr,
+                         direct ? &torque : nullptr};
 
   // The sums, in chunk order; the deferred loads, in contact order.
   StageTally tally;
@@ -1378,6 +1406,15 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
   out.dissipativePower += tally.dissipativePower + viscousPower;
   out.releasedAnchorEnergy = tally.releasedEnergy;
   out.contactStats = cache.stats;
+}
+
+void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
+                        int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                        ContactScratch& scratch, Evaluation& out) {
+  findContactLoads(model, tables, revision, threads, p, v, spin, previous, scratch, &out.force,
+                   &out.torque);
+  applyContactLoads(model, tables, p, v, spin, previous, scratch, out);
 }
 
 double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts) {

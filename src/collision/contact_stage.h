@@ -32,6 +32,23 @@ void accumulateContacts(const Model& model, const ContactTables& tables, std::in
                         const std::vector<Contact>& history, ContactScratch& scratch,
                         Evaluation& out);
 
+/// accumulateContacts in two parts, so that the connector stages can run beside
+/// the first (evaluate.cpp): findContactLoads detects the contacts and works out
+/// their loads into `scratch`, reading only positions, velocities, spins and the
+/// history; with `force` and `torque` (out.force and out.torque) it may add the
+/// loads to them as it goes (one thread, nothing deferred), with null it leaves
+/// them alone. applyContactLoads then adds the loads to out.force and out.torque
+/// and sets out's contact fields. The same bits whether the loads went directly or not.
+void findContactLoads(const Model& model, const ContactTables& tables, std::int64_t revision,
+                      int threads, const std::vector<Vec3>& position,
+                      const std::vector<Vec3>& velocity, const std::vector<Vec3>& spin,
+                      const std::vector<Contact>& history, ContactScratch& scratch,
+                      std::vector<Vec3>* force, std::vector<Vec3>* torque);
+void applyContactLoads(const Model& model, const ContactTables& tables,
+                       const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                       const std::vector<Vec3>& spin, const std::vector<Contact>& history,
+                       ContactScratch& scratch, Evaluation& out);
+
 /// MODEL §3.4 viscosity: -k (V·n) V̂ where V·n >= 0. Returns its power (W, <= 0).
 double accumulateViscosity(const Model& model, const std::vector<Vec3>& position,
                            const std::vector<Vec3>& velocity, std::vector<Vec3>& force,

@@ -370,6 +370,12 @@ struct ContactScratch {
     ContactStats stats;
   };
   std::vector<ContactChunk> chunks;
+  /// Between findContactLoads and applyContactLoads (contact_stage.h): the
+  /// chunks in use, the threads the stage's loops take, and whether the chunks
+  /// added their loads as they went (StageInput::force).
+  std::size_t chunkCount = 0;
+  int stageThreads = 1;
+  bool direct = false;
   TurningCache turning;
   std::vector<FrictionApplication> applications;  // (contacts), set for deferred ones
   std::vector<ContactLoad> loads;                 // (contacts)
