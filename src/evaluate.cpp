@@ -1,6 +1,7 @@
 // evaluate(): the force evaluation as a pure function of (model, state).
 #include "evaluate.h"
 
+#include <chrono>
 #include <stdexcept>
 
 #include "collision/contact_stage.h"
@@ -69,7 +70,23 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   out.force.resize(position.size());
   out.torque.resize(position.size());
   EnergyTally& e = out.energy;
-  const bool beside = contactsBesideConnectors(model, state, threads);
+  bool beside = contactsBesideConnectors(model, state, threads);
+  // Where it can, every period times the evaluations on one thread and then
+  // beside, and keeps the faster way for the rest of the period.
+  constexpr std::int64_t kPeriod = 4096, kProbe = 64;
+  ForceScratch::OverlapChoice& choice = workspace.forceScratch().overlap;
+  bool timed = false;
+  std::chrono::steady_clock::time_point began;
+  if (beside) {
+    const std::int64_t k = choice.evaluations++ % kPeriod;
+    if (k == 2 * kProbe) {
+      choice.beside = choice.besideSeconds <= choice.serialSeconds;
+      choice.serialSeconds = choice.besideSeconds = 0.0;
+    }
+    timed = k < 2 * kProbe;
+    beside = timed ? k >= kProbe : choice.beside;
+    if (timed) began = std::chrono::steady_clock::now();
+  }
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS and JS compute in parallel and add in order; the bodies and the drives (a
@@ -151,6 +168,11 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
                          bodies.dissipativePower + drives.dissipativePower;
   applyContactLoads(model, compiled.contactTables(), position, velocity, state.spin,
                     state.frictionHistory, workspace.contactScratch(), out);
+  if (timed) {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    (beside ? choice.besideSeconds : choice.serialSeconds) += seconds;
+  }
 }
 
 void measureKinetic(const CompiledModel& model, const State& state, Workspace& workspace,

@@ -140,26 +140,35 @@ double jacobiPseudoInverse(const double* packed, double* inverse) {
   return largestInverse;
 }
 
-// The smallest and largest eigenvalues of a symmetric 3×3 matrix (packed xx yy
-// zz xy xz yz) in closed form (the trigonometric solution of the characteristic
-// cubic: λ = q + 2p cos(φ + 2πk/3), q = tr A / 3, p² = tr((A − q1)²) / 6,
-// cos 3φ = det((A − q1)/p) / 2).
-inline void symmetricEigenRange(const double* m, double& smallest, double& largest) {
+// Whether a symmetric 3×3 matrix (packed xx yy zz xy xz yz) has a smallest
+// eigenvalue above `ratio` (< 1) times its largest, which is positive; its
+// smallest eigenvalue into `smallest`. Both in closed form (the trigonometric
+// solution of the characteristic cubic: λ = q + 2p cos(φ + 2πk/3), q = tr A / 3,
+// p² = tr((A − q1)²) / 6, cos 3φ = det((A − q1)/p) / 2, φ in [0, π/3]). The
+// largest, q + 2p cos φ, lies between q + p and q + 2p: its cosine is taken only
+// when those bounds leave the test open (the same answer as with it).
+inline bool smallestEigenvalueAbove(const double* m, double ratio, double& smallest) {
   const double q = (m[0] + m[1] + m[2]) / 3.0;
   const double dxx = m[0] - q, dyy = m[1] - q, dzz = m[2] - q;
   const double off = m[3] * m[3] + m[4] * m[4] + m[5] * m[5];
   const double p2 = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * off;
   if (!(p2 > 0.0)) {
-    smallest = largest = q;
-    return;
+    smallest = q;
+    return q > 0.0 && q > ratio * q;
   }
   const double p = std::sqrt(p2 / 6.0);
   const double determinant = dxx * (dyy * dzz - m[5] * m[5]) - m[3] * (m[3] * dzz - m[5] * m[4]) +
                              m[4] * (m[3] * m[5] - dyy * m[4]);
   const double r = std::clamp(0.5 * determinant / (p * p * p), -1.0, 1.0);
   const double phi = std::acos(r) / 3.0;
-  largest = q + 2.0 * p * std::cos(phi);
   smallest = q + 2.0 * p * std::cos(phi + 2.0 * M_PI / 3.0);
+  // cos φ <= 1, and the rounded products and sums keep that order: above the
+  // bound, above the largest (which is then at least `smallest` > 0).
+  if (smallest > 0.0 && smallest > ratio * (q + 2.0 * p)) return true;
+  // cos φ >= 1/2 (up to rounding, far inside the margin of a half).
+  if (!(smallest > ratio * (q + 0.5 * p))) return false;
+  const double largest = q + 2.0 * p * std::cos(phi);
+  return largest > 0.0 && smallest > ratio * largest;
 }
 
 // The pseudo-inverse of a symmetric positive semi-definite 3×3 matrix (packed
@@ -170,10 +179,8 @@ inline void symmetricEigenRange(const double* m, double& smallest, double& large
 // inverted by its cofactors, its eigenvalues in closed form; the others by
 // Jacobi rotations.
 double symmetricPseudoInverse(const double* packed, double* inverse) {
-  double smallest = 0.0, largest = 0.0;
-  symmetricEigenRange(packed, smallest, largest);
-  if (!(largest > 0.0) || !(smallest > 1.0e-6 * largest))
-    return jacobiPseudoInverse(packed, inverse);
+  double smallest = 0.0;
+  if (!smallestEigenvalueAbove(packed, 1.0e-6, smallest)) return jacobiPseudoInverse(packed, inverse);
   const double xx = packed[0], yy = packed[1], zz = packed[2];
   const double xy = packed[3], xz = packed[4], yz = packed[5];
   const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;

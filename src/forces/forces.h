@@ -116,6 +116,15 @@ struct ForceScratch {
   /// (torsion or joint springs): each one's forces, computed on the threads
   /// before they are added in order (accumulateTorsionSprings, accumulateJointSprings).
   std::vector<AngularSpringForce> angularForce;
+  /// evaluate.cpp: whether a small model's contacts are worked out beside its
+  /// connector stages (on two threads) or after them (on one), chosen by timing
+  /// both now and then. The results are the same either way; the time is not on
+  /// a machine whose other core is taken.
+  struct OverlapChoice {
+    std::int64_t evaluations = 0;  // counted over the periods
+    double serialSeconds = 0.0, besideSeconds = 0.0;
+    bool beside = true;
+  } overlap;
 };
 
 /// A per-particle pass run in the LS job (accumulateLinearSprings): run(context, g)
