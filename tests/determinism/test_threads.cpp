@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "determinism/scene_steps.h"
@@ -170,6 +171,64 @@ TEST(Threads, ThreeShippedScenesEndWithOneHashOnOneTwoAndFourThreads) {
       const RunReport many = testing::runSteps(*loaded.scene, 300, {}, threads);
       EXPECT_EQ(many.stateHash, one.stateHash) << path << ", " << threads << " threads";
       EXPECT_EQ(many.steps, one.steps) << path;
+    }
+  }
+}
+
+// A small model (fewer than 4096 particles) on two threads finds its contacts
+// beside its connector stages and adds their loads afterwards (evaluate.cpp),
+// timing that against one thread now and then: every evaluation's forces are
+// the one-thread forces, bit for bit, with each integrator (the fused pass of
+// symplectic Euler and Taylor runs before the two jobs).
+TEST(Threads, ASmallModelsContactsFoundBesideItsConnectorsGiveTheOneThreadForces) {
+  // The forces, torques and contacts of one evaluation, as bits.
+  const auto evaluationBits = [](const World& world) {
+    std::vector<std::uint64_t> bits;
+    const auto add = [&bits](double x) {
+      std::uint64_t b = 0;
+      std::memcpy(&b, &x, sizeof b);
+      bits.push_back(b);
+    };
+    for (const Vec3& f : world.forces()) add(f.x), add(f.y), add(f.z);
+    for (const Vec3& t : world.evaluation().torque) add(t.x), add(t.y), add(t.z);
+    for (const Contact& c : world.contacts()) add(c.normalForce), add(c.frictionForce.x);
+    add(world.evaluation().contactCriticalStep);
+    add(world.energy().total());
+    return bits;
+  };
+  for (const char* name : {"hand_lift", "wheel_cube_ramp"}) {
+    const std::string path = std::string(ROBOPHI_SOURCE_DIR "/scenes/") + name + ".json";
+    const SceneLoadResult loaded = loadSceneFile(path);
+    ASSERT_TRUE(loaded.ok()) << path;
+    for (const Integrator integrator :
+         {Integrator::kVelocityVerlet, Integrator::kSymplecticEuler, Integrator::kTaylor}) {
+      Scene scene = *loaded.scene;
+      scene.run.integrator = integrator;
+      ASSERT_LT(scene.model.particleCount(), 4096) << path;
+      std::vector<std::vector<std::uint64_t>> one;
+      std::size_t touching = 0;  // steps that end with contacts
+      const RunReport serial = testing::runSteps(
+          scene, 300,
+          [&](World& world) {
+            one.push_back(evaluationBits(world));
+            if (!world.contacts().empty()) ++touching;
+          },
+          1);
+      EXPECT_TRUE(serial.sound()) << path << ": " << serial.failure;
+      std::size_t step = 0;
+      std::size_t differing = 0;
+      const RunReport two = testing::runSteps(
+          scene, 300,
+          [&](World& world) {
+            if (step >= one.size() || evaluationBits(world) != one[step]) ++differing;
+            ++step;
+          },
+          2);
+      EXPECT_EQ(step, one.size()) << path;
+      EXPECT_EQ(differing, 0u) << path << ", integrator " << static_cast<int>(integrator);
+      EXPECT_EQ(two.stateHash, serial.stateHash) << path;
+      // Both jobs had work on most steps.
+      EXPECT_GT(touching, one.size() / 2) << path;
     }
   }
 }
