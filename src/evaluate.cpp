@@ -71,20 +71,23 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   out.torque.resize(position.size());
   EnergyTally& e = out.energy;
   bool beside = contactsBesideConnectors(model, state, threads);
-  // Where it can, every period times the evaluations on one thread and then
-  // beside, and keeps the faster way for the rest of the period.
-  constexpr std::int64_t kPeriod = 4096, kProbe = 64;
+  // Where it can, every period times kProbe evaluations on one thread and then
+  // kProbe beside, and keeps the faster way for the rest of the period. The
+  // first kWarm beside are not timed: the worker, idle while one thread
+  // worked, may have gone to sleep, and waking it would count against beside.
+  constexpr std::int64_t kPeriod = 4096, kProbe = 64, kWarm = 16;
   ForceScratch::OverlapChoice& choice = workspace.forceScratch().overlap;
   bool timed = false;
   std::chrono::steady_clock::time_point began;
   if (beside) {
     const std::int64_t k = choice.evaluations++ % kPeriod;
-    if (k == 2 * kProbe) {
+    if (k == 2 * kProbe + kWarm) {
       choice.beside = choice.besideSeconds <= choice.serialSeconds;
       choice.serialSeconds = choice.besideSeconds = 0.0;
     }
-    timed = k < 2 * kProbe;
-    beside = timed ? k >= kProbe : choice.beside;
+    const bool probing = k < 2 * kProbe + kWarm;
+    timed = probing && (k < kProbe || k >= kProbe + kWarm);
+    beside = probing ? k >= kProbe : choice.beside;
     if (timed) began = std::chrono::steady_clock::now();
   }
   // The connector stages that scale with the model run in parallel, and so do
