@@ -11,15 +11,6 @@ namespace robophi::detail {
 
 namespace {
 
-// A hint to the core that this thread is waiting in a loop.
-inline void cpuRelax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
 // The ticket: generation (32 bits) | chunk count (16) | next chunk (16).
 constexpr int kCountShift = 16;
 constexpr std::uint64_t kIndexMask = 0xffff;
@@ -55,13 +46,7 @@ class Pool {
     ticket_.notify_all();
     takeChunks(generation);
     // Only chunks in progress on a worker are left.
-    for (int k = 0; remaining_.load(std::memory_order_acquire) != 0; ++k) {
-      if (k < 256) {
-        cpuRelax();
-      } else {
-        std::this_thread::yield();
-      }
-    }
+    while (remaining_.load(std::memory_order_acquire) != 0) std::this_thread::yield();
     busy_.store(false, std::memory_order_release);
     return true;
   }
@@ -87,24 +72,14 @@ class Pool {
     std::uint64_t handled = 0;  // the last generation this worker looked at
     for (;;) {
       std::uint64_t t = ticket_.load(std::memory_order_acquire);
-      // Wait for the next job: the stages of a step follow each other within
-      // microseconds. Spin on the core for a little (a yield is a system call,
-      // and it hands the core to the thread that posts the jobs as often as to
-      // another), then yield it for a while, then sleep until a job is posted.
-      const auto now = std::chrono::steady_clock::now();
-      const auto spinUntil = now + std::chrono::microseconds(50);
-      const auto yieldUntil = now + std::chrono::microseconds(200);
+      // Spin (yielding) for a while: the stages of a step follow each other
+      // within microseconds. Then sleep until a new job is posted.
+      const auto spinUntil = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
       while (generationOf(t) == handled) {
-        for (int k = 0; k < 64 && generationOf(t) == handled; ++k) {
-          cpuRelax();
-          t = ticket_.load(std::memory_order_acquire);
-        }
-        if (generationOf(t) != handled) break;
-        const auto time = std::chrono::steady_clock::now();
-        if (time >= yieldUntil) {
-          ticket_.wait(t, std::memory_order_acquire);
-        } else if (time >= spinUntil) {
+        if (std::chrono::steady_clock::now() < spinUntil) {
           std::this_thread::yield();
+        } else {
+          ticket_.wait(t, std::memory_order_acquire);
         }
         t = ticket_.load(std::memory_order_acquire);
       }
