@@ -59,6 +59,24 @@ bool contactsBesideConnectors(const Model& model, const State& state, int thread
           !model.jointSprings.empty() || !model.bodies.empty());
 }
 
+// Where the two jobs can run (contactsBesideConnectors), whether this evaluation
+// runs them: every period times kProbe evaluations on one thread and then kProbe
+// beside, and keeps the faster way for the rest of the period (`timed`: this
+// evaluation is one of those timed). The first kWarm beside are not timed: the
+// worker, idle while one thread worked, may have gone to sleep, and waking it
+// would count against beside.
+bool chooseBeside(ForceScratch::OverlapChoice& choice, bool& timed) {
+  constexpr std::int64_t kPeriod = 4096, kProbe = 64, kWarm = 16;
+  const std::int64_t k = choice.evaluations++ % kPeriod;
+  if (k == 2 * kProbe + kWarm) {
+    choice.beside = choice.besideSeconds <= choice.serialSeconds;
+    choice.serialSeconds = choice.besideSeconds = 0.0;
+  }
+  const bool probing = k < 2 * kProbe + kWarm;
+  timed = probing && (k < kProbe || k >= kProbe + kWarm);
+  return probing ? k >= kProbe : choice.beside;
+}
+
 }  // namespace
 
 void evaluateForces(const CompiledModel& compiled, const State& state, Workspace& workspace,
@@ -70,26 +88,10 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   out.force.resize(position.size());
   out.torque.resize(position.size());
   EnergyTally& e = out.energy;
-  bool beside = contactsBesideConnectors(model, state, threads);
-  // Where it can, every period times kProbe evaluations on one thread and then
-  // kProbe beside, and keeps the faster way for the rest of the period. The
-  // first kWarm beside are not timed: the worker, idle while one thread
-  // worked, may have gone to sleep, and waking it would count against beside.
-  constexpr std::int64_t kPeriod = 4096, kProbe = 64, kWarm = 16;
-  ForceScratch::OverlapChoice& choice = workspace.forceScratch().overlap;
   bool timed = false;
-  std::chrono::steady_clock::time_point began;
-  if (beside) {
-    const std::int64_t k = choice.evaluations++ % kPeriod;
-    if (k == 2 * kProbe + kWarm) {
-      choice.beside = choice.besideSeconds <= choice.serialSeconds;
-      choice.serialSeconds = choice.besideSeconds = 0.0;
-    }
-    const bool probing = k < 2 * kProbe + kWarm;
-    timed = probing && (k < kProbe || k >= kProbe + kWarm);
-    beside = probing ? k >= kProbe : choice.beside;
-    if (timed) began = std::chrono::steady_clock::now();
-  }
+  const bool beside = contactsBesideConnectors(model, state, threads) &&
+                      chooseBeside(workspace.forceScratch().overlap, timed);
+  const auto began = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   // The connector stages that scale with the model run in parallel, and so do
   // the contacts (src/collision/: chunks of contacts, then a gather by particle);
   // TS and JS compute in parallel and add in order; the bodies and the drives (a
@@ -138,23 +140,8 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   };
   if (beside) {
     // Two jobs: the contacts (the larger, taken first by this thread), the connectors.
-    using Connectors = decltype(connectors);
-    using Contacts = decltype(findContacts);
-    struct Jobs {
-      const Connectors* connectorStages;
-      const Contacts* contactStage;
-    } jobs{&connectors, &findContacts};
-    detail::runChunks(
-        2, 2,
-        [](void* raw, std::int64_t job) {
-          const Jobs& x = *static_cast<const Jobs*>(raw);
-          if (job == 0) {
-            (*x.contactStage)(1, false);
-          } else {
-            (*x.connectorStages)(1);
-          }
-        },
-        &jobs);
+    detail::runBoth(
+        2, [&] { findContacts(1, false); }, [&] { connectors(1); });
   } else {
     connectors(threads);
     findContacts(threads, true);
@@ -174,6 +161,7 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   if (timed) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    ForceScratch::OverlapChoice& choice = workspace.forceScratch().overlap;
     (beside ? choice.besideSeconds : choice.serialSeconds) += seconds;
   }
 }

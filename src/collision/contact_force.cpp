@@ -1307,15 +1307,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
   const int stageThreads = cache.stageThreads;
   const bool direct = cache.direct;
   TurningCache& turning = cache.turning;
-  const StageInput input{model,
-                         tables,
-                         p,
-                         v,
-                         spin,
-                         previous,
-                         cache,
-                         direct ? &f : nullptr,
-                         direct ? &torque : nullptr};
+  // (The serial pass of deferred loads reads the stage's input, not its `force`.)
+  const StageInput input{model, tables, p, v, spin, previous, cache};
 
   // The sums, in chunk order; the deferred loads, in contact order.
   StageTally tally;
@@ -1413,15 +1406,6 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
   out.dissipativePower += tally.dissipativePower + viscousPower;
   out.releasedAnchorEnergy = tally.releasedEnergy;
   out.contactStats = cache.stats;
-}
-
-void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
-                        int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                        const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
-                        ContactScratch& scratch, Evaluation& out) {
-  findContactLoads(model, tables, revision, threads, p, v, spin, previous, scratch, &out.force,
-                   &out.torque);
-  applyContactLoads(model, tables, p, v, spin, previous, scratch, out);
 }
 
 double deepestPenetrationFraction(const Model& model, const std::vector<Contact>& contacts) {

@@ -19,26 +19,22 @@ namespace robophi {
 void detectContacts(const Model& model, const std::vector<Vec3>& position, int threads,
                     ContactScratch& scratch);
 
-/// The contact stage, on up to `threads` threads (the same bits for any count): detects contacts at
-/// (position, velocity, spin: empty or one per particle), adds contact, friction and viscosity
-/// forces to out.force and the spinning particles' torques to out.torque (both sized), sets
-/// out.energy.contact, adds the dissipative power to out.dissipativePower and sets out.contacts
-/// (each persisting contact starting from its friction anchor in `history`, which is only read),
-/// out.releasedAnchorEnergy (the anchor energy of `history` given up by slipping or opening),
-/// out.contactCriticalStep and out.contactStats.
-void accumulateContacts(const Model& model, const ContactTables& tables, std::int64_t revision,
-                        int threads, const std::vector<Vec3>& position,
-                        const std::vector<Vec3>& velocity, const std::vector<Vec3>& spin,
-                        const std::vector<Contact>& history, ContactScratch& scratch,
-                        Evaluation& out);
-
-/// accumulateContacts in two parts, so that the connector stages can run beside
-/// the first (evaluate.cpp): findContactLoads detects the contacts and works out
-/// their loads into `scratch`, reading only positions, velocities, spins and the
-/// history; with `force` and `torque` (out.force and out.torque) it may add the
-/// loads to them as it goes (one thread, nothing deferred), with null it leaves
-/// them alone. applyContactLoads then adds the loads to out.force and out.torque
-/// and sets out's contact fields. The same bits whether the loads went directly or not.
+/// The contact stage, in two parts, so that the connector stages can run beside
+/// the first (evaluate.cpp); the same bits for any thread count and whether the
+/// loads went directly or not.
+///
+/// findContactLoads, on up to `threads` threads: detects the contacts at
+/// (position, velocity, spin: empty or one per particle) and works out their
+/// loads into `scratch`, reading only those and `history` (each persisting
+/// contact starts from its friction anchor there). With `force` and `torque`
+/// (out.force and out.torque, sized) it may add the loads to them as it goes
+/// (one thread, nothing deferred); with null it leaves them alone.
+///
+/// applyContactLoads then adds the contact, friction and viscosity forces to
+/// out.force and the spinning particles' torques to out.torque, sets
+/// out.energy.contact, adds the dissipative power to out.dissipativePower and sets
+/// out.contacts, out.releasedAnchorEnergy (the anchor energy of `history` given
+/// up by slipping or opening), out.contactCriticalStep and out.contactStats.
 void findContactLoads(const Model& model, const ContactTables& tables, std::int64_t revision,
                       int threads, const std::vector<Vec3>& position,
                       const std::vector<Vec3>& velocity, const std::vector<Vec3>& spin,

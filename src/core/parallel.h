@@ -21,6 +21,28 @@ int availableThreads();
 using ChunkFunction = void (*)(void* context, std::int64_t chunk);
 void runChunks(int threads, std::int64_t chunks, ChunkFunction function, void* context);
 
+/// first() and second() side by side on up to two threads (the caller takes
+/// first(), then second() if no worker has taken it); one after the other on
+/// one thread or when the pool is busy. For two jobs that write apart.
+template <class First, class Second>
+void runBoth(int threads, const First& first, const Second& second) {
+  struct Context {
+    const First* first;
+    const Second* second;
+  } context{&first, &second};
+  runChunks(
+      std::min(threads, 2), 2,
+      [](void* raw, std::int64_t job) {
+        const Context& x = *static_cast<const Context*>(raw);
+        if (job == 0) {
+          (*x.first)();
+        } else {
+          (*x.second)();
+        }
+      },
+      &context);
+}
+
 /// Elements of a chunk: the grain of the parallel loops and of the sums.
 inline constexpr std::int64_t kParallelChunk = 1024;
 /// Below this many elements a stage runs on the calling thread (waking the

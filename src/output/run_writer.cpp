@@ -35,21 +35,15 @@ void RunWriter::add(double value) {
   lineFinite_ = lineFinite_ && std::isfinite(value);
 }
 
-void RunWriter::countGathered(std::size_t bytes) {
-  if (!replay_) return;
-  replay_->bytes += bytes;
-  if (replay_->bytes > kReplayGatherBytes) replay_.reset();
-}
-
-void RunWriter::gather(ReplaySeries& series) {
+void RunWriter::gather(std::vector<std::string>& rows, std::string row) {
   // JSON has no NaN: a row that is not finite leaves the page to the files
-  // (whose reader writes null for it).
-  if (!lineFinite_) {
+  // (whose reader writes null for it), and so do rows past the memory bound.
+  if (!lineFinite_ || replay_->bytes + row.size() > kReplayGatherBytes) {
     replay_.reset();
     return;
   }
-  series.rows.push_back(line_);
-  countGathered(line_.size());
+  replay_->bytes += row.size();
+  rows.push_back(std::move(row));
 }
 
 const std::vector<std::string>& runFileNames() {
@@ -324,7 +318,7 @@ void RunWriter::writeBatch(const Batch& batch) {
       case RowKind::kEnergy:
         numbers(7);
         energy_ << line_ << '\n';
-        if (replay_) gather(replay_->energy);
+        if (replay_) gather(replay_->energy.rows, line_);
         break;
       case RowKind::kFrame: {
         add(*v++);
@@ -343,14 +337,7 @@ void RunWriter::writeBatch(const Batch& batch) {
           numbers(3);
         }
         particles_ << line_ << '\n';
-        if (replay_) {
-          if (lineFinite_) {
-            countGathered(frame.size());
-            if (replay_) replay_->frames.push_back(std::move(frame));
-          } else {
-            replay_.reset();
-          }
-        }
+        if (replay_) gather(replay_->frames, std::move(frame));
         break;
       }
       case RowKind::kObjects: {
@@ -371,14 +358,14 @@ void RunWriter::writeBatch(const Batch& batch) {
         contacts_ << line_ << '\n';
         if (replay_) {
           replay_->contactTimes.push_back(t);
-          gather(replay_->contacts);
+          gather(replay_->contacts.rows, line_);
         }
         break;
       }
       case RowKind::kJoints:
         numbers(1 + 4 * jointCount_);
         joints_ << line_ << '\n';
-        if (replay_) gather(replay_->joints);
+        if (replay_) gather(replay_->joints.rows, line_);
         break;
     }
   }

@@ -95,10 +95,10 @@ class RunWriter {
   void writeBatch(const Batch& batch);
   /// Appends `value` to line_ in its shortest round-trip form.
   void add(double value);
-  /// Keeps line_ (a finished row) in `series` of the replay rows.
-  void gather(ReplaySeries& series);
-  /// Counts `bytes` more of replay rows; drops them all past the bound.
-  void countGathered(std::size_t bytes);
+  /// Keeps `row` (the text of line_, a finished row, or its frame) in `rows` of
+  /// the replay rows (replay_ set); drops them all when line_ was not finite or
+  /// past kReplayGatherBytes.
+  void gather(std::vector<std::string>& rows, std::string row);
 
   std::string dir_;
   std::vector<std::string> files_;  // written so far, for the marker
