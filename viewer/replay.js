@@ -16,24 +16,34 @@ const fixedFlag = data.particles.fixed;
 const linear = data.linear;  // flat: a, b, restLength, ...
 const linkCount = linear.length / 3;
 
-const num = (v) => (v === null ? NaN : v);
-const frameRows = data.frames.rows;
-const frameCount = frameRows.length;
-const frameTime = new Float64Array(frameCount);
-const framePosition = new Float64Array(frameCount * particleCount * 3);  // (frame, particle, xyz)
-frameRows.forEach((row, k) => {
-  frameTime[k] = num(row[0]);
-  const base = k * particleCount * 3;
-  for (let v = 1; v < row.length; ++v) framePosition[base + v - 1] = num(row[v]);
-});
+// The series are binary: base64 of little-endian numbers (docs/viewer.md, "The
+// page's data"): the tables and the frames' times as doubles, the positions as floats.
+function decodeNumbers(text, Type) {
+  const bytes = atob(text);
+  const buffer = new Uint8Array(bytes.length);
+  for (let i = 0; i < bytes.length; ++i) buffer[i] = bytes.charCodeAt(i);
+  return new Type(buffer.buffer);
+}
+const frameTime = decodeNumbers(data.frames.t, Float64Array);
+const frameCount = frameTime.length;
+// (frame, particle, xyz)
+const framePosition = Float64Array.from(decodeNumbers(data.frames.position, Float32Array));
 const tStart = frameTime[0];
 const tEnd = frameTime[frameCount - 1];
 
+// A table's rows: {width, count, values (row-major Float64Array), row(r)}.
+function rowsOf(table) {
+  const width = table.columns.length;
+  const values = decodeNumbers(table.values, Float64Array);
+  const count = width > 0 ? values.length / width : 0;
+  return { width, count, values, row: (r) => values.subarray(r * width, (r + 1) * width) };
+}
 // A table of rows as named columns of Float64Array.
 function columnsOf(table) {
+  const { width, count, values } = rowsOf(table);
   const out = {};
   table.columns.forEach((name, c) => {
-    out[name] = Float64Array.from(table.rows, (row) => num(row[c]));
+    out[name] = Float64Array.from({ length: count }, (_, r) => values[r * width + c]);
   });
   return out;
 }
@@ -45,12 +55,14 @@ const jointNames = data.joints ? data.joints.columns.slice(1).filter((c) => !c.i
 // Contacts grouped by time: [{t, rows: [[a, b, fx, fy, fz, ...], ...]}], times increasing.
 const contactGroups = [];
 if (data.contacts) {
-  for (const row of data.contacts.rows) {
-    const t = num(row[0]);
+  const contactRows = rowsOf(data.contacts);
+  for (let r = 0; r < contactRows.count; ++r) {
+    const row = contactRows.row(r);
+    const t = row[0];
     if (contactGroups.length === 0 || contactGroups[contactGroups.length - 1].t !== t) {
       contactGroups.push({ t, rows: [] });
     }
-    contactGroups[contactGroups.length - 1].rows.push(row.slice(1).map(num));
+    contactGroups[contactGroups.length - 1].rows.push(Array.from(row.subarray(1)));
   }
 }
 // Which columns of a contact row (after t) hold what: the particles, the normal

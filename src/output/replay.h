@@ -6,6 +6,7 @@
 /// joint plots. Opens from disk in a browser with no server and no network.
 /// docs/viewer.md describes the page.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -28,22 +29,22 @@ struct ReplayOptions {
 /// sets `error` to a message that names the file and what is wrong.
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error);
 
-/// One series of the page: its columns (the CSV header's) and its rows, each the
-/// row's numbers comma-separated as the page writes them (shortest round-trip
-/// form; a robophi CSV line of finite numbers is such a row).
+/// One series of the page: its columns (the CSV header's) and its rows' numbers,
+/// row-major (rows() × columns.size()), the doubles the CSV holds.
 struct ReplaySeries {
   std::vector<std::string> columns;
-  std::vector<std::string> rows;
+  std::vector<double> values;
+  std::size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
 };
 
-/// A run's series as the page's rows, gathered by the run as it writes its
+/// A run's series as the page holds them, gathered by the run as it writes its
 /// files (RunWriter), so that the page is made without reading them back.
 struct ReplayRows {
-  /// particles.csv's frames as the page's rows: t, then x,y,z of each particle.
-  std::vector<std::string> frames;
+  /// particles.csv's frames: each frame's t (s), and the particles' positions
+  /// (m; frame, particle, x y z) in single precision, as the page draws them.
+  std::vector<double> frameTime;
+  std::vector<float> framePosition;
   ReplaySeries energy, joints, contacts;
-  /// The t of each contacts row (the page keeps a time's contacts together).
-  std::vector<double> contactTimes;
   bool hasJoints = false, hasContacts = false;
   /// The rows' bytes, to bound what a run holds in memory.
   std::size_t bytes = 0;

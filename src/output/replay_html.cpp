@@ -2,21 +2,27 @@
 //
 // The page is viewer/replay.html.in with three.js, the viewer's CSS and JS
 // already inlined at build time (robophi/replay_assets.h); this file adds the run
-// data as one JSON object between kPageHead and kPageTail. Numbers are written in
-// their shortest round-trip form, so the page shows the very positions of
-// particles.csv. Frames are decimated by a stride so the page stays under the cap.
+// data as one JSON object between kPageHead and kPageTail. The model's numbers
+// are JSON numbers; the series are binary (base64 of little-endian numbers,
+// docs/viewer.md): the plotted tables and the frames' times as the doubles of
+// the CSV files, the frames' positions in single precision, which is what the
+// viewer draws with (a page a third the size of one in decimal text, and read
+// without parsing). Frames are decimated by a stride so the page stays under the cap.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string_view>
 #include <vector>
 
+#include "output/base64.h"
 #include "output/json_numbers.h"
 #include "output/replay.h"
 #include "output/results_folder.h"
@@ -107,101 +113,104 @@ std::string modelJson(const RunFolder& run) {
   return out;
 }
 
-// "[row]" appended in place.
-void appendBracketed(std::string& out, const std::string& row) {
-  out += '[';
-  out += row;
-  out += ']';
-}
-
-// Rows of a table rendered one string per row ("v0,v1,..."), for sizing and writing.
-std::vector<std::string> renderRows(const CsvTable& table) {
-  std::vector<std::string> rows(table.rowCount);
-  for (std::size_t r = 0; r < table.rowCount; ++r) {
-    for (std::size_t c = 0; c < table.columns.size(); ++c) {
-      if (c > 0) rows[r] += ',';
-      appendNumber(rows[r], table.at(r, c));
+// The kept rows' numbers of `values` (rows of `width`), non-finite ones in one
+// form (a page made from the run's rows and one made from its files are the
+// same bytes whatever NaN the run produced).
+template <class Out>
+std::vector<Out> keptValues(const double* values, std::size_t width,
+                            const std::vector<std::size_t>& kept) {
+  std::vector<Out> out;
+  out.reserve(kept.size() * width);
+  for (std::size_t r : kept) {
+    for (std::size_t c = 0; c < width; ++c) {
+      const double v = values[r * width + c];
+      out.push_back(std::isnan(v) ? std::numeric_limits<Out>::quiet_NaN() : static_cast<Out>(v));
     }
   }
-  return rows;
+  return out;
 }
 
-std::vector<std::string> renderFrames(const RunFolder& run) {
-  std::vector<std::string> frames(run.frameCount());
-  const std::size_t valuesPerFrame = 3 * static_cast<std::size_t>(run.particleCount);
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    appendNumber(frames[k], run.frameTime[k]);
-    for (std::size_t v = 0; v < valuesPerFrame; ++v) {
-      frames[k] += ',';
-      appendNumber(frames[k], run.framePosition[k * valuesPerFrame + v]);
-    }
-  }
-  return frames;
+// "name":"<base64 of the numbers' little-endian bytes>".
+template <class T>
+void appendBinary(std::string& out, const char* name, const std::vector<T>& numbers) {
+  static_assert(std::endian::native == std::endian::little,
+                "the page's numbers are little-endian: swap bytes on this machine");
+  fmt::format_to(std::back_inserter(out), ",\"{}\":\"", name);
+  output::appendBase64(out, numbers.data(), numbers.size() * sizeof(T));
+  out += '"';
 }
 
-std::size_t keptBytes(const std::vector<std::string>& rows, std::size_t stride) {
-  std::size_t bytes = 0;
-  for (std::size_t i : keptIndices(rows.size(), stride)) bytes += rows[i].size() + 3;  // "[row],"
-  return bytes;
+// How many rows keptIndices keeps.
+std::size_t keptCount(std::size_t count, std::size_t stride) {
+  if (count == 0) return 0;
+  return (count - 1) / stride + 1 + ((count - 1) % stride != 0 ? 1 : 0);
 }
 
-// The smallest stride whose kept rows fit in `budget` bytes (rows.size() if none does).
-std::size_t strideToFit(const std::vector<std::string>& rows, std::size_t budget) {
-  std::size_t total = keptBytes(rows, 1);
-  if (total <= budget || rows.size() <= 1) return 1;
+// The page's bytes for `count` rows of `width` numbers of `size` bytes each.
+std::size_t encodedBytes(std::size_t count, std::size_t width, std::size_t size) {
+  return output::base64Size(count * width * size) + 16;  // "name":"...", and the count
+}
+
+std::size_t seriesBytes(const ReplaySeries& series, std::size_t stride) {
+  return encodedBytes(keptCount(series.rows(), stride), series.columns.size(), sizeof(double));
+}
+
+std::size_t frameBytes(const ReplayRows& rows, std::size_t particles, std::size_t stride) {
+  const std::size_t kept = keptCount(rows.frameTime.size(), stride);
+  return encodedBytes(kept, 1, sizeof(double)) + encodedBytes(kept, 3 * particles, sizeof(float));
+}
+
+// The smallest stride whose kept rows (`bytes(stride)`) fit in `budget` bytes
+// (`count` if none does).
+template <class Bytes>
+std::size_t strideToFit(std::size_t count, const Bytes& bytes, std::size_t budget) {
+  const std::size_t total = bytes(1);
+  if (total <= budget || count <= 1) return 1;
   std::size_t stride = std::max<std::size_t>(1, total / std::max<std::size_t>(budget, 1));
-  while (stride < rows.size() && keptBytes(rows, stride) > budget) {
-    stride = std::max(stride + 1, stride + stride / 8);
-  }
-  return std::min(stride, rows.size());
+  while (stride < count && bytes(stride) > budget) stride = std::max(stride + 1, stride + stride / 8);
+  return std::min(stride, count);
 }
 
-// A decimated table: "name":{"columns":[..],"sourceRows":R,"stride":s,"rows":[[..],..]}.
-void appendTable(std::string& out, const char* name, const ReplaySeries& series,
-                 std::size_t stride) {
+void appendColumns(std::string& out, const char* name, const ReplaySeries& series) {
   fmt::format_to(std::back_inserter(out), ",\"{}\":{{\"columns\":[", name);
   for (std::size_t c = 0; c < series.columns.size(); ++c) {
     if (c > 0) out += ',';
     out += jsonString(series.columns[c]);
   }
-  fmt::format_to(std::back_inserter(out), "],\"sourceRows\":{},\"stride\":{},\"rows\":[",
-                 series.rows.size(), stride);
-  bool first = true;
-  for (std::size_t i : keptIndices(series.rows.size(), stride)) {
-    if (!first) out += ',';
-    first = false;
-    appendBracketed(out, series.rows[i]);
-  }
-  out += "]}";
+  out += ']';
 }
 
-// Contacts are decimated by time groups (`times`: each row's t), so a kept time
-// keeps all its contacts.
-void appendContacts(std::string& out, const ReplaySeries& series, const std::vector<double>& times,
-                    std::size_t stride) {
-  const std::vector<std::string>& rows = series.rows;
+// A decimated table: "name":{"columns":[..],"sourceRows":R,"stride":s,"count":K,"values":"<base64>"}.
+void appendTable(std::string& out, const char* name, const ReplaySeries& series,
+                 std::size_t stride) {
+  appendColumns(out, name, series);
+  const std::vector<std::size_t> kept = keptIndices(series.rows(), stride);
+  fmt::format_to(std::back_inserter(out), ",\"sourceRows\":{},\"stride\":{},\"count\":{}",
+                 series.rows(), stride, kept.size());
+  appendBinary(out, "values", keptValues<double>(series.values.data(), series.columns.size(), kept));
+  out += '}';
+}
+
+// Contacts are decimated by time groups (a row's t is its first number), so a
+// kept time keeps all its contacts.
+void appendContacts(std::string& out, const ReplaySeries& series, std::size_t stride) {
+  const std::size_t width = series.columns.size();
+  const std::size_t rows = series.rows();
   std::vector<std::size_t> groupStart;
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    if (r == 0 || times[r] != times[r - 1]) groupStart.push_back(r);
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (r == 0 || series.values[r * width] != series.values[(r - 1) * width]) groupStart.push_back(r);
   }
-  out += ",\"contacts\":{\"columns\":[";
-  for (std::size_t c = 0; c < series.columns.size(); ++c) {
-    if (c > 0) out += ',';
-    out += jsonString(series.columns[c]);
-  }
-  fmt::format_to(std::back_inserter(out),
-                 "],\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"rows\":[", rows.size(),
-                 groupStart.size(), stride);
-  bool first = true;
+  std::vector<std::size_t> kept;
   for (std::size_t g : keptIndices(groupStart.size(), stride)) {
-    const std::size_t end = g + 1 < groupStart.size() ? groupStart[g + 1] : rows.size();
-    for (std::size_t r = groupStart[g]; r < end; ++r) {
-      if (!first) out += ',';
-      first = false;
-      appendBracketed(out, rows[r]);
-    }
+    const std::size_t end = g + 1 < groupStart.size() ? groupStart[g + 1] : rows;
+    for (std::size_t r = groupStart[g]; r < end; ++r) kept.push_back(r);
   }
-  out += "]}";
+  appendColumns(out, "contacts", series);
+  fmt::format_to(std::back_inserter(out),
+                 ",\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"count\":{}", rows,
+                 groupStart.size(), stride, kept.size());
+  appendBinary(out, "values", keptValues<double>(series.values.data(), width, kept));
+  out += '}';
 }
 
 // The page (head, data, tail) written whole or not at all; a page written into
@@ -268,10 +277,12 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
   if (!readWorldView(fs::path(runDir), world, error)) return false;
   std::string model = modelJson(run);
   if (!world.empty()) model += ",\"world\":" + world;
-  const std::vector<std::string>& frames = rows.frames;
-  const std::vector<std::string>& energy = rows.energy.rows;
-  const std::vector<std::string>& joints = rows.joints.rows;
-  const std::vector<std::string>& contacts = rows.contacts.rows;
+  const auto particles = static_cast<std::size_t>(run.particleCount);
+  if (rows.framePosition.size() != rows.frameTime.size() * 3 * particles) {
+    error = fmt::format("{}: {} positions for {} frames of {} particles", runDir,
+                        rows.framePosition.size(), rows.frameTime.size(), particles);
+    return false;
+  }
 
   // Budget: the cap less the page itself and the model; plot rows may take up to
   // a quarter of what is left, frames the rest.
@@ -284,43 +295,49 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
     return false;
   }
   const auto available = static_cast<std::size_t>(cap) - fixedBytes;
-  const std::size_t seriesBytes =
-      keptBytes(energy, 1) + keptBytes(joints, 1) + keptBytes(contacts, 1);
-  const std::size_t frameBytes = keptBytes(frames, 1);
+  const std::size_t allSeriesBytes =
+      seriesBytes(rows.energy, 1) + seriesBytes(rows.joints, 1) + seriesBytes(rows.contacts, 1);
+  const auto framesAt = [&](std::size_t stride) { return frameBytes(rows, particles, stride); };
   std::size_t frameStride = 1;
   double seriesShare = 1.0;  // fraction of each plot table kept
-  if (frameBytes + seriesBytes > available) {
-    const std::size_t seriesBudget = std::min(seriesBytes, available / 4);
-    seriesShare = seriesBytes > 0
-                      ? static_cast<double>(seriesBudget) / static_cast<double>(seriesBytes)
-                      : 1.0;
-    frameStride = strideToFit(frames, available - seriesBudget);
+  if (framesAt(1) + allSeriesBytes > available) {
+    const std::size_t seriesBudget = std::min(allSeriesBytes, available / 4);
+    seriesShare = allSeriesBytes > 0 ? static_cast<double>(seriesBudget) /
+                                           static_cast<double>(allSeriesBytes)
+                                     : 1.0;
+    frameStride = strideToFit(rows.frameTime.size(), framesAt, available - seriesBudget);
   }
-  auto seriesStride = [&](const std::vector<std::string>& series) {
-    return seriesShare >= 1.0
-               ? std::size_t{1}
-               : strideToFit(series, static_cast<std::size_t>(
-                                         seriesShare * static_cast<double>(keptBytes(series, 1))));
+  auto seriesStride = [&](const ReplaySeries& series) {
+    if (seriesShare >= 1.0) return std::size_t{1};
+    const auto bytesAt = [&](std::size_t stride) { return seriesBytes(series, stride); };
+    return strideToFit(series.rows(), bytesAt,
+                       static_cast<std::size_t>(seriesShare * static_cast<double>(bytesAt(1))));
   };
-  const std::size_t energyStride = seriesStride(energy);
-  const std::size_t jointsStride = seriesStride(joints);
-  const std::size_t contactsStride = seriesStride(contacts);
+  const std::size_t energyStride = seriesStride(rows.energy);
+  const std::size_t jointsStride = seriesStride(rows.joints);
+  const std::size_t contactsStride = seriesStride(rows.contacts);
 
   // The data object, in the order viewer/replay.js reads it.
   std::string data = "{" + model;
-  data.reserve(data.size() + keptBytes(frames, frameStride) + keptBytes(energy, energyStride) +
-               keptBytes(joints, jointsStride) + keptBytes(contacts, contactsStride) + 4096);
+  data.reserve(data.size() + framesAt(frameStride) + seriesBytes(rows.energy, energyStride) +
+               seriesBytes(rows.joints, jointsStride) +
+               seriesBytes(rows.contacts, contactsStride) + 4096);
   fmt::format_to(std::back_inserter(data), ",\"threeVersion\":\"{}\",\"sizeCapBytes\":{}",
                  replay_assets::kThreeVersion, cap);
-  const std::vector<std::size_t> keptFrames = keptIndices(frames.size(), frameStride);
+  const std::vector<std::size_t> keptFrames = keptIndices(rows.frameTime.size(), frameStride);
   fmt::format_to(std::back_inserter(data),
-                 ",\"frames\":{{\"sourceCount\":{},\"stride\":{},\"rows\":[", frames.size(),
-                 frameStride);
-  for (std::size_t i = 0; i < keptFrames.size(); ++i) {
-    if (i > 0) data += ',';
-    appendBracketed(data, frames[keptFrames[i]]);
+                 ",\"frames\":{{\"sourceCount\":{},\"stride\":{},\"count\":{}",
+                 rows.frameTime.size(), frameStride, keptFrames.size());
+  appendBinary(data, "t", keptValues<double>(rows.frameTime.data(), 1, keptFrames));
+  std::vector<float> positions;
+  positions.reserve(keptFrames.size() * 3 * particles);
+  for (std::size_t k : keptFrames) {
+    const float* frame = rows.framePosition.data() + k * 3 * particles;
+    for (std::size_t v = 0; v < 3 * particles; ++v)
+      positions.push_back(std::isnan(frame[v]) ? std::numeric_limits<float>::quiet_NaN() : frame[v]);
   }
-  data += "]}";
+  appendBinary(data, "position", positions);
+  data += '}';
   appendTable(data, "energy", rows.energy, energyStride);
   if (rows.hasJoints) {
     appendTable(data, "joints", rows.joints, jointsStride);
@@ -331,7 +348,7 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
     }
     data += ']';
   }
-  if (rows.hasContacts) appendContacts(data, rows.contacts, rows.contactTimes, contactsStride);
+  if (rows.hasContacts) appendContacts(data, rows.contacts, contactsStride);
   data += '}';
 
   const std::size_t pageBytes =
@@ -340,7 +357,7 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
     error = fmt::format(
         "{}: the page would be {} bytes, over the cap of {} bytes even with {} of "
         "{} frames; raise the cap",
-        outPath.string(), pageBytes, cap, keptFrames.size(), frames.size());
+        outPath.string(), pageBytes, cap, keptFrames.size(), rows.frameTime.size());
     return false;
   }
   return writePage(outPath, data, error);
@@ -352,13 +369,13 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
   RunFolder run;
   if (!output::readRunFolderWithFrames(runDir, /*needEnergy=*/true, run, error)) return false;
   ReplayRows rows;
-  rows.frames = renderFrames(run);
-  rows.energy = {run.energy.columns, renderRows(run.energy)};
-  rows.joints = {run.joints.columns, renderRows(run.joints)};
-  rows.contacts = {run.contacts.columns, renderRows(run.contacts)};
-  rows.contactTimes.reserve(run.contacts.rowCount);
-  for (std::size_t r = 0; r < run.contacts.rowCount; ++r)
-    rows.contactTimes.push_back(run.contacts.at(r, 0));
+  rows.frameTime = run.frameTime;
+  rows.framePosition.reserve(run.framePosition.size());
+  for (double x : run.framePosition) rows.framePosition.push_back(static_cast<float>(x));
+  const auto series = [](CsvTable& table) { return ReplaySeries{table.columns, std::move(table.values)}; };
+  rows.energy = series(run.energy);
+  rows.joints = series(run.joints);
+  rows.contacts = series(run.contacts);
   rows.hasJoints = run.hasJoints;
   rows.hasContacts = run.hasContacts;
   return writePageFrom(runDir, options, run, rows, error);
@@ -367,7 +384,7 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, st
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
                      const ReplayRows& rows, std::string& error) {
   // No frame: the files' own path says what is missing.
-  if (rows.frames.empty()) return writeReplayHtml(runDir, options, error);
+  if (rows.frameTime.empty()) return writeReplayHtml(runDir, options, error);
   RunFolder run;
   if (!output::readRunModel(runDir, run, error)) return false;
   return writePageFrom(runDir, options, run, rows, error);

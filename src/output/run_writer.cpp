@@ -29,21 +29,23 @@ std::ofstream openOrThrow(const std::filesystem::path& path) {
 }  // namespace
 
 // Numbers are written in their shortest round-trip form, so a CSV read back
-// gives the bits that were simulated (and the replay page's rows are the lines).
-void RunWriter::add(double value) {
-  output::appendShortest(line_, value);
-  lineFinite_ = lineFinite_ && std::isfinite(value);
+// gives the bits that were simulated.
+void RunWriter::add(double value) { output::appendShortest(line_, value); }
+
+void RunWriter::gather(ReplaySeries& series, const double* row) {
+  const std::size_t width = series.columns.size();
+  if (!reserveReplay(width * sizeof(double))) return;
+  series.values.insert(series.values.end(), row, row + width);
 }
 
-void RunWriter::gather(std::vector<std::string>& rows, std::string row) {
-  // JSON has no NaN: a row that is not finite leaves the page to the files
-  // (whose reader writes null for it), and so do rows past the memory bound.
-  if (!lineFinite_ || replay_->bytes + row.size() > kReplayGatherBytes) {
+bool RunWriter::reserveReplay(std::size_t bytes) {
+  // Rows past the memory bound leave the page to the files.
+  if (replay_->bytes + bytes > kReplayGatherBytes) {
     replay_.reset();
-    return;
+    return false;
   }
-  replay_->bytes += row.size();
-  rows.push_back(std::move(row));
+  replay_->bytes += bytes;
+  return true;
 }
 
 const std::vector<std::string>& runFileNames() {
@@ -313,31 +315,28 @@ void RunWriter::writeBatch(const Batch& batch) {
   const auto index = [&] { return static_cast<std::int64_t>(*v++); };
   for (const RowKind kind : batch.kinds) {
     line_.clear();
-    lineFinite_ = true;
+    const double* row = v;
     switch (kind) {
       case RowKind::kEnergy:
         numbers(7);
         energy_ << line_ << '\n';
-        if (replay_) gather(replay_->energy.rows, line_);
+        if (replay_) gather(replay_->energy, row);
         break;
       case RowKind::kFrame: {
         add(*v++);
-        // The page's frame: t and the positions, the same text as the line's.
-        std::string frame;
-        if (replay_) {
-          frame.reserve(line_.capacity() / 2);
-          frame = line_;
-        }
-        for (std::size_t i = 0; i < particleCount_; ++i) {
-          const std::size_t from = line_.size();
+        if (particleCount_ > 0) {
           line_ += ',';
-          numbers(3);
-          if (replay_) frame.append(line_, from, line_.size() - from);
-          line_ += ',';
-          numbers(3);
+          numbers(6 * particleCount_);
         }
         particles_ << line_ << '\n';
-        if (replay_) gather(replay_->frames, std::move(frame));
+        // The page's frame: t and the positions, in single precision.
+        if (replay_ && reserveReplay(sizeof(double) + 3 * particleCount_ * sizeof(float))) {
+          replay_->frameTime.push_back(row[0]);
+          for (std::size_t i = 0; i < particleCount_; ++i) {
+            for (std::size_t d = 1; d <= 3; ++d)
+              replay_->framePosition.push_back(static_cast<float>(row[6 * i + d]));
+          }
+        }
         break;
       }
       case RowKind::kObjects: {
@@ -348,7 +347,6 @@ void RunWriter::writeBatch(const Batch& batch) {
         break;
       }
       case RowKind::kContact: {
-        const double t = *v;
         add(*v++);
         const std::int64_t a = index(), b = index();
         fmt::format_to(std::back_inserter(line_), ",{},{},", a, b);
@@ -356,16 +354,13 @@ void RunWriter::writeBatch(const Batch& batch) {
         fmt::format_to(std::back_inserter(line_), ",{},", index());
         numbers(2);
         contacts_ << line_ << '\n';
-        if (replay_) {
-          replay_->contactTimes.push_back(t);
-          gather(replay_->contacts.rows, line_);
-        }
+        if (replay_) gather(replay_->contacts, row);
         break;
       }
       case RowKind::kJoints:
         numbers(1 + 4 * jointCount_);
         joints_ << line_ << '\n';
-        if (replay_) gather(replay_->joints.rows, line_);
+        if (replay_) gather(replay_->joints, row);
         break;
     }
   }

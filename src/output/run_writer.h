@@ -58,8 +58,7 @@ class RunWriter {
   /// every file.
   void finish(const Scene& scene, const RunSettings& settings, const RunReport& report);
   /// The replay page's rows of everything written, when they were gathered and
-  /// are whole (none once a number was not finite, or past kReplayGatherBytes:
-  /// the page then reads the files).
+  /// are whole (none past kReplayGatherBytes: the page then reads the files).
   std::optional<ReplayRows> takeReplayRows() {
     drain();
     return std::move(replay_);
@@ -95,10 +94,12 @@ class RunWriter {
   void writeBatch(const Batch& batch);
   /// Appends `value` to line_ in its shortest round-trip form.
   void add(double value);
-  /// Keeps `row` (the text of line_, a finished row, or its frame) in `rows` of
-  /// the replay rows (replay_ set); drops them all when line_ was not finite or
-  /// past kReplayGatherBytes.
-  void gather(std::vector<std::string>& rows, std::string row);
+  /// Keeps a row of `series` (its columns' count of numbers at `row`) for the
+  /// replay page (replay_ set).
+  void gather(ReplaySeries& series, const double* row);
+  /// Counts `bytes` more of replay rows; past kReplayGatherBytes drops them all
+  /// (replay_ reset) and returns false.
+  bool reserveReplay(std::size_t bytes);
 
   std::string dir_;
   std::vector<std::string> files_;  // written so far, for the marker
@@ -109,7 +110,6 @@ class RunWriter {
   std::ofstream objects_;
   output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
   std::string line_;         // reused buffer for one CSV row
-  bool lineFinite_ = true;   // whether every number of line_ is finite
   std::optional<ReplayRows> replay_;
 
   std::size_t particleCount_ = 0, jointCount_ = 0;  // a frame's particles, a joints row's joints

@@ -1,15 +1,19 @@
 // The replay page: written from a hand-made run folder, under its size cap (frames
-// decimated when needed), with the frame data exactly as particles.csv holds it.
+// decimated when needed), with the frames' times and the plotted tables exactly
+// as the CSV files hold them and the positions in single precision.
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "output/base64.h"
 #include "output/replay.h"
 #include "test_files.h"
 
@@ -26,6 +30,20 @@ nlohmann::json pageData(const std::string& page) {
   const std::string open = "<script id=\"robophi-data\" type=\"application/json\">";
   const std::size_t start = page.find(open) + open.size();
   return nlohmann::json::parse(page.substr(start, page.find("</script>", start) - start));
+}
+
+// A binary series of the page (base64 of little-endian numbers of type T) as doubles.
+template <class T>
+std::vector<double> numbers(const nlohmann::json& text) {
+  const std::vector<std::uint8_t> bytes = output::decodeBase64(text.get<std::string>());
+  EXPECT_EQ(bytes.size() % sizeof(T), 0u);
+  std::vector<double> out(bytes.size() / sizeof(T));
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    T value;
+    std::memcpy(&value, bytes.data() + i * sizeof(T), sizeof(T));
+    out[i] = value;
+  }
+  return out;
 }
 
 // Two particles, `frames` frames at 100 fps with positions that need all 17 digits.
@@ -67,36 +85,48 @@ TEST_F(ReplayHtmlTest, KeepsEveryFrameExactlyUnderTheCap) {
   const nlohmann::json data = pageData(page);
   EXPECT_EQ(data["name"], "two </script> balls");
   EXPECT_EQ(data["frames"]["stride"], 1);
-  ASSERT_EQ(data["frames"]["rows"].size(), 50u);
-  // Frame 7 holds the bits of particles.csv.
-  const nlohmann::json& row = data["frames"]["rows"][7];
-  EXPECT_EQ(row[0].get<double>(), 0.07);
-  EXPECT_EQ(row[1].get<double>(), 0.07 / 3.0);
-  EXPECT_EQ(row[3].get<double>(), 1.0 / 10);
+  EXPECT_EQ(data["frames"]["count"], 50);
+  const std::vector<double> t = numbers<double>(data["frames"]["t"]);
+  const std::vector<double> position = numbers<float>(data["frames"]["position"]);
+  ASSERT_EQ(t.size(), 50u);
+  ASSERT_EQ(position.size(), 50u * 2 * 3);
+  // Frame 7: the time holds the bits of particles.csv, the positions their nearest floats.
+  EXPECT_EQ(t[7], 0.07);
+  EXPECT_EQ(position[7 * 6 + 0], static_cast<double>(static_cast<float>(0.07 / 3.0)));
+  EXPECT_EQ(position[7 * 6 + 2], static_cast<double>(static_cast<float>(1.0 / 10)));
+  EXPECT_EQ(position[7 * 6 + 5], 1.0f);
+  // The plotted table: the doubles of energy.csv, row by row.
   EXPECT_EQ(data["energy"]["columns"].size(), 6u);
+  EXPECT_EQ(data["energy"]["count"], 2);
+  EXPECT_EQ(numbers<double>(data["energy"]["values"]),
+            (std::vector<double>{0, 0.001, 0, 1, 0, 1, 1, 0.001, 0.5, 0.5, 0, 1}));
   EXPECT_FALSE(data.contains("contacts"));
 }
 
 TEST_F(ReplayHtmlTest, DecimatesFramesToStayUnderTheCap) {
   writeFrames(20000);
-  const auto fullSize = static_cast<double>(fs::file_size(dir_ / "particles.csv"));
   ReplayOptions options;
   options.outputPath = (dir_ / "small.html").string();
   std::string error;
   ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
-  const double withoutFrames =
-      static_cast<double>(fs::file_size(options.outputPath)) -
-      static_cast<double>(pageData(readText(options.outputPath)).dump().size());
+  const auto fullPage = static_cast<double>(fs::file_size(options.outputPath));
+  const auto framesBytes =
+      static_cast<double>(pageData(readText(options.outputPath))["frames"].dump().size());
   // A cap that leaves room for about a quarter of the frames.
-  options.sizeCapBytes = withoutFrames + 0.25 * fullSize;
+  options.sizeCapBytes = fullPage - 0.75 * framesBytes;
   ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
   EXPECT_LE(static_cast<double>(fs::file_size(options.outputPath)), options.sizeCapBytes);
   const nlohmann::json data = pageData(readText(options.outputPath));
-  EXPECT_GT(data["frames"]["stride"].get<int>(), 1);
+  const int stride = data["frames"]["stride"].get<int>();
+  EXPECT_GE(stride, 4);
+  EXPECT_LE(stride, 5);
   EXPECT_EQ(data["frames"]["sourceCount"], 20000);
-  const nlohmann::json& rows = data["frames"]["rows"];
-  EXPECT_EQ(rows.front()[0].get<double>(), 0.0);
-  EXPECT_EQ(rows.back()[0].get<double>(), 19999 / 100.0);  // the last frame is always kept
+  const std::vector<double> t = numbers<double>(data["frames"]["t"]);
+  ASSERT_EQ(t.size(), data["frames"]["count"].get<std::size_t>());
+  EXPECT_EQ(numbers<float>(data["frames"]["position"]).size(), t.size() * 6);
+  EXPECT_EQ(t.front(), 0.0);
+  EXPECT_EQ(t[1], stride / 100.0);
+  EXPECT_EQ(t.back(), 19999 / 100.0);  // the last frame is always kept
 }
 
 TEST_F(ReplayHtmlTest, RefusesACapSmallerThanThePage) {
@@ -143,7 +173,9 @@ TEST_F(ReplayHtmlTest, EmbedsTheWorldAndTheContactColumns) {
   EXPECT_EQ(data["world"]["attractors"][0], 0);
   EXPECT_EQ(data["contacts"]["columns"],
             nlohmann::json::parse(R"(["t","a","b","fx","fy","fz","tx","ty","tz","sliding"])"));
-  EXPECT_EQ(data["contacts"]["rows"][0][6].get<double>(), 0.5);
+  EXPECT_EQ(data["contacts"]["count"], 1);
+  EXPECT_EQ(numbers<double>(data["contacts"]["values"]),
+            (std::vector<double>{0.01, 0, 2, 0, 0, 1, 0.5, 0, 0, 1}));
 }
 
 TEST_F(ReplayHtmlTest, WorksWithoutAWorldFile) {
