@@ -1,6 +1,10 @@
 // The energy-based adaptive time step (MODEL §4, docs/adaptive-step.md).
 #include "robophi/adaptive_step.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,23 +18,27 @@ namespace robophi {
 Vec3 sceneFrameVelocity(const Model& model, const State& state) {
   // MODEL §4.1: the frame the scene's physics is at rest in. Fixed particles
   // (a base, a palm, a kinematic robot) carry it when there are any.
-  Vec3 fixedMomentum, freeMomentum;
-  double fixedMass = 0.0, freeMass = 0.0;
+  // (Called at every trial step: the free particles are summed only when no
+  // particle is fixed.)
+  Vec3 fixedMomentum;
+  double fixedMass = 0.0;
   std::int64_t fixedCount = 0;
   Vec3 fixedSum;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
-    if (model.isFixed(i)) {
-      fixedMomentum += state.velocity[i] * model.mass[i];
-      fixedMass += model.mass[i];
-      fixedSum += state.velocity[i];
-      ++fixedCount;
-    } else {
-      freeMomentum += state.velocity[i] * model.mass[i];
-      freeMass += model.mass[i];
-    }
+    if (!model.isFixed(i)) continue;
+    fixedMomentum += state.velocity[i] * model.mass[i];
+    fixedMass += model.mass[i];
+    fixedSum += state.velocity[i];
+    ++fixedCount;
   }
   if (fixedCount > 0)
     return fixedMass > 0.0 ? fixedMomentum / fixedMass : fixedSum / static_cast<double>(fixedCount);
+  Vec3 freeMomentum;
+  double freeMass = 0.0;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    freeMomentum += state.velocity[i] * model.mass[i];
+    freeMass += model.mass[i];
+  }
   const Environment& env = model.environment;
   // Anything but planes (and a medium at rest, or a particle's drag −c v, which
   // acts against the world's frame) fixes the frame to the world's.
@@ -121,6 +129,52 @@ struct ObjectBounds {
   double smallestRadius = std::numeric_limits<double>::infinity();
   bool empty = true;
 };
+
+// The objects against each other (MODEL §4.4): many (a pile) without the gaps,
+// through the spread of all of them (linear); few pair by pair, with the gaps.
+// An empty object (a virtual one: it touches nothing) is left out.
+double objectPairsStep(const std::vector<ObjectBounds>& bounds, double fraction) {
+  double step = std::numeric_limits<double>::infinity();
+  constexpr std::size_t kPairwiseObjects = 128;
+  if (bounds.size() > kPairwiseObjects) {
+    Vec3 low = bounds[0].velocity, high = low, aLowAll = bounds[0].acceleration, aHighAll = aLowAll;
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      low = {std::min(low.x, b.velocity.x), std::min(low.y, b.velocity.y),
+             std::min(low.z, b.velocity.z)};
+      high = {std::max(high.x, b.velocity.x), std::max(high.y, b.velocity.y),
+              std::max(high.z, b.velocity.z)};
+      aLowAll = {std::min(aLowAll.x, b.acceleration.x), std::min(aLowAll.y, b.acceleration.y),
+                 std::min(aLowAll.z, b.acceleration.z)};
+      aHighAll = {std::max(aHighAll.x, b.acceleration.x), std::max(aHighAll.y, b.acceleration.y),
+                  std::max(aHighAll.z, b.acceleration.z)};
+      smallest = std::min(smallest, b.smallestRadius);
+    }
+    const Vec3 vc = (low + high) * 0.5, ac = (aLowAll + aHighAll) * 0.5;
+    double w = 0.0, acc = 0.0;
+    for (const ObjectBounds& b : bounds) {
+      if (b.empty) continue;
+      w = std::max(w, norm(b.velocity - vc) + b.velocitySpread);
+      acc = std::max(acc, norm(b.acceleration - ac) + b.accelerationSpread);
+    }
+    return closingStep(2.0 * w, 2.0 * acc, fraction * smallest);
+  }
+  for (std::size_t a = 0; a < bounds.size(); ++a) {
+    if (bounds[a].empty) continue;
+    for (std::size_t b = a + 1; b < bounds.size(); ++b) {
+      if (bounds[b].empty) continue;
+      const ObjectBounds &A = bounds[a], &B = bounds[b];
+      const double gap = std::max(0.0, norm(A.centre - B.centre) - A.radius - B.radius);
+      const double w = norm(A.velocity - B.velocity) + A.velocitySpread + B.velocitySpread;
+      const double acc =
+          norm(A.acceleration - B.acceleration) + A.accelerationSpread + B.accelerationSpread;
+      step = std::min(
+          step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius, B.smallestRadius)));
+    }
+  }
+  return step;
+}
 
 }  // namespace
 
@@ -258,47 +312,235 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     b.velocitySpread = std::sqrt(b.velocitySpread);
     b.accelerationSpread = std::sqrt(b.accelerationSpread);
   }
-  // Many objects (a pile): without the gaps, through the spread of all of them
-  // (linear); few: pair by pair, with the gaps.
-  constexpr std::size_t kPairwiseObjects = 128;
-  if (objects > kPairwiseObjects) {
-    Vec3 low = bounds[0].velocity, high = low, aLowAll = bounds[0].acceleration, aHighAll = aLowAll;
-    double smallest = std::numeric_limits<double>::infinity();
-    for (const ObjectBounds& b : bounds) {
-      if (b.empty) continue;
-      low = {std::min(low.x, b.velocity.x), std::min(low.y, b.velocity.y),
-             std::min(low.z, b.velocity.z)};
-      high = {std::max(high.x, b.velocity.x), std::max(high.y, b.velocity.y),
-              std::max(high.z, b.velocity.z)};
-      aLowAll = {std::min(aLowAll.x, b.acceleration.x), std::min(aLowAll.y, b.acceleration.y),
-                 std::min(aLowAll.z, b.acceleration.z)};
-      aHighAll = {std::max(aHighAll.x, b.acceleration.x), std::max(aHighAll.y, b.acceleration.y),
-                  std::max(aHighAll.z, b.acceleration.z)};
-      smallest = std::min(smallest, b.smallestRadius);
-    }
-    const Vec3 vc = (low + high) * 0.5, ac = (aLowAll + aHighAll) * 0.5;
-    double w = 0.0, acc = 0.0;
-    for (const ObjectBounds& b : bounds) {
-      if (b.empty) continue;
-      w = std::max(w, norm(b.velocity - vc) + b.velocitySpread);
-      acc = std::max(acc, norm(b.acceleration - ac) + b.accelerationSpread);
-    }
-    return std::min(step, closingStep(2.0 * w, 2.0 * acc, fraction * smallest));
+  return std::min(step, objectPairsStep(bounds, fraction));
+}
+
+namespace {
+
+// An object's particles boxed: positions, velocities and accelerations, the sum
+// of the positions (in particle order, as approachStepBound sums them), the
+// smallest and largest radius, and whether any particle is free (the
+// environment bounds only those).
+struct ObjectBox {
+  Vec3 pLow, pHigh, vLow, vHigh, aLow, aHigh, pSum;
+  double count = 0.0, smallestRadius = std::numeric_limits<double>::infinity(), largestRadius = 0.0;
+  bool anyFree = false;
+};
+
+// Adds particles [begin, end) to `box`, a run kept in locals; returns the sum
+// of all their numbers (not finite when one is not: min and max would drop a NaN).
+double boxRun(const Model& model, const State& state, const std::vector<Vec3>& force,
+              ParticleIndex begin, ParticleIndex end, ObjectBox& box) {
+  const auto accelerationOf = [&](ParticleIndex i) {
+    return model.isFixed(i) ? Vec3{} : force[i] * model.inverseMass[i];
+  };
+  if (box.count == 0.0) {
+    box.pLow = box.pHigh = state.position[begin];
+    box.vLow = box.vHigh = state.velocity[begin];
+    box.aLow = box.aHigh = accelerationOf(begin);
   }
-  for (std::size_t a = 0; a < objects; ++a) {
-    if (bounds[a].empty) continue;
-    for (std::size_t b = a + 1; b < objects; ++b) {
-      if (bounds[b].empty) continue;
-      const ObjectBounds &A = bounds[a], &B = bounds[b];
-      const double gap = std::max(0.0, norm(A.centre - B.centre) - A.radius - B.radius);
-      const double w = norm(A.velocity - B.velocity) + A.velocitySpread + B.velocitySpread;
-      const double acc =
-          norm(A.acceleration - B.acceleration) + A.accelerationSpread + B.accelerationSpread;
-      step = std::min(
-          step, closingStep(w, acc, gap + fraction * std::min(A.smallestRadius, B.smallestRadius)));
+  Vec3 pLow = box.pLow, pHigh = box.pHigh, vLow = box.vLow, vHigh = box.vHigh, aLow = box.aLow,
+       aHigh = box.aHigh, sum = box.pSum;
+  double count = box.count, smallest = box.smallestRadius, largest = box.largestRadius, every = 0.0;
+  bool anyFree = box.anyFree;
+  for (ParticleIndex i = begin; i < end; ++i) {
+    const Vec3& p = state.position[i];
+    const Vec3& v = state.velocity[i];
+    const Vec3 a = accelerationOf(i);
+    pLow = {std::min(pLow.x, p.x), std::min(pLow.y, p.y), std::min(pLow.z, p.z)};
+    pHigh = {std::max(pHigh.x, p.x), std::max(pHigh.y, p.y), std::max(pHigh.z, p.z)};
+    vLow = {std::min(vLow.x, v.x), std::min(vLow.y, v.y), std::min(vLow.z, v.z)};
+    vHigh = {std::max(vHigh.x, v.x), std::max(vHigh.y, v.y), std::max(vHigh.z, v.z)};
+    aLow = {std::min(aLow.x, a.x), std::min(aLow.y, a.y), std::min(aLow.z, a.z)};
+    aHigh = {std::max(aHigh.x, a.x), std::max(aHigh.y, a.y), std::max(aHigh.z, a.z)};
+    sum += p;
+    count += 1.0;
+    smallest = std::min(smallest, model.radius[i]);
+    largest = std::max(largest, model.radius[i]);
+    anyFree = anyFree || !model.isFixed(i);
+    every += (p.x + p.y + p.z) + (v.x + v.y + v.z) + (a.x + a.y + a.z);
+  }
+  box = {pLow, pHigh, vLow, vHigh, aLow, aHigh, sum, count, smallest, largest, anyFree};
+  return every;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// boxRun with a Vec3 in each AVX register (x, y, z; the fourth lane 0): the
+// same boxes and sums (min and max are exact, the sums lane by lane in particle
+// order; the zeros of min and max may differ in sign, which no bound sees).
+// Called only when the processor has AVX2 (checked at run time).
+__attribute__((target("avx2"))) double boxRunLanes(const Model& model, const State& state,
+                                                   const std::vector<Vec3>& force,
+                                                   ParticleIndex begin, ParticleIndex end,
+                                                   ObjectBox& box) {
+  // (No lambdas: they would not be compiled for AVX2.)
+  const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
+  const __m256d zero = _mm256_setzero_pd();
+  const Vec3* position = state.position.data();
+  const Vec3* velocity = state.velocity.data();
+  const Vec3* f = force.data();
+  const double* inverseMass = model.inverseMass.data();
+  const double* radius = model.radius.data();
+  __m256d pLow, pHigh, vLow, vHigh, aLow, aHigh;
+  if (box.count == 0.0) {
+    pLow = pHigh = _mm256_maskload_pd(&position[begin].x, xyz);
+    vLow = vHigh = _mm256_maskload_pd(&velocity[begin].x, xyz);
+    aLow = aHigh = inverseMass[begin] == 0.0
+                       ? zero
+                       : _mm256_mul_pd(_mm256_maskload_pd(&f[begin].x, xyz),
+                                       _mm256_set1_pd(inverseMass[begin]));
+  } else {
+    pLow = _mm256_maskload_pd(&box.pLow.x, xyz);
+    pHigh = _mm256_maskload_pd(&box.pHigh.x, xyz);
+    vLow = _mm256_maskload_pd(&box.vLow.x, xyz);
+    vHigh = _mm256_maskload_pd(&box.vHigh.x, xyz);
+    aLow = _mm256_maskload_pd(&box.aLow.x, xyz);
+    aHigh = _mm256_maskload_pd(&box.aHigh.x, xyz);
+  }
+  __m256d sum = _mm256_maskload_pd(&box.pSum.x, xyz), every = zero;
+  double count = box.count, smallest = box.smallestRadius, largest = box.largestRadius;
+  bool anyFree = box.anyFree;
+  for (ParticleIndex i = begin; i < end; ++i) {
+    const __m256d p = _mm256_maskload_pd(&position[i].x, xyz);
+    const __m256d v = _mm256_maskload_pd(&velocity[i].x, xyz);
+    const __m256d a = inverseMass[i] == 0.0 ? zero
+                                            : _mm256_mul_pd(_mm256_maskload_pd(&f[i].x, xyz),
+                                                            _mm256_set1_pd(inverseMass[i]));
+    pLow = _mm256_min_pd(pLow, p);
+    pHigh = _mm256_max_pd(pHigh, p);
+    vLow = _mm256_min_pd(vLow, v);
+    vHigh = _mm256_max_pd(vHigh, v);
+    aLow = _mm256_min_pd(aLow, a);
+    aHigh = _mm256_max_pd(aHigh, a);
+    sum = _mm256_add_pd(sum, p);
+    every = _mm256_add_pd(every, _mm256_add_pd(_mm256_add_pd(p, v), a));
+    count += 1.0;
+    smallest = std::min(smallest, radius[i]);
+    largest = std::max(largest, radius[i]);
+    anyFree = anyFree || inverseMass[i] != 0.0;
+  }
+  _mm256_maskstore_pd(&box.pLow.x, xyz, pLow);
+  _mm256_maskstore_pd(&box.pHigh.x, xyz, pHigh);
+  _mm256_maskstore_pd(&box.vLow.x, xyz, vLow);
+  _mm256_maskstore_pd(&box.vHigh.x, xyz, vHigh);
+  _mm256_maskstore_pd(&box.aLow.x, xyz, aLow);
+  _mm256_maskstore_pd(&box.aHigh.x, xyz, aHigh);
+  _mm256_maskstore_pd(&box.pSum.x, xyz, sum);
+  box.count = count;
+  box.smallestRadius = smallest;
+  box.largestRadius = largest;
+  box.anyFree = anyFree;
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, every);
+  return lanes[0] + lanes[1] + lanes[2];
+}
+const bool kHaveAvx2 = [] {
+  __builtin_cpu_init();  // (a static initialiser may run before libgcc's)
+  return __builtin_cpu_supports("avx2") != 0;
+}();
+#endif
+
+double largestMagnitude(const Vec3& v) {
+  return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+
+// `x` raised past the round-off of the sums it bounds: relative 1e-9 and
+// 1e-12 of `scale`, the magnitude of the numbers they were taken from (far
+// above a few units in the last place of either).
+double raised(double x, double scale) { return x * (1.0 + 1e-9) + 1e-12 * scale; }
+
+}  // namespace
+
+double approachStepFloor(const Model& model, const State& state, const std::vector<Vec3>& force,
+                         double fraction) {
+  // approachStepBound's closing speeds and accelerations bounded from above and
+  // its gaps from below, from the same centres of mass and box centres (the
+  // same bits). closingStep grows with the gap and shrinks with the speed and
+  // the acceleration; the result is lowered by 1e-9 for its rounding.
+  const ParticleIndex n = model.particleCount();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
+      1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
+  const auto isVirtual = [&](std::size_t o) {
+    return o < model.objects.size() && model.objects[o].kind == "virtual";
+  };
+  thread_local std::vector<ObjectBox> boxes;
+  boxes.assign(objects, ObjectBox{});
+  bool unowned = false;  // particles of no object: approachStepBound counts them in object 0
+  double every = 0.0;    // not finite when a number is not
+  // By runs of one object (an object's particles are usually one run).
+  for (ParticleIndex i = 0; i < n;) {
+    ParticleIndex end = i + 1;
+    while (end < n && model.objectOf[end] == model.objectOf[i]) ++end;
+    unowned = unowned || model.objectOf[i] < 0;
+    ObjectBox& box = boxes[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+#if defined(__x86_64__) && defined(__GNUC__)
+    every += kHaveAvx2 ? boxRunLanes(model, state, force, i, end, box)
+                       : boxRun(model, state, force, i, end, box);
+#else
+    every += boxRun(model, state, force, i, end, box);
+#endif
+    i = end;
+  }
+  // Left to approachStepBound: numbers that are not finite, and particles of no
+  // object beside a virtual object 0 (its bounds are of those particles alone).
+  if (!std::isfinite(every) || (unowned && isVirtual(0))) return 0.0;
+  thread_local std::vector<ObjectBounds> bounds;
+  bounds.assign(objects, ObjectBounds{});
+  const Environment& env = model.environment;
+  const bool solidEnvironment =
+      !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
+  double step = std::numeric_limits<double>::infinity();
+  for (std::size_t o = 0; o < objects; ++o) {
+    const ObjectBox& box = boxes[o];
+    if (box.count == 0.0) continue;
+    ObjectBounds b;
+    b.empty = false;
+    b.smallestRadius = box.smallestRadius;
+    b.centre = box.pSum / box.count;
+    b.velocity = (box.vLow + box.vHigh) * 0.5;
+    b.acceleration = (box.aLow + box.aHigh) * 0.5;
+    const Vec3 pMiddle = (box.pLow + box.pHigh) * 0.5, pHalf = (box.pHigh - box.pLow) * 0.5;
+    const Vec3 vHalf = (box.vHigh - box.vLow) * 0.5, aHalf = (box.aHigh - box.aLow) * 0.5;
+    b.radius = raised(raised(norm(b.centre - pMiddle) + norm(pHalf),
+                             largestMagnitude(b.centre) + largestMagnitude(pMiddle)) +
+                          box.largestRadius,
+                      0.0);
+    b.velocitySpread = raised(norm(vHalf), largestMagnitude(b.velocity));
+    b.accelerationSpread = raised(norm(aHalf), largestMagnitude(b.acceleration));
+    // (A virtual object touches nothing: its bounds stay empty, as in approachStepBound.)
+    if (!isVirtual(o)) bounds[o] = b;
+    if (!box.anyFree) continue;
+    // The object's free particles against the environment (its box of fixed
+    // and free particles bounds them).
+    const double reach = fraction * box.smallestRadius;
+    for (const GroundPlane& plane : env.planes) {
+      const Vec3& m = plane.normal;
+      const auto across = [&](const Vec3& half) {
+        return std::abs(m.x) * half.x + std::abs(m.y) * half.y + std::abs(m.z) * half.z;
+      };
+      const double reachOfNormal = 1.0 + norm(m);
+      const double w = -dot(b.velocity, m), an = -dot(b.acceleration, m);
+      const double wUp = w + across(vHalf) + 1e-9 * (std::abs(w) + across(vHalf)) +
+                         1e-12 * largestMagnitude(b.velocity) * reachOfNormal;
+      const double aUp = an + across(aHalf) + 1e-9 * (std::abs(an) + across(aHalf)) +
+                         1e-12 * largestMagnitude(b.acceleration) * reachOfNormal;
+      if (wUp <= 0.0 && aUp <= 0.0) continue;  // every particle recedes
+      const double height = dot(pMiddle - plane.point, m) - across(pHalf) - box.largestRadius;
+      const double gapDown =
+          height - 1e-9 * (std::abs(height) + across(pHalf) + box.largestRadius) -
+          1e-12 * (largestMagnitude(pMiddle) + largestMagnitude(plane.point)) * reachOfNormal;
+      step = std::min(step, closingStep(std::max(wUp, 0.0), std::max(aUp, 0.0),
+                                        std::max(0.0, gapDown) + reach));
+    }
+    if (solidEnvironment) {
+      step = std::min(step, closingStep(raised(norm(b.velocity) + b.velocitySpread, 0.0),
+                                        raised(norm(b.acceleration) + b.accelerationSpread, 0.0),
+                                        reach));
     }
   }
-  return step;
+  if (objects >= 2) step = std::min(step, objectPairsStep(bounds, fraction));
+  return step * (1.0 - 1e-9);
 }
 
 StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, double contactSafety,
@@ -307,9 +549,15 @@ StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, doubl
   double left = dt;
   for (;;) {
     const Evaluation& evaluation = world.evaluation();
-    double bound = approachStepBound(world.model(), world.state(), evaluation.force, fraction);
-    if (contactSafety > 0.0)
-      bound = std::min(bound, contactSafety * evaluation.contactCriticalStep);
+    // The approach bound only where its floor does not already clear the rest.
+    const double contactBound = contactSafety > 0.0
+                                    ? contactSafety * evaluation.contactCriticalStep
+                                    : std::numeric_limits<double>::infinity();
+    double bound = contactBound;
+    if (approachStepFloor(world.model(), world.state(), evaluation.force, fraction) <
+        std::min(left, contactBound))
+      bound = std::min(bound, approachStepBound(world.model(), world.state(), evaluation.force,
+                                                fraction));
     const double pieces = bound >= left ? 1.0 : std::ceil(left / bound);
     if (!(pieces < 1e9)) return StepStatus::kNonFinite;  // nothing finite can be done
     const bool last = pieces <= 1.0;
@@ -434,8 +682,15 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
   // No pair of approaching surfaces may pass through each other (MODEL §4.4).
-  const double approachLimit = approachStepBound(
-      world.model(), saved_.state(), saved_.evaluation().force, settings_.maxApproachFraction);
+  // (Worked out only where its floor is below the other limits: the trials
+  // below only ever shrink the step.)
+  const double otherLimits = std::min({step_, maxDt, contactLimit});
+  const double approachLimit =
+      approachStepFloor(world.model(), saved_.state(), saved_.evaluation().force,
+                        settings_.maxApproachFraction) >= otherLimits
+          ? std::numeric_limits<double>::infinity()
+          : approachStepBound(world.model(), saved_.state(), saved_.evaluation().force,
+                              settings_.maxApproachFraction);
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);
