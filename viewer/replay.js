@@ -17,7 +17,8 @@ const linear = data.linear;  // flat: a, b, restLength, ...
 const linkCount = linear.length / 3;
 
 // The series are binary: base64 of little-endian numbers (docs/viewer.md, "The
-// page's data"): the tables and the frames' times as doubles, the positions as floats.
+// page's data"): times as doubles, what is drawn (positions, plotted values,
+// contact forces) as floats.
 function decodeNumbers(text, Type) {
   const bytes = atob(text);
   const buffer = new Uint8Array(bytes.length);
@@ -31,19 +32,21 @@ const framePosition = Float64Array.from(decodeNumbers(data.frames.position, Floa
 const tStart = frameTime[0];
 const tEnd = frameTime[frameCount - 1];
 
-// A table's rows: {width, count, values (row-major Float64Array), row(r)}.
+// A table's rows: {count, t (Float64Array), value(r, c) for the columns after t, row(r)}.
 function rowsOf(table) {
-  const width = table.columns.length;
-  const values = decodeNumbers(table.values, Float64Array);
-  const count = width > 0 ? values.length / width : 0;
-  return { width, count, values, row: (r) => values.subarray(r * width, (r + 1) * width) };
+  const t = decodeNumbers(table.t, Float64Array);
+  const values = decodeNumbers(table.values, Float32Array);
+  const width = table.columns.length - 1;  // after t
+  const value = (r, c) => values[r * width + c];
+  const row = (r) => [t[r], ...values.subarray(r * width, (r + 1) * width)];
+  return { count: t.length, t, value, row };
 }
 // A table of rows as named columns of Float64Array.
 function columnsOf(table) {
-  const { width, count, values } = rowsOf(table);
+  const { count, t, value } = rowsOf(table);
   const out = {};
   table.columns.forEach((name, c) => {
-    out[name] = Float64Array.from({ length: count }, (_, r) => values[r * width + c]);
+    out[name] = c === 0 ? t : Float64Array.from({ length: count }, (_, r) => value(r, c - 1));
   });
   return out;
 }
@@ -62,7 +65,7 @@ if (data.contacts) {
     if (contactGroups.length === 0 || contactGroups[contactGroups.length - 1].t !== t) {
       contactGroups.push({ t, rows: [] });
     }
-    contactGroups[contactGroups.length - 1].rows.push(Array.from(row.subarray(1)));
+    contactGroups[contactGroups.length - 1].rows.push(row.slice(1));
   }
 }
 // Which columns of a contact row (after t) hold what: the particles, the normal

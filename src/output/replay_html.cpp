@@ -4,10 +4,11 @@
 // already inlined at build time (robophi/replay_assets.h); this file adds the run
 // data as one JSON object between kPageHead and kPageTail. The model's numbers
 // are JSON numbers; the series are binary (base64 of little-endian numbers,
-// docs/viewer.md): the plotted tables and the frames' times as the doubles of
-// the CSV files, the frames' positions in single precision, which is what the
-// viewer draws with (a page a third the size of one in decimal text, and read
-// without parsing). Frames are decimated by a stride so the page stays under the cap.
+// docs/viewer.md): the times of frames and rows as the doubles of the CSV
+// files, everything the page draws (positions, plotted values, contact forces)
+// in single precision, as the viewer draws it (a page a third the size of one
+// in decimal text, and read without parsing). Frames are decimated by a stride
+// so the page stays under the cap.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -113,16 +114,17 @@ std::string modelJson(const RunFolder& run) {
   return out;
 }
 
-// The kept rows' numbers of `values` (rows of `width`), non-finite ones in one
-// form (a page made from the run's rows and one made from its files are the
-// same bytes whatever NaN the run produced).
+// Column `first` to `first + count` of the kept rows of `values` (rows of
+// `width`), row-major, non-finite numbers in one form (a page made from the
+// run's rows and one made from its files are the same bytes whatever NaN the
+// run produced).
 template <class Out>
-std::vector<Out> keptValues(const double* values, std::size_t width,
-                            const std::vector<std::size_t>& kept) {
+std::vector<Out> keptValues(const double* values, std::size_t width, std::size_t first,
+                            std::size_t count, const std::vector<std::size_t>& kept) {
   std::vector<Out> out;
-  out.reserve(kept.size() * width);
+  out.reserve(kept.size() * count);
   for (std::size_t r : kept) {
-    for (std::size_t c = 0; c < width; ++c) {
+    for (std::size_t c = first; c < first + count; ++c) {
       const double v = values[r * width + c];
       out.push_back(std::isnan(v) ? std::numeric_limits<Out>::quiet_NaN() : static_cast<Out>(v));
     }
@@ -151,8 +153,21 @@ std::size_t encodedBytes(std::size_t count, std::size_t width, std::size_t size)
   return output::base64Size(count * width * size) + 16;  // "name":"...", and the count
 }
 
+// A table's kept rows: their times (the first column) as doubles, the rest as floats.
 std::size_t seriesBytes(const ReplaySeries& series, std::size_t stride) {
-  return encodedBytes(keptCount(series.rows(), stride), series.columns.size(), sizeof(double));
+  const std::size_t kept = keptCount(series.rows(), stride);
+  const std::size_t width = series.columns.size();
+  return width == 0 ? 0
+                    : encodedBytes(kept, 1, sizeof(double)) +
+                          encodedBytes(kept, width - 1, sizeof(float));
+}
+
+// ,"t":"<the kept rows' times, float64>","values":"<their other numbers, float32>".
+void appendRows(std::string& out, const ReplaySeries& series, const std::vector<std::size_t>& kept) {
+  const std::size_t width = series.columns.size();
+  if (width == 0) return;
+  appendBinary(out, "t", keptValues<double>(series.values.data(), width, 0, 1, kept));
+  appendBinary(out, "values", keptValues<float>(series.values.data(), width, 1, width - 1, kept));
 }
 
 std::size_t frameBytes(const ReplayRows& rows, std::size_t particles, std::size_t stride) {
@@ -180,14 +195,14 @@ void appendColumns(std::string& out, const char* name, const ReplaySeries& serie
   out += ']';
 }
 
-// A decimated table: "name":{"columns":[..],"sourceRows":R,"stride":s,"count":K,"values":"<base64>"}.
+// A decimated table: "name":{"columns":[..],"sourceRows":R,"stride":s,"count":K,"t":..,"values":..}.
 void appendTable(std::string& out, const char* name, const ReplaySeries& series,
                  std::size_t stride) {
   appendColumns(out, name, series);
   const std::vector<std::size_t> kept = keptIndices(series.rows(), stride);
   fmt::format_to(std::back_inserter(out), ",\"sourceRows\":{},\"stride\":{},\"count\":{}",
                  series.rows(), stride, kept.size());
-  appendBinary(out, "values", keptValues<double>(series.values.data(), series.columns.size(), kept));
+  appendRows(out, series, kept);
   out += '}';
 }
 
@@ -209,7 +224,7 @@ void appendContacts(std::string& out, const ReplaySeries& series, std::size_t st
   fmt::format_to(std::back_inserter(out),
                  ",\"sourceRows\":{},\"sourceTimes\":{},\"stride\":{},\"count\":{}", rows,
                  groupStart.size(), stride, kept.size());
-  appendBinary(out, "values", keptValues<double>(series.values.data(), width, kept));
+  appendRows(out, series, kept);
   out += '}';
 }
 
@@ -328,7 +343,7 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
   fmt::format_to(std::back_inserter(data),
                  ",\"frames\":{{\"sourceCount\":{},\"stride\":{},\"count\":{}",
                  rows.frameTime.size(), frameStride, keptFrames.size());
-  appendBinary(data, "t", keptValues<double>(rows.frameTime.data(), 1, keptFrames));
+  appendBinary(data, "t", keptValues<double>(rows.frameTime.data(), 1, 0, 1, keptFrames));
   std::vector<float> positions;
   positions.reserve(keptFrames.size() * 3 * particles);
   for (std::size_t k : keptFrames) {

@@ -1,6 +1,7 @@
 // The replay page: written from a hand-made run folder, under its size cap (frames
-// decimated when needed), with the frames' times and the plotted tables exactly
-// as the CSV files hold them and the positions in single precision.
+// decimated when needed), with the times of frames and rows exactly as the CSV
+// files hold them and what is drawn (positions, plotted values, contact forces)
+// in single precision.
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -95,11 +96,13 @@ TEST_F(ReplayHtmlTest, KeepsEveryFrameExactlyUnderTheCap) {
   EXPECT_EQ(position[7 * 6 + 0], static_cast<double>(static_cast<float>(0.07 / 3.0)));
   EXPECT_EQ(position[7 * 6 + 2], static_cast<double>(static_cast<float>(1.0 / 10)));
   EXPECT_EQ(position[7 * 6 + 5], 1.0f);
-  // The plotted table: the doubles of energy.csv, row by row.
+  // The plotted table: energy.csv's times, and its other numbers as floats, row by row.
   EXPECT_EQ(data["energy"]["columns"].size(), 6u);
   EXPECT_EQ(data["energy"]["count"], 2);
-  EXPECT_EQ(numbers<double>(data["energy"]["values"]),
-            (std::vector<double>{0, 0.001, 0, 1, 0, 1, 1, 0.001, 0.5, 0.5, 0, 1}));
+  EXPECT_EQ(numbers<double>(data["energy"]["t"]), (std::vector<double>{0, 1}));
+  const double ms = static_cast<float>(0.001);
+  EXPECT_EQ(numbers<float>(data["energy"]["values"]),
+            (std::vector<double>{ms, 0, 1, 0, 1, ms, 0.5, 0.5, 0, 1}));
   EXPECT_FALSE(data.contains("contacts"));
 }
 
@@ -174,8 +177,9 @@ TEST_F(ReplayHtmlTest, EmbedsTheWorldAndTheContactColumns) {
   EXPECT_EQ(data["contacts"]["columns"],
             nlohmann::json::parse(R"(["t","a","b","fx","fy","fz","tx","ty","tz","sliding"])"));
   EXPECT_EQ(data["contacts"]["count"], 1);
-  EXPECT_EQ(numbers<double>(data["contacts"]["values"]),
-            (std::vector<double>{0.01, 0, 2, 0, 0, 1, 0.5, 0, 0, 1}));
+  EXPECT_EQ(numbers<double>(data["contacts"]["t"]), (std::vector<double>{0.01}));
+  EXPECT_EQ(numbers<float>(data["contacts"]["values"]),
+            (std::vector<double>{0, 2, 0, 0, 1, 0.5, 0, 0, 1}));
 }
 
 TEST_F(ReplayHtmlTest, WorksWithoutAWorldFile) {
