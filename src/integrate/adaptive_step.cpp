@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/text.h"
+#include "integrate/object_box.h"
 #include "robophi/connector_forces.h"
 
 namespace robophi {
@@ -315,20 +316,8 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   return std::min(step, objectPairsStep(bounds, fraction));
 }
 
-namespace {
+namespace detail {
 
-// An object's particles boxed: positions, velocities and accelerations, the sum
-// of the positions (in particle order, as approachStepBound sums them), the
-// smallest and largest radius, and whether any particle is free (the
-// environment bounds only those).
-struct ObjectBox {
-  Vec3 pLow, pHigh, vLow, vHigh, aLow, aHigh, pSum;
-  double count = 0.0, smallestRadius = std::numeric_limits<double>::infinity(), largestRadius = 0.0;
-  bool anyFree = false;
-};
-
-// Adds particles [begin, end) to `box`, a run kept in locals; returns the sum
-// of all their numbers (not finite when one is not: min and max would drop a NaN).
 double boxRun(const Model& model, const State& state, const std::vector<Vec3>& force,
               ParticleIndex begin, ParticleIndex end, ObjectBox& box) {
   const auto accelerationOf = [&](ParticleIndex i) {
@@ -365,10 +354,6 @@ double boxRun(const Model& model, const State& state, const std::vector<Vec3>& f
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// boxRun with a Vec3 in each AVX register (x, y, z; the fourth lane 0): the
-// same boxes and sums (min and max are exact, the sums lane by lane in particle
-// order; the zeros of min and max may differ in sign, which no bound sees).
-// Called only when the processor has AVX2 (checked at run time).
 __attribute__((target("avx2"))) double boxRunLanes(const Model& model, const State& state,
                                                    const std::vector<Vec3>& force,
                                                    ParticleIndex begin, ParticleIndex end,
@@ -434,11 +419,23 @@ __attribute__((target("avx2"))) double boxRunLanes(const Model& model, const Sta
   _mm256_store_pd(lanes, every);
   return lanes[0] + lanes[1] + lanes[2];
 }
-const bool kHaveAvx2 = [] {
-  __builtin_cpu_init();  // (a static initialiser may run before libgcc's)
-  return __builtin_cpu_supports("avx2") != 0;
-}();
 #endif
+
+bool haveBoxRunLanes() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool avx2 = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return avx2;
+#else
+  return false;
+#endif
+}
+
+}  // namespace detail
+
+namespace {
 
 double largestMagnitude(const Vec3& v) {
   return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
@@ -464,8 +461,9 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   const auto isVirtual = [&](std::size_t o) {
     return o < model.objects.size() && model.objects[o].kind == "virtual";
   };
-  thread_local std::vector<ObjectBox> boxes;
-  boxes.assign(objects, ObjectBox{});
+  thread_local std::vector<detail::ObjectBox> boxes;
+  boxes.assign(objects, detail::ObjectBox{});
+  const bool lanes = detail::haveBoxRunLanes();
   bool unowned = false;  // particles of no object: approachStepBound counts them in object 0
   double every = 0.0;    // not finite when a number is not
   // By runs of one object (an object's particles are usually one run).
@@ -473,12 +471,13 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
     ParticleIndex end = i + 1;
     while (end < n && model.objectOf[end] == model.objectOf[i]) ++end;
     unowned = unowned || model.objectOf[i] < 0;
-    ObjectBox& box = boxes[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+    detail::ObjectBox& box =
+        boxes[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
 #if defined(__x86_64__) && defined(__GNUC__)
-    every += kHaveAvx2 ? boxRunLanes(model, state, force, i, end, box)
-                       : boxRun(model, state, force, i, end, box);
+    every += lanes ? detail::boxRunLanes(model, state, force, i, end, box)
+                   : detail::boxRun(model, state, force, i, end, box);
 #else
-    every += boxRun(model, state, force, i, end, box);
+    every += detail::boxRun(model, state, force, i, end, box);
 #endif
     i = end;
   }
@@ -492,7 +491,7 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
       !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
   double step = std::numeric_limits<double>::infinity();
   for (std::size_t o = 0; o < objects; ++o) {
-    const ObjectBox& box = boxes[o];
+    const detail::ObjectBox& box = boxes[o];
     if (box.count == 0.0) continue;
     ObjectBounds b;
     b.empty = false;

@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 
+#include "integrate/object_box.h"
 #include "robophi/adaptive_step.h"
 #include "robophi/contact.h"
 #include "robophi/scene/scene.h"
@@ -114,6 +115,58 @@ TEST(ApproachFloor, LeavesNumbersThatAreNotFiniteToTheBound) {
   EXPECT_EQ(approachStepFloor(model, state, force, 0.1), 0.0);
   force[0].x = std::numeric_limits<double>::infinity();
   EXPECT_EQ(approachStepFloor(model, state, force, 0.1), 0.0);
+}
+
+// The AVX2 box pass and the scalar one give the same boxes (the scalar one is
+// what a processor without AVX2 runs): runs of every length from every start,
+// into empty boxes and into boxes already holding particles.
+TEST(ApproachFloor, TheBoxPassIsTheSameOnAvxAsScalar) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (!detail::haveBoxRunLanes()) GTEST_SKIP() << "no AVX2 here: only the scalar pass runs";
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Model model;
+  const int object = model.addObject("o", "particles");
+  for (int i = 0; i < 40; ++i) model.addParticle(1.0 + i % 3, 0.01 * (1 + i % 4), i % 5 == 0, object);
+  State state = State::sizedFor(model);
+  std::vector<Vec3> force(model.particleCount());
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    state.position[i] = {unit(random), unit(random), unit(random)};
+    state.velocity[i] = {unit(random) * 10, unit(random), -unit(random)};
+    force[i] = {unit(random) * 1e3, unit(random), unit(random) * 1e-3};
+  }
+  const auto same = [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  for (ParticleIndex begin = 0; begin < model.particleCount(); ++begin) {
+    for (ParticleIndex end = begin + 1; end <= model.particleCount(); ++end) {
+      for (const bool held : {false, true}) {
+        detail::ObjectBox scalar, lanes;
+        if (held) {  // a run before this one, into both
+          detail::boxRun(model, state, force, 0, 1, scalar);
+          detail::boxRun(model, state, force, 0, 1, lanes);
+        }
+        const double s = detail::boxRun(model, state, force, begin, end, scalar);
+        const double l = detail::boxRunLanes(model, state, force, begin, end, lanes);
+        ASSERT_TRUE(std::isfinite(s) && std::isfinite(l));
+        const std::string where = std::to_string(begin) + ".." + std::to_string(end);
+        ASSERT_TRUE(same(scalar.pLow, lanes.pLow) && same(scalar.pHigh, lanes.pHigh)) << where;
+        ASSERT_TRUE(same(scalar.vLow, lanes.vLow) && same(scalar.vHigh, lanes.vHigh)) << where;
+        ASSERT_TRUE(same(scalar.aLow, lanes.aLow) && same(scalar.aHigh, lanes.aHigh)) << where;
+        ASSERT_TRUE(same(scalar.pSum, lanes.pSum)) << where;
+        ASSERT_EQ(scalar.count, lanes.count) << where;
+        ASSERT_EQ(scalar.smallestRadius, lanes.smallestRadius) << where;
+        ASSERT_EQ(scalar.largestRadius, lanes.largestRadius) << where;
+        ASSERT_EQ(scalar.anyFree, lanes.anyFree) << where;
+      }
+    }
+  }
+  // A NaN anywhere makes both sums not finite.
+  force[7].y = std::numeric_limits<double>::quiet_NaN();
+  detail::ObjectBox scalar, lanes;
+  EXPECT_FALSE(std::isfinite(detail::boxRun(model, state, force, 0, 10, scalar)));
+  EXPECT_FALSE(std::isfinite(detail::boxRunLanes(model, state, force, 0, 10, lanes)));
+#else
+  GTEST_SKIP() << "not an x86-64 build: only the scalar pass exists";
+#endif
 }
 
 }  // namespace
