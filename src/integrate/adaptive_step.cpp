@@ -542,21 +542,31 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   return step * (1.0 - 1e-9);
 }
 
+namespace {
+
+// The approach bound where it may bind: infinite (no cap) when its floor is at
+// least `others`, the other caps of the step, which it then cannot undercut.
+double approachLimitBelow(double others, const Model& model, const State& state,
+                          const std::vector<Vec3>& force, double fraction) {
+  return approachStepFloor(model, state, force, fraction) >= others
+             ? std::numeric_limits<double>::infinity()
+             : approachStepBound(model, state, force, fraction);
+}
+
+}  // namespace
+
 StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, double contactSafety,
                                  std::int64_t* splits) {
   const double end = world.state().time + dt;
   double left = dt;
   for (;;) {
     const Evaluation& evaluation = world.evaluation();
-    // The approach bound only where its floor does not already clear the rest.
     const double contactBound = contactSafety > 0.0
                                     ? contactSafety * evaluation.contactCriticalStep
                                     : std::numeric_limits<double>::infinity();
-    double bound = contactBound;
-    if (approachStepFloor(world.model(), world.state(), evaluation.force, fraction) <
-        std::min(left, contactBound))
-      bound = std::min(bound, approachStepBound(world.model(), world.state(), evaluation.force,
-                                                fraction));
+    const double bound =
+        std::min(contactBound, approachLimitBelow(std::min(left, contactBound), world.model(),
+                                                  world.state(), evaluation.force, fraction));
     const double pieces = bound >= left ? 1.0 : std::ceil(left / bound);
     if (!(pieces < 1e9)) return StepStatus::kNonFinite;  // nothing finite can be done
     const bool last = pieces <= 1.0;
@@ -681,15 +691,10 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
   // No pair of approaching surfaces may pass through each other (MODEL §4.4).
-  // (Worked out only where its floor is below the other limits: the trials
-  // below only ever shrink the step.)
-  const double otherLimits = std::min({step_, maxDt, contactLimit});
+  // (Against the other limits as they are now: the trials below only shrink the step.)
   const double approachLimit =
-      approachStepFloor(world.model(), saved_.state(), saved_.evaluation().force,
-                        settings_.maxApproachFraction) >= otherLimits
-          ? std::numeric_limits<double>::infinity()
-          : approachStepBound(world.model(), saved_.state(), saved_.evaluation().force,
-                              settings_.maxApproachFraction);
+      approachLimitBelow(std::min({step_, maxDt, contactLimit}), world.model(), saved_.state(),
+                         saved_.evaluation().force, settings_.maxApproachFraction);
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
     const StepStatus status = world.step(dt);

@@ -118,14 +118,14 @@ std::string modelJson(const RunFolder& run) {
 // `width`), row-major, non-finite numbers in one form (a page made from the
 // run's rows and one made from its files are the same bytes whatever NaN the
 // run produced).
-template <class Out>
-std::vector<Out> keptValues(const double* values, std::size_t width, std::size_t first,
+template <class Out, class In>
+std::vector<Out> keptValues(const In* values, std::size_t width, std::size_t first,
                             std::size_t count, const std::vector<std::size_t>& kept) {
   std::vector<Out> out;
   out.reserve(kept.size() * count);
   for (std::size_t r : kept) {
     for (std::size_t c = first; c < first + count; ++c) {
-      const double v = values[r * width + c];
+      const In v = values[r * width + c];
       out.push_back(std::isnan(v) ? std::numeric_limits<Out>::quiet_NaN() : static_cast<Out>(v));
     }
   }
@@ -344,14 +344,9 @@ bool writePageFrom(const std::string& runDir, const ReplayOptions& options, cons
                  ",\"frames\":{{\"sourceCount\":{},\"stride\":{},\"count\":{}",
                  rows.frameTime.size(), frameStride, keptFrames.size());
   appendBinary(data, "t", keptValues<double>(rows.frameTime.data(), 1, 0, 1, keptFrames));
-  std::vector<float> positions;
-  positions.reserve(keptFrames.size() * 3 * particles);
-  for (std::size_t k : keptFrames) {
-    const float* frame = rows.framePosition.data() + k * 3 * particles;
-    for (std::size_t v = 0; v < 3 * particles; ++v)
-      positions.push_back(std::isnan(frame[v]) ? std::numeric_limits<float>::quiet_NaN() : frame[v]);
-  }
-  appendBinary(data, "position", positions);
+  appendBinary(data, "position",
+               keptValues<float>(rows.framePosition.data(), 3 * particles, 0, 3 * particles,
+                                 keptFrames));
   data += '}';
   appendTable(data, "energy", rows.energy, energyStride);
   if (rows.hasJoints) {
