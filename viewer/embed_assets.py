@@ -5,7 +5,9 @@ The page is one HTML file that opens from disk with no server and no network, so
 three.js and OrbitControls travel inside it: each becomes a data: URL in an import
 map, and the module that imported "./three.core.min.js" imports "three/core"
 instead. The viewer's own CSS and JS are inlined as they are. What is left for the
-C++ writer (src/output/replay_html.cpp) is the run data, between kPageHead and kPageTail.
+C++ writer (src/output/replay_html.cpp) is the run's series (binary, in <script>
+elements) between kPageHead and kPageMiddle, and its data object between
+kPageMiddle and kPageTail.
 """
 
 import argparse
@@ -15,6 +17,7 @@ import sys
 
 # GCC's -Woverlength-strings (on with -Wpedantic) flags literals past 65535 chars.
 CHUNK_CHARS = 16000
+SERIES_MARKER = "@RUN_SERIES@"
 DATA_MARKER = "@RUN_DATA@"
 
 
@@ -93,9 +96,14 @@ def main() -> int:
         if marker not in page:
             sys.exit(f"embed_assets.py: {args.template} lacks {marker}")
         page = page.replace(marker, value)
-    if page.count(DATA_MARKER) != 1:
-        sys.exit(f"embed_assets.py: {args.template} must hold {DATA_MARKER} exactly once")
-    head, tail = page.split(DATA_MARKER)
+    for marker in (SERIES_MARKER, DATA_MARKER):
+        if page.count(marker) != 1:
+            sys.exit(f"embed_assets.py: {args.template} must hold {marker} exactly once")
+    head, rest = page.split(SERIES_MARKER)
+    middle, tail = rest.split(DATA_MARKER)
+    if middle.count("<") != 1 or not middle.strip().startswith("<script"):
+        sys.exit(f"embed_assets.py: {args.template}: only the data element may stand between "
+                 f"{SERIES_MARKER} and {DATA_MARKER}")
 
     header = "\n".join([
         "#pragma once",
@@ -106,9 +114,11 @@ def main() -> int:
         "namespace robophi::replay_assets {",
         "",
         f'inline constexpr std::string_view kThreeVersion = "{version}";',
-        "/// The page up to the run data, in pieces (concatenate them in order).",
+        "/// The page up to the run's series, in pieces (concatenate them in order).",
         emit_array("kPageHead", head),
-        "/// The page after the run data.",
+        "/// Between the series and the run's data object (the data element's start tag).",
+        emit_array("kPageMiddle", middle),
+        "/// The page after the run's data object.",
         emit_array("kPageTail", tail),
         "",
         "}  // namespace robophi::replay_assets",

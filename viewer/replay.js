@@ -1,7 +1,7 @@
 // robophi replay viewer (docs/viewer.md). Inlined into replay.html at build time.
 //
-// The run data is the JSON in <script id="robophi-data"> (src/output/replay_html.cpp
-// writes it). The page works in three layers, so that a browser without WebGL
+// The run data is the JSON in <script id="robophi-data">, and its series are the
+// <script data-series> elements before it (src/output/replay_html.cpp writes both). The page works in three layers, so that a browser without WebGL
 // still shows the data: (1) data, time and plots; (2) the three.js scene graph;
 // (3) the WebGL renderer, drawn when available.
 
@@ -18,47 +18,59 @@ const linkCount = linear.length / 3;
 
 // The series are binary: base64 of little-endian numbers (docs/viewer.md, "The
 // page's data"): times as doubles, what is drawn (positions, plotted values,
-// contact forces) as floats.
-function decodeNumbers(text, Type) {
-  const bytes = atob(text);
-  const buffer = new Uint8Array(bytes.length);
-  for (let i = 0; i < bytes.length; ++i) buffer[i] = bytes.charCodeAt(i);
+// contact forces) as floats. Each series comes in pieces (the run writes its page
+// as it goes), each piece a <script data-series="name"> element of its own base64,
+// in order.
+const seriesPieces = new Map();
+for (const element of document.querySelectorAll('script[data-series]')) {
+  const name = element.dataset.series;
+  if (!seriesPieces.has(name)) seriesPieces.set(name, []);
+  seriesPieces.get(name).push(atob(element.textContent));
+}
+function decodeNumbers(name, Type) {
+  const pieces = seriesPieces.get(name) ?? [];
+  const buffer = new Uint8Array(pieces.reduce((bytes, piece) => bytes + piece.length, 0));
+  let at = 0;
+  for (const piece of pieces) {
+    for (let i = 0; i < piece.length; ++i) buffer[at++] = piece.charCodeAt(i);
+  }
   return new Type(buffer.buffer);
 }
-const frameTime = decodeNumbers(data.frames.t, Float64Array);
+const frameTime = decodeNumbers('frames.t', Float64Array);
 const frameCount = frameTime.length;
 // (frame, particle, xyz)
-const framePosition = Float64Array.from(decodeNumbers(data.frames.position, Float32Array));
+const framePosition = Float64Array.from(decodeNumbers('frames.position', Float32Array));
 const tStart = frameTime[0];
 const tEnd = frameTime[frameCount - 1];
 
-// A table's rows: {count, t (Float64Array), value(r, c) for the columns after t, row(r)}.
-function rowsOf(table) {
-  const t = decodeNumbers(table.t, Float64Array);
-  const values = decodeNumbers(table.values, Float32Array);
+// A table's rows: {count, t (Float64Array), value(r, c) for the columns after t, row(r)};
+// `name` names its series ("energy": "energy.t" and "energy.values").
+function rowsOf(table, name) {
+  const t = decodeNumbers(`${name}.t`, Float64Array);
+  const values = decodeNumbers(`${name}.values`, Float32Array);
   const width = table.columns.length - 1;  // after t
   const value = (r, c) => values[r * width + c];
   const row = (r) => [t[r], ...values.subarray(r * width, (r + 1) * width)];
   return { count: t.length, t, value, row };
 }
 // A table of rows as named columns of Float64Array.
-function columnsOf(table) {
-  const { count, t, value } = rowsOf(table);
+function columnsOf(table, name) {
+  const { count, t, value } = rowsOf(table, name);
   const out = {};
   table.columns.forEach((name, c) => {
     out[name] = c === 0 ? t : Float64Array.from({ length: count }, (_, r) => value(r, c - 1));
   });
   return out;
 }
-const energy = columnsOf(data.energy);
-const joints = data.joints ? columnsOf(data.joints) : null;
+const energy = columnsOf(data.energy, 'energy');
+const joints = data.joints ? columnsOf(data.joints, 'joints') : null;
 // joints.csv: t, each joint's value, then "<name>:q", ":rate", ":effort" (plotted: the values).
 const jointNames = data.joints ? data.joints.columns.slice(1).filter((c) => !c.includes(':')) : [];
 
 // Contacts grouped by time: [{t, rows: [[a, b, fx, fy, fz, ...], ...]}], times increasing.
 const contactGroups = [];
 if (data.contacts) {
-  const contactRows = rowsOf(data.contacts);
+  const contactRows = rowsOf(data.contacts, 'contacts');
   for (let r = 0; r < contactRows.count; ++r) {
     const row = contactRows.row(r);
     const t = row[0];

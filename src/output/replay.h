@@ -7,6 +7,7 @@
 /// docs/viewer.md describes the page.
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,10 +51,38 @@ struct ReplayRows {
   std::size_t bytes = 0;
 };
 
+/// The replay page of a run written as the run goes (RunWriter, on its writer
+/// thread): the page's head, then the pieces of its series as their rows come
+/// (docs/viewer.md, "The page's data"), into `runDir`/replay.html.partial;
+/// writeReplayHtml ends it. Removes what it wrote unless it was ended.
+class ReplayPageStream {
+ public:
+  explicit ReplayPageStream(const std::string& runDir);
+  ~ReplayPageStream();
+  ReplayPageStream(const ReplayPageStream&) = delete;
+  ReplayPageStream& operator=(const ReplayPageStream&) = delete;
+
+  /// Writes the pieces whose rows are all in `rows` (of `particles` particles;
+  /// rows only ever added, in time order); with `last`, all the rest.
+  void write(const ReplayRows& rows, std::size_t particles, bool last = false);
+  /// Whether what it wrote is still the page's beginning (no write failed, the
+  /// rows came in time order, not abandoned).
+  bool usable() const;
+  /// Removes what it wrote; it writes nothing more.
+  void abandon();
+
+ private:
+  struct Pieces;
+  std::unique_ptr<Pieces> state_;
+  friend bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
+                              const ReplayRows& rows, ReplayPageStream* stream, std::string& error);
+};
+
 /// The same page from `rows` (what the run wrote into `runDir`) and the folder's
 /// model.json and world.json: byte for byte the page writeReplayHtml makes from
-/// the folder's files.
+/// the folder's files. With `stream` (what the run wrote of it as it went), ends
+/// that page when it keeps every row and goes into `runDir`; else writes it whole.
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
-                     const ReplayRows& rows, std::string& error);
+                     const ReplayRows& rows, ReplayPageStream* stream, std::string& error);
 
 }  // namespace robophi

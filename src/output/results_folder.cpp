@@ -175,6 +175,18 @@ void publishResultsFolder(const fs::path& staging, const fs::path& target, std::
   fs::remove(staging);
 }
 
+std::future<void> clearPreviousResults(const fs::path& target, std::string_view kind, bool force,
+                                       std::vector<std::string> incoming) {
+  return std::async(std::launch::async,
+                    [target, kind = std::string(kind), force, incoming = std::move(incoming)] {
+                      try {
+                        if (!resultsFolderProblem(target, kind, force, incoming).empty()) return;
+                        removeOwnedEntries(target, /*removeFolder=*/false);
+                      } catch (const std::exception&) {  // publishResultsFolder tries again
+                      }
+                    });
+}
+
 void writeFileAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   std::error_code ec;
   if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);

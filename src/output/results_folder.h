@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -78,6 +79,16 @@ void removeOwnedEntries(const std::filesystem::path& dir, bool removeFolder);
 /// receive them (resultsFolderProblem).
 void publishResultsFolder(const std::filesystem::path& staging, const std::filesystem::path& target,
                           std::string_view kind, bool force);
+
+/// Removes robophi's previous results from `target` ahead of
+/// publishResultsFolder, on a thread of its own (while a run writes its last
+/// files): only when `target` may take results of `kind` holding any of
+/// `incoming` (resultsFolderProblem finds nothing); else it leaves `target` as it
+/// is, and publishResultsFolder says why or removes them itself. Wait for it
+/// before publishing. (The previous results are then gone once a run has ended,
+/// whether or not its last files could be written.)
+std::future<void> clearPreviousResults(const std::filesystem::path& target, std::string_view kind,
+                                       bool force, std::vector<std::string> incoming);
 
 /// Writes `path` through a temporary file beside it (`path`.partial) that
 /// `write` fills and that is then renamed over `path`, so that `path` is never

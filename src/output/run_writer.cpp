@@ -77,7 +77,10 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
 
 RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay, bool ownThread)
     : dir_(dir), world_(scene) {
-  if (gatherReplay) replay_.emplace();
+  if (gatherReplay) {
+    replay_.emplace();
+    page_ = std::make_unique<ReplayPageStream>(dir_);
+  }
   // The marker first: a folder cut short at any point is still robophi's.
   files_ = seriesFiles(scene);
   std::filesystem::create_directories(dir_);
@@ -362,6 +365,14 @@ void RunWriter::writeBatch(const Batch& batch) {
         joints_ << line_ << '\n';
         if (replay_) gather(replay_->joints, row);
         break;
+    }
+  }
+  // The page's pieces whose rows are all here (none once the rows are dropped).
+  if (page_) {
+    if (replay_) {
+      page_->write(*replay_, particleCount_);
+    } else {
+      page_.reset();
     }
   }
 }

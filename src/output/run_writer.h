@@ -29,7 +29,8 @@ class RunWriter {
   /// Creates `dir` (which must not exist), writes the results marker
   /// (output/results_folder.h) that lists the series files, and opens them.
   /// With `gatherReplay`, also keeps the rows the replay page shows
-  /// (takeReplayRows), so that the page is made without reading the files back.
+  /// (takeReplayRows), so that the page is made without reading the files back,
+  /// and writes the page's series as they come (takeReplayPage).
   /// With `ownThread` (and a second core), formats and writes on a thread of
   /// its own; else on the caller's, at each hand-over.
   RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay = false,
@@ -62,6 +63,13 @@ class RunWriter {
   std::optional<ReplayRows> takeReplayRows() {
     drain();
     return std::move(replay_);
+  }
+  /// The replay page written so far (its head and the pieces of the rows
+  /// gathered), to be ended by writeReplayHtml, or null (no rows gathered, or
+  /// dropped). Call after takeReplayRows.
+  std::unique_ptr<ReplayPageStream> takeReplayPage() {
+    drain();
+    return std::move(page_);
   }
 
   /// The most bytes of replay rows a run keeps in memory.
@@ -111,6 +119,7 @@ class RunWriter {
   output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
   std::string line_;         // reused buffer for one CSV row
   std::optional<ReplayRows> replay_;
+  std::unique_ptr<ReplayPageStream> page_;  // the page as the rows come (with replay_)
 
   std::size_t particleCount_ = 0, jointCount_ = 0;  // a frame's particles, a joints row's joints
   Batch taken_;    // rows taken on the run's thread, not yet handed over

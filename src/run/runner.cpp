@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <map>
 #include <optional>
 
@@ -559,6 +560,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (finalState) *finalState = last;
 
   if (writer) {
+    // The previous results (--force) go while the last files are written.
+    std::future<void> cleared =
+        output::clearPreviousResults(options.outDir, "run", options.force, runFileNames());
     // An interrupted run stops quickly: its page can be made later.
     if (options.writeReplay && report.interrupted()) {
       report.warnings.push_back(
@@ -567,16 +571,19 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
     writer->finish(scene, settings, report);
     const std::optional<ReplayRows> rows = writer->takeReplayRows();
+    std::unique_ptr<ReplayPageStream> page = writer->takeReplayPage();
     writer.reset();
     // The replay page is built from the rows the run kept (else, after a resume
     // or a number that is not finite, from the finished files); a failure there
     // is a warning (the results are complete without it).
     std::string replayError;
     if (options.writeReplay && !report.interrupted() &&
-        !(rows ? writeReplayHtml(staging->path(), ReplayOptions{}, *rows, replayError)
+        !(rows ? writeReplayHtml(staging->path(), ReplayOptions{}, *rows, page.get(), replayError)
                : writeReplayHtml(staging->path(), ReplayOptions{}, replayError))) {
       report.warnings.push_back("replay.html not written: " + replayError);
     }
+    page.reset();  // (a page not ended is removed)
+    cleared.wait();
     try {
       output::publishResultsFolder(staging->path(), options.outDir, "run", options.force);
     } catch (const output::ResultsFolderError&) {
