@@ -51,6 +51,10 @@ struct ReplayRows {
   std::size_t bytes = 0;
 };
 
+/// The name of a run's replay page while it is written (in its folder, listed
+/// in the marker until the page is ended).
+inline constexpr const char* kReplayPagePartial = "replay.html.partial";
+
 /// The replay page of a run written as the run goes (RunWriter, on its writer
 /// thread): the page's head, then the pieces of its series as their rows come
 /// (docs/viewer.md, "The page's data"), into `runDir`/replay.html.partial;

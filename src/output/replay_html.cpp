@@ -511,7 +511,7 @@ struct ReplayPageStream::Pieces {
 };
 
 ReplayPageStream::ReplayPageStream(const std::string& runDir) : state_(std::make_unique<Pieces>()) {
-  state_->partial = fs::path(runDir) / "replay.html.partial";
+  state_->partial = fs::path(runDir) / kReplayPagePartial;
 }
 
 ReplayPageStream::~ReplayPageStream() { abandon(); }

@@ -136,6 +136,16 @@ void addToResultsMarker(const fs::path& dir, const std::string& file) {
   writeResultsMarker(dir, marker->value("kind", "run"), files);
 }
 
+void removeFromResultsMarker(const fs::path& dir, const std::string& file) {
+  auto marker = readMarker(dir);
+  if (!marker) return;
+  std::vector<std::string> files = (*marker)["files"].get<std::vector<std::string>>();
+  const auto it = std::find(files.begin(), files.end(), file);
+  if (it == files.end()) return;
+  files.erase(it);
+  writeResultsMarker(dir, marker->value("kind", "run"), files);
+}
+
 void removeOwnedEntries(const fs::path& dir, bool removeFolder) {
   const FolderContents contents = inspectResultsFolder(dir);
   if (!contents.isFolder) return;

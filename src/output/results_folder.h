@@ -66,6 +66,9 @@ void writeResultsMarker(const std::filesystem::path& dir, std::string_view kind,
 /// to one of its folders later, e.g. robophi export html's replay.html).
 void addToResultsMarker(const std::filesystem::path& dir, const std::string& file);
 
+/// Takes `file` off the marker of `dir` when it lists it.
+void removeFromResultsMarker(const std::filesystem::path& dir, const std::string& file);
+
 /// Deletes what robophi wrote in `dir` (its owned entries, sub-folders
 /// recursively by the same rule, the marker last) and keeps everything else.
 /// Removes `dir` itself when nothing else is left in it and `removeFolder`.

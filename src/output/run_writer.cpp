@@ -77,12 +77,14 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
 
 RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay, bool ownThread)
     : dir_(dir), world_(scene) {
+  // The marker first: a folder cut short at any point is still robophi's (the
+  // page as it is written too, until it is ended: writeReplayHtml).
+  files_ = seriesFiles(scene);
   if (gatherReplay) {
     replay_.emplace();
     page_ = std::make_unique<ReplayPageStream>(dir_);
+    files_.push_back(kReplayPagePartial);
   }
-  // The marker first: a folder cut short at any point is still robophi's.
-  files_ = seriesFiles(scene);
   std::filesystem::create_directories(dir_);
   output::writeResultsMarker(dir_, "run", files_);
   energy_ = open("energy.csv");

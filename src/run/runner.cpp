@@ -583,6 +583,7 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       report.warnings.push_back("replay.html not written: " + replayError);
     }
     page.reset();  // (a page not ended is removed)
+    output::removeFromResultsMarker(staging->path(), kReplayPagePartial);
     cleared.wait();
     try {
       output::publishResultsFolder(staging->path(), options.outDir, "run", options.force);

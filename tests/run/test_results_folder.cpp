@@ -11,8 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_reader.h"
+#include "output/run_writer.h"
 #include "output/vtk_export.h"
 #include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
@@ -141,6 +143,36 @@ TEST_F(ResultsFolderTest, AKilledRunsStagingFolderIsClearedAForeignOneRefused) {
   writeText(staging / "notes.txt", "mine");
   EXPECT_THROW(runScene(scene_, options()), output::ResultsFolderError);
   EXPECT_EQ(readText(staging / "notes.txt"), "mine");
+}
+
+// A run killed while it writes its replay page (replay.html.partial, written as
+// the run goes) leaves a staging folder that is wholly robophi's (the next run
+// clears it); a page not ended is removed; a finished run's marker lists no
+// partial page.
+TEST_F(ResultsFolderTest, ThePageBeingWrittenIsListedUntilItIsEnded) {
+  const fs::path staging = root_ / ".out.partial";
+  {
+    RunWriter writer(staging.string(), scene_, /*gatherReplay=*/true);
+    World world(scene_.model, scene_.initial, scene_.run.integrator);
+    for (int frame = 0; frame < 200; ++frame) {
+      for (int k = 0; k < 10; ++k) ASSERT_EQ(world.step(scene_.run.dt), StepStatus::kOk);
+      writer.writeEnergyRow(world, scene_.run.dt);
+      writer.writeFrame(world);
+    }
+    (void)writer.progress();  // (every row written, the page's pieces with them)
+    EXPECT_GT(fs::file_size(staging / kReplayPagePartial), 100000u);
+    const output::FolderContents contents = output::inspectResultsFolder(staging);
+    EXPECT_TRUE(contents.foreign.empty()) << contents.foreign.front();
+  }
+  EXPECT_FALSE(fs::exists(staging / kReplayPagePartial));
+  fs::remove_all(staging);
+  RunOptions o = options();
+  o.writeReplay = true;
+  runScene(scene_, o);
+  EXPECT_TRUE(fs::exists(out_ / "replay.html"));
+  const auto files = nlohmann::json::parse(readText(out_ / std::string(output::kResultsMarker)))["files"];
+  EXPECT_NE(std::find(files.begin(), files.end(), "replay.html"), files.end());
+  EXPECT_EQ(std::find(files.begin(), files.end(), kReplayPagePartial), files.end());
 }
 
 TEST_F(ResultsFolderTest, AVtkExportInsideARunFolderIsRobophisAndGoesWithIt) {
