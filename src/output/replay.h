@@ -58,10 +58,13 @@ inline constexpr const char* kReplayPagePartial = "replay.html.partial";
 /// The replay page of a run written as the run goes (RunWriter, on its writer
 /// thread): the page's head, then the pieces of its series as their rows come
 /// (docs/viewer.md, "The page's data"), into `runDir`/replay.html.partial;
-/// writeReplayHtml ends it. Removes what it wrote unless it was ended.
+/// writeReplayHtml ends it. Removes what it wrote unless it was ended, and gives
+/// up (removes it) once it is past `sizeCapBytes` (that page keeps only some
+/// rows: writeReplayHtml writes it whole).
 class ReplayPageStream {
  public:
-  explicit ReplayPageStream(const std::string& runDir);
+  explicit ReplayPageStream(const std::string& runDir,
+                            double sizeCapBytes = ReplayOptions{}.sizeCapBytes);
   ~ReplayPageStream();
   ReplayPageStream(const ReplayPageStream&) = delete;
   ReplayPageStream& operator=(const ReplayPageStream&) = delete;
@@ -69,8 +72,8 @@ class ReplayPageStream {
   /// Writes the pieces whose rows are all in `rows` (of `particles` particles;
   /// rows only ever added, in time order); with `last`, all the rest.
   void write(const ReplayRows& rows, std::size_t particles, bool last = false);
-  /// Whether what it wrote is still the page's beginning (no write failed, the
-  /// rows came in time order, not abandoned).
+  /// Whether what it wrote is still the page's beginning (no write failed, under
+  /// the cap, the rows came in time order, not abandoned).
   bool usable() const;
   /// Removes what it wrote; it writes nothing more.
   void abandon();

@@ -507,11 +507,13 @@ struct ReplayPageStream::Pieces {
   SeriesPieces pieces;
   std::string buffer;
   std::size_t bytes = 0;  // written so far
-  bool failed = false;
+  double cap = 0.0;       // the page's size cap (bytes)
 };
 
-ReplayPageStream::ReplayPageStream(const std::string& runDir) : state_(std::make_unique<Pieces>()) {
+ReplayPageStream::ReplayPageStream(const std::string& runDir, double sizeCapBytes)
+    : state_(std::make_unique<Pieces>()) {
   state_->partial = fs::path(runDir) / kReplayPagePartial;
+  state_->cap = sizeCapBytes;
 }
 
 ReplayPageStream::~ReplayPageStream() { abandon(); }
@@ -526,9 +528,7 @@ void ReplayPageStream::abandon() {
   state_.reset();
 }
 
-bool ReplayPageStream::usable() const {
-  return state_ && !state_->failed && !state_->pieces.outOfOrder();
-}
+bool ReplayPageStream::usable() const { return state_ && !state_->pieces.outOfOrder(); }
 
 void ReplayPageStream::write(const ReplayRows& rows, std::size_t particles, bool last) {
   if (!usable()) return;
@@ -544,7 +544,8 @@ void ReplayPageStream::write(const ReplayRows& rows, std::size_t particles, bool
                   {nullptr, rows.contacts.rows()}, last);
   s.out << s.buffer;
   s.bytes += s.buffer.size();
-  if (!s.out) s.failed = true;
+  // Past the cap the page keeps only some rows: it is written whole at the end.
+  if (!s.out || static_cast<double>(s.bytes) > s.cap) abandon();
 }
 
 bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options, std::string& error) {

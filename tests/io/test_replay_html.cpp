@@ -268,19 +268,19 @@ TEST_F(ReplayHtmlTest, CutsItsSeriesIntoPiecesAtEvery64thFrame) {
   EXPECT_FALSE(data["frames"].contains("t"));
 }
 
-// The rows of the fixture's 200 frames and 401 energy rows (as writeFrames and
-// writeEnergy write them) as a run gathers them.
+// The rows of the fixture's `frames` frames and 2 `frames` + 1 energy rows (as
+// writeFrames and writeEnergy write them) as a run gathers them.
 struct FixtureRows {
   ReplayRows all;
-  FixtureRows() {
-    for (int k = 0; k < 200; ++k) {
+  explicit FixtureRows(int frames = 200) {
+    for (int k = 0; k < frames; ++k) {
       const double t = k / 100.0;
       all.frameTime.push_back(t);
       for (const double x : {t / 3.0, 0.0, 1.0 / (k + 3), 1.0 + t / 7.0, 0.0, 1.0})
         all.framePosition.push_back(static_cast<float>(x));
     }
     all.energy.columns = {"t", "dt", "kinetic", "potential", "dissipated", "total"};
-    for (int k = 0; k < 401; ++k)
+    for (int k = 0; k <= 2 * frames; ++k)
       all.energy.values.insert(all.energy.values.end(), {k / 200.0, 0.001, 1.0 * k, 1, 0, 1});
   }
   // Hands the rows to `stream` as a run would: frames and energy rows in time
@@ -330,6 +330,31 @@ TEST_F(ReplayHtmlTest, ThePageWrittenAsTheRowsComeIsThePageFromTheFiles) {
       EXPECT_FALSE(fs::exists(dir_ / "replay.html.partial"));
     }
   }
+}
+
+// A page past its cap as it is written gives up (it keeps only some rows): the
+// page is written whole at the end, the one made from the files.
+TEST_F(ReplayHtmlTest, APagePastItsCapAsItIsWrittenIsWrittenWholeAtTheEnd) {
+  writeFrames(4000);
+  writeEnergy(dir_, 8001);
+  ReplayOptions options;
+  std::string error;
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
+  // A cap 150 kB under the whole page (its series 0.5 MB): some rows are dropped.
+  options.sizeCapBytes = static_cast<double>(fs::file_size(dir_ / "replay.html") - 150000);
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), options, error)) << error;
+  const std::string fromFiles = readText(dir_ / "replay.html");
+  const nlohmann::json data = pageData(fromFiles);
+  EXPECT_GT(data["frames"]["stride"].get<int>() + data["energy"]["stride"].get<int>(), 2);
+  fs::remove(dir_ / "replay.html");
+  const FixtureRows fixture(4000);
+  ReplayPageStream stream(dir_.string(), options.sizeCapBytes);
+  ReplayRows rows;
+  fixture.feed(stream, rows, 100, false);
+  EXPECT_FALSE(stream.usable());  // (past the cap before the last frames)
+  EXPECT_FALSE(fs::exists(dir_ / "replay.html.partial"));
+  ASSERT_TRUE(writeReplayHtml(dir_.string(), options, rows, &stream, error)) << error;
+  EXPECT_TRUE(readText(dir_ / "replay.html") == fromFiles);
 }
 
 TEST_F(ReplayHtmlTest, APageNotEndedLeavesNothing) {
