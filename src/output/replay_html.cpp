@@ -60,19 +60,28 @@ void appendNumber(std::string& out, double value) {
   }
 }
 
-// A JSON string that is also safe inside <script>: "</" would end the element.
-std::string jsonString(const std::string& text) {
-  std::string quoted = nlohmann::json(text).dump();
+// JSON text made safe inside <script>: "</" would end the element ("<\\/" is
+// the same JSON).
+std::string scriptSafe(const std::string& json) {
   std::string safe;
-  safe.reserve(quoted.size());
-  for (std::size_t i = 0; i < quoted.size(); ++i) {
-    if (quoted[i] == '<' && i + 1 < quoted.size() && quoted[i + 1] == '/') {
+  safe.reserve(json.size());
+  for (std::size_t i = 0; i < json.size(); ++i) {
+    if (json[i] == '<' && i + 1 < json.size() && json[i + 1] == '/') {
       safe += "<\\";
     } else {
-      safe += quoted[i];
+      safe += json[i];
     }
   }
   return safe;
+}
+
+// A JSON string that is also safe inside <script>.
+std::string jsonString(const std::string& text) { return scriptSafe(nlohmann::json(text).dump()); }
+
+// Writes the page's fixed pieces (replay_assets) to `out`.
+template <std::size_t N>
+void writePieces(std::ostream& out, const std::string_view (&pieces)[N]) {
+  for (std::string_view piece : pieces) out << piece;
 }
 
 // Indices 0, stride, 2·stride, ... and always the last one.
@@ -135,15 +144,7 @@ bool readWorldView(const fs::path& dir, std::string& world, std::string& error) 
       error = fmt::format("{}: expected a JSON object", path.string());
       return false;
     }
-    const std::string compact = j.dump();
-    world.clear();
-    for (std::size_t i = 0; i < compact.size(); ++i) {  // "</" would end the <script> element
-      if (compact[i] == '<' && i + 1 < compact.size() && compact[i + 1] == '/') {
-        world += "<\\";
-      } else {
-        world += compact[i];
-      }
-    }
+    world = scriptSafe(j.dump());
   } catch (const nlohmann::json::exception& e) {
     error = fmt::format("{}: not valid JSON: {}", path.string(), e.what());
     return false;
@@ -314,17 +315,23 @@ void appendTableStart(std::string& out, const char* name, const ReplaySeries& se
   fmt::format_to(std::back_inserter(out), "],\"sourceRows\":{}", series.rows());
 }
 
-// Contacts are decimated by time groups (a row's t is its first number), so a
-// kept time keeps all its contacts: the kept rows, and the number of times.
-std::vector<std::size_t> keptContacts(const ReplaySeries& series, std::size_t stride,
-                                      std::size_t& times) {
+// The first row of each time of the contacts (a row's t is its first number).
+std::vector<std::size_t> contactTimeStarts(const ReplaySeries& series) {
   const std::size_t width = series.columns.size();
-  const std::size_t rows = series.rows();
   std::vector<std::size_t> groupStart;
-  for (std::size_t r = 0; r < rows; ++r) {
+  for (std::size_t r = 0; r < series.rows(); ++r) {
     if (r == 0 || series.values[r * width] != series.values[(r - 1) * width])
       groupStart.push_back(r);
   }
+  return groupStart;
+}
+
+// Contacts are decimated by time groups, so a kept time keeps all its
+// contacts: the kept rows, and the number of times.
+std::vector<std::size_t> keptContacts(const ReplaySeries& series, std::size_t stride,
+                                      std::size_t& times) {
+  const std::size_t rows = series.rows();
+  const std::vector<std::size_t> groupStart = contactTimeStarts(series);
   times = groupStart.size();
   std::vector<std::size_t> kept;
   for (std::size_t g : keptIndices(groupStart.size(), stride)) {
@@ -438,6 +445,19 @@ std::string dataObject(const PagePlan& plan, const RunFolder& run, const ReplayR
   return data;
 }
 
+// The page's bytes after its series: the data element's start, the data, the rest.
+std::size_t pageEndBytes(const std::string& data) {
+  return piecesSize(replay_assets::kPageMiddle) + data.size() +
+         piecesSize(replay_assets::kPageTail);
+}
+
+// Writes the page after its series (pageEndBytes).
+void writePageEnd(std::ostream& out, const std::string& data) {
+  writePieces(out, replay_assets::kPageMiddle);
+  out << data;
+  writePieces(out, replay_assets::kPageTail);
+}
+
 std::string overCap(const PagePlan& plan, std::size_t pageBytes, std::size_t keptFrames,
                     std::size_t frames) {
   return fmt::format(
@@ -473,20 +493,17 @@ bool writeWholePage(const PagePlan& plan, const RunFolder& run, const ReplayRows
                 {&contactRows, contactRows.size()}, /*last=*/true);
   const std::string data = dataObject(plan, run, rows, frameRows.size(), energyRows.size(),
                                       jointRows.size(), contactRows.size(), contactTimes);
-  const std::size_t pageBytes = piecesSize(replay_assets::kPageHead) + series.size() +
-                                piecesSize(replay_assets::kPageMiddle) + data.size() +
-                                piecesSize(replay_assets::kPageTail);
+  const std::size_t pageBytes =
+      piecesSize(replay_assets::kPageHead) + series.size() + pageEndBytes(data);
   if (static_cast<double>(pageBytes) > plan.cap) {
     error = overCap(plan, pageBytes, frameRows.size(), rows.frameTime.size());
     return false;
   }
   try {
     output::writeFileAtomically(plan.path, [&](std::ostream& out) {
-      for (std::string_view piece : replay_assets::kPageHead) out << piece;
+      writePieces(out, replay_assets::kPageHead);
       out << series;
-      for (std::string_view piece : replay_assets::kPageMiddle) out << piece;
-      out << data;
-      for (std::string_view piece : replay_assets::kPageTail) out << piece;
+      writePageEnd(out, data);
     });
     listPage(plan);
   } catch (const std::exception& e) {
@@ -535,7 +552,7 @@ void ReplayPageStream::write(const ReplayRows& rows, std::size_t particles, bool
   Pieces& s = *state_;
   if (!s.out.is_open()) {
     s.out.open(s.partial, std::ios::binary);
-    for (std::string_view piece : replay_assets::kPageHead) s.out << piece;
+    writePieces(s.out, replay_assets::kPageHead);
     s.bytes += piecesSize(replay_assets::kPageHead);
   }
   s.buffer.clear();
@@ -590,25 +607,21 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
     return writeWholePage(plan, run, rows, error);
   }
   stream->write(rows, plan.particles, /*last=*/true);
-  if (!stream->usable()) {  // (rows out of time order, or a write failed)
+  if (!stream->usable()) {  // (rows out of time order, a write failed, or past the cap)
     stream->abandon();
     return writeWholePage(plan, run, rows, error);
   }
   ReplayPageStream::Pieces& s = *stream->state_;
-  std::size_t contactTimes = 0;
-  const std::size_t contactRows = keptContacts(rows.contacts, 1, contactTimes).size();
-  const std::string data = dataObject(plan, run, rows, rows.frameTime.size(), rows.energy.rows(),
-                                      rows.joints.rows(), contactRows, contactTimes);
-  const std::size_t pageBytes = s.bytes + piecesSize(replay_assets::kPageMiddle) + data.size() +
-                                piecesSize(replay_assets::kPageTail);
+  const std::string data =
+      dataObject(plan, run, rows, rows.frameTime.size(), rows.energy.rows(), rows.joints.rows(),
+                 rows.contacts.rows(), contactTimeStarts(rows.contacts).size());
+  const std::size_t pageBytes = s.bytes + pageEndBytes(data);
   if (static_cast<double>(pageBytes) > plan.cap) {
     error = overCap(plan, pageBytes, rows.frameTime.size(), rows.frameTime.size());
     stream->abandon();
     return false;
   }
-  for (std::string_view piece : replay_assets::kPageMiddle) s.out << piece;
-  s.out << data;
-  for (std::string_view piece : replay_assets::kPageTail) s.out << piece;
+  writePageEnd(s.out, data);
   s.out.close();
   std::error_code ec;
   if (!s.out) {

@@ -127,23 +127,35 @@ void writeResultsMarker(const fs::path& dir, std::string_view kind,
                       [&](std::ostream& out) { out << marker.dump(1) << '\n'; });
 }
 
-void addToResultsMarker(const fs::path& dir, const std::string& file) {
+namespace {
+
+// Rewrites the marker of `dir`, when it has one, with its file list as `edit`
+// leaves it (edit returns false: nothing to change).
+template <class Edit>
+void editResultsMarker(const fs::path& dir, const Edit& edit) {
   auto marker = readMarker(dir);
   if (!marker) return;
   std::vector<std::string> files = (*marker)["files"].get<std::vector<std::string>>();
-  if (std::find(files.begin(), files.end(), file) != files.end()) return;
-  files.push_back(file);
-  writeResultsMarker(dir, marker->value("kind", "run"), files);
+  if (edit(files)) writeResultsMarker(dir, marker->value("kind", "run"), files);
+}
+
+}  // namespace
+
+void addToResultsMarker(const fs::path& dir, const std::string& file) {
+  editResultsMarker(dir, [&](std::vector<std::string>& files) {
+    if (std::find(files.begin(), files.end(), file) != files.end()) return false;
+    files.push_back(file);
+    return true;
+  });
 }
 
 void removeFromResultsMarker(const fs::path& dir, const std::string& file) {
-  auto marker = readMarker(dir);
-  if (!marker) return;
-  std::vector<std::string> files = (*marker)["files"].get<std::vector<std::string>>();
-  const auto it = std::find(files.begin(), files.end(), file);
-  if (it == files.end()) return;
-  files.erase(it);
-  writeResultsMarker(dir, marker->value("kind", "run"), files);
+  editResultsMarker(dir, [&](std::vector<std::string>& files) {
+    const auto it = std::find(files.begin(), files.end(), file);
+    if (it == files.end()) return false;
+    files.erase(it);
+    return true;
+  });
 }
 
 void removeOwnedEntries(const fs::path& dir, bool removeFolder) {
