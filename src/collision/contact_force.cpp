@@ -23,6 +23,7 @@
 
 #include "collision/contact_stage.h"
 #include "collision/facets.h"
+#include "collision/pair_lanes.h"
 #include "core/parallel.h"
 #include "robophi/stability.h"
 
@@ -445,6 +446,15 @@ inline void prefetchContact(const Contact* c, bool forWriting) {
 #endif
 }
 
+// Asks for the cache line at `x` (a hint).
+inline void prefetchRead(const void* x) {
+#if defined(__GNUC__)
+  __builtin_prefetch(x, 0);
+#else
+  (void)x;
+#endif
+}
+
 // What the friction of one contact adds to the stage's sums: the anchor energy
 // it releases (J; -0 when none, so that adding it changes nothing) and the
 // power it dissipates (W, >= 0, subtracted).
@@ -673,6 +683,230 @@ inline void pairGeometry(const Model& model, const std::vector<Vec3>& p, std::in
   g.armLengthB = norm(armB);
 }
 
+// How particle i's contact point turns (turningOf's kind without its
+// numbers): 0 not at all, 1 with its own spin, 2 with its LS neighbourhood.
+inline std::int32_t turningKind(const Model& model, const ContactTables& tables, std::int32_t i) {
+  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
+    return 0;
+  if (tables.inverseSpinInertia[i] > 0.0) return 1;
+  return tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1] ? 0 : 2;
+}
+
+// The lean stage's batch [begin, end) into the lanes (pair_lanes.h): each
+// contact's inputs (the lanes past it up to the next four: copies of its
+// first), where its history is (PairLaneBatch::history, persists), and whether
+// the lanes work it out (`use`: it has friction and no rolling resistance, and
+// each side spins or does not turn; the others, whose bare pairs take only
+// their geometry from the lanes, the scalar stage works out). `old` is the
+// history's cursor at `begin`; the next batch's contacts and history are asked
+// for ahead.
+void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std::size_t old,
+                   std::size_t oldEnd, detail::PairLaneBatch& b, bool* use) {
+  const Model& model = in.model;
+  const ContactTables& tables = in.tables;
+  const std::vector<Vec3>& p = in.p;
+  const std::vector<Vec3>& v = in.v;
+  const std::vector<Vec3>& spin = in.spin;
+  const std::vector<Contact>& previous = in.previous;
+  const ContactScratch& cache = in.cache;
+  const auto spinOf = [&](std::int32_t i, std::int32_t kind) {
+    return kind == 1 && static_cast<std::size_t>(i) < spin.size() ? spin[static_cast<std::size_t>(i)]
+                                                                  : Vec3{};
+  };
+  PairParameters unused;  // (the lanes run only without overrides)
+  for (std::size_t j = begin; j < end; ++j) {
+    const std::size_t l = j - begin;
+    const ContactSeed& seed = cache.seeds[j];
+    while (old < oldEnd && previous[old].key() < seed.key) ++old;
+    const Contact* before =
+        old < oldEnd && previous[old].key() == seed.key ? &previous[old] : nullptr;
+    b.history[l] = old;
+    b.persists[l] = before != nullptr;
+    if (before != nullptr) ++old;
+    const std::int32_t a = seed.a(), other = seed.other();
+    const bool environment = other < 0;
+    const PairParameters& k = pairParameters(model, tables, a, other, unused);
+    const std::int32_t kindA = turningKind(model, tables, a);
+    const std::int32_t kindB = environment ? 0 : turningKind(model, tables, other);
+    use[l] = k.tangentialStiffness > 0.0 && (k.staticFriction > 0.0 || k.kineticFriction > 0.0) &&
+             !(k.rollingResistance > 0.0) && kindA != 2 && kindB != 2;
+    const Vec3& pa = p[a];
+    const Vec3& va = v[a];
+    const Vec3 wa = spinOf(a, kindA);
+    b.pax[l] = pa.x, b.pay[l] = pa.y, b.paz[l] = pa.z;
+    b.vax[l] = va.x, b.vay[l] = va.y, b.vaz[l] = va.z;
+    b.wax[l] = wa.x, b.way[l] = wa.y, b.waz[l] = wa.z;
+    b.ra[l] = model.radius[a];
+    b.ima[l] = model.inverseMass[a];
+    b.spinInverseA[l] = tables.inverseSpinInertia[a];
+    b.spinsA[l] = kindA == 1 ? 1.0 : 0.0;
+    // The other side: a particle, or the environment (its side at rest, the
+    // detection's normal and depth).
+    Vec3 pb, vb, wb, foundNormal;
+    double rb = 0.0, imb = 0.0, spinInverseB = 0.0, foundDepth = 0.0;
+    if (environment) {
+      const Contact& found = seed.full >= 0
+                                 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                                 : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
+      foundNormal = found.normal;
+      foundDepth = found.depth;
+    } else {
+      pb = p[other];
+      vb = v[other];
+      wb = spinOf(other, kindB);
+      rb = model.radius[other];
+      imb = model.inverseMass[other];
+      spinInverseB = tables.inverseSpinInertia[other];
+    }
+    b.environment[l] = environment ? 1.0 : 0.0;
+    b.foundx[l] = foundNormal.x, b.foundy[l] = foundNormal.y, b.foundz[l] = foundNormal.z;
+    b.foundDepth[l] = foundDepth;
+    b.pbx[l] = pb.x, b.pby[l] = pb.y, b.pbz[l] = pb.z;
+    b.vbx[l] = vb.x, b.vby[l] = vb.y, b.vbz[l] = vb.z;
+    b.wbx[l] = wb.x, b.wby[l] = wb.y, b.wbz[l] = wb.z;
+    b.rb[l] = rb;
+    b.imb[l] = imb;
+    b.spinInverseB[l] = spinInverseB;
+    b.spinsB[l] = kindB == 1 ? 1.0 : 0.0;
+    const Vec3 anchor = before != nullptr ? before->anchor : Vec3{};
+    const bool slid = before != nullptr && before->sliding == kSliding;
+    const Vec3 offset = slid ? before->frictionForce * (-1.0 / k.tangentialStiffness) : Vec3{};
+    b.anchorx[l] = anchor.x, b.anchory[l] = anchor.y, b.anchorz[l] = anchor.z;
+    b.hasBefore[l] = before != nullptr ? 1.0 : 0.0;
+    b.offsetx[l] = offset.x, b.offsety[l] = offset.y, b.offsetz[l] = offset.z;
+    b.slidBefore[l] = slid ? 1.0 : 0.0;
+    b.stiffness[l] = k.stiffness;
+    b.damping[l] = k.damping;
+    b.tangentialStiffness[l] = k.tangentialStiffness;
+    b.staticFriction[l] = k.staticFriction;
+    b.tangentialDampingRatio[l] = k.tangentialDampingRatio;
+  }
+  // The next batch's lists and other sides asked for ahead (the history and the
+  // new list are larger than the cache).
+  const std::size_t next = std::min(cache.seeds.size(), end + detail::PairLaneBatch::kSize);
+  for (std::size_t j = end; j < next; ++j) {
+    prefetchContact(cache.freshContacts.data() + j, true);
+    if (old + (j - end) < oldEnd) prefetchContact(previous.data() + old + (j - end), false);
+    const std::int32_t other = cache.seeds[j].other();
+    if (other >= 0) {
+      prefetchRead(p.data() + other);
+      prefetchRead(v.data() + other);
+    }
+  }
+  // The lanes past the batch up to the next four: a copy of its first.
+  for (std::size_t l = end - begin; l % 4 != 0; ++l) {
+    for (double* x :
+         {b.pax, b.pay, b.paz, b.pbx, b.pby, b.pbz, b.vax, b.vay, b.vaz, b.vbx, b.vby, b.vbz,
+          b.wax, b.way, b.waz, b.wbx, b.wby, b.wbz, b.anchorx, b.anchory, b.anchorz, b.hasBefore,
+          b.offsetx, b.offsety, b.offsetz, b.slidBefore, b.environment, b.foundx, b.foundy,
+          b.foundz, b.foundDepth, b.ra, b.rb, b.ima, b.imb, b.spinInverseA, b.spinInverseB,
+          b.spinsA, b.spinsB, b.stiffness, b.damping, b.tangentialStiffness, b.staticFriction,
+          b.tangentialDampingRatio})
+      x[l] = x[0];
+  }
+}
+
+// A lean contact the lanes worked out (fillPairLanes, runPairLanes), its
+// Contact started (startBarePair, startFoundContact): into the contact, the
+// stage's sums and its particles' loads, as the scalar stage does from its
+// normal force on. A contact that sticks takes the lanes' friction; the others'
+// group decides here, by the scalar stage's code, from the lanes' trial.
+inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const StageInput& in,
+                           std::int32_t a, std::int32_t other,
+                           const Contact* before, Contact& c, FrictionTrial& t, ContactLoad& load,
+                           StageTally& tally, ContactStats& stats,
+                           ContactChunk::RunTerms& runTerms) {
+  const Model& model = in.model;
+  std::vector<Vec3>& f = *in.force;
+  std::vector<Vec3>& torque = *in.torque;
+  ContactScratch& cache = in.cache;
+  const double depth = b.depth[l];
+  c.normal = {b.nx[l], b.ny[l], b.nz[l]};
+  c.depth = depth;
+  c.normalForce = b.normalForce[l];
+  tally.potential += b.normalPotential[l];
+  tally.dissipativePower += b.normalDissipation[l];
+  stats.maxPenetration = std::max(stats.maxPenetration, -depth);
+  const double smallerRadius =
+      other >= 0 ? std::min(model.radius[a], model.radius[other]) : model.radius[a];
+  if (-depth > stats.maxPenetrationFraction * smallerRadius * (1.0 - 1e-9))
+    stats.maxPenetrationFraction = std::max(stats.maxPenetrationFraction, -depth / smallerRadius);
+  if (other >= 0) {
+    ++stats.particleContacts;
+  } else {
+    ++stats.environmentContacts;
+  }
+  c.rollVelocity = {b.rollx[l], b.rolly[l], b.rollz[l]};
+  c.slip = {b.slipx[l], b.slipy[l], b.slipz[l]};
+  const auto i = static_cast<std::size_t>(a);
+  if (b.sticks[l]) {
+    c.sliding = kSticking;
+    c.giveWay = 0.0;
+    c.anchor = {b.newAnchorx[l], b.newAnchory[l], b.newAnchorz[l]};
+    c.anchorEnergy = b.anchorEnergy[l];
+    c.frictionForce = {b.frictionx[l], b.frictiony[l], b.frictionz[l]};
+    runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
+    // scatterLoad.
+    const Vec3 force{b.forcex[l], b.forcey[l], b.forcez[l]};
+    if (other >= 0) {
+      const auto j = static_cast<std::size_t>(other);
+      f[j] -= force;
+      torque[j] += Vec3{b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
+      cache.contactStiffnessSum[j] += b.rateStiffness[l];
+      cache.contactDampingSum[j] += b.rateDamping[l];
+    }
+    f[i] += force;
+    torque[i] += Vec3{b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
+    cache.contactStiffnessSum[i] += b.rateStiffness[l];
+    cache.contactDampingSum[i] += b.rateDamping[l];
+    return;
+  }
+  // The trial and the loads before friction (settle), as the scalar stage
+  // leaves them.
+  PairParameters unused;  // (the lanes run only without overrides)
+  const PairParameters& k = pairParameters(model, in.tables, a, other, unused);
+  t.turnA = b.spinsA[l] == 1.0 ? 1 : 0;
+  t.turnB = b.spinsB[l] == 1.0 ? 1 : 0;
+  t.ring = -1;
+  t.relative = {b.relx[l], b.rely[l], b.relz[l]};
+  t.armA = {b.armAx[l], b.armAy[l], b.armAz[l]};
+  t.armB = {b.armBx[l], b.armBy[l], b.armBz[l]};
+  t.tangentialStiffness = k.tangentialStiffness;
+  t.kineticFriction = k.kineticFriction;
+  t.tangentialDamping = b.tangentialDamping[l];
+  load.a = a;
+  load.other = other;
+  load.deferred = false;
+  load.force = {b.normalx[l], b.normaly[l], b.normalz[l]};
+  load.torqueA = Vec3{};
+  load.torqueB = Vec3{};
+  load.stiffness = b.rateStiffness[l];
+  load.damping = b.rateDamping[l];
+  t.previousEnergy = before != nullptr ? before->anchorEnergy : 0.0;
+  t.regimeBefore = before != nullptr ? before->sliding : kSticking;
+  t.giveWayBefore = before != nullptr ? before->giveWay : 0.0;
+  t.delta = {b.deltax[l], b.deltay[l], b.deltaz[l]};
+  if (t.regimeBefore == kSliding)
+    tally.releasedEnergy += t.previousEnergy - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
+  t.slipSpeed = b.slipSpeed[l];
+  t.elastic = {b.elasticx[l], b.elasticy[l], b.elasticz[l]};
+  t.damper = {b.damperx[l], b.dampery[l], b.damperz[l]};
+  const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
+  t.slow = t.slipSpeed <= in.model.contact.stickVelocity || reversed;
+  t.frictionLoad = b.frictionLoad[l];
+  t.tangentialInverse = b.tangentialInverse[l];
+  t.hadBefore = before != nullptr;
+  if (t.hadBefore) t.slipBefore = before->slip;
+  FrictionGroup group;
+  t.group = 0;
+  joinGroup(group, t);
+  decideGroup(group, &t, 1, 0);
+  FrictionTerms terms;
+  contactFriction(t, &group, c, load, terms);
+  scatterLoad(load, f, torque, cache);
+  runTerms = {terms.released, terms.dissipated, c.anchorEnergy};
+}
+
 // One chunk of the contacts: geometry, normal force, the friction trial of each
 // contact and its group's sums; at the end of each run (a's object's contacts)
 // the groups decide and the friction forces follow. A contact between two
@@ -764,18 +998,41 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   PairGeometry batch[kBatch];
   PairGeometry treePair;  // (a pair the trees found: not in the batch)
   std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
+  // Lean: the batch's contacts four at a time (pair_lanes.h), where the
+  // processor has AVX2: the geometry of each bare pair, and the whole of each
+  // contact the lanes work out (`useLanes`).
+  static_assert(kBatch == detail::PairLaneBatch::kSize);
+  const bool lanes = Lean && tables.overrides.empty() && detail::pairLanesAvailable();
+  detail::PairLaneBatch laneBatch;  // (its lanes are written before they are read)
+  bool useLanes[kBatch];
   for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
     // The lists are larger than the cache: fetch the contacts a few ahead (the
     // new one to write, the history's to read).
+    // (The lanes fetch a batch ahead: fillPairLanes.)
     constexpr std::size_t kAhead = 6;
-    if (index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
-    if (old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
+    if (!lanes && index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
+    if (!lanes && old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
     if (index == batchEnd) {
       batchBegin = index;
       batchEnd = std::min(chunk.end, index + kBatch);
-      for (std::size_t j = batchBegin; j < batchEnd; ++j) {
-        const ContactSeed& pair = cache.seeds[j];
-        if (pair.full == -1) pairGeometry(model, p, pair.a(), pair.other(), batch[j - batchBegin]);
+      if (lanes) {
+        fillPairLanes(in, batchBegin, batchEnd, old, oldEnd, laneBatch, useLanes);
+        detail::runPairLanes(laneBatch, batchEnd - batchBegin);
+        for (std::size_t j = batchBegin; j < batchEnd; ++j) {
+          const std::size_t l = j - batchBegin;
+          if (cache.seeds[j].full != -1) continue;
+          PairGeometry& g = batch[l];
+          g.relative = {laneBatch.relx[l], laneBatch.rely[l], laneBatch.relz[l]};
+          g.normal = {laneBatch.nx[l], laneBatch.ny[l], laneBatch.nz[l]};
+          g.depth = laneBatch.depth[l];
+          g.armLengthA = laneBatch.armLengthA[l];
+          g.armLengthB = laneBatch.armLengthB[l];
+        }
+      } else {
+        for (std::size_t j = batchBegin; j < batchEnd; ++j) {
+          const ContactSeed& pair = cache.seeds[j];
+          if (pair.full == -1) pairGeometry(model, p, pair.a(), pair.other(), batch[j - batchBegin]);
+        }
       }
     }
     // The contact, built once from what the detection found. (Its key and
@@ -789,6 +1046,24 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       startFoundContact(c, seed.full >= 0
                                ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
                                : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
+    }
+    if constexpr (Lean) {
+      const std::size_t l = index - batchBegin;
+      if (lanes && useLanes[l]) {
+        // The history as fillPairLanes found it: what opened before this key,
+        // then its own contact when it persists.
+        for (; old < laneBatch.history[l]; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+        const Contact* before = laneBatch.persists[l] ? &previous[old++] : nullptr;
+        const std::int64_t objectA = groupKey(tables, a);
+        if (objectA != runObject) {  // (it has friction)
+          finishRun(index);
+          runObject = objectA;
+        }
+        if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
+        addLaneContact(laneBatch, l, in, a, other, before, c, leanTrial, leanLoad, tally, stats,
+                       chunk.runTerms[index - runFirst]);
+        continue;
+      }
     }
     // Carry the friction anchor of a contact that persists (both lists sorted).
     const Contact::Key key = seed.key;

@@ -1,0 +1,217 @@
+// The lean contact stage's contacts four at a time (pair_lanes.h). Each line
+// mirrors the scalar stage's (contact_force.cpp: runChunk, pairGeometry,
+// pairArms, turningOf, contactRates, joinGroup, frictionForce, contactFriction), operation
+// by operation and in its order: IEEE sums, products, quotients and square
+// roots round the same in a lane as in a scalar register, and no fused
+// multiply-add is enabled here (-ffp-contract=off, AVX2 only).
+#include "collision/pair_lanes.h"
+
+#include <atomic>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
+namespace robophi::detail {
+
+namespace {
+
+std::atomic<bool> allowed{true};
+
+#if defined(__x86_64__) && defined(__GNUC__)
+
+#define ROBOPHI_LANES __attribute__((target("avx2"), always_inline)) inline
+
+using D = __m256d;
+
+// Three lanes' vectors: x, y and z of four contacts.
+struct V3 {
+  D x, y, z;
+};
+
+ROBOPHI_LANES D load(const double* a) { return _mm256_load_pd(a); }
+ROBOPHI_LANES V3 load3(const double* x, const double* y, const double* z) {
+  return {load(x), load(y), load(z)};
+}
+ROBOPHI_LANES void store(double* out, D v) { _mm256_store_pd(out, v); }
+ROBOPHI_LANES void store3(double* x, double* y, double* z, const V3& v) {
+  store(x, v.x);
+  store(y, v.y);
+  store(z, v.z);
+}
+ROBOPHI_LANES D add(D a, D b) { return _mm256_add_pd(a, b); }
+ROBOPHI_LANES D sub(D a, D b) { return _mm256_sub_pd(a, b); }
+ROBOPHI_LANES D mul(D a, D b) { return _mm256_mul_pd(a, b); }
+ROBOPHI_LANES D div(D a, D b) { return _mm256_div_pd(a, b); }
+ROBOPHI_LANES D all(double s) { return _mm256_set1_pd(s); }
+// -x, as the scalar code's unary minus (the sign bit flipped).
+ROBOPHI_LANES D negate(D a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
+// `mask ? b : a` lane by lane (mask: all ones or all zeros).
+ROBOPHI_LANES D select(D mask, D b, D a) { return _mm256_blendv_pd(a, b, mask); }
+// std::max(a, b): a < b ? b : a.
+ROBOPHI_LANES D maxOf(D a, D b) { return select(_mm256_cmp_pd(a, b, _CMP_LT_OQ), b, a); }
+
+ROBOPHI_LANES V3 add3(const V3& a, const V3& b) { return {add(a.x, b.x), add(a.y, b.y), add(a.z, b.z)}; }
+ROBOPHI_LANES V3 sub3(const V3& a, const V3& b) { return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)}; }
+ROBOPHI_LANES V3 scale3(const V3& a, D s) { return {mul(a.x, s), mul(a.y, s), mul(a.z, s)}; }
+ROBOPHI_LANES D dot3(const V3& a, const V3& b) {
+  return add(add(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z));
+}
+ROBOPHI_LANES V3 cross3(const V3& a, const V3& b) {
+  return {sub(mul(a.y, b.z), mul(a.z, b.y)), sub(mul(a.z, b.x), mul(a.x, b.z)),
+          sub(mul(a.x, b.y), mul(a.y, b.x))};
+}
+ROBOPHI_LANES V3 select3(D mask, const V3& b, const V3& a) {
+  return {select(mask, b.x, a.x), select(mask, b.y, a.y), select(mask, b.z, a.z)};
+}
+// The stage's `tangential`: projected twice on the plane normal to n.
+ROBOPHI_LANES V3 tangential3(const V3& x, const V3& n) {
+  const V3 once = sub3(x, scale3(n, dot3(x, n)));
+  return sub3(once, scale3(n, dot3(once, n)));
+}
+
+__attribute__((target("avx2"))) void runLanes(PairLaneBatch& b, std::size_t count) {
+  const D zero = _mm256_setzero_pd(), one = all(1.0), half = all(0.5);
+  const V3 none{zero, zero, zero};
+  for (std::size_t l = 0; l < count; l += 4) {
+    // The geometry. A pair (pairGeometry, pairArms): p_a - p_b, the normal (0,
+    // 0, 1 at no distance), the depth, the arms to the overlap's middle. The
+    // environment: p_a, the detection's normal and depth, a's arm to its surface.
+    const D environment = _mm256_cmp_pd(load(b.environment + l), one, _CMP_EQ_OQ);
+    const V3 rel = sub3(load3(b.pax + l, b.pay + l, b.paz + l), load3(b.pbx + l, b.pby + l, b.pbz + l));
+    const D distance = _mm256_sqrt_pd(dot3(rel, rel));
+    const D apart = _mm256_cmp_pd(distance, zero, _CMP_GT_OQ);
+    const V3 pairNormal = select3(
+        apart, V3{div(rel.x, distance), div(rel.y, distance), div(rel.z, distance)},
+        V3{zero, zero, one});
+    const V3 n = select3(environment, load3(b.foundx + l, b.foundy + l, b.foundz + l), pairNormal);
+    const D ra = load(b.ra + l), rb = load(b.rb + l);
+    const D depth = select(environment, load(b.foundDepth + l), sub(distance, add(ra, rb)));
+    const V3 armA = scale3(
+        n, select(environment, negate(add(ra, depth)), negate(add(ra, mul(half, depth)))));
+    const V3 armB = select3(environment, none, scale3(n, add(rb, mul(half, depth))));
+    const D armLengthA = _mm256_sqrt_pd(dot3(armA, armA));
+    const D armLengthB = _mm256_sqrt_pd(dot3(armB, armB));
+    store3(b.relx + l, b.rely + l, b.relz + l, rel);
+    store3(b.nx + l, b.ny + l, b.nz + l, n);
+    store(b.depth + l, depth);
+    store3(b.armAx + l, b.armAy + l, b.armAz + l, armA);
+    store3(b.armBx + l, b.armBy + l, b.armBz + l, armB);
+    store(b.armLengthA + l, armLengthA);
+    store(b.armLengthB + l, armLengthB);
+
+    // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂, clamped at >= 0.
+    const V3 relativeVelocity =
+        sub3(load3(b.vax + l, b.vay + l, b.vaz + l), load3(b.vbx + l, b.vby + l, b.vbz + l));
+    const D inverseMass = add(load(b.ima + l), load(b.imb + l));
+    const D dDot = dot3(relativeVelocity, n);
+    const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
+    D normalForce = sub(mul(negate(stiffness), depth), mul(damping, dDot));
+    normalForce = select(_mm256_cmp_pd(normalForce, zero, _CMP_LT_OQ), zero, normalForce);
+    store(b.normalForce + l, normalForce);
+    store(b.normalPotential + l, mul(mul(mul(half, stiffness), depth), depth));
+    store(b.normalDissipation + l, mul(add(normalForce, mul(stiffness, depth)), dDot));
+    const V3 normal = scale3(n, normalForce);
+    store3(b.normalx + l, b.normaly + l, b.normalz + l, normal);
+
+    // turningOf: a side that spins on its own turns its contact point.
+    const D spinsA = _mm256_cmp_pd(load(b.spinsA + l), one, _CMP_EQ_OQ);
+    const D spinsB = _mm256_cmp_pd(load(b.spinsB + l), one, _CMP_EQ_OQ);
+    const D armInverseA =
+        select(spinsA, mul(mul(armLengthA, armLengthA), load(b.spinInverseA + l)), zero);
+    const D armInverseB =
+        select(spinsB, mul(mul(armLengthB, armLengthB), load(b.spinInverseB + l)), zero);
+    const V3 omegaA = load3(b.wax + l, b.way + l, b.waz + l);
+    const V3 omegaB = load3(b.wbx + l, b.wby + l, b.wbz + l);
+    const V3 roll = sub3(cross3(omegaA, armA), cross3(omegaB, armB));
+    store3(b.rollx + l, b.rolly + l, b.rollz + l, roll);
+    const V3 pointVelocity = add3(relativeVelocity, roll);
+    const D tangentialInverse = add(add(inverseMass, armInverseA), armInverseB);
+    store(b.tangentialInverse + l, tangentialInverse);
+    const D kt = load(b.tangentialStiffness + l);
+    const D tangentialDamping = mul(mul(load(b.tangentialDampingRatio + l), all(2.0)),
+                                    _mm256_sqrt_pd(div(kt, tangentialInverse)));
+    store(b.tangentialDamping + l, tangentialDamping);
+    // settle → contactRates (0 when both sides are fixed).
+    const D rotation =
+        select(_mm256_cmp_pd(inverseMass, zero, _CMP_GT_OQ), div(tangentialInverse, inverseMass), one);
+    const D bothFixed = _mm256_cmp_pd(inverseMass, zero, _CMP_EQ_OQ);
+    store(b.rateStiffness + l, select(bothFixed, zero, maxOf(stiffness, mul(kt, rotation))));
+    store(b.rateDamping + l,
+          select(bothFixed, zero, maxOf(damping, mul(tangentialDamping, rotation))));
+
+    // δ_t from the anchor (from p_a - p_b itself for a new contact), or the
+    // offset a sliding contact's spring holds; the slip; both tangential.
+    const D hasBefore = _mm256_cmp_pd(load(b.hasBefore + l), one, _CMP_EQ_OQ);
+    const D slidBefore = _mm256_cmp_pd(load(b.slidBefore + l), one, _CMP_EQ_OQ);
+    const V3 anchor = select3(hasBefore, load3(b.anchorx + l, b.anchory + l, b.anchorz + l), rel);
+    const V3 delta = tangential3(
+        select3(slidBefore, load3(b.offsetx + l, b.offsety + l, b.offsetz + l), sub3(rel, anchor)),
+        n);
+    store3(b.deltax + l, b.deltay + l, b.deltaz + l, delta);
+    const V3 slip = tangential3(pointVelocity, n);
+    store3(b.slipx + l, b.slipy + l, b.slipz + l, slip);
+    const D slipSpeed = _mm256_sqrt_pd(dot3(slip, slip));
+    store(b.slipSpeed + l, slipSpeed);
+    const V3 elastic = scale3(delta, negate(kt));
+    const V3 damper = scale3(slip, negate(tangentialDamping));
+    store3(b.elasticx + l, b.elasticy + l, b.elasticz + l, elastic);
+    store3(b.damperx + l, b.dampery + l, b.damperz + l, damper);
+    const D frictionLoad = mul(load(b.staticFriction + l), normalForce);
+    store(b.frictionLoad + l, frictionLoad);
+    // The group of one contact (joinGroup, decideGroup) sticks while it was not
+    // sliding and |F_t| <= μ_s F_n.
+    const V3 tangentialLoad = add3(elastic, damper);
+    const D groupTotal = add(zero, _mm256_sqrt_pd(dot3(tangentialLoad, tangentialLoad)));
+    const D holds = _mm256_andnot_pd(
+        slidBefore, _mm256_cmp_pd(groupTotal, add(zero, frictionLoad), _CMP_LE_OQ));
+    const int sticks = _mm256_movemask_pd(holds);
+    for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
+
+    // frictionForce sticking (s = 1) and contactFriction.
+    const V3 held = scale3(delta, one);
+    store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(rel, held));
+    store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
+    store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
+    const V3 friction = scale3(tangentialLoad, one);
+    store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
+    store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
+    // The moments of a spinning side: 0 + arm × F_t (on b: × -F_t).
+    const V3 torqueA = select3(spinsA, add3(none, cross3(armA, friction)), none);
+    const V3 torqueB = select3(spinsB, add3(none, cross3(armB, scale3(friction, all(-1.0)))), none);
+    store3(b.torqueAx + l, b.torqueAy + l, b.torqueAz + l, torqueA);
+    store3(b.torqueBx + l, b.torqueBy + l, b.torqueBz + l, torqueB);
+  }
+}
+
+const bool kHaveAvx2 = [] {
+  __builtin_cpu_init();  // (a static initialiser may run before libgcc's)
+  return __builtin_cpu_supports("avx2") != 0;
+}();
+
+#undef ROBOPHI_LANES
+
+#endif
+
+}  // namespace
+
+bool pairLanesAvailable() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  return kHaveAvx2 && allowed.load(std::memory_order_relaxed);
+#else
+  return false;
+#endif
+}
+
+void allowPairLanes(bool allow) { allowed.store(allow, std::memory_order_relaxed); }
+
+void runPairLanes(PairLaneBatch& batch, std::size_t count) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  runLanes(batch, count);
+#else
+  (void)batch;
+  (void)count;
+#endif
+}
+
+}  // namespace robophi::detail
