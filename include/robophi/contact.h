@@ -146,52 +146,55 @@ struct ContactSettings {
 /// environment item -1 - other. An Evaluation lists the contacts at its state,
 /// sorted by key(); the step commits them as the State's friction history.
 struct Contact {
+  // (The fields a step reads back from the friction history come first, in
+  // its first 128 bytes: the key, the regime, the anchor and what moves or
+  // loads it; the geometry and the outputs after them.)
   std::int32_t a = -1;
   std::int32_t other = -1;
-  /// d (m): distance minus radii, < 0 when it touches (MODEL §3.1).
-  double depth = 0.0;
-  /// Normal force F_n (N), >= 0, at the last evaluation.
-  double normalForce = 0.0;
-  /// Friction force F_t on a (N), tangential, at the last evaluation (an
-  /// output: the state hash leaves it out, it follows from the other fields).
-  Vec3 frictionForce;
-  /// Elastic energy of the friction anchor ½ k_t |δ_t|² (J) at the last evaluation.
-  double anchorEnergy = 0.0;
-  /// k̂: unit normal from the other body to a (-).
-  Vec3 normal;
-  /// Tangential relative velocity (m/s) at the last evaluation: a sliding
-  /// contact whose slip reverses from one evaluation to the next sticks again.
-  Vec3 slip;
-  /// Friction anchor (m): p_a - p_other (pair) or p_a (environment) where the
-  /// contact stuck; δ_t is the tangential part of the displacement from it.
-  Vec3 anchor;
-  /// Velocity (m/s) of the contact point relative to the other body that the
-  /// rotation of the two bodies adds (particle spin, or an object's rotation:
-  /// MODEL §3.3 rolling), tangential. The step moves the anchor by -rollVelocity·δ,
-  /// so δ_t measures the slip of the contact points, not of the particle centres.
-  Vec3 rollVelocity;
-  /// A wheel rim's or a ball's contact (Model::rims): its index, or -1. The ring
-  /// (ball) carries it as a rigid circle (sphere; docs/contact.md "Round rims");
-  /// `a` is its first particle, and the contact point is `arm` from its mass centre.
-  std::int32_t rim = -1;
-  Vec3 arm;
-  /// How far (m) the anchor has given way since the contact started breaking
-  /// away: past the anchor's elastic range μ_s F_n / k_t (summed over the
-  /// contacts of its body pair) the pair slides. 0 when sticking or sliding.
-  double giveWay = 0.0;
-  /// Friction regime (MODEL §3.3), decided with the other contacts between the
-  /// same two bodies: 0 sticking, 1 sliding, 2 breaking away (the load above
-  /// μ_s F_n, friction held at μ_s F_n).
-  std::int32_t sliding = 0;
   /// Facet contacts (MODEL §3.8, docs/contact.md "Flat faces"): the surface
   /// vertex (index into Model::surfaceVertices) that touches, or -1 when the
   /// touching side is particle a itself. A vertex contact's `a` is the vertex's
   /// heaviest-weighted particle (a label for the key and the outputs).
   std::int32_t vertex = -1;
+  /// Friction regime (MODEL §3.3), decided with the other contacts between the
+  /// same two bodies: 0 sticking, 1 sliding, 2 breaking away (the load above
+  /// μ_s F_n, friction held at μ_s F_n).
+  std::int32_t sliding = 0;
+  /// Friction anchor (m): p_a - p_other (pair) or p_a (environment) where the
+  /// contact stuck; δ_t is the tangential part of the displacement from it.
+  Vec3 anchor;
+  /// Elastic energy of the friction anchor ½ k_t |δ_t|² (J) at the last evaluation.
+  double anchorEnergy = 0.0;
+  /// Velocity (m/s) of the contact point relative to the other body that the
+  /// rotation of the two bodies adds (particle spin, or an object's rotation:
+  /// MODEL §3.3 rolling), tangential. The step moves the anchor by -rollVelocity·δ,
+  /// so δ_t measures the slip of the contact points, not of the particle centres.
+  Vec3 rollVelocity;
+  /// How far (m) the anchor has given way since the contact started breaking
+  /// away: past the anchor's elastic range μ_s F_n / k_t (summed over the
+  /// contacts of its body pair) the pair slides. 0 when sticking or sliding.
+  double giveWay = 0.0;
+  /// Tangential relative velocity (m/s) at the last evaluation: a sliding
+  /// contact whose slip reverses from one evaluation to the next sticks again.
+  Vec3 slip;
+  /// Friction force F_t on a (N), tangential, at the last evaluation (an
+  /// output: the state hash leaves it out, it follows from the other fields).
+  Vec3 frictionForce;
+  /// d (m): distance minus radii, < 0 when it touches (MODEL §3.1).
+  double depth = 0.0;
+  /// Normal force F_n (N), >= 0, at the last evaluation.
+  double normalForce = 0.0;
+  /// k̂: unit normal from the other body to a (-).
+  Vec3 normal;
   /// The triangle (index into Model::surfaceTriangles) the contact point lies
   /// on, or -1 when the other side is a particle or the environment. A facet
   /// contact's `other` is the first particle of the triangle's object.
   std::int32_t facet = -1;
+  /// A wheel rim's or a ball's contact (Model::rims): its index, or -1. The ring
+  /// (ball) carries it as a rigid circle (sphere; docs/contact.md "Round rims");
+  /// `a` is its first particle, and the contact point is `arm` from its mass centre.
+  std::int32_t rim = -1;
+  Vec3 arm;
   /// Barycentric weights (-) of the contact point on `facet` (sum 1).
   Vec3 facetWeights;
 

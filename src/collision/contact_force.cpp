@@ -628,7 +628,7 @@ using ContactLoad = ContactScratch::ContactLoad;
 // that are not the stage's are set here to their defaults (Contact{}); the
 // stage sets the others on every path (a contact without friction its slip,
 // give-way and, without rolling resistance, its roll velocity to zero). (A
-// whole Contact{} is 232 bytes written twice over on every contact.)
+// whole Contact{} is 224 bytes written twice over on every contact.)
 inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
   c.a = a;
   c.other = other;
@@ -994,14 +994,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
   // ahead: a pair's chain of square roots and divisions (distance, normal,
   // arms' lengths) is long, and the pairs of a batch overlap theirs, where
   // within the loop each waited for its own.
-  constexpr std::size_t kBatch = 16;
+  constexpr std::size_t kBatch = detail::PairLaneBatch::kSize;
   PairGeometry batch[kBatch];
   PairGeometry treePair;  // (a pair the trees found: not in the batch)
   std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
   // Lean: the batch's contacts four at a time (pair_lanes.h), where the
   // processor has AVX2: the geometry of each bare pair, and the whole of each
   // contact the lanes work out (`useLanes`).
-  static_assert(kBatch == detail::PairLaneBatch::kSize);
   const bool lanes = Lean && tables.overrides.empty() && detail::pairLanesAvailable();
   detail::PairLaneBatch laneBatch;  // (its lanes are written before they are read)
   bool useLanes[kBatch];
