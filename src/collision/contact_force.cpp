@@ -812,13 +812,11 @@ void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std
 // normal force on. A contact that sticks takes the lanes' friction; the others'
 // group decides here, by the scalar stage's code, from the lanes' trial.
 inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const StageInput& in,
-                           std::int32_t a, std::int32_t other,
-                           const Contact* before, Contact& c, FrictionTrial& t, ContactLoad& load,
+                           std::int32_t a, std::int32_t other, const Contact* before, Contact& c,
+                           FrictionTrial& t, ContactLoad& load, ContactLoad* record,
                            StageTally& tally, ContactStats& stats,
                            ContactChunk::RunTerms& runTerms) {
   const Model& model = in.model;
-  std::vector<Vec3>& f = *in.force;
-  std::vector<Vec3>& torque = *in.torque;
   ContactScratch& cache = in.cache;
   const double depth = b.depth[l];
   c.normal = {b.nx[l], b.ny[l], b.nz[l]};
@@ -846,8 +844,21 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
     c.anchorEnergy = b.anchorEnergy[l];
     c.frictionForce = {b.frictionx[l], b.frictiony[l], b.frictionz[l]};
     runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
-    // scatterLoad.
     const Vec3 force{b.forcex[l], b.forcey[l], b.forcez[l]};
+    if (record != nullptr) {  // for the gather by particle
+      record->a = a;
+      record->other = other;
+      record->deferred = false;
+      record->force = force;
+      record->torqueA = {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
+      record->torqueB = {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
+      record->stiffness = b.rateStiffness[l];
+      record->damping = b.rateDamping[l];
+      return;
+    }
+    // scatterLoad.
+    std::vector<Vec3>& f = *in.force;
+    std::vector<Vec3>& torque = *in.torque;
     if (other >= 0) {
       const auto j = static_cast<std::size_t>(other);
       f[j] -= force;
@@ -903,7 +914,11 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   decideGroup(group, &t, 1, 0);
   FrictionTerms terms;
   contactFriction(t, &group, c, load, terms);
-  scatterLoad(load, f, torque, cache);
+  if (record != nullptr) {
+    *record = load;
+  } else {
+    scatterLoad(load, *in.force, *in.torque, cache);
+  }
   runTerms = {terms.released, terms.dissipated, c.anchorEnergy};
 }
 
@@ -913,11 +928,13 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
 // particles, or one and the environment, whose sides spin or do not turn, leaves
 // its loads for the gather by particle; the others (facets, rims, a side turning
 // with its LS neighbourhood) are deferred to the serial pass.
-// Lean: the loads are added as the stage goes (StageInput::force) and every
-// group is one contact (ContactTables::singleParticleBodies): each contact's
-// group decides, and its friction and loads follow, as soon as its trial is
-// taken, the same operations as at the end of its run; the run's end adds
-// what it left for the stage's sums (ContactChunk::runTerms), in the same order.
+// Lean: every group is one contact (ContactTables::singleParticleBodies) and
+// none is deferred: each contact's group decides, and its friction and loads
+// follow, as soon as its trial is taken, the same operations as at the end of
+// its run; its loads are added at once (StageInput::force, one thread) or
+// recorded for the gather by particle (ContactScratch::loads); the run's end
+// adds what it left for the stage's sums (ContactChunk::runTerms), in the same
+// order.
 template <bool Lean>
 void runChunk(const StageInput& in, ContactChunk& chunk) {
   const Model& model = in.model;
@@ -1059,7 +1076,8 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
           runObject = objectA;
         }
         if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
-        addLaneContact(laneBatch, l, in, a, other, before, c, leanTrial, leanLoad, tally, stats,
+        addLaneContact(laneBatch, l, in, a, other, before, c, leanTrial, leanLoad,
+                       direct ? nullptr : &cache.loads[index], tally, stats,
                        chunk.runTerms[index - runFirst]);
         continue;
       }
@@ -1232,7 +1250,11 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const auto finishAlone = [&](const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
       FrictionTerms terms;
       contactFriction(t, group, c, leanLoad, terms);
-      scatterLoad(leanLoad, *in.force, *in.torque, cache);
+      if (direct) {
+        scatterLoad(leanLoad, *in.force, *in.torque, cache);
+      } else {
+        cache.loads[index] = leanLoad;
+      }
       chunk.runTerms[index - runFirst] = {terms.released, terms.dissipated, c.anchorEnergy};
     };
     // A contact without friction holds no anchor (its old one's energy is released).
@@ -1525,11 +1547,13 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
   // Fewer contacts than a parallel loop's minimum: this thread alone.
   const int stageThreads =
       count >= static_cast<std::size_t>(detail::kParallelMinimum) ? threads : 1;
-  // One thread, and no contact can be deferred: the chunks add the loads as
-  // they go (StageInput::force), when the caller allows it.
-  const bool direct = force != nullptr && stageThreads <= 1 && model.surfaceVertices.empty() &&
-                      model.surfaceTriangles.empty() && model.rims.empty() &&
-                      (!model.contact.rolling || tables.rollNeighbour.empty());
+  // Whether a contact may be deferred (a facet's, a rim's, an LS-turning
+  // particle's). One thread, and none can: the chunks add the loads as they go
+  // (StageInput::force), when the caller allows it.
+  const bool deferrable = !model.surfaceVertices.empty() || !model.surfaceTriangles.empty() ||
+                          !model.rims.empty() ||
+                          (model.contact.rolling && !tables.rollNeighbour.empty());
+  const bool direct = force != nullptr && stageThreads <= 1 && !deferrable;
   if (!direct) cache.loads.resize(count);
   cache.chunkCount = chunkCount;
   cache.stageThreads = stageThreads;
@@ -1547,7 +1571,7 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
     const StageInput* input;
     ContactChunk* chunks;
     bool lean;
-  } context{&input, cache.chunks.data(), direct && tables.singleParticleBodies};
+  } context{&input, cache.chunks.data(), tables.singleParticleBodies && !deferrable};
   detail::runChunks(
       stageThreads, static_cast<std::int64_t>(chunkCount),
       [](void* raw, std::int64_t c) {

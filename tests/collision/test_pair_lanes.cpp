@@ -2,9 +2,11 @@
 // stage's results bit for bit: balls of two sizes and two materials thrown
 // spinning into a box, a fixed ball among them, stepped side by side with the
 // lanes and without; every contact, force and state the same bits at every
-// step, through contacts that stick, break away, slide and stick again.
+// step, through contacts that stick, break away, slide and stick again. And the
+// lean stage on threads (its loads gathered by particle) gives one thread's.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <map>
 
@@ -137,6 +139,63 @@ TEST(PairLanes, SpinningBallsInABoxGiveTheScalarStagesBitsAtEveryStep) {
 
 TEST(PairLanes, BallsThatDoNotRollGiveTheScalarStagesBitsAtEveryStep) {
   compareWithAndWithoutLanes(false);
+}
+
+// A dense pile of spinning balls pressed together, each its own object (about
+// 13 000 contacts: the lean stage runs in many chunks, and on threads records
+// its loads for the gather by particle).
+World makeBallPile(int threads) {
+  constexpr int kSide = 18, kLayers = 14;
+  constexpr double kRadius = 0.005, kSpacing = 0.0098;  // m: neighbours overlap 0.2 mm
+  Model model;
+  model.gravity = {0.0, 0.0, -9.81};
+  Material grain;
+  grain.name = "grain";
+  grain.contactStiffness = 4.0e4;
+  grain.contactDamping = 2.0;
+  model.materials.push_back(grain);
+  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0});
+  State initial;
+  const double mass = 1000.0 * 4.0 / 3.0 * M_PI * kRadius * kRadius * kRadius;
+  for (int k = 0; k < kLayers; ++k) {
+    for (int j = 0; j < kSide; ++j) {
+      for (int i = 0; i < kSide; ++i) {
+        test::addBall(model, initial,
+                      {i * kSpacing + 1e-4 * std::sin(1.3 * k + j), j * kSpacing,
+                       kRadius + k * kSpacing},
+                      mass, kRadius);
+      }
+    }
+  }
+  World world(model, initial, Integrator::kSymplecticEuler);
+  world.setThreadCount(threads);
+  return world;
+}
+
+// The lean stage on threads (its loads recorded and gathered by particle) and on
+// one (added as it goes), with the lanes and without: one state, bit for bit.
+TEST(PairLanes, ABallPileOnOneTwoAndFourThreadsWithAndWithoutTheLanesGivesOneState) {
+  struct Run {
+    int threads;
+    bool lanes;
+  };
+  std::vector<std::uint64_t> hashes;
+  std::vector<std::vector<Contact>> contacts;
+  for (const Run run : {Run{1, true}, Run{2, true}, Run{4, true}, Run{1, false}, Run{2, false}}) {
+    detail::allowPairLanes(run.lanes);
+    World world = makeBallPile(run.threads);
+    for (int step = 0; step < 30; ++step) ASSERT_EQ(world.step(5.0e-5), StepStatus::kOk);
+    hashes.push_back(stateHash(world.state()));
+    contacts.push_back(world.contacts());
+  }
+  detail::allowPairLanes(true);
+  EXPECT_GT(contacts[0].size(), 10000u);
+  for (std::size_t r = 1; r < hashes.size(); ++r) {
+    EXPECT_EQ(hashes[r], hashes[0]) << "run " << r;
+    ASSERT_EQ(contacts[r].size(), contacts[0].size()) << "run " << r;
+    for (std::size_t k = 0; k < contacts[0].size(); ++k)
+      ASSERT_TRUE(sameContact(contacts[r][k], contacts[0][k])) << "run " << r << ", contact " << k;
+  }
 }
 
 }  // namespace
