@@ -31,6 +31,36 @@ inline ParticleIndex addBall(Model& model, State& state, const Vec3& p, double m
   return i;
 }
 
+/// A dense pile of side × side × layers balls of radius r, `spacing` apart
+/// (below 2r: pressed together from the start), each its own object of
+/// `material` (added: κ_c 4e4 N/m, μ_c 2 N·s/m, μ_s 0.5, μ_k 0.4) on a ground
+/// plane of it, rows slightly out of line; returns the material's index and the
+/// balls' mass (kg) in `mass`.
+inline std::int32_t addBallPile(Model& model, State& state, int side, int layers, double radius,
+                                double spacing, double& mass) {
+  model.gravity = {0.0, 0.0, -9.81};
+  Material grain;
+  grain.name = "grain";
+  grain.contactStiffness = 4.0e4;
+  grain.contactDamping = 2.0;
+  grain.staticFriction = 0.5;
+  grain.kineticFriction = 0.4;
+  model.materials.push_back(grain);
+  const auto material = static_cast<std::int32_t>(model.materials.size() - 1);
+  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, material});
+  mass = 1000.0 * 4.0 / 3.0 * M_PI * radius * radius * radius;
+  for (int k = 0; k < layers; ++k) {
+    for (int j = 0; j < side; ++j) {
+      for (int i = 0; i < side; ++i) {
+        addBall(model, state,
+                {i * spacing + 1e-4 * std::sin(1.3 * k + j), j * spacing, radius + k * spacing},
+                mass, radius, material);
+      }
+    }
+  }
+  return material;
+}
+
 /// Exact pair parameters between object `object` and the environment.
 inline void overrideWithEnvironment(Model& model, std::int32_t object, double stiffness,
                                     double damping, double staticFriction, double kineticFriction) {

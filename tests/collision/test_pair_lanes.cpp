@@ -11,6 +11,7 @@
 #include <map>
 
 #include "collision/pair_lanes.h"
+#include "core/parallel.h"
 #include "contact_test_util.h"
 
 namespace robophi {
@@ -141,32 +142,14 @@ TEST(PairLanes, BallsThatDoNotRollGiveTheScalarStagesBitsAtEveryStep) {
   compareWithAndWithoutLanes(false);
 }
 
-// A dense pile of spinning balls pressed together, each its own object (about
-// 13 000 contacts: the lean stage runs in many chunks, and on threads records
-// its loads for the gather by particle).
+// A dense pile of spinning balls pressed together, each its own object (enough
+// contacts that the lean stage runs in many chunks, and on threads records its
+// loads for the gather by particle).
 World makeBallPile(int threads) {
-  constexpr int kSide = 18, kLayers = 14;
-  constexpr double kRadius = 0.005, kSpacing = 0.0098;  // m: neighbours overlap 0.2 mm
   Model model;
-  model.gravity = {0.0, 0.0, -9.81};
-  Material grain;
-  grain.name = "grain";
-  grain.contactStiffness = 4.0e4;
-  grain.contactDamping = 2.0;
-  model.materials.push_back(grain);
-  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0});
   State initial;
-  const double mass = 1000.0 * 4.0 / 3.0 * M_PI * kRadius * kRadius * kRadius;
-  for (int k = 0; k < kLayers; ++k) {
-    for (int j = 0; j < kSide; ++j) {
-      for (int i = 0; i < kSide; ++i) {
-        test::addBall(model, initial,
-                      {i * kSpacing + 1e-4 * std::sin(1.3 * k + j), j * kSpacing,
-                       kRadius + k * kSpacing},
-                      mass, kRadius);
-      }
-    }
-  }
+  double mass = 0.0;
+  test::addBallPile(model, initial, 18, 14, 0.005, 0.0098, mass);
   World world(model, initial, Integrator::kSymplecticEuler);
   world.setThreadCount(threads);
   return world;
@@ -189,7 +172,8 @@ TEST(PairLanes, ABallPileOnOneTwoAndFourThreadsWithAndWithoutTheLanesGivesOneSta
     contacts.push_back(world.contacts());
   }
   detail::allowPairLanes(true);
-  EXPECT_GT(contacts[0].size(), 10000u);
+  // Enough that the stage runs on the threads (and in many chunks).
+  EXPECT_GT(contacts[0].size(), static_cast<std::size_t>(detail::kParallelMinimum));
   for (std::size_t r = 1; r < hashes.size(); ++r) {
     EXPECT_EQ(hashes[r], hashes[0]) << "run " << r;
     ASSERT_EQ(contacts[r].size(), contacts[0].size()) << "run " << r;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "collision/contact_test_util.h"
 #include "determinism/scene_steps.h"
 #include "robophi/connector_forces.h"
 #include "robophi/world.h"
@@ -239,33 +240,14 @@ TEST(Threads, ASmallModelsContactsFoundBesideItsConnectorsGiveTheOneThreadForces
 // stage runs in many chunks on every thread, with both its gathered and its
 // deferred (serial) loads.
 World makePile(int threads) {
-  constexpr int kSide = 18, kLayers = 14;
+  constexpr int kLayers = 14;
   constexpr double kRadius = 0.005, kSpacing = 0.0098;  // m: neighbours overlap 0.2 mm
   Model model;
-  model.gravity = {0.0, 0.0, -9.81};
-  Material material;
-  material.name = "grain";
-  material.contactStiffness = 4.0e4;
-  material.contactDamping = 2.0;
-  material.staticFriction = 0.5;
-  material.kineticFriction = 0.4;
-  model.materials.push_back(material);
-  model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 1});
   State initial;
-  const double mass = 1000.0 * 4.0 / 3.0 * M_PI * kRadius * kRadius * kRadius;
-  for (int k = 0; k < kLayers; ++k) {
-    for (int j = 0; j < kSide; ++j) {
-      for (int i = 0; i < kSide; ++i) {
-        const std::int32_t object =
-            model.addObject("ball" + std::to_string(initial.position.size()), "ball", 1);
-        model.addParticle(mass, kRadius, false, object);
-        initial.position.push_back(
-            {i * kSpacing + 1e-4 * std::sin(1.3 * k + j), j * kSpacing, kRadius + k * kSpacing});
-      }
-    }
-  }
+  double mass = 0.0;
+  const std::int32_t grain = test::addBallPile(model, initial, 18, kLayers, kRadius, kSpacing, mass);
   // A 3 × 3 × 3 block resting on the pile's top layer, its LS along the edges.
-  const std::int32_t block = model.addObject("block", "box", 1);
+  const std::int32_t block = model.addObject("block", "box", grain);
   const auto first = static_cast<ParticleIndex>(initial.position.size());
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < 3; ++j) {
