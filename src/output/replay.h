@@ -63,8 +63,8 @@ inline constexpr const char* kReplayPagePartial = "replay.html.partial";
 /// rows: writeReplayHtml writes it whole).
 class ReplayPageStream {
  public:
-  explicit ReplayPageStream(const std::string& runDir,
-                            double sizeCapBytes = ReplayOptions{}.sizeCapBytes);
+  /// Into `runDir`, under the page's size cap (ReplayOptions::sizeCapBytes).
+  ReplayPageStream(const std::string& runDir, double sizeCapBytes);
   ~ReplayPageStream();
   ReplayPageStream(const ReplayPageStream&) = delete;
   ReplayPageStream& operator=(const ReplayPageStream&) = delete;

@@ -75,14 +75,15 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
 
 }  // namespace
 
-RunWriter::RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay, bool ownThread)
+RunWriter::RunWriter(const std::string& dir, const Scene& scene, const ReplayOptions* replay,
+                     bool ownThread)
     : dir_(dir), world_(scene) {
   // The marker first: a folder cut short at any point is still robophi's (the
   // page as it is written too, until it is ended: writeReplayHtml).
   files_ = seriesFiles(scene);
-  if (gatherReplay) {
+  if (replay != nullptr) {
     replay_.emplace();
-    page_ = std::make_unique<ReplayPageStream>(dir_);
+    page_ = std::make_unique<ReplayPageStream>(dir_, replay->sizeCapBytes);
     files_.push_back(kReplayPagePartial);
   }
   std::filesystem::create_directories(dir_);

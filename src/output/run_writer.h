@@ -28,12 +28,13 @@ class RunWriter {
  public:
   /// Creates `dir` (which must not exist), writes the results marker
   /// (output/results_folder.h) that lists the series files, and opens them.
-  /// With `gatherReplay`, also keeps the rows the replay page shows
-  /// (takeReplayRows), so that the page is made without reading the files back,
-  /// and writes the page's series as they come (takeReplayPage).
+  /// With `replay` (the options the page will be made with), also keeps the
+  /// rows the replay page shows (takeReplayRows), so that the page is made
+  /// without reading the files back, and writes the page's series as they come
+  /// (takeReplayPage), under the options' size cap.
   /// With `ownThread` (and a second core), formats and writes on a thread of
   /// its own; else on the caller's, at each hand-over.
-  RunWriter(const std::string& dir, const Scene& scene, bool gatherReplay = false,
+  RunWriter(const std::string& dir, const Scene& scene, const ReplayOptions* replay = nullptr,
             bool ownThread = true);
   /// Continues the series files already in `dir` (a resumed run, robophi
   /// resume): each is cut back to its length in `progress` (what progress()

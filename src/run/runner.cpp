@@ -275,6 +275,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
 
   std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
+  // The replay page's options: the page written as the run goes and the page
+  // ended (or written whole) after it take the same.
+  const ReplayOptions replayOptions;
   if (!options.outDir.empty()) {
     if (const std::string problem = outputFolderProblem(options); !problem.empty())
       throw output::ResultsFolderError(problem);
@@ -295,7 +298,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       }
       writer.emplace(staging->path(), scene, sizes, options.threads != 1);
     } else {
-      writer.emplace(staging->path(), scene, options.writeReplay, options.threads != 1);
+      writer.emplace(staging->path(), scene, options.writeReplay ? &replayOptions : nullptr,
+                     options.threads != 1);
     }
   }
   const std::string sceneHash =
@@ -578,8 +582,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // is a warning (the results are complete without it).
     std::string replayError;
     if (options.writeReplay && !report.interrupted() &&
-        !(rows ? writeReplayHtml(staging->path(), ReplayOptions{}, *rows, page.get(), replayError)
-               : writeReplayHtml(staging->path(), ReplayOptions{}, replayError))) {
+        !(rows ? writeReplayHtml(staging->path(), replayOptions, *rows, page.get(), replayError)
+               : writeReplayHtml(staging->path(), replayOptions, replayError))) {
       report.warnings.push_back("replay.html not written: " + replayError);
     }
     page.reset();  // (a page not ended is removed)

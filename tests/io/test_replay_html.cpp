@@ -321,10 +321,11 @@ TEST_F(ReplayHtmlTest, ThePageWrittenAsTheRowsComeIsThePageFromTheFiles) {
   for (const bool late : {false, true}) {
     for (const std::size_t batch : {1, 7, 64, 65, 1000}) {
       fs::remove(dir_ / "replay.html");
-      ReplayPageStream stream(dir_.string());
+      const ReplayOptions options;
+      ReplayPageStream stream(dir_.string(), options.sizeCapBytes);
       ReplayRows rows;
       fixture.feed(stream, rows, batch, late);
-      ASSERT_TRUE(writeReplayHtml(dir_.string(), {}, rows, &stream, error)) << error;
+      ASSERT_TRUE(writeReplayHtml(dir_.string(), options, rows, &stream, error)) << error;
       EXPECT_TRUE(readText(dir_ / "replay.html") == fromFiles)
           << "batch " << batch << ", late " << late;
       EXPECT_FALSE(fs::exists(dir_ / "replay.html.partial"));
@@ -360,7 +361,7 @@ TEST_F(ReplayHtmlTest, APagePastItsCapAsItIsWrittenIsWrittenWholeAtTheEnd) {
 TEST_F(ReplayHtmlTest, APageNotEndedLeavesNothing) {
   const FixtureRows fixture;
   {
-    ReplayPageStream stream(dir_.string());
+    ReplayPageStream stream(dir_.string(), ReplayOptions{}.sizeCapBytes);
     ReplayRows rows;
     fixture.feed(stream, rows, 10, false);
     EXPECT_TRUE(fs::exists(dir_ / "replay.html.partial"));

@@ -152,7 +152,8 @@ TEST_F(ResultsFolderTest, AKilledRunsStagingFolderIsClearedAForeignOneRefused) {
 TEST_F(ResultsFolderTest, ThePageBeingWrittenIsListedUntilItIsEnded) {
   const fs::path staging = root_ / ".out.partial";
   {
-    RunWriter writer(staging.string(), scene_, /*gatherReplay=*/true);
+    const ReplayOptions replay;
+    RunWriter writer(staging.string(), scene_, &replay);
     World world(scene_.model, scene_.initial, scene_.run.integrator);
     for (int frame = 0; frame < 200; ++frame) {
       for (int k = 0; k < 10; ++k) ASSERT_EQ(world.step(scene_.run.dt), StepStatus::kOk);
