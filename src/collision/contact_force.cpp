@@ -78,6 +78,18 @@ inline void scatterLoad(const ContactScratch::ContactLoad& load, std::vector<Vec
   cache.contactDampingSum[a] += load.damping;
 }
 
+// A lean contact's loads: recorded for the gather by particle (`record`), or
+// added now in contact order (scatterLoad).
+inline void deliverLoad(const ContactScratch::ContactLoad& load,
+                        ContactScratch::ContactLoad* record, std::vector<Vec3>* f,
+                        std::vector<Vec3>* torque, ContactScratch& cache) {
+  if (record != nullptr) {
+    *record = load;
+  } else {
+    scatterLoad(load, *f, *torque, cache);
+  }
+}
+
 // I⁺ v for the packed symmetric matrix (xx, yy, zz, xy, xz, yz).
 inline Vec3 symmetricTimes(const double* m, const Vec3& v) {
   return {m[0] * v.x + m[3] * v.y + m[4] * v.z, m[3] * v.x + m[1] * v.y + m[5] * v.z,
@@ -221,13 +233,14 @@ struct Turning {
   std::int32_t kind = 0;           // 0 none, 1 spin, 2 neighbourhood
 };
 
-// Whether particle i turns with its LS neighbourhood (Turning kind 2) when it
-// has neighbours that are not fixed.
-inline bool turnsWithNeighbourhood(const Model& model, const ContactTables& tables,
-                                   std::int32_t i) {
-  return model.contact.rolling && model.inverseMass[i] != 0.0 && tables.ropeParticle[i] == 0 &&
-         tables.inverseSpinInertia[i] == 0.0 &&
-         tables.rollNeighbourStart[i] != tables.rollNeighbourStart[i + 1];
+// How particle i's contact point turns (Turning::kind): 0 not at all (rolling
+// off, a fixed or a rope particle, or one with nothing to turn with), 1 with
+// its own spin, 2 with its LS neighbourhood.
+inline std::int32_t turningKind(const Model& model, const ContactTables& tables, std::int32_t i) {
+  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
+    return 0;
+  if (tables.inverseSpinInertia[i] > 0.0) return 1;
+  return tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1] ? 0 : 2;
 }
 
 // The least-squares rotation of particle i's LS neighbourhood: ω into `omega`,
@@ -254,9 +267,9 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
                          const std::vector<Vec3>& v, const std::vector<Vec3>& spin, std::int32_t i,
                          double arm, double* inverse) {
   Turning t;
-  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
-    return t;
-  if (tables.inverseSpinInertia[i] > 0.0) {
+  const std::int32_t kind = turningKind(model, tables, i);
+  if (kind == 0) return t;
+  if (kind == 1) {
     t.kind = 1;
     if (static_cast<std::size_t>(i) < spin.size()) {
       // Component by component: a block copy of the Vec3 is stored whole and
@@ -267,7 +280,6 @@ inline Turning turningOf(const Model& model, const ContactTables& tables,
     t.armInverseInertia = arm * arm * tables.inverseSpinInertia[i];
     return t;
   }
-  if (tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1]) return t;
   // Taken once per evaluation for every particle of a contact (TurningCache).
   const std::int32_t slot = cache.turning.slot[static_cast<std::size_t>(i)];
   double largest = 0.0;
@@ -683,15 +695,6 @@ inline void pairGeometry(const Model& model, const std::vector<Vec3>& p, std::in
   g.armLengthB = norm(armB);
 }
 
-// How particle i's contact point turns (turningOf's kind without its
-// numbers): 0 not at all, 1 with its own spin, 2 with its LS neighbourhood.
-inline std::int32_t turningKind(const Model& model, const ContactTables& tables, std::int32_t i) {
-  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
-    return 0;
-  if (tables.inverseSpinInertia[i] > 0.0) return 1;
-  return tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1] ? 0 : 2;
-}
-
 // The lean stage's batch [begin, end) into the lanes (pair_lanes.h): each
 // contact's inputs (the lanes past it up to the next four: copies of its
 // first), where its history is (PairLaneBatch::history, persists), and whether
@@ -810,7 +813,8 @@ void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std
 // Contact started (startBarePair, startFoundContact): into the contact, the
 // stage's sums and its particles' loads, as the scalar stage does from its
 // normal force on. A contact that sticks takes the lanes' friction; the others'
-// group decides here, by the scalar stage's code, from the lanes' trial.
+// group decides here, by the scalar stage's code, from the lanes' trial. Its
+// loads go to `record` (threads: the gather) or are added now (deliverLoad).
 inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const StageInput& in,
                            std::int32_t a, std::int32_t other, const Contact* before, Contact& c,
                            FrictionTrial& t, ContactLoad& load, ContactLoad* record,
@@ -836,7 +840,6 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   }
   c.rollVelocity = {b.rollx[l], b.rolly[l], b.rollz[l]};
   c.slip = {b.slipx[l], b.slipy[l], b.slipz[l]};
-  const auto i = static_cast<std::size_t>(a);
   if (b.sticks[l]) {
     c.sliding = kSticking;
     c.giveWay = 0.0;
@@ -844,32 +847,15 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
     c.anchorEnergy = b.anchorEnergy[l];
     c.frictionForce = {b.frictionx[l], b.frictiony[l], b.frictionz[l]};
     runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
-    const Vec3 force{b.forcex[l], b.forcey[l], b.forcez[l]};
-    if (record != nullptr) {  // for the gather by particle
-      record->a = a;
-      record->other = other;
-      record->deferred = false;
-      record->force = force;
-      record->torqueA = {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
-      record->torqueB = {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
-      record->stiffness = b.rateStiffness[l];
-      record->damping = b.rateDamping[l];
-      return;
-    }
-    // scatterLoad.
-    std::vector<Vec3>& f = *in.force;
-    std::vector<Vec3>& torque = *in.torque;
-    if (other >= 0) {
-      const auto j = static_cast<std::size_t>(other);
-      f[j] -= force;
-      torque[j] += Vec3{b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
-      cache.contactStiffnessSum[j] += b.rateStiffness[l];
-      cache.contactDampingSum[j] += b.rateDamping[l];
-    }
-    f[i] += force;
-    torque[i] += Vec3{b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
-    cache.contactStiffnessSum[i] += b.rateStiffness[l];
-    cache.contactDampingSum[i] += b.rateDamping[l];
+    load.a = a;
+    load.other = other;
+    load.deferred = false;
+    load.force = {b.forcex[l], b.forcey[l], b.forcez[l]};
+    load.torqueA = {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
+    load.torqueB = {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
+    load.stiffness = b.rateStiffness[l];
+    load.damping = b.rateDamping[l];
+    deliverLoad(load, record, in.force, in.torque, cache);
     return;
   }
   // The trial and the loads before friction (settle), as the scalar stage
@@ -903,7 +889,7 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   t.elastic = {b.elasticx[l], b.elasticy[l], b.elasticz[l]};
   t.damper = {b.damperx[l], b.dampery[l], b.damperz[l]};
   const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
-  t.slow = t.slipSpeed <= in.model.contact.stickVelocity || reversed;
+  t.slow = t.slipSpeed <= model.contact.stickVelocity || reversed;
   t.frictionLoad = b.frictionLoad[l];
   t.tangentialInverse = b.tangentialInverse[l];
   t.hadBefore = before != nullptr;
@@ -914,11 +900,7 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   decideGroup(group, &t, 1, 0);
   FrictionTerms terms;
   contactFriction(t, &group, c, load, terms);
-  if (record != nullptr) {
-    *record = load;
-  } else {
-    scatterLoad(load, *in.force, *in.torque, cache);
-  }
+  deliverLoad(load, record, in.force, in.torque, cache);
   runTerms = {terms.released, terms.dissipated, c.anchorEnergy};
 }
 
@@ -1036,7 +1018,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
         detail::runPairLanes(laneBatch, batchEnd - batchBegin);
         for (std::size_t j = batchBegin; j < batchEnd; ++j) {
           const std::size_t l = j - batchBegin;
-          if (cache.seeds[j].full != -1) continue;
+          if (useLanes[l] || cache.seeds[j].full != -1) continue;  // (only the scalar stage's)
           PairGeometry& g = batch[l];
           g.relative = {laneBatch.relx[l], laneBatch.rely[l], laneBatch.relz[l]};
           g.normal = {laneBatch.nx[l], laneBatch.ny[l], laneBatch.nz[l]};
@@ -1063,13 +1045,24 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
                                ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
                                : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
     }
+    // Carry the friction anchor of a contact that persists (both lists sorted):
+    // release what opened before this key, then take its own record. (The lanes'
+    // batch has walked the history already: fillPairLanes.)
+    const Contact* before = nullptr;
+    if (lanes) {
+      const std::size_t l = index - batchBegin;
+      for (; old < laneBatch.history[l]; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
+      if (laneBatch.persists[l]) before = &previous[old++];
+    } else {
+      while (old < oldEnd && previous[old].key() < seed.key) {
+        tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
+        ++old;
+      }
+      if (old < oldEnd && previous[old].key() == seed.key) before = &previous[old++];
+    }
     if constexpr (Lean) {
       const std::size_t l = index - batchBegin;
       if (lanes && useLanes[l]) {
-        // The history as fillPairLanes found it: what opened before this key,
-        // then its own contact when it persists.
-        for (; old < laneBatch.history[l]; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
-        const Contact* before = laneBatch.persists[l] ? &previous[old++] : nullptr;
         const std::int64_t objectA = groupKey(tables, a);
         if (objectA != runObject) {  // (it has friction)
           finishRun(index);
@@ -1082,14 +1075,6 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
         continue;
       }
     }
-    // Carry the friction anchor of a contact that persists (both lists sorted).
-    const Contact::Key key = seed.key;
-    while (old < oldEnd && previous[old].key() < key) {
-      tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
-      ++old;
-    }
-    const Contact* before = old < oldEnd && previous[old].key() == key ? &previous[old] : nullptr;
-    if (before != nullptr) ++old;
     const PairParameters& k = pairParameters(model, tables, a, other, overrideParameters);
     const bool frictionless =
         k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
@@ -1250,11 +1235,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     const auto finishAlone = [&](const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
       FrictionTerms terms;
       contactFriction(t, group, c, leanLoad, terms);
-      if (direct) {
-        scatterLoad(leanLoad, *in.force, *in.torque, cache);
-      } else {
-        cache.loads[index] = leanLoad;
-      }
+      deliverLoad(leanLoad, direct ? nullptr : &cache.loads[index], in.force, in.torque, cache);
       chunk.runTerms[index - runFirst] = {terms.released, terms.dissipated, c.anchorEnergy};
     };
     // A contact without friction holds no anchor (its old one's energy is released).
@@ -1520,7 +1501,7 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
   if (model.contact.rolling && !tables.rollNeighbour.empty()) {
     const auto mark = [&](std::int32_t i) {
       if (i < 0 || turning.slot[static_cast<std::size_t>(i)] >= 0 ||
-          !turnsWithNeighbourhood(model, tables, i))
+          turningKind(model, tables, i) != 2)
         return;
       turning.slot[static_cast<std::size_t>(i)] =
           static_cast<std::int32_t>(turning.particles.size());

@@ -7,31 +7,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <map>
 
 #include "collision/pair_lanes.h"
 #include "core/parallel.h"
 #include "contact_test_util.h"
+#include "same_bits.h"
 
 namespace robophi {
 namespace {
 
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool sameBits(const Vec3& a, const Vec3& b) {
-  return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z);
-}
-
-// Every field of two contacts, as bits.
-bool sameContact(const Contact& a, const Contact& b) {
-  return a.a == b.a && a.other == b.other && sameBits(a.depth, b.depth) &&
-         sameBits(a.normalForce, b.normalForce) && sameBits(a.frictionForce, b.frictionForce) &&
-         sameBits(a.anchorEnergy, b.anchorEnergy) && sameBits(a.normal, b.normal) &&
-         sameBits(a.slip, b.slip) && sameBits(a.anchor, b.anchor) &&
-         sameBits(a.rollVelocity, b.rollVelocity) && a.rim == b.rim && sameBits(a.arm, b.arm) &&
-         sameBits(a.giveWay, b.giveWay) && a.sliding == b.sliding && a.vertex == b.vertex &&
-         a.facet == b.facet && sameBits(a.facetWeights, b.facetWeights);
-}
+using testing::sameBits;
+using testing::sameContact;
 
 // Uniform in [-1, 1).
 double symmetric(test::TestRandom& random) { return 2.0 * random.uniform() - 1.0; }

@@ -13,6 +13,7 @@
 #include "robotics/tasks.h"
 #include "run/checkpoint.h"
 #include "run/runner.h"
+#include "same_bits.h"
 #include "test_files.h"
 
 namespace robophi {
@@ -23,11 +24,7 @@ using testing::readText;
 
 const std::string kScenes = ROBOPHI_SOURCE_DIR "/scenes/";
 
-// Bitwise equality of doubles (NaN and -0 included).
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool sameBits(const Vec3& a, const Vec3& b) {
-  return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z);
-}
+using testing::sameBits;
 
 TEST(Checkpoint, StateAndContactsReadBackBitExactly) {
   Model model;
