@@ -62,20 +62,28 @@ constexpr double kSlidingSpeed = 2.0;
 
 // A pair contact's load on its particles (the other side's first), and its
 // stiffness and damping into their stability sums.
+// (From values, not a ContactLoad just written: read back whole, its vectors
+// stall on their stores.)
+inline void scatterLoad(std::int32_t a, std::int32_t other, const Vec3& force, const Vec3& torqueA,
+                        const Vec3& torqueB, double stiffness, double damping,
+                        std::vector<Vec3>& f, std::vector<Vec3>& torque, ContactScratch& cache) {
+  const auto i = static_cast<std::size_t>(a);
+  if (other >= 0) {
+    const auto b = static_cast<std::size_t>(other);
+    f[b] -= force;
+    torque[b] += torqueB;
+    cache.contactStiffnessSum[b] += stiffness;
+    cache.contactDampingSum[b] += damping;
+  }
+  f[i] += force;
+  torque[i] += torqueA;
+  cache.contactStiffnessSum[i] += stiffness;
+  cache.contactDampingSum[i] += damping;
+}
 inline void scatterLoad(const ContactScratch::ContactLoad& load, std::vector<Vec3>& f,
                         std::vector<Vec3>& torque, ContactScratch& cache) {
-  const auto a = static_cast<std::size_t>(load.a);
-  if (load.other >= 0) {
-    const auto b = static_cast<std::size_t>(load.other);
-    f[b] -= load.force;
-    torque[b] += load.torqueB;
-    cache.contactStiffnessSum[b] += load.stiffness;
-    cache.contactDampingSum[b] += load.damping;
-  }
-  f[a] += load.force;
-  torque[a] += load.torqueA;
-  cache.contactStiffnessSum[a] += load.stiffness;
-  cache.contactDampingSum[a] += load.damping;
+  scatterLoad(load.a, load.other, load.force, load.torqueA, load.torqueB, load.stiffness,
+              load.damping, f, torque, cache);
 }
 
 // A lean contact's loads: recorded for the gather by particle (`record`), or
@@ -847,15 +855,15 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
     c.anchorEnergy = b.anchorEnergy[l];
     c.frictionForce = {b.frictionx[l], b.frictiony[l], b.frictionz[l]};
     runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
-    load.a = a;
-    load.other = other;
-    load.deferred = false;
-    load.force = {b.forcex[l], b.forcey[l], b.forcez[l]};
-    load.torqueA = {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
-    load.torqueB = {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
-    load.stiffness = b.rateStiffness[l];
-    load.damping = b.rateDamping[l];
-    deliverLoad(load, record, in.force, in.torque, cache);
+    const Vec3 force{b.forcex[l], b.forcey[l], b.forcez[l]};
+    const Vec3 torqueA{b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
+    const Vec3 torqueB{b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
+    if (record != nullptr) {
+      *record = {force, torqueA, torqueB, b.rateStiffness[l], b.rateDamping[l], a, other, false};
+    } else {
+      scatterLoad(a, other, force, torqueA, torqueB, b.rateStiffness[l], b.rateDamping[l],
+                  *in.force, *in.torque, cache);
+    }
     return;
   }
   // The trial and the loads before friction (settle), as the scalar stage
