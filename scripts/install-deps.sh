@@ -39,6 +39,10 @@ install_missing \
 # robophi sweep across processes (docs/sweep.md): Open MPI.
 install_missing openmpi-bin libopenmpi-dev
 
+# The PILE benchmark's yardstick (bench/bullet_pile.cpp, docs/performance.md):
+# Bullet, whose Debian package carries a double-precision build.
+install_missing libbullet-dev
+
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may
 # already come from elsewhere (e.g. NodeSource); apt installs them only if not.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench_scenes.h"
+#include "pile_layout.h"
 #include "robophi/evaluation.h"
 #include "robophi/world.h"
 
@@ -19,22 +20,6 @@ namespace robophi::cli {
 
 namespace {
 
-// SplitMix64: a fixed, portable sequence (std distributions differ between libraries).
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [-1, 1).
-  double symmetric() { return static_cast<double>(next() >> 11) * 0x1.0p-52 - 1.0; }
-};
-
-constexpr double kPileRadius = 0.01;     // m
-constexpr double kPileSpacing = 0.025;   // m
-constexpr double kPileDensity = 1000.0;  // kg/m³
 // Pair stiffness κ_c = 2e4 N/m: the top layer lands at about sqrt(2 g n·5 mm)
 // (1.4 m/s for n = 20) on a ball at rest, penetrating v sqrt(m/2 / κ_c) = 0.45 mm
 // (< 10% of r = 1 mm); the static load of a 20-ball column, 0.8 N, is 0.04 mm.
@@ -53,54 +38,35 @@ Scene makePileScene(int n) {
   scene.sourcePath = "<bench>";
   Model& model = scene.model;
   model.gravity = {0.0, 0.0, -9.81};
-  const double mass = kPileDensity * 4.0 / 3.0 * M_PI * std::pow(kPileRadius, 3);
+  const double mass = pile::kDensity * 4.0 / 3.0 * M_PI * std::pow(pile::kRadius, 3);
   // Every surface has the same material: pair values are half the material's (series).
   Material material;
   material.name = "pile";
   material.contactStiffness = 2.0 * kPilePairStiffness;
   material.contactDamping =
       2.0 * (2.0 * kPileDampingRatio * std::sqrt(kPilePairStiffness * 0.5 * mass));
-  material.staticFriction = 0.5;
-  material.kineticFriction = 0.5;
+  material.staticFriction = pile::kFriction;
+  material.kineticFriction = pile::kFriction;
   model.materials.push_back(material);
-  const std::int32_t pile = 1;
+  const std::int32_t pileMaterial = 1;
 
-  const double width = n * kPileSpacing;
-  SplitMix64 random{0x5EED0000ULL + static_cast<std::uint64_t>(n)};
   const auto count = static_cast<std::size_t>(n) * n * n;
   scene.initial.position.reserve(count);
   model.objects.reserve(count);
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const std::int32_t object =
-            model.addObject(fmt::format("ball{}", model.objects.size()), "ball", pile);
-        model.addParticle(mass, kPileRadius, false, object);
-        const Vec3 jitter{random.symmetric(), random.symmetric(), random.symmetric()};
-        scene.initial.position.push_back(Vec3{-0.5 * width + (i + 0.5) * kPileSpacing,
-                                              -0.5 * width + (j + 0.5) * kPileSpacing,
-                                              0.015 + k * kPileSpacing} +
-                                         jitter * 0.002);
-      }
-    }
+  for (const auto& [x, y, z] : pile::centres(n)) {
+    const std::int32_t object =
+        model.addObject(fmt::format("ball{}", model.objects.size()), "ball", pileMaterial);
+    model.addParticle(mass, pile::kRadius, false, object);
+    scene.initial.position.push_back(Vec3{x, y, z});
   }
   // Ground and four walls 0.6 m high, 5 cm thick.
   Environment& environment = model.environment;
-  environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, pile});
-  constexpr double kWallHeight = 0.6, kWallThickness = 0.05;
-  const double reach = 0.5 * width + 0.5 * kWallThickness;
-  const double halfLength = 0.5 * width + kWallThickness;
-  for (int side = 0; side < 4; ++side) {
+  environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, pileMaterial});
+  for (const pile::Wall& side : pile::walls(n)) {
     BoxObstacle wall;
-    wall.material = pile;
-    const double sign = side % 2 == 0 ? 1.0 : -1.0;
-    if (side < 2) {
-      wall.center = {sign * reach, 0.0, 0.5 * kWallHeight};
-      wall.halfExtents = {0.5 * kWallThickness, halfLength, 0.5 * kWallHeight};
-    } else {
-      wall.center = {0.0, sign * reach, 0.5 * kWallHeight};
-      wall.halfExtents = {halfLength, 0.5 * kWallThickness, 0.5 * kWallHeight};
-    }
+    wall.material = pileMaterial;
+    wall.center = {side.centre[0], side.centre[1], side.centre[2]};
+    wall.halfExtents = {side.halfExtents[0], side.halfExtents[1], side.halfExtents[2]};
     environment.boxes.push_back(wall);
   }
   scene.initial.velocity.assign(count, Vec3{});
@@ -120,7 +86,7 @@ Scene makeScalingScene(std::int64_t count, bool oneObject) {
   Model& model = scene.model;
   model.gravity = {};
   const auto side = static_cast<std::int64_t>(std::ceil(std::cbrt(static_cast<double>(count))));
-  SplitMix64 random{0xC0FFEEULL};
+  pile::SplitMix64 random{0xC0FFEEULL};
   std::int32_t object = oneObject ? model.addObject("cloud", "particles") : -1;
   model.objects.reserve(oneObject ? 1 : static_cast<std::size_t>(count));
   scene.initial.position.reserve(static_cast<std::size_t>(count));
