@@ -85,19 +85,13 @@ Scene makeScalingScene(std::int64_t count, bool oneObject) {
   Scene scene;
   Model& model = scene.model;
   model.gravity = {};
-  const auto side = static_cast<std::int64_t>(std::ceil(std::cbrt(static_cast<double>(count))));
-  pile::SplitMix64 random{0xC0FFEEULL};
   std::int32_t object = oneObject ? model.addObject("cloud", "particles") : -1;
   model.objects.reserve(oneObject ? 1 : static_cast<std::size_t>(count));
   scene.initial.position.reserve(static_cast<std::size_t>(count));
-  for (std::int64_t q = 0; q < count; ++q) {
+  for (const auto& [x, y, z] : pile::scalingCentres(count)) {
     if (!oneObject) object = model.addObject("ball", "ball");
-    model.addParticle(0.004, 0.01, false, object);
-    const auto i = static_cast<double>(q % side);
-    const auto j = static_cast<double>((q / side) % side);
-    const auto k = static_cast<double>(q / (side * side));
-    const Vec3 jitter{random.symmetric(), random.symmetric(), random.symmetric()};
-    scene.initial.position.push_back(Vec3{i, j, k} * 0.02 + jitter * 0.002);
+    model.addParticle(pile::kScalingMass, pile::kRadius, false, object);
+    scene.initial.position.push_back(Vec3{x, y, z});
   }
   scene.initial.velocity.assign(static_cast<std::size_t>(count), Vec3{});
   return scene;

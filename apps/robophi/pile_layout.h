@@ -4,6 +4,7 @@
 // into the same box: plain numbers, no robophi type.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -74,6 +75,26 @@ inline std::array<Wall, 4> walls(int n) {
       out[side] = {{0.0, sign * reach, 0.5 * kWallHeight},
                    {halfLength, 0.5 * kWallThickness, 0.5 * kWallHeight}};
     }
+  }
+  return out;
+}
+
+/// STEP-SCALING's and SCALING's balls (radius kRadius, mass kScalingMass, no
+/// gravity): `count` centres (m) on a cubic lattice of side ⌈∛count⌉ spaced
+/// 2 cm from the origin, x fastest, each jittered by up to ±2 mm per axis (a
+/// fixed seed): about half the neighbour pairs touch.
+constexpr double kScalingMass = 0.004;  // kg
+inline std::vector<std::array<double, 3>> scalingCentres(std::int64_t count) {
+  std::vector<std::array<double, 3>> out;
+  out.reserve(static_cast<std::size_t>(count));
+  const auto side = static_cast<std::int64_t>(std::ceil(std::cbrt(static_cast<double>(count))));
+  SplitMix64 random{0xC0FFEEULL};
+  for (std::int64_t q = 0; q < count; ++q) {
+    const auto i = static_cast<double>(q % side);
+    const auto j = static_cast<double>((q / side) % side);
+    const auto k = static_cast<double>(q / (side * side));
+    const double jx = random.symmetric(), jy = random.symmetric(), jz = random.symmetric();
+    out.push_back({i * 0.02 + jx * 0.002, j * 0.02 + jy * 0.002, k * 0.02 + jz * 0.002});
   }
   return out;
 }
