@@ -17,7 +17,7 @@ ROBOPHI_TARGETS="robophi robophi_tests" "$root/scripts/build.sh" "$root/build-as
   -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DROBOPHI_SANITIZE=ON \
   -DROBOPHI_MPI=OFF
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE "slow|package|viewer"
+  ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE "slow|package|viewer|bench"
 
 # The scene loader's fuzz target (fuzz/README.md): a short libFuzzer run, its own
 # clang build of the libraries and the target only (scripts/fuzz.sh for the long run).
