@@ -238,8 +238,14 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
         bestNormal = distance > 0.0 ? (p - q) / distance : faceNormal;
       } else {
         // A closed surface: outside, the direction from the surface point; inside
-        // (behind the face), the face's normal.
-        const bool outside = dot(p - x0, faceNormal) >= 0.0;
+        // (behind the face), the face's normal. Behind only over the face, where
+        // the closest point is the foot on the face's plane: a point beside the
+        // face and below its plane is outside (the candidates are the triangles
+        // near the probe, not all of them: a particle just above a box's top,
+        // whose top triangles were not candidates, counted as 2 cm inside it
+        // by a side's triangle, whose closest point is on its edge).
+        const double height = dot(p - x0, faceNormal);
+        const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
         bestSigned = outside ? distance : -distance;
         bestNormal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
       }

@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <optional>
 
+#include "collision/contact_tables.h"
 #include "collision/contact_test_util.h"
+#include "collision/facets.h"
 #include "robophi/build/model_builder.h"
 #include "robophi/build/objects.h"
 
@@ -56,6 +58,56 @@ TEST(Facets, BoxSurfaceLiesOnItsTrueFaces) {
     }
     EXPECT_NEAR(area, 2.0 * (0.1 * 0.2 + 0.2 * 0.3 + 0.3 * 0.1), 1e-12);
   }
+}
+
+// The closest-triangle rule sees only the triangles near the probe (those its
+// tree leaf meets). A particle 5 mm above a box's top face and 5 mm in from its
+// side, offered only the side's triangles (the top's leaf out of reach), is
+// beside the side face and below its plane: outside, not 2.6 cm inside (the
+// contact that stalled a cloth draped over a box, its step falling to 1e-12 s).
+// A particle just under the top face, offered every triangle, is inside, by the
+// top's normal.
+TEST(Facets, APointBesideAFaceAndBelowItsPlaneIsOutside) {
+  build::ModelBuilder builder;
+  builder.setGravity({});
+  build::BoxSpec spec;
+  spec.cells = {3, 3, 3};
+  spec.size = {0.1, 0.1, 0.1};
+  build::GeneratedObject box = build::makeBox(spec);
+  build::resolveSprings(box, {});
+  builder.addObject({.name = "box", .kind = "box", .geometry = box});
+  build::GeneratedObject ball;
+  build::addParticle(ball, {0.0, -0.045, 0.065}, 0.01, 0.01);
+  builder.addObject({.name = "ball", .kind = "particles", .geometry = ball});
+  build::BuiltModel built = std::move(builder).build();
+  const Model& model = built.model;
+  const CompiledModel compiled(model);
+  const auto probe = static_cast<std::int32_t>(model.particleCount() - 1);
+  const auto offer = [&](const std::vector<Vec3>& position, double sideOnly) {
+    ContactScratch scratch;
+    scratch.tables = &compiled.contactTables();
+    updateSurfacePositions(model, position, scratch);
+    for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
+      const SurfaceTriangle& tri = model.surfaceTriangles[t];
+      const Vec3& x0 = scratch.vertexPosition[static_cast<std::size_t>(tri.vertex[0])];
+      const Vec3 normal = cross(scratch.vertexPosition[static_cast<std::size_t>(tri.vertex[1])] - x0,
+                                scratch.vertexPosition[static_cast<std::size_t>(tri.vertex[2])] - x0);
+      if (sideOnly && !(normal.y < 0.0 && std::abs(normal.x) + std::abs(normal.z) == 0.0))
+        continue;
+      scratch.facetCandidates.push_back({probe, 0, static_cast<std::int32_t>(t)});
+    }
+    EXPECT_FALSE(scratch.facetCandidates.empty());
+    resolveFacetCandidates(model, position, scratch);
+    return scratch.treeContacts;
+  };
+  std::vector<Vec3> position = built.initial.position;
+  EXPECT_TRUE(offer(position, true).empty());
+  EXPECT_TRUE(offer(position, false).empty());
+  position.back() = {0.0, -0.045, 0.045};  // 5 mm under the top: 1.5 cm deep
+  const std::vector<Contact> inside = offer(position, false);
+  ASSERT_EQ(inside.size(), 1u);
+  EXPECT_NEAR(inside[0].depth, -0.015, 1e-12);
+  EXPECT_NEAR(inside[0].normal.z, 1.0, 1e-12);
 }
 
 // A particle thrown at a free faceted box (no gravity, friction or damping):
