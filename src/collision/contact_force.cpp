@@ -442,7 +442,10 @@ void addDeferredRates(const Model& model, const Contact& c, const FrictionApplic
   }
   cache.contactStiffnessSum[c.a] += application.stiffness;
   cache.contactDampingSum[c.a] += application.damping;
-  if (c.other >= 0) {
+  if (c.facet >= 0) {  // (the touched side is the triangle's particles)
+    addTriangleRates(model, c, application.stiffness, application.damping,
+                     cache.contactStiffnessSum, cache.contactDampingSum);
+  } else if (c.other >= 0) {
     cache.contactStiffnessSum[c.other] += application.stiffness;
     cache.contactDampingSum[c.other] += application.damping;
   }

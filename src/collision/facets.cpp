@@ -330,6 +330,33 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
   for (int j = 0; j < 3; ++j) spread(vertexOf(model, t, j), onA * -weightOf(c.facetWeights, j));
 }
 
+void addTriangleRates(const Model& model, const Contact& c, double stiffness, double damping,
+                      std::vector<double>& stiffnessSum, std::vector<double>& dampingSum) {
+  const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
+  // The row's reach: Σ|w| of the touching side (1 for a particle) and of the
+  // triangle's particles (Σ_j |β_j| Σ_k |w_jk|).
+  double reach = 1.0;
+  if (c.vertex >= 0) {
+    reach = 0.0;
+    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) reach += std::abs(v.weight[k]);
+  }
+  for (int j = 0; j < 3; ++j) {
+    const SurfaceVertex& v = vertexOf(model, t, j);
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k)
+      reach += std::abs(weightOf(c.facetWeights, j) * v.weight[k]);
+  }
+  for (int j = 0; j < 3; ++j) {
+    const SurfaceVertex& v = vertexOf(model, t, j);
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+      if (v.particle[k] < 0) continue;
+      const double share = 0.5 * reach * std::abs(weightOf(c.facetWeights, j) * v.weight[k]);
+      stiffnessSum[static_cast<std::size_t>(v.particle[k])] += stiffness * share;
+      dampingSum[static_cast<std::size_t>(v.particle[k])] += damping * share;
+    }
+  }
+}
+
 double facetExtraStiffness(const Model& model, double stiffness, const Contact& c) {
   if (c.vertex < 0 || model.inverseMass[c.a] == 0.0) return 0.0;
   const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];

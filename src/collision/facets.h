@@ -65,6 +65,16 @@ void facetKinematics(const Model& model, const std::vector<Vec3>& position,
 /// spread over their particles by the vertices' and barycentric weights.
 void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
                           std::vector<Vec3>& force);
+/// A contact with a triangle (Contact::facet): its stiffness and damping (N/m,
+/// N·s/m) into the stability sums of the triangle's particles, which carry the
+/// touched point (x_q = Σ_j β_j Σ_k w_jk p_k). Particle k of vertex j takes
+/// ½ R |β_j w_jk| of them, R = Σ|w| of the touching side + Σ_jk |β_j w_jk|: its
+/// Gershgorin row of the contact's κ g gᵀ, |g_k| Σ|g|, over the pair rule's
+/// factor 2 (2 Σκ / m). (Not the object's first particle, the contact's label:
+/// given every contact on a light cloth, it held a cloth draped over a box to
+/// steps of 8.5e-7 s.)
+void addTriangleRates(const Model& model, const Contact& c, double stiffness, double damping,
+                      std::vector<double>& stiffnessSum, std::vector<double>& dampingSum);
 /// A vertex moves its heaviest particle by more than the particle alone: the
 /// extra stiffness (N/m) that particle's stability sum gets, Σ|w| |w_a| - 1 times
 /// `stiffness` (0 when none).

@@ -110,6 +110,44 @@ TEST(Facets, APointBesideAFaceAndBelowItsPlaneIsOutside) {
   EXPECT_NEAR(inside[0].normal.z, 1.0, 1e-12);
 }
 
+// A contact with a triangle loads the stability sums of the triangle's own
+// particles (addTriangleRates), not the touched object's first particle, the
+// contact's label. Heavy balls resting on a light faceted plate, far from its
+// first particle: nine of them, on nine triangles apart, leave the stability
+// limit about where one leaves it (each triangle carries one contact), where
+// the label took all nine (the limit 3x shorter) and the plate's corner
+// particle, untouched, set it.
+TEST(Facets, ATrianglesContactLoadsItsOwnParticlesStabilitySums) {
+  const auto criticalStep = [](int balls) {
+    build::ModelBuilder builder;
+    builder.setGravity({0.0, 0.0, -9.81});
+    build::PlateSpec spec;
+    spec.sizeX = spec.sizeY = 0.4;
+    spec.cells = {12, 12};
+    spec.mass = 0.0144;  // 1e-4 kg a particle
+    spec.thickness = 0.01;
+    build::GeneratedObject plate = build::makePlate(spec);
+    build::resolveSprings(plate, {});
+    builder.addObject({.name = "plate", .kind = "plate", .geometry = plate});
+    build::GeneratedObject weights;
+    for (int k = 0; k < balls; ++k) {
+      const double x = 0.1 * (k % 3) - 0.05, y = 0.1 * (k / 3) - 0.05;
+      build::addParticle(weights, {x + 0.003, y + 0.002, 0.0139}, 0.05, 0.01);
+    }
+    builder.addObject({.name = "weights", .kind = "particles", .geometry = weights});
+    build::BuiltModel built = std::move(builder).build();
+    test::Evaluator evaluate(built.model);
+    const Evaluation& e = evaluate(built.initial);
+    int onTriangles = 0;
+    for (const Contact& c : e.contacts) onTriangles += c.facet >= 0 ? 1 : 0;
+    EXPECT_EQ(onTriangles, balls);
+    return e.contactCriticalStep;
+  };
+  const double one = criticalStep(1), nine = criticalStep(9);
+  std::printf("stability limit with one ball on the plate %.3e s, with nine %.3e s\n", one, nine);
+  EXPECT_GT(nine, 0.8 * one);
+}
+
 // A particle thrown at a free faceted box (no gravity, friction or damping):
 // the facet force, spread over the box's particles by the vertices' weights,
 // keeps the momentum exactly and the energy to the integrator's accuracy.
