@@ -1319,6 +1319,21 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       return once - n * dot(once, n);
     };
     t.delta = tangential(t.relative - anchor);
+    if (faceted && before != nullptr && before->facet != c.facet &&
+        t.regimeBefore != kSliding) {
+      // A vertex's contact moved to another triangle: inside a body near an
+      // edge its normal jumps (to the other face's). The anchor's offset
+      // projected on the new plane is not the one it held: keep no more than
+      // it held, and release what the new plane takes off (else the spring's
+      // energy jumps at no motion and the adaptive step stalls on it).
+      const Vec3 n0 = before->normal;
+      const Vec3 once = t.relative - anchor - n0 * dot(t.relative - anchor, n0);
+      const double held = squaredNorm(once - n0 * dot(once, n0));
+      const double now = squaredNorm(t.delta);
+      if (now > held) t.delta = t.delta * std::sqrt(held / now);
+      tally.releasedEnergy +=
+          0.5 * k.tangentialStiffness * held - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
+    }
     if (t.regimeBefore == kSliding) {
       // A sliding anchor follows the slip: over the last step the contact was
       // loaded by kinetic friction (its work booked as dissipation), not by its
