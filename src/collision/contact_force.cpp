@@ -88,14 +88,29 @@ inline void scatterLoad(const ContactScratch::ContactLoad& load, std::vector<Vec
 
 // A lean contact's loads: recorded for the gather by particle (`record`), or
 // added now in contact order (scatterLoad).
+inline void deliverLoad(ContactScratch::ContactLoad* record, std::int32_t a, std::int32_t other,
+                        const Vec3& force, const Vec3& torqueA, const Vec3& torqueB,
+                        double stiffness, double damping, std::vector<Vec3>* f,
+                        std::vector<Vec3>* torque, ContactScratch& cache) {
+  if (record != nullptr) {
+    *record = {force, torqueA, torqueB, stiffness, damping, a, other, false};
+  } else {
+    scatterLoad(a, other, force, torqueA, torqueB, stiffness, damping, *f, *torque, cache);
+  }
+}
 inline void deliverLoad(const ContactScratch::ContactLoad& load,
                         ContactScratch::ContactLoad* record, std::vector<Vec3>* f,
                         std::vector<Vec3>* torque, ContactScratch& cache) {
-  if (record != nullptr) {
-    *record = load;
-  } else {
-    scatterLoad(load, *f, *torque, cache);
-  }
+  deliverLoad(record, load.a, load.other, load.force, load.torqueA, load.torqueB, load.stiffness,
+              load.damping, f, torque, cache);
+}
+
+// x's part in the plane normal to the unit n, projected twice: a displacement or
+// a velocity is mostly normal when a contact sticks, and one projection leaves a
+// normal residue of rounding that is not small against what is left.
+inline Vec3 tangentialPart(const Vec3& x, const Vec3& n) {
+  const Vec3 once = x - n * dot(x, n);
+  return once - n * dot(once, n);
 }
 
 // I⁺ v for the packed symmetric matrix (xx, yy, zz, xy, xz, yz).
@@ -858,15 +873,10 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
     c.anchorEnergy = b.anchorEnergy[l];
     c.frictionForce = {b.frictionx[l], b.frictiony[l], b.frictionz[l]};
     runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
-    const Vec3 force{b.forcex[l], b.forcey[l], b.forcez[l]};
-    const Vec3 torqueA{b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]};
-    const Vec3 torqueB{b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]};
-    if (record != nullptr) {
-      *record = {force, torqueA, torqueB, b.rateStiffness[l], b.rateDamping[l], a, other, false};
-    } else {
-      scatterLoad(a, other, force, torqueA, torqueB, b.rateStiffness[l], b.rateDamping[l],
-                  *in.force, *in.torque, cache);
-    }
+    deliverLoad(record, a, other, {b.forcex[l], b.forcey[l], b.forcez[l]},
+                {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]},
+                {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]}, b.rateStiffness[l],
+                b.rateDamping[l], in.force, in.torque, cache);
     return;
   }
   // The trial and the loads before friction (settle), as the scalar stage
@@ -1311,13 +1321,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       t.giveWayBefore = before->giveWay;
       t.previousEnergy = before->anchorEnergy;
     }
-    // Tangential parts, projected twice: the displacement and the velocity are
-    // mostly normal when the contact sticks, and one projection leaves a normal
-    // residue of rounding that is not small against what is left.
-    const auto tangential = [&n](const Vec3& x) {
-      const Vec3 once = x - n * dot(x, n);
-      return once - n * dot(once, n);
-    };
+    const auto tangential = [&n](const Vec3& x) { return tangentialPart(x, n); };
     t.delta = tangential(t.relative - anchor);
     if (faceted && before != nullptr && before->facet != c.facet &&
         t.regimeBefore != kSliding) {
@@ -1326,9 +1330,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       // projected on the new plane is not the one it held: keep no more than
       // it held, and release what the new plane takes off (else the spring's
       // energy jumps at no motion and the adaptive step stalls on it).
-      const Vec3 n0 = before->normal;
-      const Vec3 once = t.relative - anchor - n0 * dot(t.relative - anchor, n0);
-      const double held = squaredNorm(once - n0 * dot(once, n0));
+      const double held = squaredNorm(tangentialPart(t.relative - anchor, before->normal));
       const double now = squaredNorm(t.delta);
       if (now > held) t.delta = t.delta * std::sqrt(held / now);
       tally.releasedEnergy +=

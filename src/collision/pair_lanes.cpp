@@ -64,7 +64,7 @@ ROBOPHI_LANES V3 cross3(const V3& a, const V3& b) {
 ROBOPHI_LANES V3 select3(D mask, const V3& b, const V3& a) {
   return {select(mask, b.x, a.x), select(mask, b.y, a.y), select(mask, b.z, a.z)};
 }
-// The stage's `tangential`: projected twice on the plane normal to n.
+// The stage's tangentialPart: projected twice on the plane normal to n.
 ROBOPHI_LANES V3 tangential3(const V3& x, const V3& n) {
   const V3 once = sub3(x, scale3(n, dot3(x, n)));
   return sub3(once, scale3(n, dot3(once, n)));
