@@ -17,6 +17,7 @@
 #include "robophi/adaptive_step.h"
 #include "robophi/version.h"
 #include "run/interrupt.h"
+#include "run/runner.h"
 
 namespace robophi::cli {
 
@@ -42,6 +43,17 @@ struct BenchResult {
   double contactsPerStep = 0.0, maxPenetration = 0.0, maxPenetrationFraction = 0.0;
   // Evaluations that rebuilt the grid particles' neighbour list.
   std::int64_t neighbourListBuilds = 0;
+  // The energy account: the largest |E_total(t) - E_total(0)| over the energy
+  // scale (as `robophi run` keeps it), read at ten points of the run, outside the
+  // timed steps. A step beyond a mode's stability limit makes energy: an
+  // unstable damper shows here even where friction keeps the motion bounded.
+  double accountError = 0.0;
+  // The same over the run's second half, |E_total(T) - E_total(T/2)| / scale:
+  // where a scene has come to rest (PILE), energy made there is instability.
+  double secondHalfAccountChange = 0.0;
+  // Constant steps longer than the contacts' own stability estimate at their
+  // start (Evaluation::contactCriticalStep, a Gershgorin bound, on the safe side).
+  std::int64_t stepsOverContactLimit = 0;
   std::string status;
 };
 
@@ -64,6 +76,11 @@ BenchResult runBench(const BenchScene& bench, int threads) {
   AdaptiveStepSettings controller;
   controller.initialStep = controller.maxStep = scene.run.dt;
   AdaptiveStepper stepper(scene.model, controller);
+  const double initialTotal = world.energy().total();
+  double scale = energyAccountScale(world.model(), world.state(), world.energy());
+  double largestError = 0.0, halfwayTotal = initialTotal;
+  double untimed = 0.0;  // seconds spent reading the account
+  const std::int64_t readEvery = std::max<std::int64_t>(1, steps / 10);
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
     if (InterruptGuard::flag().load(std::memory_order_relaxed)) {
@@ -77,9 +94,21 @@ BenchResult runBench(const BenchScene& bench, int threads) {
         break;
       }
       if (world.state().time >= scene.run.duration * (1.0 - 1e-12)) break;
-    } else if (world.step(scene.run.dt) != StepStatus::kOk) {
-      r.status = "diverged";
-      break;
+    } else {
+      if (scene.run.dt > world.evaluation().contactCriticalStep) ++r.stepsOverContactLimit;
+      if (world.step(scene.run.dt) != StepStatus::kOk) {
+        r.status = "diverged";
+        break;
+      }
+    }
+    if ((i + 1) % readEvery == 0 || i + 1 == steps) {
+      const auto before = std::chrono::steady_clock::now();
+      const EnergyTally energy = world.energy();
+      scale = std::max(scale, energyAccountScale(world.model(), world.state(), energy));
+      largestError = std::max(largestError, std::abs(energy.total() - initialTotal));
+      if (i + 1 <= steps / 2) halfwayTotal = energy.total();
+      r.secondHalfAccountChange = std::abs(energy.total() - halfwayTotal);
+      untimed += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
     }
     const ContactStats contacts = world.evaluation().contactStats;
     contactSum += static_cast<double>(contacts.particleContacts + contacts.environmentContacts);
@@ -87,7 +116,12 @@ BenchResult runBench(const BenchScene& bench, int threads) {
     r.maxPenetration = std::max(r.maxPenetration, contacts.maxPenetration);
     r.maxPenetrationFraction = std::max(r.maxPenetrationFraction, contacts.maxPenetrationFraction);
   }
-  r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wallSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - untimed;
+  r.accountError = largestError / scale;
+  r.secondHalfAccountChange /= scale;
+  if (r.status == "ok" && !(r.accountError <= kDefaultEnergyAccountBound))
+    r.status = "energy_account_broken";
   r.contactsPerStep = steps > 0 ? contactSum / static_cast<double>(steps) : 0.0;
   r.steps = world.state().stepCount;
   r.rejected = stepper.stats().rejected;
@@ -112,7 +146,10 @@ nlohmann::ordered_json toJson(const BenchResult& r) {
           {"contacts_per_step", r.contactsPerStep},
           {"max_penetration_m", r.maxPenetration},
           {"max_penetration_over_radius", r.maxPenetrationFraction},
-          {"neighbour_list_builds", r.neighbourListBuilds}};
+          {"neighbour_list_builds", r.neighbourListBuilds},
+          {"energy_account_error", r.accountError},
+          {"energy_account_change_second_half", r.secondHalfAccountChange},
+          {"steps_over_contact_limit", r.stepsOverContactLimit}};
 }
 
 int benchCommand(const BenchArguments& args) {
@@ -142,6 +179,10 @@ int benchCommand(const BenchArguments& args) {
           r.name.c_str(), static_cast<long long>(r.particles), static_cast<long long>(r.connectors),
           static_cast<long long>(r.steps), r.wallSeconds, r.particleStepsPerSecond,
           r.connectorEvalsPerSecond, r.threads, r.status.c_str());
+      std::printf("%-12s energy_account_error=%.2e (of its scale; bound %.2g) "
+                  "second_half=%.2e steps_over_contact_limit=%lld\n",
+                  r.name.c_str(), r.accountError, kDefaultEnergyAccountBound,
+                  r.secondHalfAccountChange, static_cast<long long>(r.stepsOverContactLimit));
       if (r.contactsPerStep > 0.0) {
         std::printf(
             "%-12s contacts_per_step=%.1f max_penetration_m=%.3e (%.1f%% of radius) "
