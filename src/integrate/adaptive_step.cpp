@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -461,8 +462,17 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   const auto isVirtual = [&](std::size_t o) {
     return o < model.objects.size() && model.objects[o].kind == "virtual";
   };
+  // The boxes, each reset at its object's first run in this call (a stamp per
+  // object): a pile of single balls has as many objects as particles, and a
+  // pass resetting them all cost as much as filling them.
   thread_local std::vector<detail::ObjectBox> boxes;
-  boxes.assign(objects, detail::ObjectBox{});
+  thread_local std::vector<std::uint64_t> stamps;
+  thread_local std::uint64_t call = 0;
+  ++call;
+  if (boxes.size() < objects) {
+    boxes.resize(objects);
+    stamps.resize(objects, 0);
+  }
   const bool lanes = detail::haveBoxRunLanes();
   bool unowned = false;  // particles of no object: approachStepBound counts them in object 0
   double every = 0.0;    // not finite when a number is not
@@ -471,8 +481,16 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
     ParticleIndex end = i + 1;
     while (end < n && model.objectOf[end] == model.objectOf[i]) ++end;
     unowned = unowned || model.objectOf[i] < 0;
-    detail::ObjectBox& box =
-        boxes[static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]))];
+    const auto object = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
+    detail::ObjectBox& box = boxes[object];
+    if (stamps[object] != call) {  // (what boxRun reads of an empty box; it sets the rest)
+      stamps[object] = call;
+      box.pSum = Vec3{};
+      box.count = 0.0;
+      box.smallestRadius = std::numeric_limits<double>::infinity();
+      box.largestRadius = 0.0;
+      box.anyFree = false;
+    }
 #if defined(__x86_64__) && defined(__GNUC__)
     every += lanes ? detail::boxRunLanes(model, state, force, i, end, box)
                    : detail::boxRun(model, state, force, i, end, box);
@@ -485,14 +503,17 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   // object beside a virtual object 0 (its bounds are of those particles alone).
   if (!std::isfinite(every) || (unowned && isVirtual(0))) return 0.0;
   thread_local std::vector<ObjectBounds> bounds;
-  bounds.assign(objects, ObjectBounds{});
+  bounds.resize(objects);  // (each set below)
   const Environment& env = model.environment;
   const bool solidEnvironment =
       !env.heightfields.empty() || !env.boxes.empty() || !env.spheres.empty();
   double step = std::numeric_limits<double>::infinity();
   for (std::size_t o = 0; o < objects; ++o) {
     const detail::ObjectBox& box = boxes[o];
-    if (box.count == 0.0) continue;
+    if (stamps[o] != call || box.count == 0.0) {
+      bounds[o] = ObjectBounds{};
+      continue;
+    }
     ObjectBounds b;
     b.empty = false;
     b.smallestRadius = box.smallestRadius;
@@ -501,14 +522,17 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
     b.acceleration = (box.aLow + box.aHigh) * 0.5;
     const Vec3 pMiddle = (box.pLow + box.pHigh) * 0.5, pHalf = (box.pHigh - box.pLow) * 0.5;
     const Vec3 vHalf = (box.vHigh - box.vLow) * 0.5, aHalf = (box.aHigh - box.aLow) * 0.5;
-    b.radius = raised(raised(norm(b.centre - pMiddle) + norm(pHalf),
+    // One particle: every box is a point, the centre is it (p / 1, (p + p) / 2),
+    // and the four norms are of zero vectors: 0 (the same bits without them).
+    const bool point = box.count == 1.0;
+    b.radius = raised(raised(point ? 0.0 : norm(b.centre - pMiddle) + norm(pHalf),
                              largestMagnitude(b.centre) + largestMagnitude(pMiddle)) +
                           box.largestRadius,
                       0.0);
-    b.velocitySpread = raised(norm(vHalf), largestMagnitude(b.velocity));
-    b.accelerationSpread = raised(norm(aHalf), largestMagnitude(b.acceleration));
+    b.velocitySpread = raised(point ? 0.0 : norm(vHalf), largestMagnitude(b.velocity));
+    b.accelerationSpread = raised(point ? 0.0 : norm(aHalf), largestMagnitude(b.acceleration));
     // (A virtual object touches nothing: its bounds stay empty, as in approachStepBound.)
-    if (!isVirtual(o)) bounds[o] = b;
+    bounds[o] = isVirtual(o) ? ObjectBounds{} : b;
     if (!box.anyFree) continue;
     // The object's free particles against the environment (its box of fixed
     // and free particles bounds them).
