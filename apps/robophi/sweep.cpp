@@ -89,11 +89,15 @@ std::vector<std::string> columns(const SweepPlan& plan, const std::vector<nlohma
        {"seed", "status", "steps", "simulated_time", "energy_drift", "largest_account_error",
         "dissipated", "external_work", "state_hash", "failure"})
     names.emplace_back(fixed);
-  std::set<std::string> outcomes;
-  for (const nlohmann::json& row : rows)
-    for (const auto& [key, value] : row.items())
+  std::set<std::string> outcomes, ends;
+  for (const nlohmann::json& row : rows) {
+    for (const auto& [key, value] : row.items()) {
       if (key.starts_with("outcomes/")) outcomes.insert(key);
+      if (key.starts_with("end/")) ends.insert(key);
+    }
+  }
   names.insert(names.end(), outcomes.begin(), outcomes.end());
+  names.insert(names.end(), ends.begin(), ends.end());
   return names;
 }
 
@@ -253,6 +257,45 @@ void perturbInitialPositions(Scene& scene, int seed, double jitter) {
   }
 }
 
+namespace {
+
+// The objects that get end-state columns: those that touch something (not
+// "virtual"), when there are at most kEndStateObjects of them.
+std::vector<std::size_t> endStateObjects(const Model& model) {
+  std::vector<std::size_t> out;
+  for (std::size_t o = 0; o < model.objects.size(); ++o)
+    if (model.objects[o].kind != "virtual" && model.objects[o].particleCount > 0) out.push_back(o);
+  if (out.size() > kEndStateObjects) out.clear();
+  return out;
+}
+
+// Where each object ended: its centre of mass (m) and the speed of that centre
+// (m/s), as "end/<object>/x", "/y", "/z", "/speed"; null where not finite (a
+// run that diverged).
+void addEndState(const Model& model, const State& state, nlohmann::json& row) {
+  if (state.position.size() != static_cast<std::size_t>(model.particleCount())) return;
+  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  for (const std::size_t o : endStateObjects(model)) {
+    const ObjectInfo& info = model.objects[o];
+    double mass = 0.0;
+    Vec3 moment, momentum;
+    for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
+      mass += model.mass[i];
+      moment += state.position[i] * model.mass[i];
+      momentum += state.velocity[i] * model.mass[i];
+    }
+    if (!(mass > 0.0)) continue;
+    const Vec3 centre = moment / mass, velocity = momentum / mass;
+    const std::string prefix = "end/" + info.name + "/";
+    row[prefix + "x"] = number(centre.x);
+    row[prefix + "y"] = number(centre.y);
+    row[prefix + "z"] = number(centre.z);
+    row[prefix + "speed"] = number(norm(velocity));
+  }
+}
+
+}  // namespace
+
 nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSeconds) {
   const auto start = std::chrono::steady_clock::now();
   nlohmann::json row = nlohmann::json::object();
@@ -274,7 +317,8 @@ nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSe
     // The runs themselves share the cores (--threads): one thread a run.
     options.threads = 1;
     options.tasks = {robotics::makeSceneTasks(scene)};
-    const RunReport report = runScene(scene, options);
+    State finalState;
+    const RunReport report = runScene(scene, options, &finalState);
     row["status"] = report.status;
     row["steps"] = report.steps;
     row["simulated_time"] = report.simulatedTime;
@@ -288,6 +332,7 @@ nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSe
     const nlohmann::json flat =
         report.outcomes.empty() ? nlohmann::json::object() : report.outcomes.flatten();
     for (const auto& [key, value] : flat.items()) row["outcomes" + key] = value;
+    addEndState(scene.model, finalState, row);
   } catch (const std::exception& e) {
     row["status"] = "error";
     row["failure"] = e.what();
@@ -321,6 +366,7 @@ std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPla
   table["seeds"] = plan.seeds;
   table["jitter"] = plan.jitter;
   if (plan.duration > 0.0) table["duration"] = plan.duration;
+  table["end_state_objects_at_most"] = kEndStateObjects;
   table["columns"] = names;
   table["runs"] = rows;
   writeFile(dir + "/sweep.json", table.dump(2) + "\n");

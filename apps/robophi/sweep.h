@@ -60,9 +60,15 @@ std::string caseSceneText(const SweepPlan& plan, const SweepCase& c);
 /// ±jitter × radius per axis. Seed 0 changes nothing.
 void perturbInitialPositions(Scene& scene, int seed, double jitter);
 
+/// Scenes with more objects than this (a pile of single balls) get no end-state columns.
+inline constexpr std::size_t kEndStateObjects = 16;
+
 /// The row of one finished run: parameters, seed, status and figures, the
-/// task outcomes flattened ("outcomes/goals/0/reached"); no wall time, so that
-/// rows are the same however the runs were shared out.
+/// task outcomes flattened ("outcomes/goals/0/reached"), and where each object
+/// ended ("end/<object>/x", y, z: its centre of mass, m; "/speed": that
+/// centre's, m/s; for scenes of at most kEndStateObjects objects that touch
+/// something); no wall time, so that rows are the same however the runs were
+/// shared out.
 nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSeconds);
 
 /// Writes sweep.csv, sweep.json and report.html (plots of the figures against

@@ -82,6 +82,33 @@ TEST(SweepCommand, EveryCombinationAndSeedIsOneRowTheSameOnOneOrTwoThreads) {
   fs::remove_all(root);
 }
 
+// Where the objects ended is in the table: a ball dropped on an overdamped ground
+// (ζ = 2.2) rests with its centre at r - m g / κ_c, for each mass swept.
+TEST(SweepCommand, TheTableSaysWhereEachObjectEnded) {
+  const fs::path root = testing::makeTempFolder("robophi_sweep_end_");
+  const fs::path log = root / "log.txt";
+  ASSERT_EQ(runCommand(std::string(ROBOPHI_BINARY) + " sweep " ROBOPHI_SOURCE_DIR
+                           "/scenes/ball_drop.json --set /objects/0/mass=0.2,0.4 "
+                           "--set /contactPairs/0/contactDamping=2000 --quiet --out " +
+                           (root / "sweep").string(),
+                       log),
+            0)
+      << readText(log);
+  const auto table = nlohmann::json::parse(readText(root / "sweep" / "sweep.json"));
+  ASSERT_EQ(table.at("runs").size(), 2u);
+  for (const auto& run : table.at("runs")) {
+    const double mass = run.at("/objects/0/mass").get<double>();
+    EXPECT_NEAR(run.at("end/ball/z").get<double>(), 0.05 - mass * 9.81 / 1e6, 1e-7) << run.dump();
+    EXPECT_EQ(run.at("end/ball/x").get<double>(), 0.0);
+    EXPECT_EQ(run.at("end/ball/y").get<double>(), 0.0);
+    EXPECT_LT(run.at("end/ball/speed").get<double>(), 1e-4);
+  }
+  const std::string header = lines(readText(root / "sweep" / "sweep.csv")).at(0);
+  EXPECT_NE(header.find(",end/ball/speed,end/ball/x,end/ball/y,end/ball/z"), std::string::npos)
+      << header;
+  fs::remove_all(root);
+}
+
 TEST(SweepCommand, ARunAsWrittenHasTheStateHashOfRobophiRun) {
   const fs::path root = testing::makeTempFolder("robophi_sweep_hash_");
   const fs::path log = root / "log.txt";
