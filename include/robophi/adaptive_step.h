@@ -114,6 +114,16 @@ double approachStepBound(const Model& model, const State& state, const std::vect
 double approachStepFloor(const Model& model, const State& state, const std::vector<Vec3>& force,
                          double fraction);
 
+/// A lower bound of approachStepFloor's bound (s) from the whole scene at once: in
+/// one pass, the largest velocity and acceleration component c_v, c_a of any
+/// particle and the smallest radius r; every pair and environment term of
+/// approachStepBound closes at most at 4√3 c_v with 4√3 c_a (the differences of
+/// the objects' box centres and their spreads) over at least `fraction` × r.
+/// Checked first: a pile at rest clears the other limits here without the
+/// per-object pass. 0 when a number is not finite.
+double approachStepQuickFloor(const Model& model, const State& state,
+                              const std::vector<Vec3>& force, double fraction);
+
 /// A constant step that does not tunnel (MODEL §4.4): advances `world` by `dt`
 /// in one step, or, when approachStepBound(`fraction`) or `contactSafety` × the
 /// touching contacts' stability limit (Evaluation::contactCriticalStep; 0: not

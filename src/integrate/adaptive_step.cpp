@@ -566,15 +566,43 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   return step * (1.0 - 1e-9);
 }
 
+double approachStepQuickFloor(const Model& model, const State& state,
+                              const std::vector<Vec3>& force, double fraction) {
+  const ParticleIndex n = model.particleCount();
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  const Vec3* v = state.velocity.data();
+  const Vec3* f = force.data();
+  const double* inverseMass = model.inverseMass.data();
+  const double* radius = model.radius.data();
+  double velocity = 0.0, acceleration = 0.0, smallest = std::numeric_limits<double>::infinity();
+  double every = 0.0;  // not finite when a number is not
+  for (ParticleIndex i = 0; i < n; ++i) {
+    const double im = inverseMass[i];
+    const Vec3 a = f[i] * im;  // (0 for a fixed particle: im is 0)
+    velocity = std::max({velocity, std::abs(v[i].x), std::abs(v[i].y), std::abs(v[i].z)});
+    acceleration = std::max({acceleration, std::abs(a.x), std::abs(a.y), std::abs(a.z)});
+    smallest = std::min(smallest, radius[i]);
+    every += (v[i].x + v[i].y + v[i].z) + (a.x + a.y + a.z);
+  }
+  if (!std::isfinite(every)) return 0.0;
+  // |V_A - V_B| <= 2√3 c and each spread <= √3 c; a particle against the
+  // environment <= √3 c. 4√3 = 6.9282..., raised to 6.93 and for round-off.
+  constexpr double kReach = 6.93;
+  const double w = raised(kReach * velocity, 0.0), a = raised(kReach * acceleration, 0.0);
+  return closingStep(w, a, fraction * smallest) * (1.0 - 1e-9);
+}
+
 namespace {
 
-// The approach bound where it may bind: infinite (no cap) when its floor is at
-// least `others`, the other caps of the step, which it then cannot undercut.
+// The approach bound where it may bind: infinite (no cap) when a floor of it
+// is at least `others`, the other caps of the step, which it then cannot
+// undercut (the whole scene's quick floor first, then the objects' floor).
 double approachLimitBelow(double others, const Model& model, const State& state,
                           const std::vector<Vec3>& force, double fraction) {
-  return approachStepFloor(model, state, force, fraction) >= others
-             ? std::numeric_limits<double>::infinity()
-             : approachStepBound(model, state, force, fraction);
+  if (approachStepQuickFloor(model, state, force, fraction) >= others ||
+      approachStepFloor(model, state, force, fraction) >= others)
+    return std::numeric_limits<double>::infinity();
+  return approachStepBound(model, state, force, fraction);
 }
 
 }  // namespace

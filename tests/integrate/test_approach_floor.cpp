@@ -1,4 +1,5 @@
-// The approach bound's floor (approachStepFloor, MODEL §4.4): never above
+// The approach bound's floors (approachStepFloor and the whole scene's
+// approachStepQuickFloor, MODEL §4.4): never above
 // approachStepBound, so that a step for which the floor already clears every
 // other limit is the step the bound would have given. Checked along runs of the
 // shipped scenes and on random states: objects of fixed and free particles,
@@ -25,6 +26,9 @@ void expectFloorBelowBound(const Model& model, const State& state, const std::ve
   const double bound = approachStepBound(model, state, force, fraction);
   ASSERT_FALSE(std::isnan(floor)) << where;
   ASSERT_LE(floor, bound) << where << ": floor " << floor << " above the bound " << bound;
+  const double quick = approachStepQuickFloor(model, state, force, fraction);
+  ASSERT_FALSE(std::isnan(quick)) << where;
+  ASSERT_LE(quick, bound) << where << ": quick floor " << quick << " above the bound " << bound;
 }
 
 class ApproachFloorScene : public ::testing::TestWithParam<const char*> {};
@@ -113,8 +117,10 @@ TEST(ApproachFloor, LeavesNumbersThatAreNotFiniteToTheBound) {
   std::vector<Vec3> force(2);
   force[0].x = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(approachStepFloor(model, state, force, 0.1), 0.0);
+  EXPECT_EQ(approachStepQuickFloor(model, state, force, 0.1), 0.0);
   force[0].x = std::numeric_limits<double>::infinity();
   EXPECT_EQ(approachStepFloor(model, state, force, 0.1), 0.0);
+  EXPECT_EQ(approachStepQuickFloor(model, state, force, 0.1), 0.0);
 }
 
 // The AVX2 box pass and the scalar one give the same boxes (the scalar one is
