@@ -2,11 +2,14 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
+#include <utility>
 
 #include "commands.h"
 #include "output/results_folder.h"
@@ -215,12 +218,35 @@ int runCommand(const RunArguments& args) {
 
 }  // namespace
 
+namespace {
+
+// What set most of an adaptive run's steps, as "; 96% set by the contacts'
+// stability" (empty without steps).
+std::string mostlySetBy(const AdaptiveStepStats& a) {
+  const std::pair<std::int64_t, const char*> causes[] = {
+      {a.setByError, "the energy error"},
+      {a.setByConnectors, "the connectors' stability"},
+      {a.setByContacts, "the contacts' stability"},
+      {a.setByApproach, "the approach bound"},
+      {a.setByMaxStep, "maxStep"},
+      {a.setByTimeLeft, "the time left"}};
+  const auto* most = std::max_element(std::begin(causes), std::end(causes),
+                                      [](const auto& x, const auto& y) { return x.first < y.first; });
+  if (a.accepted <= 0 || most->first <= 0) return {};
+  return fmt::format("; {:.0f}% set by {}",
+                     100.0 * static_cast<double>(most->first) / static_cast<double>(a.accepted),
+                     most->second);
+}
+
+}  // namespace
+
 int reportRun(const std::string& label, const RunOptions& options, const RunReport& report) {
   const std::string steps =
       options.settings.stepMode == StepMode::kAdaptive
-          ? fmt::format("{} adaptive steps ({} rejected, dt {:.3g} to {:.3g} s)",
+          ? fmt::format("{} adaptive steps ({} rejected, dt {:.3g} to {:.3g} s{})",
                         report.adaptive.accepted, report.adaptive.rejected,
-                        report.adaptive.smallestStep, report.adaptive.largestStep)
+                        report.adaptive.smallestStep, report.adaptive.largestStep,
+                        mostlySetBy(report.adaptive))
           : fmt::format("{} constant steps of {:.3g} s", report.steps, options.settings.dt);
   std::printf("%s: %s, %s, %s; %.4g s simulated in %.3f s wall, energy drift %.3g; results in %s\n",
               label.c_str(), report.status.c_str(), steps.c_str(),

@@ -143,6 +143,12 @@ struct AdaptiveStepStats {
   /// Relative energy error and size (s) of the last accepted step.
   double lastEnergyError = 0.0;
   double lastStep = 0.0;
+  /// What set each accepted step's size (they add up to `accepted`): the
+  /// energy-error controller (its proposal, or a rejection's shrink); the
+  /// connectors' stability cap; the touching contacts' stability limit; the
+  /// anti-tunnelling bound; maxStep; the time left to the run's end.
+  std::int64_t setByError = 0, setByConnectors = 0, setByContacts = 0, setByApproach = 0,
+               setByMaxStep = 0, setByTimeLeft = 0;
   double meanStep() const {
     return accepted > 0 ? sumOfSteps / static_cast<double>(accepted) : 0.0;
   }

@@ -778,6 +778,21 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
       stats_.sumOfSteps += dt;
       stats_.lastEnergyError = error;
       stats_.lastStep = dt;
+      // What set the step (the caps in the order of the trial's min).
+      if (dt == step_) {
+        if (step_ == stabilityLimit_)
+          ++stats_.setByConnectors;
+        else if (step_ == settings_.maxStep)
+          ++stats_.setByMaxStep;
+        else
+          ++stats_.setByError;
+      } else if (dt == contactLimit) {
+        ++stats_.setByContacts;
+      } else if (dt == approachLimit) {
+        ++stats_.setByApproach;
+      } else {
+        ++stats_.setByTimeLeft;
+      }
       // Grow when the error leaves room: δ · safety · (tol/|e|)^(1/p), at most × growFactor.
       // (The carried step grows from at most growFactor × the trial: a cap that
       // held the trial down for long does not leave an unbounded step behind.)

@@ -512,6 +512,14 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
                      {"largest_dt_s", a.largestStep},
                      {"mean_dt_s", a.meanStep()},
                      {"final_energy_error", a.lastEnergyError},
+                     // what set each accepted step's size
+                     {"steps_set_by",
+                      {{"energy_error", a.setByError},
+                       {"connector_stability", a.setByConnectors},
+                       {"contact_stability", a.setByContacts},
+                       {"approach", a.setByApproach},
+                       {"max_step", a.setByMaxStep},
+                       {"time_left", a.setByTimeLeft}}},
                      // the settings in use (scene run.adaptive, command line)
                      {"energy_tolerance", settings.adaptive.energyTolerance},
                      {"min_step_s", settings.adaptive.minStep},

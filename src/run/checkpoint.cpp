@@ -322,7 +322,9 @@ json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
           {"largest_step", exactNumber(s.largestStep)},
           {"sum_of_steps", exactNumber(s.sumOfSteps)},
           {"last_energy_error", exactNumber(s.lastEnergyError)},
-          {"last_step", exactNumber(s.lastStep)}};
+          {"last_step", exactNumber(s.lastStep)},
+          {"set_by", {s.setByError, s.setByConnectors, s.setByContacts, s.setByApproach,
+                      s.setByMaxStep, s.setByTimeLeft}}};
 }
 
 AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
@@ -339,6 +341,19 @@ AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
   p.stats.sumOfSteps = number(j, "sum_of_steps");
   p.stats.lastEnergyError = number(j, "last_energy_error");
   p.stats.lastStep = number(j, "last_step");
+  // (Checkpoints written before the counts were kept have none: they start at 0.)
+  if (const auto it = j.find("set_by"); it != j.end()) {
+    const std::vector<std::int64_t> counts = it->get<std::vector<std::int64_t>>();
+    if (counts.size() != 6)
+      throw std::runtime_error("the checkpoint's adaptive set_by holds " +
+                               std::to_string(counts.size()) + " counts, not 6");
+    p.stats.setByError = counts[0];
+    p.stats.setByConnectors = counts[1];
+    p.stats.setByContacts = counts[2];
+    p.stats.setByApproach = counts[3];
+    p.stats.setByMaxStep = counts[4];
+    p.stats.setByTimeLeft = counts[5];
+  }
   return p;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "robophi/adaptive_step.h"
+#include "run/checkpoint.h"
 
 namespace robophi {
 namespace {
@@ -114,6 +115,47 @@ TEST(AdaptiveStep, GrowsToTheLargestStepWhenCalm) {
   EXPECT_EQ(stepper.stats().largestStep, settings.maxStep);
   EXPECT_EQ(stepper.stats().rejected, 0);
   EXPECT_LT(stepper.stats().accepted, 200);  // a constant 1e-4 step would take 10 000
+  // Most steps set by the ceiling (AdaptiveStepStats::setBy*), the last by the time left.
+  EXPECT_GT(stepper.stats().setByMaxStep, stepper.stats().accepted / 2);
+  EXPECT_EQ(stepper.stats().setByTimeLeft, 1);
+}
+
+// Each accepted step is counted once under what set its size (a calm ball with a
+// ceiling: GrowsToTheLargestStepWhenCalm): a ball resting on the ground by the
+// contacts' stability limit; a stiff oscillating pair by the connectors' cap or
+// its energy error. The counts go through a checkpoint unchanged.
+TEST(AdaptiveStep, CountsWhatSetEachStep) {
+  const auto counted = [](const AdaptiveStepStats& a) {
+    return a.setByError + a.setByConnectors + a.setByContacts + a.setByApproach + a.setByMaxStep +
+           a.setByTimeLeft;
+  };
+  {
+    Model model;
+    model.gravity = {0.0, 0.0, -9.81};
+    model.environment.planes.push_back(GroundPlane{});
+    model.addParticle(0.01, 0.01, false, model.addObject("ball", "particles"));
+    State state = State::sizedFor(model);
+    state.position[0] = {0.0, 0.0, 0.0099};  // resting, pressed in by about m g / κ_c
+    World world(std::move(model), std::move(state), Integrator::kVelocityVerlet);
+    AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+    while (world.state().time < 0.5) ASSERT_TRUE(stepper.advance(world, 0.5 - world.state().time).ok);
+    const AdaptiveStepStats& a = stepper.stats();
+    EXPECT_EQ(counted(a), a.accepted);
+    EXPECT_GT(a.setByContacts, 9 * a.accepted / 10) << a.setByError << " by the error";
+    const AdaptiveStepper::Progress saved =
+        adaptiveProgressFromJson(adaptiveProgressToJson(stepper.progress()));
+    EXPECT_EQ(saved.stats.setByContacts, a.setByContacts);
+    EXPECT_EQ(saved.stats.setByError, a.setByError);
+    EXPECT_EQ(saved.stats.setByTimeLeft, a.setByTimeLeft);
+  }
+  {
+    World world = makeStretchedPair(1e6, Integrator::kVelocityVerlet);
+    AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+    while (world.state().time < 0.05) stepper.advance(world, 0.05 - world.state().time);
+    const AdaptiveStepStats& a = stepper.stats();
+    EXPECT_EQ(counted(a), a.accepted);
+    EXPECT_GT(a.setByError + a.setByConnectors, a.accepted - 2);
+  }
 }
 
 // Without a ceiling the calm step keeps growing (here up to the time left).
