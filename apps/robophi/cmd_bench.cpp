@@ -81,6 +81,13 @@ BenchResult runBench(const BenchScene& bench, int threads) {
   double largestError = 0.0, halfwayTotal = initialTotal;
   double untimed = 0.0;  // seconds spent reading the account
   const std::int64_t readEvery = std::max<std::int64_t>(1, steps / 10);
+  const auto readAccount = [&](bool firstHalf) {
+    const EnergyTally energy = world.energy();
+    scale = std::max(scale, energyAccountScale(world.model(), world.state(), energy));
+    largestError = std::max(largestError, std::abs(energy.total() - initialTotal));
+    if (firstHalf) halfwayTotal = energy.total();
+    r.secondHalfAccountChange = std::abs(energy.total() - halfwayTotal);
+  };
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
     if (InterruptGuard::flag().load(std::memory_order_relaxed)) {
@@ -103,11 +110,7 @@ BenchResult runBench(const BenchScene& bench, int threads) {
     }
     if ((i + 1) % readEvery == 0 || i + 1 == steps) {
       const auto before = std::chrono::steady_clock::now();
-      const EnergyTally energy = world.energy();
-      scale = std::max(scale, energyAccountScale(world.model(), world.state(), energy));
-      largestError = std::max(largestError, std::abs(energy.total() - initialTotal));
-      if (i + 1 <= steps / 2) halfwayTotal = energy.total();
-      r.secondHalfAccountChange = std::abs(energy.total() - halfwayTotal);
+      readAccount(i + 1 <= steps / 2);
       untimed += std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count();
     }
     const ContactStats contacts = world.evaluation().contactStats;
@@ -118,6 +121,7 @@ BenchResult runBench(const BenchScene& bench, int threads) {
   }
   r.wallSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - untimed;
+  readAccount(false);  // the end state (an adaptive run may end between two readings)
   r.accountError = largestError / scale;
   r.secondHalfAccountChange /= scale;
   if (r.status == "ok" && !(r.accountError <= kDefaultEnergyAccountBound))
