@@ -34,7 +34,8 @@ constexpr double kPileStep = 1.0e-4;  // s
 // default, 1, a densely held ball's spin mode is beyond its stability limit at
 // δ: the pile at rest makes energy (its account grows by 1.9 J a second on
 // PILE-8000, while friction keeps the motion bounded). At 0.5 the account stays
-// flat at rest, over 3 s (docs/performance.md, "PILE's tangential damping").
+// flat at rest, over 3 s; so it does at 0.6-0.8, and not at 1: half of critical
+// keeps a margin below that limit (docs/performance.md, "PILE's tangential damping").
 constexpr double kPileTangentialDampingRatio = 0.5;
 
 }  // namespace
