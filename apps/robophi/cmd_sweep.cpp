@@ -33,6 +33,7 @@ struct SweepArguments {
   double jitter = 0.01;
   double duration = 0.0;
   int threads = 0;
+  std::vector<std::string> endObjects;
   std::string outDir;
   bool force = false;
   bool quiet = false;
@@ -100,6 +101,7 @@ int sweepCommand(const SweepArguments& args, const Ranks& ranks) {
   plan.seeds = args.seeds;
   plan.jitter = args.jitter;
   plan.duration = args.duration;
+  plan.endObjects = args.endObjects;
   try {
     for (const std::string& set : args.sets) plan.parameters.push_back(parseSweepParameter(set));
   } catch (const std::invalid_argument& e) {
@@ -136,7 +138,15 @@ int sweepCommand(const SweepArguments& args, const Ranks& ranks) {
       return kExitBadInput;
     }
     SceneLoadResult loaded = loadSceneText(text, args.scene);
-    if (loaded.ok()) continue;
+    if (loaded.ok()) {
+      try {
+        endStateObjects(loaded.scene->model, plan.endObjects);
+      } catch (const std::invalid_argument& e) {
+        say(fmt::format("{}; nothing was run or written", e.what()));
+        return kExitBadInput;
+      }
+      continue;
+    }
     ++bad;
     std::string where;
     for (std::size_t k = 0; k < plan.parameters.size(); ++k)
@@ -266,6 +276,11 @@ void addSweepCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--threads", args->threads,
                   "Runs at once in this process (default: the cores available)")
       ->check(CLI::Range(1, 4096));
+  cmd->add_option("--end", args->endObjects,
+                  "Objects whose end state (centre of mass, its speed) the table holds, by name "
+                  "(comma-separated; none: no such columns; default: every object that touches "
+                  "something, when there are at most 16)")
+      ->delimiter(',');
   cmd->add_option("--out", args->outDir, "Results folder (default out/<scene name>-sweep)");
   cmd->add_flag("--force", args->force,
                 "Also write into an --out folder that holds other files (they are kept)");

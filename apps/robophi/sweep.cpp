@@ -257,25 +257,47 @@ void perturbInitialPositions(Scene& scene, int seed, double jitter) {
   }
 }
 
-namespace {
-
-// The objects that get end-state columns: those that touch something (not
-// "virtual"), when there are at most kEndStateObjects of them.
-std::vector<std::size_t> endStateObjects(const Model& model) {
+std::vector<std::size_t> endStateObjects(const Model& model,
+                                         const std::vector<std::string>& names) {
   std::vector<std::size_t> out;
-  for (std::size_t o = 0; o < model.objects.size(); ++o)
-    if (model.objects[o].kind != "virtual" && model.objects[o].particleCount > 0) out.push_back(o);
-  if (out.size() > kEndStateObjects) out.clear();
+  if (names.size() == 1 && names.front() == "none") return out;
+  if (names.empty()) {  // those that touch something (not "virtual"), if few
+    for (std::size_t o = 0; o < model.objects.size(); ++o)
+      if (model.objects[o].kind != "virtual" && model.objects[o].particleCount > 0)
+        out.push_back(o);
+    if (out.size() > kEndStateObjects) out.clear();
+    return out;
+  }
+  for (const std::string& name : names) {
+    const auto it = std::find_if(model.objects.begin(), model.objects.end(),
+                                 [&](const ObjectInfo& o) { return o.name == name; });
+    if (it == model.objects.end()) {
+      std::string listed;  // the objects that touch something, the first 20
+      std::size_t count = 0;
+      for (const ObjectInfo& o : model.objects) {
+        if (o.kind == "virtual") continue;
+        if (count < 20) listed += (count ? ", '" : "'") + o.name + "'";
+        ++count;
+      }
+      if (count > 20) listed += ", ...";
+      throw std::invalid_argument(
+          fmt::format("--end: the scene has no object '{}' (its objects: {})", name, listed));
+    }
+    out.push_back(static_cast<std::size_t>(it - model.objects.begin()));
+  }
   return out;
 }
+
+namespace {
 
 // Where each object ended: its centre of mass (m) and the speed of that centre
 // (m/s), as "end/<object>/x", "/y", "/z", "/speed"; null where not finite (a
 // run that diverged).
-void addEndState(const Model& model, const State& state, nlohmann::json& row) {
+void addEndState(const Model& model, const State& state, const std::vector<std::string>& names,
+                 nlohmann::json& row) {
   if (state.position.size() != static_cast<std::size_t>(model.particleCount())) return;
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-  for (const std::size_t o : endStateObjects(model)) {
+  for (const std::size_t o : endStateObjects(model, names)) {
     const ObjectInfo& info = model.objects[o];
     double mass = 0.0;
     Vec3 moment, momentum;
@@ -332,7 +354,7 @@ nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSe
     const nlohmann::json flat =
         report.outcomes.empty() ? nlohmann::json::object() : report.outcomes.flatten();
     for (const auto& [key, value] : flat.items()) row["outcomes" + key] = value;
-    addEndState(scene.model, finalState, row);
+    addEndState(scene.model, finalState, plan.endObjects, row);
   } catch (const std::exception& e) {
     row["status"] = "error";
     row["failure"] = e.what();
@@ -366,7 +388,10 @@ std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPla
   table["seeds"] = plan.seeds;
   table["jitter"] = plan.jitter;
   if (plan.duration > 0.0) table["duration"] = plan.duration;
-  table["end_state_objects_at_most"] = kEndStateObjects;
+  if (plan.endObjects.empty())
+    table["end_state_objects_at_most"] = kEndStateObjects;
+  else
+    table["end_objects"] = plan.endObjects;
   table["columns"] = names;
   table["runs"] = rows;
   writeFile(dir + "/sweep.json", table.dump(2) + "\n");

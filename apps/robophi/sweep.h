@@ -39,6 +39,10 @@ struct SweepPlan {
   double jitter = 0.01;
   /// > 0: the model time of every run (s), over the scene's run.duration.
   double duration = 0.0;
+  /// The objects whose end state the table holds (--end), by name; empty: every
+  /// object that touches something, when there are at most kEndStateObjects;
+  /// {"none"}: none.
+  std::vector<std::string> endObjects;
 };
 
 /// One run of the plan: the index of each parameter's value and the seed.
@@ -60,15 +64,19 @@ std::string caseSceneText(const SweepPlan& plan, const SweepCase& c);
 /// ±jitter × radius per axis. Seed 0 changes nothing.
 void perturbInitialPositions(Scene& scene, int seed, double jitter);
 
-/// Scenes with more objects than this (a pile of single balls) get no end-state columns.
+/// Scenes with more objects than this (a pile of single balls) get no end-state
+/// columns unless --end names the objects.
 inline constexpr std::size_t kEndStateObjects = 16;
+
+/// The indices of the objects whose end state a row holds (SweepPlan::endObjects).
+/// Throws std::invalid_argument naming an object the model does not have.
+std::vector<std::size_t> endStateObjects(const Model& model, const std::vector<std::string>& names);
 
 /// The row of one finished run: parameters, seed, status and figures, the
 /// task outcomes flattened ("outcomes/goals/0/reached"), and where each object
 /// ended ("end/<object>/x", y, z: its centre of mass, m; "/speed": that
-/// centre's, m/s; for scenes of at most kEndStateObjects objects that touch
-/// something); no wall time, so that rows are the same however the runs were
-/// shared out.
+/// centre's, m/s; the objects of endStateObjects); no wall time, so that rows
+/// are the same however the runs were shared out.
 nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSeconds);
 
 /// Writes sweep.csv, sweep.json and report.html (plots of the figures against

@@ -106,6 +106,18 @@ TEST(SweepCommand, TheTableSaysWhereEachObjectEnded) {
   const std::string header = lines(readText(root / "sweep" / "sweep.csv")).at(0);
   EXPECT_NE(header.find(",end/ball/speed,end/ball/x,end/ball/y,end/ball/z"), std::string::npos)
       << header;
+  // --end names the objects (none: no such columns); a name the scene lacks is
+  // refused before anything runs, and nothing is written.
+  const std::string sweep = std::string(ROBOPHI_BINARY) + " sweep " ROBOPHI_SOURCE_DIR
+                            "/scenes/ball_drop.json --duration 0.1 --quiet ";
+  ASSERT_EQ(runCommand(sweep + "--end none --out " + (root / "none").string(), log), 0)
+      << readText(log);
+  EXPECT_EQ(readText(root / "none" / "sweep.csv").find("end/"), std::string::npos);
+  EXPECT_EQ(runCommand(sweep + "--end ball,bal --out " + (root / "bad").string(), log), 2);
+  EXPECT_NE(readText(log).find("--end: the scene has no object 'bal' (its objects: 'ball')"),
+            std::string::npos)
+      << readText(log);
+  EXPECT_FALSE(fs::exists(root / "bad"));
   fs::remove_all(root);
 }
 
