@@ -298,21 +298,14 @@ void addEndState(const Model& model, const State& state, const std::vector<std::
   if (state.position.size() != static_cast<std::size_t>(model.particleCount())) return;
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   for (const std::size_t o : endStateObjects(model, names)) {
-    const ObjectInfo& info = model.objects[o];
-    double mass = 0.0;
-    Vec3 moment, momentum;
-    for (ParticleIndex i = info.firstParticle; i < info.firstParticle + info.particleCount; ++i) {
-      mass += model.mass[i];
-      moment += state.position[i] * model.mass[i];
-      momentum += state.velocity[i] * model.mass[i];
-    }
-    if (!(mass > 0.0)) continue;
-    const Vec3 centre = moment / mass, velocity = momentum / mass;
-    const std::string prefix = "end/" + info.name + "/";
-    row[prefix + "x"] = number(centre.x);
-    row[prefix + "y"] = number(centre.y);
-    row[prefix + "z"] = number(centre.z);
-    row[prefix + "speed"] = number(norm(velocity));
+    if (model.objects[o].particleCount == 0) continue;
+    const robotics::ObjectMotion motion =
+        robotics::objectMotion(model, state, static_cast<std::int32_t>(o));
+    const std::string prefix = "end/" + model.objects[o].name + "/";
+    row[prefix + "x"] = number(motion.center.x);
+    row[prefix + "y"] = number(motion.center.y);
+    row[prefix + "z"] = number(motion.center.z);
+    row[prefix + "speed"] = number(norm(motion.velocity));
   }
 }
 

@@ -483,13 +483,9 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
     unowned = unowned || model.objectOf[i] < 0;
     const auto object = static_cast<std::size_t>(std::max<std::int32_t>(0, model.objectOf[i]));
     detail::ObjectBox& box = boxes[object];
-    if (stamps[object] != call) {  // (what boxRun reads of an empty box; it sets the rest)
+    if (stamps[object] != call) {
       stamps[object] = call;
-      box.pSum = Vec3{};
-      box.count = 0.0;
-      box.smallestRadius = std::numeric_limits<double>::infinity();
-      box.largestRadius = 0.0;
-      box.anyFree = false;
+      box.clear();
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     every += lanes ? detail::boxRunLanes(model, state, force, i, end, box)

@@ -210,8 +210,10 @@ Vec3 objectCenterOfMass(const World& world, std::int32_t object) {
 }
 
 ObjectMotion objectMotion(const World& world, std::int32_t object) {
-  const Model& model = world.model();
-  const State& s = world.state();
+  return objectMotion(world.model(), world.state(), object);
+}
+
+ObjectMotion objectMotion(const Model& model, const State& s, std::int32_t object) {
   const ObjectInfo& info = model.objects[static_cast<std::size_t>(object)];
   ObjectMotion motion;
   double mass = 0.0;

@@ -122,6 +122,8 @@ struct ObjectMotion {
   Vec3 center, velocity, angularVelocity;
 };
 ObjectMotion objectMotion(const World& world, std::int32_t object);
+/// The same for a state of `model` (a run's final state, say).
+ObjectMotion objectMotion(const Model& model, const State& state, std::int32_t object);
 
 /// The scene's robotics tasks as one task between steps (robotics/task.h; pass
 /// it first in RunOptions::tasks): it adds what happened to `events`, returns
