@@ -61,6 +61,10 @@ struct CoordinateGradient {
   double value = 0.0;
   /// ∂q/∂p (rad/m or -) at the connector's a, c, b and d (d unused by a prismatic joint).
   Vec3 a, c, b, d;
+  /// MODEL §1.3 h: 1, except for a revolute joint whose arm leans within 14.5° of
+  /// its axis, where it falls smoothly to 0 (the gradient grows as 1/|u⊥| there);
+  /// a drive acts through h ∂q/∂p.
+  double weight = 1.0;
   /// Σ ∂q/∂p_j · v_j (rad/s or m/s).
   double rate(const Vec3& vA, const Vec3& vC, const Vec3& vB, const Vec3& vD) const {
     return dot(a, vA) + dot(c, vC) + dot(b, vB) + dot(d, vD);

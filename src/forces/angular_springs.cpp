@@ -85,7 +85,42 @@ struct JointGeometry {
   bool valid = false;
   double angle = 0.0;
   Vec3 gradA, gradB, gradC, gradD;
+  // MODEL §1.3 weight h: 1, and its gradient zero, unless an arm leans within
+  // kArmLean of the axis (`weighted`).
+  bool weighted = false;
+  double weight = 1.0;
+  Vec3 weightA, weightB, weightC, weightD;
 };
+
+// MODEL §1.3: the angle's gradient grows as 1/|u⊥| when an arm leans onto the
+// axis, where the angle is undefined. The JS's energy is weighted by
+// h = g(s_u) g(s_w), s = |arm⊥|² / |arm|² (sin² of the arm's angle to the
+// axis), g(s) = smoothstep(s / kArmLean²): 1 for arms at more than
+// asin(kArmLean) from the axis (every joint as built), falling smoothly to 0 on
+// the axis, so that the force stays bounded in a crushed lattice.
+constexpr double kArmLean = 0.25;
+constexpr double kArmLeanSquared = kArmLean * kArmLean;
+
+// g(s) and g'(s) for s = sin² of an arm's angle to the axis.
+inline void leanWeight(double s, double& g, double& slope) {
+  const double x = s / kArmLeanSquared;
+  if (x >= 1.0) {
+    g = 1.0;
+    slope = 0.0;
+    return;
+  }
+  const double clamped = std::max(x, 0.0);
+  g = clamped * clamped * (3.0 - 2.0 * clamped);
+  slope = 6.0 * clamped * (1.0 - clamped) / kArmLeanSquared;
+}
+
+// ∂s/∂arm and ∂s/∂axis of s = 1 − (arm·n)² / |arm|², n = axis / |axis|.
+inline void leanGradient(const Vec3& arm, double armN, double armSquared, const Vec3& n,
+                         double axisLength, Vec3& onArm, Vec3& onAxis) {
+  const double scale = 2.0 * armN / armSquared;
+  onArm = (arm * (armN / armSquared) - n) * scale;
+  onAxis = (arm - n * armN) * (-scale / axisLength);
+}
 
 JointGeometry jointGeometry(const Vec3& pA, const Vec3& pC, const Vec3& pB, const Vec3& pD) {
   JointGeometry g;
@@ -102,7 +137,11 @@ JointGeometry jointGeometry(const Vec3& pA, const Vec3& pC, const Vec3& pB, cons
   g.angle = angle;
   // x² + y² = |u⊥|² |w⊥|²: zero when an arm lies along the axis.
   const double r2 = x * x + y * y;
-  if (!(r2 > kDegenerateSine * kDegenerateSine * squaredNorm(u) * squaredNorm(w))) return g;
+  if (!(r2 > kDegenerateSine * kDegenerateSine * squaredNorm(u) * squaredNorm(w))) {
+    // An arm on the axis: h = 0 there (an arm of length 0 has no direction: as before).
+    if (squaredNorm(u) > 0.0 && squaredNorm(w) > 0.0) g.weight = 0.0;
+    return g;
+  }
   // dθ = (x dy - y dx) / (x² + y²).
   const double cx = -y / r2, cy = x / r2;
   g.gradA = cross(w, n) * cy + (w - n * wN) * cx;
@@ -112,6 +151,21 @@ JointGeometry jointGeometry(const Vec3& pA, const Vec3& pC, const Vec3& pB, cons
   g.gradD = (gradN - n * dot(n, gradN)) * (1.0 / axisLength);
   g.gradC = -(g.gradA + g.gradB + g.gradD);
   g.valid = true;
+  const double uSquared = squaredNorm(u), wSquared = squaredNorm(w);
+  const double sU = 1.0 - uN * uN / uSquared, sW = 1.0 - wN * wN / wSquared;
+  if (sU >= kArmLeanSquared && sW >= kArmLeanSquared) return g;
+  double gU = 0.0, slopeU = 0.0, gW = 0.0, slopeW = 0.0;
+  leanWeight(sU, gU, slopeU);
+  leanWeight(sW, gW, slopeW);
+  Vec3 uArm, uAxis, wArm, wAxis;
+  leanGradient(u, uN, uSquared, n, axisLength, uArm, uAxis);
+  leanGradient(w, wN, wSquared, n, axisLength, wArm, wAxis);
+  g.weighted = true;
+  g.weight = gU * gW;
+  g.weightA = uArm * (slopeU * gW);
+  g.weightB = wArm * (gU * slopeW);
+  g.weightD = uAxis * (slopeU * gW) + wAxis * (gU * slopeW);
+  g.weightC = -(g.weightA + g.weightB + g.weightD);
   return g;
 }
 
@@ -133,6 +187,7 @@ CoordinateGradient jointAngleGradient(const Vec3& pA, const Vec3& pC, const Vec3
   out.b = g.gradB;
   out.c = g.gradC;
   out.d = g.gradD;
+  out.weight = g.weight;
   return out;
 }
 
@@ -171,16 +226,31 @@ AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, c
   double angleError = g.angle - spring.restAngle;
   if (angleError > std::numbers::pi) angleError -= kTwoPi;
   if (angleError <= -std::numbers::pi) angleError += kTwoPi;
-  out.energy = 0.5 * spring.stiffness * angleError * angleError;
-  if (!g.valid) return out;
+  const double energy = 0.5 * spring.stiffness * angleError * angleError;
+  if (!g.valid) {
+    out.energy = energy * g.weight;
+    return out;
+  }
   // F_j = -(κ Δθ + μ θ̇) ∂θ/∂p_j.
   const double angleRate = jointRate(g, vA, vC, vB, vD);
   const double generalizedForce = -(spring.stiffness * angleError + spring.damping * angleRate);
-  out.onA = g.gradA * generalizedForce;
-  out.onB = g.gradB * generalizedForce;
-  out.onC = g.gradC * generalizedForce;
-  out.onD = g.gradD * generalizedForce;
-  out.dissipativePower = -spring.damping * angleRate * angleRate;
+  if (!g.weighted) {
+    out.energy = energy;
+    out.onA = g.gradA * generalizedForce;
+    out.onB = g.gradB * generalizedForce;
+    out.onC = g.gradC * generalizedForce;
+    out.onD = g.gradD * generalizedForce;
+    out.dissipativePower = -spring.damping * angleRate * angleRate;
+    return out;
+  }
+  // An arm near the axis (MODEL §1.3): U = h ½ κ Δθ², F_j = h Q ∂θ/∂p_j − ½ κ Δθ² ∂h/∂p_j.
+  const double weighted = generalizedForce * g.weight;
+  out.energy = energy * g.weight;
+  out.onA = g.gradA * weighted - g.weightA * energy;
+  out.onB = g.gradB * weighted - g.weightB * energy;
+  out.onC = g.gradC * weighted - g.weightC * energy;
+  out.onD = g.gradD * weighted - g.weightD * energy;
+  out.dissipativePower = -spring.damping * angleRate * angleRate * g.weight;
   return out;
 }
 

@@ -29,8 +29,22 @@ JointParticles jointParticles(const Model& model, const Joint& joint) {
   return {s.a, s.c, s.b, kNoParticle};
 }
 
+// The gradient a drive acts through: h ∂q/∂p (MODEL §1.3, §1.6), bounded where an
+// arm leans onto a revolute joint's axis; its rate is then h q̇, so that the
+// drive's power is Q times that rate.
+CoordinateGradient weighted(CoordinateGradient g) {
+  if (g.weight != 1.0) {
+    g.a = g.a * g.weight;
+    g.c = g.c * g.weight;
+    g.b = g.b * g.weight;
+    g.d = g.d * g.weight;
+  }
+  return g;
+}
+
 CoordinateGradient gradientOf(const JointParticles& j, JointKind kind, const std::vector<Vec3>& p) {
-  if (kind == JointKind::kRevolute) return jointAngleGradient(p[j.a], p[j.c], p[j.b], p[j.d]);
+  if (kind == JointKind::kRevolute)
+    return weighted(jointAngleGradient(p[j.a], p[j.c], p[j.b], p[j.d]));
   return prismaticGradient(p[j.a], p[j.c], p[j.b]);
 }
 
@@ -79,7 +93,7 @@ DriveGeometry driveGeometry(const Model& model, const Joint& joint, const JointP
   double rateSum = rateOf(g, j, velocity);
   for (ParticleIndex b : joint.motorParticles) {
     const CoordinateGradient k =
-        jointAngleGradient(position[j.a], position[j.c], position[b], position[j.d]);
+        weighted(jointAngleGradient(position[j.a], position[j.c], position[b], position[j.d]));
     if (!k.valid) continue;
     out.arms.push_back(k);
     rateSum += k.rate(velocity[j.a], velocity[j.c], velocity[b], velocity[j.d]);
