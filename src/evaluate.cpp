@@ -129,7 +129,8 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
     bodies = accumulateRigidBodies(model, motion, position, velocity, out.force,
                                    workspace.forceScratch().linkPreload);
     drives = accumulateJointDrives(model, motion, position, velocity, out.force,
-                                   out.jointMotorEffort, out.jointLossEffort);
+                                   out.jointMotorEffort, out.jointLossEffort,
+                                   &out.driveDampingRate);
   };
   // MODEL §3: contacts, friction, viscosity (sets e.contact, adds to the power).
   const auto findContacts = [&](int stageThreads, bool direct) {

@@ -190,18 +190,22 @@ class AdaptiveStepper {
   struct Progress {
     double step = 0.0;
     double stabilityLimit = 0.0;
+    double stabilityOmega = 0.0, stabilityDamping = 0.0;
     double errorOrder = 0.0;
     double gravityScale = -1.0;
     bool refinedLimit = false;
     AdaptiveStepStats stats;
   };
   Progress progress() const {
-    return {step_, stabilityLimit_, errorOrder_, gravityScale_, refinedLimit_, stats_};
+    return {step_,        stabilityLimit_, stabilityOmega_, stabilityDamping_,
+            errorOrder_,  gravityScale_,   refinedLimit_,   stats_};
   }
   /// Continues from the progress() of a stepper of the same settings and model.
   void resume(const Progress& p) {
     step_ = p.step;
     stabilityLimit_ = p.stabilityLimit;
+    stabilityOmega_ = p.stabilityOmega;
+    stabilityDamping_ = p.stabilityDamping;
     errorOrder_ = p.errorOrder;
     gravityScale_ = p.gravityScale;
     refinedLimit_ = p.refinedLimit;
@@ -221,6 +225,9 @@ class AdaptiveStepper {
 
   AdaptiveStepSettings settings_;
   double stabilityLimit_;
+  /// The ω_max and damping rate (1/s) of the estimate that set stabilityLimit_,
+  /// to which a joint drive's damping is added (Evaluation::driveDampingRate).
+  double stabilityOmega_ = 0.0, stabilityDamping_ = 0.0;
   double step_;
   /// The error order in use (set at the first step from the integrator).
   double errorOrder_ = 0.0;

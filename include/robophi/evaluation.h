@@ -43,6 +43,10 @@ struct Evaluation {
   /// particle, Gershgorin on the sum of its contacts' stiffness and damping;
   /// infinite without contacts. The adaptive step keeps below it.
   double contactCriticalStep = std::numeric_limits<double>::infinity();
+  /// A bound on the largest damping rate (1/s) of the joint drives that act
+  /// through connector particles (MODEL §1.6: rate gain, damping, friction's
+  /// slope); 0 without. The adaptive step adds it to the connectors' damping.
+  double driveDampingRate = 0.0;
   /// The contacts at the state, sorted by Contact::key(), with their friction
   /// anchors advanced from the history: the next step's friction history.
   std::vector<Contact> contacts;

@@ -15,6 +15,9 @@ struct StabilityEstimate {
   /// Upper bound of the fastest angular frequency ω_max (rad/s), from the
   /// connectors' stiffness and the particles' masses (Gershgorin bound).
   double omegaMax = 0.0;
+  /// Upper bound of the fastest damping rate 2ζω (1/s) that goes with it (the
+  /// model-only bound: the largest particle's; with positions: the whole's).
+  double dampingRate = 0.0;
   /// Critical step (s) for the symplectic schemes, reduced for damping; infinite
   /// when nothing is stiff.
   double criticalStep = 0.0;

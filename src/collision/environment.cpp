@@ -121,14 +121,42 @@ bool environmentDistance(const Environment& environment, std::int32_t item, cons
       return true;
     }
     case ItemKind::kHeightfield: {
+      const Heightfield& field = environment.heightfields[item];
+      const double x0 = field.originX, x1 = field.originX + (field.columns - 1) * field.cellSizeX;
+      const double y0 = field.originY, y1 = field.originY + (field.rows - 1) * field.cellSizeY;
+      if (!field.covers(p.x, p.y)) {
+        // Beside the rectangle (MODEL §3.5): below the height of its edge, the
+        // terrain's vertical side wall (the horizontal distance to the
+        // rectangle); above it, the edge itself (a rounded rim), so that a
+        // particle rolling off the edge keeps its contact until it clears it.
+        Vec3 outside{p.x - std::clamp(p.x, x0, x1), p.y - std::clamp(p.y, y0, y1), 0.0};
+        const double above = p.z - field.heightAt(p.x, p.y);
+        if (above > 0.0) outside.z = above;
+        const double distance = norm(outside);
+        if (!(distance > 0.0)) return false;  // (a NaN position: no contact)
+        signedDistance = distance;
+        normal = outside / distance;
+        return true;
+      }
       // The vertical gap projected on the normal n: the distance to the tangent
       // plane, exact on a plane, close on gentle terrain. Both the height and
       // the (smoothed) normal are continuous, so the contact energy is too.
-      const Heightfield& field = environment.heightfields[item];
-      if (!field.covers(p.x, p.y)) return false;
       const double h = field.heightAt(p.x, p.y);
       normal = field.normalAt(p.x, p.y);
       signedDistance = (p.z - h) * normal.z;
+      if (signedDistance < 0.0) {
+        // Nearer a side wall than the surface (a point that came in from a
+        // side): pushed out through that wall, as from a box.
+        const double sides[4] = {p.x - x0, x1 - p.x, p.y - y0, y1 - p.y};
+        const Vec3 outward[4] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}};
+        int nearest = 0;
+        for (int k = 1; k < 4; ++k)
+          if (sides[k] < sides[nearest]) nearest = k;
+        if (sides[nearest] < -signedDistance) {
+          signedDistance = -sides[nearest];
+          normal = outward[nearest];
+        }
+      }
       return true;
     }
     case ItemKind::kBox:

@@ -11,7 +11,7 @@ namespace robophi {
 
 /// The signed distance (m, negative inside) from p to environment item `item` and
 /// the unit outward normal there. False when the item does not reach p (a point
-/// beside a heightfield's rectangle).
+/// beside a heightfield's rectangle and above the height of its edge).
 bool environmentDistance(const Environment& environment, std::int32_t item, const Vec3& p,
                          double& signedDistance, Vec3& normal);
 

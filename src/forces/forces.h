@@ -171,10 +171,14 @@ double lossEffort(const JointDrive& drive, double rate);
 /// get each joint's efforts. Reports the losses' power (<= 0) as dissipative; the motors' power is
 /// the driving power's (jointMotorPower).
 /// `motion`: every body's rigid motion at (position, velocity) (bodyMotions).
+/// `dampingRate` (unless null): a bound on the largest rate (1/s) of the damping
+/// that the drives acting through connector particles add, M⁻¹ Σ g Ḡ Ḡᵀ (g: rate
+/// gain, damping and friction slope; Ḡ: ∂q̇/∂v), for the adaptive step.
 ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMotion>& motion,
                                  const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
-                                 std::vector<double>& motor, std::vector<double>& loss);
+                                 std::vector<double>& motor, std::vector<double>& loss,
+                                 double* dampingRate = nullptr);
 /// The rigid motion of `particles`; `rest` (their rest offsets, same order) or null.
 RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& particles,
                         const std::vector<Vec3>* rest, const std::vector<Vec3>& position,

@@ -4,6 +4,7 @@
 // joint with bodies (MODEL §1.7), as a wrench spread over its two bodies.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "forces/forces.h"
@@ -82,6 +83,7 @@ struct DriveGeometry {
   bool valid = false;
   double rate = 0.0;
   std::vector<CoordinateGradient> arms;
+  std::vector<ParticleIndex> child;  // each arm's child particle: b, then the motor particles
 };
 
 DriveGeometry driveGeometry(const Model& model, const Joint& joint, const JointParticles& j,
@@ -90,12 +92,14 @@ DriveGeometry driveGeometry(const Model& model, const Joint& joint, const JointP
   const CoordinateGradient g = gradientOf(j, joint.kind, position);
   if (!g.valid) return out;
   out.arms.push_back(g);
+  out.child.push_back(j.b);
   double rateSum = rateOf(g, j, velocity);
   for (ParticleIndex b : joint.motorParticles) {
     const CoordinateGradient k =
         weighted(jointAngleGradient(position[j.a], position[j.c], position[b], position[j.d]));
     if (!k.valid) continue;
     out.arms.push_back(k);
+    out.child.push_back(b);
     rateSum += k.rate(velocity[j.a], velocity[j.c], velocity[b], velocity[j.d]);
   }
   (void)model;
@@ -105,17 +109,83 @@ DriveGeometry driveGeometry(const Model& model, const Joint& joint, const JointP
 }
 
 // Adds Q ∂q/∂p over the arms, Q shared equally among them.
-void applyDrive(const Joint& joint, const JointParticles& j, const DriveGeometry& g, double q,
+void applyDrive(const JointParticles& j, const DriveGeometry& g, double q,
                 std::vector<Vec3>& force) {
   const double share = q / static_cast<double>(g.arms.size());
   for (std::size_t k = 0; k < g.arms.size(); ++k) {
     const CoordinateGradient& arm = g.arms[k];
-    const ParticleIndex b = k == 0 ? j.b : joint.motorParticles[k - 1];
+    const ParticleIndex b = g.child[k];
     force[j.a] += arm.a * share;
     force[j.c] += arm.c * share;
     force[b] += arm.b * share;
     if (j.d != kNoParticle) force[j.d] += arm.d * share;
   }
+}
+
+// The drive's damping: d(−Q)/dq̇ of its rate gain, viscous damping and the
+// viscous part of its friction (N·m·s/rad or N·s/m).
+double driveDamping(const JointDrive& d) {
+  return d.rateGain + d.damping + (d.friction > 0.0 ? d.friction / d.frictionVelocity : 0.0);
+}
+
+// One particle's weight in a drive's damping (driveDampingRate):
+// w = √(g / m_p) |Ḡ_p|, Ḡ the drive's gradient ∂q̇/∂v (its arms' mean).
+struct DriveWeight {
+  ParticleIndex particle;
+  std::int32_t drive;
+  double weight;
+};
+
+void addDriveWeights(const Model& model, std::int32_t drive, double g, const JointParticles& j,
+                     const DriveGeometry& geometry, std::vector<DriveWeight>& out) {
+  const double share = 1.0 / static_cast<double>(geometry.arms.size());
+  Vec3 onA, onC, onD;
+  for (const CoordinateGradient& arm : geometry.arms) {
+    onA += arm.a;
+    onC += arm.c;
+    onD += arm.d;
+  }
+  const auto add = [&](ParticleIndex p, const Vec3& gradient) {
+    if (p == kNoParticle || model.inverseMass[p] == 0.0) return;
+    out.push_back({p, drive, std::sqrt(g * model.inverseMass[p]) * norm(gradient)});
+  };
+  add(j.a, onA * share);
+  add(j.c, onC * share);
+  add(j.d, onD * share);
+  for (std::size_t k = 0; k < geometry.arms.size(); ++k)
+    add(geometry.child[k], geometry.arms[k].b * share);
+}
+
+// MODEL §4 (docs/adaptive-step.md): a bound on the largest rate (1/s) of M⁻¹ Σ_d g_d Ḡ_d Ḡ_dᵀ,
+// the drives' damping. Its nonzero eigenvalues are the Gram matrix's,
+// G_de = Σ_p √(g_d g_e / m_p²) Ḡ_d,p·Ḡ_e,p; by Gershgorin on G and |Ḡ_d,p·Ḡ_e,p| <=
+// |Ḡ_d,p| |Ḡ_e,p|, every one is at most max_d Σ_p w_d,p W_p, W_p = Σ_e w_e,p: exactly
+// g Σ_p |Ḡ_p|² / m_p for a drive that shares no particle with another.
+double driveDampingBound(std::vector<DriveWeight>& weights) {
+  if (weights.empty()) return 0.0;
+  std::sort(weights.begin(), weights.end(), [](const DriveWeight& x, const DriveWeight& y) {
+    return x.particle != y.particle ? x.particle < y.particle : x.drive < y.drive;
+  });
+  std::vector<std::pair<std::int32_t, double>> rows;  // (drive, its row sum)
+  std::size_t first = 0;
+  while (first < weights.size()) {
+    std::size_t last = first;
+    double column = 0.0;
+    while (last < weights.size() && weights[last].particle == weights[first].particle)
+      column += weights[last++].weight;
+    for (std::size_t k = first; k < last; ++k)
+      rows.emplace_back(weights[k].drive, weights[k].weight * column);
+    first = last;
+  }
+  std::sort(rows.begin(), rows.end());
+  double largest = 0.0;
+  for (std::size_t k = 0; k < rows.size();) {
+    double sum = 0.0;
+    const std::int32_t drive = rows[k].first;
+    for (; k < rows.size() && rows[k].first == drive; ++k) sum += rows[k].second;
+    largest = std::max(largest, sum);
+  }
+  return largest;
 }
 
 }  // namespace
@@ -234,11 +304,14 @@ double bodyServoEffort(const Model& model, const Joint& joint, const std::vector
 ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMotion>& motion,
                                  const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,
-                                 std::vector<double>& motor, std::vector<double>& loss) {
+                                 std::vector<double>& motor, std::vector<double>& loss,
+                                 double* dampingRate) {
   ForceTally tally;
   const std::size_t count = model.joints.size();
   motor.assign(count, 0.0);
   loss.assign(count, 0.0);
+  thread_local std::vector<DriveWeight> weights;
+  weights.clear();
   for (std::size_t k = 0; k < count; ++k) {
     const Joint& joint = model.joints[k];
     if (joint.actsThroughBodies()) {
@@ -276,9 +349,13 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMoti
     if (!g.valid) continue;
     motor[k] = motorEffort(joint.drive, g.rate);
     loss[k] = lossEffort(joint.drive, g.rate);
-    applyDrive(joint, j, g, motor[k] + loss[k], force);
+    applyDrive(j, g, motor[k] + loss[k], force);
     tally.dissipativePower += loss[k] * g.rate;
+    const double damping = driveDamping(joint.drive);
+    if (dampingRate != nullptr && damping > 0.0)
+      addDriveWeights(model, static_cast<std::int32_t>(k), damping, j, g, weights);
   }
+  if (dampingRate != nullptr) *dampingRate = driveDampingBound(weights);
   return tally;
 }
 

@@ -658,10 +658,13 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
 }  // namespace
 
 AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settings)
-    : settings_(checked(settings)),
-      stabilityLimit_(settings.stabilitySafety * estimateStability(model).criticalStep),
-      step_(std::min({settings.initialStep, settings.maxStep, stabilityLimit_})),
-      minStep_(settings.minStep > 0.0 ? settings.minStep : 1.0e-8 * step_) {
+    : settings_(checked(settings)) {
+  const StabilityEstimate estimate = estimateStability(model);
+  stabilityLimit_ = settings_.stabilitySafety * estimate.criticalStep;
+  stabilityOmega_ = estimate.omegaMax;
+  stabilityDamping_ = estimate.dampingRate;
+  step_ = std::min({settings_.initialStep, settings_.maxStep, stabilityLimit_});
+  minStep_ = settings_.minStep > 0.0 ? settings_.minStep : 1.0e-8 * step_;
   stats_.smallestStep = std::numeric_limits<double>::infinity();
 }
 
@@ -706,10 +709,12 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
     // engages and releases every few steps would pay a power iteration each
     // time; the energy test rejects a step that is too large for them.)
     refinedLimit_ = true;
-    stabilityLimit_ =
-        std::max(stabilityLimit_,
-                 settings_.stabilitySafety *
-                     estimateStability(world.model(), &world.state().position).criticalStep);
+    const StabilityEstimate refined = estimateStability(world.model(), &world.state().position);
+    if (settings_.stabilitySafety * refined.criticalStep > stabilityLimit_) {
+      stabilityLimit_ = settings_.stabilitySafety * refined.criticalStep;
+      stabilityOmega_ = refined.omegaMax;
+      stabilityDamping_ = refined.dampingRate;
+    }
   }
   if (errorOrder_ <= 0.0) {
     errorOrder_ = settings_.errorOrder > 0.0                          ? settings_.errorOrder
@@ -738,13 +743,20 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
           : 0.0;
   // The touching contacts' own stability limit (they are not in the model's).
   const double contactLimit = settings_.stabilitySafety * saved_.evaluation().contactCriticalStep;
+  // The joint drives' damping on top of the connectors' (Weyl): it is not in the
+  // model's estimate, as a run's control changes the drives' gains.
+  const double driveRate = saved_.evaluation().driveDampingRate;
+  const double driveLimit =
+      driveRate > 0.0 ? settings_.stabilitySafety *
+                            dampedCriticalStep(stabilityOmega_, stabilityDamping_ + driveRate)
+                      : std::numeric_limits<double>::infinity();
   // No pair of approaching surfaces may pass through each other (MODEL §4.4).
   // (Against the other limits as they are now: the trials below only shrink the step.)
   const double approachLimit =
-      approachLimitBelow(std::min({step_, maxDt, contactLimit}), world.model(), saved_.state(),
-                         saved_.evaluation().force, settings_.maxApproachFraction);
+      approachLimitBelow(std::min({step_, maxDt, contactLimit, driveLimit}), world.model(),
+                         saved_.state(), saved_.evaluation().force, settings_.maxApproachFraction);
   for (;;) {
-    const double dt = std::min({step_, maxDt, contactLimit, approachLimit});
+    const double dt = std::min({step_, maxDt, contactLimit, driveLimit, approachLimit});
     const StepStatus status = world.step(dt);
     const bool finite = status == StepStatus::kOk;
     const double activeAfter =
@@ -784,6 +796,8 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
           ++stats_.setByError;
       } else if (dt == contactLimit) {
         ++stats_.setByContacts;
+      } else if (dt == driveLimit) {
+        ++stats_.setByConnectors;
       } else if (dt == approachLimit) {
         ++stats_.setByApproach;
       } else {

@@ -138,6 +138,7 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
     const double dampingRate = 2.0 * damping[i] * model.inverseMass[i];  // 2ζω
     const double step = dampedCriticalStep(omega, dampingRate);
     estimate.omegaMax = std::max(estimate.omegaMax, omega);
+    estimate.dampingRate = std::max(estimate.dampingRate, dampingRate);
     if (step < estimate.criticalStep) {
       estimate.criticalStep = step;
       estimate.limitingParticle = static_cast<ParticleIndex>(i);
@@ -193,6 +194,7 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   // the particle's shortest LS).
   if (std::isfinite(step)) {
     estimate.omegaMax = omega;
+    estimate.dampingRate = dampingRate;
     estimate.criticalStep = step;
   }
   return estimate;

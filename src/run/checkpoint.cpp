@@ -125,6 +125,7 @@ json evaluationToJson(const Evaluation& e) {
           {"joint_loss_effort", exactNumbers(e.jointLossEffort)},
           {"released_anchor_energy", exactNumber(e.releasedAnchorEnergy)},
           {"contact_critical_step", exactNumber(e.contactCriticalStep)},
+          {"drive_damping_rate", exactNumber(e.driveDampingRate)},
           {"contacts", contacts},
           {"contact_stats",
            {{"pair_tests", st.pairTests},
@@ -157,6 +158,8 @@ Evaluation evaluationFromJson(const json& j) {
   }
   e.releasedAnchorEnergy = number(j, "released_anchor_energy");
   e.contactCriticalStep = number(j, "contact_critical_step");
+  // (A checkpoint from before the drives' damping bound: none.)
+  if (j.contains("drive_damping_rate")) e.driveDampingRate = number(j, "drive_damping_rate");
   for (const json& c : j.at("contacts")) e.contacts.push_back(contactFromJson(c));
   const json& st = j.at("contact_stats");
   e.contactStats.pairTests = st.at("pair_tests").get<std::int64_t>();
@@ -313,6 +316,8 @@ json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
   const AdaptiveStepStats& s = p.stats;
   return {{"step", exactNumber(p.step)},
           {"stability_limit", exactNumber(p.stabilityLimit)},
+          {"stability_omega", exactNumber(p.stabilityOmega)},
+          {"stability_damping", exactNumber(p.stabilityDamping)},
           {"error_order", exactNumber(p.errorOrder)},
           {"gravity_scale", exactNumber(p.gravityScale)},
           {"refined_limit", p.refinedLimit},
@@ -331,6 +336,11 @@ AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
   AdaptiveStepper::Progress p;
   p.step = number(j, "step");
   p.stabilityLimit = number(j, "stability_limit");
+  // (A checkpoint from before the drives' damping bound: no connector ω to add it to.)
+  if (j.contains("stability_omega")) {
+    p.stabilityOmega = number(j, "stability_omega");
+    p.stabilityDamping = number(j, "stability_damping");
+  }
   p.errorOrder = number(j, "error_order");
   p.gravityScale = number(j, "gravity_scale");
   p.refinedLimit = j.at("refined_limit").get<bool>();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "robophi/adaptive_step.h"
 #include "robophi/connector_forces.h"
 #include "robophi/evaluation.h"
 #include "robophi/joints.h"
@@ -200,6 +201,68 @@ TEST(JointDrive, CoulombFrictionHoldsAJointAgainstASmallerEffort) {
   }
   world.setJointEffort(0, 0.05);
   EXPECT_EQ(world.bookExternalWork(), 0.0);
+}
+
+
+// A rate drive is a damper on its joint (MODEL §1.6): the evaluation bounds its
+// rate, M⁻¹ g Ḡ Ḡᵀ, exactly for one drive (g |∂θ/∂p_b|² / m_b = g / (m R²) through
+// ring[0] alone; g / I through the whole ring as motor particles), and for two
+// drives on the same particles their sum.
+TEST(JointDrive, TheDampingRateOfADriveIsBoundedExactly) {
+  const double g = 3.0;  // N·m·s/rad
+  Rotor rotor;
+  rotor.model.joints[0].drive.rateGain = g;
+  {
+    World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+    EXPECT_NEAR(world.evaluation().driveDampingRate, g / (kMass * kR * kR), 1e-9 * g / kMass);
+  }
+  rotor.model.joints[0].drive.damping = 1.0;  // adds to the gain
+  rotor.model.joints.push_back(rotor.model.joints[0]);
+  rotor.model.joints.back().name = "twin";
+  {
+    World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+    EXPECT_NEAR(world.evaluation().driveDampingRate, 2.0 * (g + 1.0) / (kMass * kR * kR),
+                1e-9 * g / kMass);
+  }
+  rotor.model.joints.pop_back();
+  rotor.model.joints[0].drive.damping = 0.0;
+  for (ParticleIndex p = 4; p < 3 + kRing; ++p) rotor.model.joints[0].motorParticles.push_back(p);
+  World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+  EXPECT_NEAR(world.evaluation().driveDampingRate, g / kInertia, 1e-9 * g / kInertia);
+  // No drive, or one of effort alone: no damping.
+  rotor.model.joints[0].drive = JointDrive{};
+  rotor.model.joints[0].drive.effort = 0.1;
+  World plain(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+  EXPECT_EQ(plain.evaluation().driveDampingRate, 0.0);
+}
+
+// The adaptive step keeps below a stiff rate drive's damping limit (MODEL §4:
+// the drive's rate on top of the connectors'): the rotor spun up to 5 rad/s by a
+// gain of 40 N·m·s/rad through ring[0] (a rate of 1e4 /s) keeps its energy
+// account, where a constant step at 3 / rate loses it.
+TEST(JointDrive, TheAdaptiveStepKeepsBelowAStiffRateDrive) {
+  Rotor rotor;
+  rotor.model.joints[0].drive.rateGain = 40.0;
+  rotor.model.joints[0].drive.targetRate = 5.0;
+  const double rate = 40.0 / (kMass * kR * kR);
+  World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+  AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+  double largest = 0.0;
+  while (world.state().time < 0.5) {
+    const AdaptiveStepResult r = stepper.advance(world, 0.5 - world.state().time);
+    ASSERT_TRUE(r.ok) << r.failure;
+    largest = std::max(largest, r.dt);
+  }
+  EXPECT_LT(largest, 2.0 / rate);
+  const EnergyTally e = world.energy();
+  EXPECT_NEAR(e.total(), 0.0, 1e-3 * e.external);
+  EXPECT_NEAR(jointRate(world.model(), world.state(), 0), 5.0, 0.05);
+  World constant(rotor.model, rotor.state, Integrator::kVelocityVerlet);
+  const double dt = 3.0 / rate;
+  for (int s = 0; s < static_cast<int>(0.5 / dt); ++s) constant.step(dt);
+  const EnergyTally c = constant.energy();
+  EXPECT_GT(std::abs(c.total()), 0.05 * std::abs(c.external))
+      << "the drive's limit should show at a constant step of 3 / rate";
 }
 
 }  // namespace
