@@ -55,6 +55,9 @@ constexpr std::int32_t kSticking = 0, kSliding = 1, kBreakingAway = 2;
 // its friction angle gives way about 5 ranges while its anchors' overshoot
 // (and the lattice's own settling) dies down, then sticks.
 constexpr double kPresliding = 10.0;
+// A contact whose normal turned by more than about 25° since the last evaluation
+// (cos 25° ≈ 0.9) jumped from one face of its item to another.
+constexpr double kNormalTurn = 0.9;
 // A group breaking away with its contacts slipping faster than kSlidingSpeed
 // times the speed an anchor reaches within its elastic range (μ_s F_n /
 // √(k_t m_eff)) slides: a body that lands or is launched with a slip (V ≠ 0).
@@ -1323,13 +1326,15 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     }
     const auto tangential = [&n](const Vec3& x) { return tangentialPart(x, n); };
     t.delta = tangential(t.relative - anchor);
-    if (faceted && before != nullptr && before->facet != c.facet &&
-        t.regimeBefore != kSliding) {
-      // A vertex's contact moved to another triangle: inside a body near an
-      // edge its normal jumps (to the other face's). The anchor's offset
-      // projected on the new plane is not the one it held: keep no more than
-      // it held, and release what the new plane takes off (else the spring's
-      // energy jumps at no motion and the adaptive step stalls on it).
+    if (before != nullptr && t.regimeBefore != kSliding &&
+        ((faceted && before->facet != c.facet) || dot(before->normal, n) < kNormalTurn)) {
+      // A vertex's contact moved to another triangle, or a contact's normal
+      // turned at once (inside a box past the middle of its faces, a
+      // heightfield's top to its side): near an edge the normal jumps (to the
+      // other face's). The anchor's offset projected on the new plane is not
+      // the one it held: keep no more than it held, and release what the new
+      // plane takes off (else the spring's energy jumps at no motion and the
+      // adaptive step stalls on it).
       const double held = squaredNorm(tangentialPart(t.relative - anchor, before->normal));
       const double now = squaredNorm(t.delta);
       if (now > held) t.delta = t.delta * std::sqrt(held / now);

@@ -12,6 +12,7 @@
 #include "collision/rim_contact.h"
 
 #include <cmath>
+#include <limits>
 
 #include "collision/environment.h"
 
@@ -65,18 +66,77 @@ Vec3 circlePointAgainst(const Ring& ring, const Vec3& normal) {
   return ring.center + d * ring.radius;
 }
 
-// The point of `ring`'s circle closest to item e, by the fixed point above, with
-// its signed distance and the item's normal there; false if the item does not
-// cover it.
-bool closestOnCircle(const Environment& environment, std::int32_t e, const Ring& ring, Vec3& point,
-                     double& distance, Vec3& normal) {
-  if (!environmentDistance(environment, e, ring.center, distance, normal)) return false;
+// The fixed point above from `normal`: the circle point, its signed distance to
+// item e and the item's normal there; false if the item does not cover it.
+bool fixedPointOnCircle(const Environment& environment, std::int32_t e, const Ring& ring,
+                        Vec3 normal, Vec3& point, double& distance, Vec3& outNormal) {
   point = circlePointAgainst(ring, normal);
   for (int iteration = 0; iteration < 3; ++iteration) {
     if (!environmentDistance(environment, e, point, distance, normal)) return false;
     point = circlePointAgainst(ring, normal);
   }
-  return environmentDistance(environment, e, point, distance, normal);
+  return environmentDistance(environment, e, point, distance, outNormal);
+}
+
+// Near a box's faces and edges, or a heightfield's sides, the fixed point from
+// the centre's normal can settle on one face while the circle is deeper in
+// another (a wheel lying against a ramp's side, one rolling off a terrain's
+// edge). (Inside a heightfield's rectangle its surface is smooth: not there.)
+bool nearFeatures(const Environment& environment, std::int32_t e, const Ring& ring) {
+  const auto planes = static_cast<std::int32_t>(environment.planes.size());
+  const auto fields = static_cast<std::int32_t>(environment.heightfields.size());
+  const auto boxes = static_cast<std::int32_t>(environment.boxes.size());
+  if (e < planes || e >= planes + fields + boxes) return false;
+  if (e >= planes + fields) return true;
+  const Heightfield& field = environment.heightfields[static_cast<std::size_t>(e - planes)];
+  const double reach = ring.radius;
+  return ring.center.x - reach < field.originX ||
+         ring.center.x + reach > field.originX + (field.columns - 1) * field.cellSizeX ||
+         ring.center.y - reach < field.originY ||
+         ring.center.y + reach > field.originY + (field.rows - 1) * field.cellSizeY;
+}
+
+// The point of `ring`'s circle closest to item e, by the fixed point above, with
+// its signed distance and the item's normal there; false if the item does not
+// cover it. Near a box or a heightfield's side, also eight points around the
+// circle: when one is deeper, the fixed point from there, and the deepest point
+// found.
+bool closestOnCircle(const Environment& environment, std::int32_t e, const Ring& ring, Vec3& point,
+                     double& distance, Vec3& normal) {
+  Vec3 start;
+  bool found = environmentDistance(environment, e, ring.center, distance, start) &&
+               fixedPointOnCircle(environment, e, ring, start, point, distance, normal);
+  if (!nearFeatures(environment, e, ring)) return found;
+  const Vec3 side = cross(ring.axis, ring.start);
+  constexpr int kSamples = 8;
+  double deepest = found ? distance - 1e-9 * ring.radius : std::numeric_limits<double>::infinity();
+  Vec3 deepestPoint, deepestNormal;
+  bool sampled = false;
+  for (int k = 0; k < kSamples; ++k) {
+    const double angle = 2.0 * M_PI * k / kSamples;
+    const Vec3 at = ring.center + (ring.start * std::cos(angle) + side * std::sin(angle)) * ring.radius;
+    double d = 0.0;
+    Vec3 n;
+    if (!environmentDistance(environment, e, at, d, n) || !(d < deepest)) continue;
+    deepest = d;
+    deepestPoint = at;
+    deepestNormal = n;
+    sampled = true;
+  }
+  if (!sampled) return found;
+  Vec3 refined, refinedNormal;
+  double refinedDistance = 0.0;
+  if (fixedPointOnCircle(environment, e, ring, deepestNormal, refined, refinedDistance,
+                         refinedNormal) &&
+      refinedDistance < deepest) {
+    deepestPoint = refined;
+    deepest = refinedDistance;
+    deepestNormal = refinedNormal;
+  }
+  point = deepestPoint;
+  distance = deepest;
+  normal = deepestNormal;
+  return true;
 }
 
 // A cylinder wheel's two edge circles against every environment item (MODEL §3.1
