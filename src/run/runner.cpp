@@ -41,6 +41,22 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
   return warnings;
 }
 
+std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
+                             const Evaluation& start) {
+  // The joint drives' damping (Evaluation::driveDampingRate) is not in the
+  // model's estimate: with their gains set at t = 0, a constant step past the
+  // damped limit of both lets the drives make energy (docs/adaptive-step.md).
+  if (settings.stepMode != StepMode::kConstant || !(start.driveDampingRate > 0.0)) return {};
+  const double limit =
+      dampedCriticalStep(stability.omegaMax, stability.dampingRate + start.driveDampingRate);
+  if (!(settings.dt > limit)) return {};
+  return fmt::format(
+      "step {:.3g} s exceeds {:.3g} s, the critical step with the joint drives' damping (a rate "
+      "of {:.4g} /s on top of the connectors'): the drives may make energy and the energy "
+      "account break",
+      settings.dt, limit, start.driveDampingRate);
+}
+
 namespace {
 
 // The checkpoint's "scene": its file (absolute), its hash when the run started,
@@ -264,6 +280,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       if (task) task->start(world, report.events);
     world.bookExternalWork();
     world.refresh();  // the energy account of the initial state
+    if (const std::string w = driveStepWarning(settings, report.stability, world.evaluation());
+        !w.empty())
+      report.warnings.push_back(w);
     report.initialTotal = world.energy().total();
     // The drift's scale: the energy that can turn into motion in the scene's own
     // frame, or that gravity can release (MODEL §4.1), never E(0), which depends

@@ -84,6 +84,11 @@ struct RunOptions {
 /// (StabilityEstimate::criticalStep). None in adaptive mode, whose steps stay below it.
 std::vector<std::string> preflightWarnings(const RunSettings& settings,
                                            const StabilityEstimate& stability);
+/// The constant step's warning when it passes the critical step with the joint
+/// drives' damping at the start (`start`: the evaluation at t = 0, the drives'
+/// gains set); empty otherwise.
+std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
+                             const Evaluation& start);
 
 /// Why options.outDir (or its staging folder beside it) may not receive the
 /// results, naming the folder and what is in it; empty when it may.
