@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
-#include <utility>
 
 #include "commands.h"
 #include "output/results_folder.h"
@@ -223,19 +222,14 @@ namespace {
 // What set most of an adaptive run's steps, as "; 96% set by the contacts'
 // stability" (empty without steps).
 std::string mostlySetBy(const AdaptiveStepStats& a) {
-  const std::pair<std::int64_t, const char*> causes[] = {
-      {a.setByError, "the energy error"},
-      {a.setByConnectors, "the connectors' stability"},
-      {a.setByContacts, "the contacts' stability"},
-      {a.setByApproach, "the approach bound"},
-      {a.setByMaxStep, "maxStep"},
-      {a.setByTimeLeft, "the time left"}};
-  const auto* most = std::max_element(std::begin(causes), std::end(causes),
-                                      [](const auto& x, const auto& y) { return x.first < y.first; });
-  if (a.accepted <= 0 || most->first <= 0) return {};
+  const StepCause* most =
+      std::max_element(std::begin(kStepCauses), std::end(kStepCauses),
+                       [&](const StepCause& x, const StepCause& y) { return a.*x.count < a.*y.count; });
+  const std::int64_t count = a.*most->count;
+  if (a.accepted <= 0 || count <= 0) return {};
   return fmt::format("; {:.0f}% set by {}",
-                     100.0 * static_cast<double>(most->first) / static_cast<double>(a.accepted),
-                     most->second);
+                     100.0 * static_cast<double>(count) / static_cast<double>(a.accepted),
+                     most->words);
 }
 
 }  // namespace

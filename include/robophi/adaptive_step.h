@@ -154,6 +154,22 @@ struct AdaptiveStepStats {
   }
 };
 
+/// The causes of a step's size, in the order checkpoints keep their counts:
+/// summary.json's key (`adaptive.steps_set_by`), the run line's words, and the
+/// count in AdaptiveStepStats.
+struct StepCause {
+  const char* key;
+  const char* words;
+  std::int64_t AdaptiveStepStats::*count;
+};
+inline constexpr StepCause kStepCauses[] = {
+    {"energy_error", "the energy error", &AdaptiveStepStats::setByError},
+    {"connector_stability", "the connectors' stability", &AdaptiveStepStats::setByConnectors},
+    {"contact_stability", "the contacts' stability", &AdaptiveStepStats::setByContacts},
+    {"approach", "the approach bound", &AdaptiveStepStats::setByApproach},
+    {"max_step", "maxStep", &AdaptiveStepStats::setByMaxStep},
+    {"time_left", "the time left", &AdaptiveStepStats::setByTimeLeft}};
+
 /// The outcome of one adaptive advance.
 struct AdaptiveStepResult {
   bool ok = true;

@@ -86,8 +86,7 @@ struct JointGeometry {
   double angle = 0.0;
   Vec3 gradA, gradB, gradC, gradD;
   // MODEL §1.3 weight h: 1, and its gradient zero, unless an arm leans within
-  // kArmLean of the axis (`weighted`).
-  bool weighted = false;
+  // kArmLean of the axis.
   double weight = 1.0;
   Vec3 weightA, weightB, weightC, weightD;
 };
@@ -160,7 +159,6 @@ JointGeometry jointGeometry(const Vec3& pA, const Vec3& pC, const Vec3& pB, cons
   Vec3 uArm, uAxis, wArm, wAxis;
   leanGradient(u, uN, uSquared, n, axisLength, uArm, uAxis);
   leanGradient(w, wN, wSquared, n, axisLength, wArm, wAxis);
-  g.weighted = true;
   g.weight = gU * gW;
   g.weightA = uArm * (slopeU * gW);
   g.weightB = wArm * (gU * slopeW);
@@ -227,25 +225,14 @@ AngularSpringForce jointSpringForce(const JointSpring& spring, const Vec3& pA, c
   if (angleError > std::numbers::pi) angleError -= kTwoPi;
   if (angleError <= -std::numbers::pi) angleError += kTwoPi;
   const double energy = 0.5 * spring.stiffness * angleError * angleError;
-  if (!g.valid) {
-    out.energy = energy * g.weight;
-    return out;
-  }
+  out.energy = energy * g.weight;
+  if (!g.valid) return out;
   // F_j = -(κ Δθ + μ θ̇) ∂θ/∂p_j.
   const double angleRate = jointRate(g, vA, vC, vB, vD);
   const double generalizedForce = -(spring.stiffness * angleError + spring.damping * angleRate);
-  if (!g.weighted) {
-    out.energy = energy;
-    out.onA = g.gradA * generalizedForce;
-    out.onB = g.gradB * generalizedForce;
-    out.onC = g.gradC * generalizedForce;
-    out.onD = g.gradD * generalizedForce;
-    out.dissipativePower = -spring.damping * angleRate * angleRate;
-    return out;
-  }
-  // An arm near the axis (MODEL §1.3): U = h ½ κ Δθ², F_j = h Q ∂θ/∂p_j − ½ κ Δθ² ∂h/∂p_j.
+  // MODEL §1.3: U = h ½ κ Δθ², F_j = h Q ∂θ/∂p_j − ½ κ Δθ² ∂h/∂p_j (h = 1 and
+  // ∂h/∂p = 0, the same bits as without it, unless an arm leans onto the axis).
   const double weighted = generalizedForce * g.weight;
-  out.energy = energy * g.weight;
   out.onA = g.gradA * weighted - g.weightA * energy;
   out.onB = g.gradB * weighted - g.weightB * energy;
   out.onC = g.gradC * weighted - g.weightC * energy;

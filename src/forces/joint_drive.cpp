@@ -166,7 +166,8 @@ double driveDampingBound(std::vector<DriveWeight>& weights) {
   std::sort(weights.begin(), weights.end(), [](const DriveWeight& x, const DriveWeight& y) {
     return x.particle != y.particle ? x.particle < y.particle : x.drive < y.drive;
   });
-  std::vector<std::pair<std::int32_t, double>> rows;  // (drive, its row sum)
+  thread_local std::vector<std::pair<std::int32_t, double>> rows;  // (drive, its row sum)
+  rows.clear();
   std::size_t first = 0;
   while (first < weights.size()) {
     std::size_t last = first;

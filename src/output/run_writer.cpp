@@ -478,6 +478,17 @@ std::string modelJson(const Scene& scene) {
   return j.dump(1);
 }
 
+namespace {
+
+// What set each accepted step's size, by cause (kStepCauses).
+nlohmann::json stepCauseCounts(const AdaptiveStepStats& a) {
+  nlohmann::json counts = nlohmann::json::object();
+  for (const StepCause& cause : kStepCauses) counts[cause.key] = a.*cause.count;
+  return counts;
+}
+
+}  // namespace
+
 std::string summaryJson(const Scene& scene, const RunSettings& settings, const RunReport& report) {
   nlohmann::ordered_json s;
   s["robophi"] = kVersion;
@@ -513,13 +524,7 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
                      {"mean_dt_s", a.meanStep()},
                      {"final_energy_error", a.lastEnergyError},
                      // what set each accepted step's size
-                     {"steps_set_by",
-                      {{"energy_error", a.setByError},
-                       {"connector_stability", a.setByConnectors},
-                       {"contact_stability", a.setByContacts},
-                       {"approach", a.setByApproach},
-                       {"max_step", a.setByMaxStep},
-                       {"time_left", a.setByTimeLeft}}},
+                     {"steps_set_by", stepCauseCounts(a)},
                      // the settings in use (scene run.adaptive, command line)
                      {"energy_tolerance", settings.adaptive.energyTolerance},
                      {"min_step_s", settings.adaptive.minStep},

@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <vector>
 
 #include "output/json_numbers.h"
 
@@ -312,6 +314,17 @@ void applyModelEdits(const json& j, Model& m) {
 
 // ---- The adaptive step and the run settings.
 
+namespace {
+
+// The counts of what set the steps, in kStepCauses' order.
+std::vector<std::int64_t> setByCounts(const AdaptiveStepStats& s) {
+  std::vector<std::int64_t> counts;
+  for (const StepCause& cause : kStepCauses) counts.push_back(s.*cause.count);
+  return counts;
+}
+
+}  // namespace
+
 json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
   const AdaptiveStepStats& s = p.stats;
   return {{"step", exactNumber(p.step)},
@@ -328,8 +341,7 @@ json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
           {"sum_of_steps", exactNumber(s.sumOfSteps)},
           {"last_energy_error", exactNumber(s.lastEnergyError)},
           {"last_step", exactNumber(s.lastStep)},
-          {"set_by", {s.setByError, s.setByConnectors, s.setByContacts, s.setByApproach,
-                      s.setByMaxStep, s.setByTimeLeft}}};
+          {"set_by", setByCounts(s)}};
 }
 
 AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
@@ -354,15 +366,12 @@ AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
   // (Checkpoints written before the counts were kept have none: they start at 0.)
   if (const auto it = j.find("set_by"); it != j.end()) {
     const std::vector<std::int64_t> counts = it->get<std::vector<std::int64_t>>();
-    if (counts.size() != 6)
+    constexpr std::size_t kCauses = std::size(kStepCauses);
+    if (counts.size() != kCauses)
       throw std::runtime_error("the checkpoint's adaptive set_by holds " +
-                               std::to_string(counts.size()) + " counts, not 6");
-    p.stats.setByError = counts[0];
-    p.stats.setByConnectors = counts[1];
-    p.stats.setByContacts = counts[2];
-    p.stats.setByApproach = counts[3];
-    p.stats.setByMaxStep = counts[4];
-    p.stats.setByTimeLeft = counts[5];
+                               std::to_string(counts.size()) + " counts, not " +
+                               std::to_string(kCauses));
+    for (std::size_t k = 0; k < kCauses; ++k) p.stats.*kStepCauses[k].count = counts[k];
   }
   return p;
 }
