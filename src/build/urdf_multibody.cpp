@@ -1,0 +1,312 @@
+// A URDF robot as rigid bodies (include/robophi/build/urdf_multibody.h): the exact
+// mass properties of its links, fixed joints merged, moving joints as the joints
+// of a tree in reduced coordinates.
+#include "robophi/build/urdf_multibody.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "build/checks.h"
+#include "build/urdf_parse.h"
+
+namespace robophi::build {
+
+namespace {
+
+Pose poseOf(const urdf::Origin& origin) {
+  return {rotationFromRollPitchYaw(origin.rpy), origin.xyz};
+}
+
+std::string where(const urdf::Description& d, const urdf::Link& link) {
+  return "link '" + link.name + "' (" + d.file + ":" + std::to_string(link.line) + ")";
+}
+
+Eigen::Matrix3d toEigen(const Mat3& m) {
+  Eigen::Matrix3d e;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) e(r, c) = m.m[r][c];
+  return e;
+}
+
+Mat3 fromEigen(const Eigen::Matrix3d& e) {
+  Mat3 m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m.m[r][c] = e(r, c);
+  return m;
+}
+
+// The mass properties of a solid shape of mass m (uniform density) about its
+// centre in its own frame; a mesh is taken as its bounding box (reported).
+Mat3 shapeInertia(const urdf::Geometry& g, double m) {
+  switch (g.kind) {
+    case urdf::Geometry::Kind::kBox: {
+      const Vec3 s = g.size;
+      return Mat3::diagonal(Vec3{s.y * s.y + s.z * s.z, s.x * s.x + s.z * s.z, s.x * s.x + s.y * s.y} *
+                            (m / 12.0));
+    }
+    case urdf::Geometry::Kind::kCylinder: {
+      const double r = g.radius, l = g.length;
+      const double side = m * (3 * r * r + l * l) / 12.0;
+      return Mat3::diagonal({side, side, 0.5 * m * r * r});
+    }
+    case urdf::Geometry::Kind::kSphere: {
+      const double i = 0.4 * m * g.radius * g.radius;
+      return Mat3::diagonal({i, i, i});
+    }
+    case urdf::Geometry::Kind::kMesh: break;
+  }
+  return Mat3::zero();
+}
+
+double shapeVolume(const urdf::Geometry& g) {
+  switch (g.kind) {
+    case urdf::Geometry::Kind::kBox: return g.size.x * g.size.y * g.size.z;
+    case urdf::Geometry::Kind::kCylinder: return std::numbers::pi * g.radius * g.radius * g.length;
+    case urdf::Geometry::Kind::kSphere: return 4.0 / 3.0 * std::numbers::pi * std::pow(g.radius, 3);
+    case urdf::Geometry::Kind::kMesh: return 0.0;
+  }
+  return 0.0;
+}
+
+// Mass properties accumulated as a sum: m, Σ m c and Σ (I_c + m (|c|² 1 − c cᵀ)).
+struct MassSum {
+  double mass = 0.0;
+  Vec3 moment{};
+  Mat3 inertiaAtOrigin = Mat3::zero();
+
+  void add(double m, const Vec3& c, const Mat3& inertiaAboutCentre) {
+    mass += m;
+    moment += c * m;
+    inertiaAtOrigin = inertiaAtOrigin + inertiaAboutCentre +
+                      m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
+  }
+  BodyMassProperties properties() const {
+    BodyMassProperties p;
+    p.mass = mass;
+    if (mass <= 0.0) return p;
+    const Vec3 c = moment / mass;
+    p.centerOfMass = c;
+    p.inertia = inertiaAtOrigin - mass * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
+    return p;
+  }
+};
+
+// A link's mass properties in its own frame, as the file gives them or from its
+// geometry; balanced if asked.
+BodyMassProperties linkMass(const urdf::Description& d, const urdf::Link& link,
+                            const UrdfMultibodySpec& spec, std::vector<std::string>& adjustments) {
+  BodyMassProperties p;
+  if (!link.inertial.present || link.inertial.mass <= 0.0) return p;
+  const double m = link.inertial.mass;
+  const bool fromGeometry =
+      spec.inertiaFromGeometry || std::find(spec.inertiaFromGeometryLinks.begin(),
+                                            spec.inertiaFromGeometryLinks.end(),
+                                            link.name) != spec.inertiaFromGeometryLinks.end();
+  if (fromGeometry && !link.collisions.empty()) {
+    double volume = 0.0;
+    for (const urdf::Collision& c : link.collisions) volume += shapeVolume(c.geometry);
+    MassSum sum;
+    for (const urdf::Collision& c : link.collisions) {
+      const double share = volume > 0.0 ? m * shapeVolume(c.geometry) / volume
+                                        : m / static_cast<double>(link.collisions.size());
+      const Pose X = poseOf(c.origin);
+      sum.add(share, X.translation, X.rotation * shapeInertia(c.geometry, share) * transpose(X.rotation));
+    }
+    p = sum.properties();
+    p.mass = m;
+    adjustments.push_back(where(d, link) + ": mass properties from its <collision> geometry" +
+                          " (inertiaFromGeometry; meshes count as a point at their origin)");
+    return p;
+  }
+  const auto& i = link.inertial.inertia;  // ixx iyy izz ixy ixz iyz
+  const Mat3 inertial = Mat3::symmetric(i[0], i[1], i[2], i[3], i[4], i[5]);
+  const Pose X = poseOf(link.inertial.origin);
+  p.mass = m;
+  p.centerOfMass = X.translation;
+  p.inertia = X.rotation * inertial * transpose(X.rotation);
+  // Physical: positive semi-definite principal moments with A + B >= C.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(toEigen(p.inertia));
+  Eigen::Vector3d moments = eigen.eigenvalues();
+  const double scale = std::max(1e-300, moments.cwiseAbs().maxCoeff());
+  bool changed = false;
+  for (int k = 0; k < 3; ++k)
+    if (moments[k] < 0.0) {
+      moments[k] = 0.0;
+      changed = true;
+    }
+  for (int k = 0; k < 3; ++k) {
+    const double others = moments[(k + 1) % 3] + moments[(k + 2) % 3];
+    if (moments[k] > others * (1.0 + 1e-12) + 1e-15 * scale) {
+      changed = true;
+      // Raise the smaller of the other two so that they sum to this one.
+      const int small = moments[(k + 1) % 3] < moments[(k + 2) % 3] ? (k + 1) % 3 : (k + 2) % 3;
+      moments[small] += moments[k] - others;
+    }
+  }
+  if (changed) {
+    const std::string what = "principal moments (" + check::number(eigen.eigenvalues()[0]) + ", " +
+                             check::number(eigen.eigenvalues()[1]) + ", " +
+                             check::number(eigen.eigenvalues()[2]) + ") kg·m²";
+    if (!spec.balanceInertia)
+      throw UrdfError(d.file, link.inertial.line,
+                      "<inertia> of link '" + link.name + "' is not physical: " + what +
+                          " break the triangle inequality (balanceInertia balances them)");
+    p.inertia = fromEigen(eigen.eigenvectors() * moments.asDiagonal() * eigen.eigenvectors().transpose());
+    adjustments.push_back(where(d, link) + ": inertia balanced (balanceInertia): " + what + " → (" +
+                          check::number(moments[0]) + ", " + check::number(moments[1]) + ", " +
+                          check::number(moments[2]) + ")");
+  }
+  return p;
+}
+
+UrdfCollisionShape::Kind kindOf(urdf::Geometry::Kind kind) {
+  switch (kind) {
+    case urdf::Geometry::Kind::kBox: return UrdfCollisionShape::Kind::kBox;
+    case urdf::Geometry::Kind::kCylinder: return UrdfCollisionShape::Kind::kCylinder;
+    case urdf::Geometry::Kind::kSphere: return UrdfCollisionShape::Kind::kSphere;
+    case urdf::Geometry::Kind::kMesh: return UrdfCollisionShape::Kind::kMesh;
+  }
+  return UrdfCollisionShape::Kind::kBox;
+}
+
+Vec3 sizeOf(const urdf::Geometry& g) {
+  switch (g.kind) {
+    case urdf::Geometry::Kind::kBox: return g.size;
+    case urdf::Geometry::Kind::kCylinder: return {g.radius, g.radius, g.length};
+    case urdf::Geometry::Kind::kSphere: return {g.radius, g.radius, g.radius};
+    case urdf::Geometry::Kind::kMesh: return {};
+  }
+  return {};
+}
+
+}  // namespace
+
+UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
+  const urdf::Description d = urdf::readUrdf(spec.path, spec.packagePaths);
+  UrdfMultibody out;
+  out.warnings = d.warnings;
+  const std::string prefix = spec.name.empty() ? d.robotName : spec.name;
+  Multibody& mb = out.multibody;
+  mb.name = prefix;
+  const std::size_t linkCount = d.links.size();
+  std::vector<std::int32_t> linkBody(linkCount, -1);
+  std::vector<Pose> X_BL(linkCount);
+  std::vector<MassSum> bodyMass;
+
+  const urdf::Link& root = d.links[static_cast<std::size_t>(d.root)];
+  MultibodyBody base;
+  base.name = prefix + "." + root.name;
+  base.joint = spec.fixedBase ? BodyJointKind::kWeld : BodyJointKind::kFree;
+  base.jointName = spec.fixedBase ? "" : prefix + ".base";
+  base.X_PJ = spec.placement;
+  mb.bodies.push_back(base);
+  bodyMass.emplace_back();
+  linkBody[static_cast<std::size_t>(d.root)] = 0;
+
+  for (const urdf::Joint& j : d.joints) {
+    const auto p = static_cast<std::size_t>(j.parentIndex), c = static_cast<std::size_t>(j.childIndex);
+    const Pose X_PJ = X_BL[p] * poseOf(j.origin);
+    if (j.type == urdf::Joint::Type::kFixed) {
+      linkBody[c] = linkBody[p];
+      X_BL[c] = X_PJ;
+      continue;
+    }
+    MultibodyBody body;
+    body.name = prefix + "." + d.links[c].name;
+    body.parent = linkBody[p];
+    body.jointName = prefix + "." + j.name;
+    body.joint = j.type == urdf::Joint::Type::kPrismatic ? BodyJointKind::kPrismatic
+                                                         : BodyJointKind::kRevolute;
+    body.X_PJ = X_PJ;
+    body.axis = j.axis / norm(j.axis);
+    if (j.hasLimit && j.type != urdf::Joint::Type::kContinuous) {
+      body.lower = j.lower;
+      body.upper = j.upper;
+    }
+    if (j.hasLimit && j.effort > 0.0) body.effortLimit = j.effort;
+    body.damping = j.damping;
+    body.friction = j.friction;
+    linkBody[c] = static_cast<std::int32_t>(mb.bodies.size());
+    X_BL[c] = Pose{};
+    mb.bodies.push_back(body);
+    bodyMass.emplace_back();
+    UrdfMultibodyJoint joint;
+    joint.urdfName = j.name;
+    joint.name = body.jointName;
+    joint.type = j.typeName;
+    joint.body = linkBody[c];
+    joint.line = j.line;
+    if (j.hasMimic) {
+      joint.mimicJoint = j.mimicJoint;
+      joint.multiplier = j.multiplier;
+      joint.offset = j.offset;
+    }
+    out.joints.push_back(joint);
+  }
+
+  for (std::size_t l = 0; l < linkCount; ++l) {
+    const urdf::Link& link = d.links[l];
+    const auto b = static_cast<std::size_t>(linkBody[l]);
+    mb.frames.push_back({prefix + "." + link.name, linkBody[l], X_BL[l]});
+    const BodyMassProperties p = linkMass(d, link, spec, out.adjustments);
+    if (p.mass > 0.0)
+      bodyMass[b].add(p.mass, X_BL[l] * p.centerOfMass,
+                      X_BL[l].rotation * p.inertia * transpose(X_BL[l].rotation));
+    if (b != 0 || l != static_cast<std::size_t>(d.root)) {
+      if (mb.bodies[b].name != prefix + "." + link.name && p.mass > 0.0)
+        out.adjustments.push_back(where(d, link) + ": merged into body '" + mb.bodies[b].name +
+                                  "' (fixed joint)");
+    }
+    for (const urdf::Collision& c : link.collisions) {
+      UrdfCollisionShape shape;
+      shape.kind = kindOf(c.geometry.kind);
+      shape.body = linkBody[l];
+      shape.link = link.name;
+      shape.X_BS = X_BL[l] * poseOf(c.origin);
+      shape.size = sizeOf(c.geometry);
+      shape.mesh = c.geometry.mesh;
+      shape.scale = c.geometry.scale;
+      shape.line = c.line;
+      out.collisions.push_back(shape);
+    }
+  }
+
+  for (std::size_t b = 0; b < mb.bodies.size(); ++b) {
+    MultibodyBody& body = mb.bodies[b];
+    body.mass = bodyMass[b].properties();
+    const bool moving = body.joint != BodyJointKind::kWeld;
+    const double trace = body.mass.inertia.m[0][0] + body.mass.inertia.m[1][1] + body.mass.inertia.m[2][2];
+    if (body.mass.mass <= 0.0 || (moving && !(trace > 0.0))) {
+      // A body without mass (a welded base: any; a moving body: the notional minimum,
+      // a small sphere of 1 cm radius, so that its joint has inertia).
+      const double m = body.mass.mass > 0.0 ? body.mass.mass : spec.minimumMass;
+      const double i = 0.4 * m * 1e-4;
+      body.mass.mass = m;
+      body.mass.inertia = body.mass.inertia + Mat3::diagonal({i, i, i});
+      if (moving)
+        out.adjustments.push_back("body '" + body.name + "': " +
+                                  (bodyMass[b].mass > 0.0 ? "point mass given the inertia of a 1 cm sphere"
+                                                          : "no mass: given " + check::number(m) +
+                                                                " kg as a 1 cm sphere (minimumMass)"));
+    }
+  }
+  try {
+    finalize(mb);
+  } catch (const std::invalid_argument& error) {
+    throw UrdfError(d.file, 0, error.what());
+  }
+  for (UrdfMultibodyJoint& joint : out.joints) {
+    joint.positionIndex = mb.bodies[static_cast<std::size_t>(joint.body)].qStart;
+    joint.velocityIndex = mb.bodies[static_cast<std::size_t>(joint.body)].vStart;
+    if (!joint.mimicJoint.empty())
+      out.adjustments.push_back("joint '" + joint.urdfName + "': <mimic> of '" + joint.mimicJoint +
+                                "' kept as data (multiplier " + check::number(joint.multiplier) +
+                                ", offset " + check::number(joint.offset) +
+                                "): the joint moves on its own unless a controller couples it");
+  }
+  return out;
+}
+
+}  // namespace robophi::build

@@ -1,0 +1,594 @@
+// A tree of rigid bodies in reduced coordinates (include/robophi/multibody.h,
+// docs/model.md §7): kinematics, recursive Newton–Euler, composite rigid bodies,
+// the mass matrix's tree factorization, and the semi-implicit step with implicit
+// joint damping and servos, hard stops and joint friction.
+#include "robophi/multibody.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace robophi {
+
+namespace {
+
+std::string describe(const Multibody& multibody, std::size_t body) {
+  return "multibody '" + multibody.name + "', body " + std::to_string(body) + " '" +
+         multibody.bodies[body].name + "'";
+}
+
+// Spatial motion cross product v ×m m.
+SpatialVector crossMotion(const SpatialVector& v, const SpatialVector& m) {
+  return {cross(v.angular, m.angular), cross(v.angular, m.linear) + cross(v.linear, m.angular)};
+}
+
+// Spatial force cross product v ×f f.
+SpatialVector crossForce(const SpatialVector& v, const SpatialVector& f) {
+  return {cross(v.angular, f.angular) + cross(v.linear, f.linear), cross(v.angular, f.linear)};
+}
+
+// I V for a body of mass m, first moment h = m c and inertia I_O about the origin.
+SpatialVector applyInertia(double m, const Vec3& h, const Mat3& inertiaAtOrigin,
+                           const SpatialVector& v) {
+  return {inertiaAtOrigin * v.angular + cross(h, v.linear), m * v.linear - cross(h, v.angular)};
+}
+
+double dotMotionForce(const SpatialVector& m, const SpatialVector& f) {
+  return dot(m.angular, f.angular) + dot(m.linear, f.linear);
+}
+
+SpatialVector operator+(const SpatialVector& a, const SpatialVector& b) {
+  return {a.angular + b.angular, a.linear + b.linear};
+}
+
+SpatialVector operator*(const SpatialVector& a, double s) { return {a.angular * s, a.linear * s}; }
+
+bool isRotation(const Mat3& r) {
+  const Mat3 e = transpose(r) * r - Mat3::identity();
+  double worst = 0.0;
+  for (const auto& row : e.m)
+    for (double x : row) worst = std::max(worst, std::abs(x));
+  return worst < 1e-9;
+}
+
+// The tree factorization of H = Lᵀ D L in place (Featherstone, RBDA §6.5): L unit
+// lower triangular in the entries H[k][i], i an ancestor of k, D on the diagonal.
+void factorTree(double* H, int n, const std::vector<std::int32_t>& parent) {
+  for (int k = n - 1; k >= 0; --k) {
+    for (int i = parent[k]; i != -1; i = parent[i]) {
+      const double a = H[k * n + i] / H[k * n + k];
+      for (int j = i; j != -1; j = parent[j]) H[i * n + j] -= a * H[k * n + j];
+      H[k * n + i] = a;
+    }
+  }
+}
+
+// x ← H⁻¹ x with H factored by factorTree.
+void solveTree(const double* H, int n, const std::vector<std::int32_t>& parent, double* x) {
+  for (int i = n - 1; i >= 0; --i)
+    for (int j = parent[i]; j != -1; j = parent[j]) x[j] -= H[i * n + j] * x[i];
+  for (int i = 0; i < n; ++i) x[i] /= H[i * n + i];
+  for (int i = 0; i < n; ++i)
+    for (int j = parent[i]; j != -1; j = parent[j]) x[i] -= H[i * n + j] * x[j];
+}
+
+}  // namespace
+
+int positionCountOf(BodyJointKind kind) {
+  switch (kind) {
+    case BodyJointKind::kWeld: return 0;
+    case BodyJointKind::kRevolute:
+    case BodyJointKind::kPrismatic: return 1;
+    case BodyJointKind::kFree: return 7;
+  }
+  return 0;
+}
+
+int velocityCountOf(BodyJointKind kind) {
+  return kind == BodyJointKind::kFree ? 6 : positionCountOf(kind);
+}
+
+std::int32_t Multibody::frameIndex(const std::string& frameName) const {
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    if (frames[i].name == frameName) return static_cast<std::int32_t>(i);
+  return -1;
+}
+
+std::int32_t Multibody::bodyIndex(const std::string& bodyName) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].name == bodyName) return static_cast<std::int32_t>(i);
+  return -1;
+}
+
+void finalize(Multibody& multibody) {
+  std::int32_t q = 0, v = 0;
+  multibody.dofBody.clear();
+  multibody.dofParent.clear();
+  std::vector<std::int32_t> lastDof(multibody.bodies.size(), -1);
+  for (std::size_t b = 0; b < multibody.bodies.size(); ++b) {
+    MultibodyBody& body = multibody.bodies[b];
+    const auto fail = [&](const std::string& what) {
+      throw std::invalid_argument(describe(multibody, b) + ": " + what);
+    };
+    if (body.parent < -1 || body.parent >= static_cast<std::int32_t>(b))
+      fail("parent " + std::to_string(body.parent) + " must be -1 or an earlier body");
+    if ((body.joint == BodyJointKind::kFree || body.joint == BodyJointKind::kWeld) &&
+        body.parent != -1)
+      fail("a free or welded joint must have the world as parent (weld bodies are merged)");
+    const BodyMassProperties& mp = body.mass;
+    if (!(mp.mass > 0.0) || !std::isfinite(mp.mass))
+      fail("mass must be > 0 and finite, got " + std::to_string(mp.mass));
+    const Mat3& I = mp.inertia;
+    const double a = I.m[0][0], bb = I.m[1][1], c = I.m[2][2];
+    if (!(a >= 0 && bb >= 0 && c >= 0) || !std::isfinite(a + bb + c))
+      fail("inertia diagonal must be >= 0 and finite");
+    const double slack = 1e-12 * (a + bb + c);
+    // Principal moments satisfy the triangle inequalities; checked on the eigen-free
+    // form: each diagonal entry at most the sum of the other two (necessary), and
+    // the matrix positive semi-definite by its leading minors.
+    if (a > bb + c + slack || bb > a + c + slack || c > a + bb + slack)
+      fail("inertia violates the triangle inequality (ixx " + std::to_string(a) + ", iyy " +
+           std::to_string(bb) + ", izz " + std::to_string(c) + ")");
+    if (!isRotation(body.X_PJ.rotation)) fail("X_PJ's rotation is not a rotation");
+    if (body.joint == BodyJointKind::kRevolute || body.joint == BodyJointKind::kPrismatic) {
+      const double n = norm(body.axis);
+      if (!(std::abs(n - 1.0) < 1e-9)) fail("axis must be a unit vector, |axis| = " + std::to_string(n));
+      if (!(body.lower <= body.upper)) fail("lower limit above upper");
+    }
+    if (!(body.damping >= 0) || !(body.friction >= 0) || !(body.armature >= 0) ||
+        !(body.effortLimit > 0))
+      fail("damping, friction, armature must be >= 0 and the effort limit > 0");
+    body.qStart = q;
+    body.vStart = v;
+    q += positionCountOf(body.joint);
+    const int nv = velocityCountOf(body.joint);
+    std::int32_t previous = body.parent >= 0 ? lastDof[body.parent] : -1;
+    for (int k = 0; k < nv; ++k) {
+      multibody.dofBody.push_back(static_cast<std::int32_t>(b));
+      multibody.dofParent.push_back(previous);
+      previous = v + k;
+    }
+    v += nv;
+    lastDof[b] = previous;
+  }
+  for (MultibodyFrame& frame : multibody.frames)
+    if (frame.body < 0 || frame.body >= static_cast<std::int32_t>(multibody.bodies.size()))
+      throw std::invalid_argument("multibody '" + multibody.name + "': frame '" + frame.name +
+                                  "' names body " + std::to_string(frame.body));
+  multibody.positionCount = q;
+  multibody.velocityCount = v;
+}
+
+std::vector<double> neutralConfiguration(const Multibody& multibody) {
+  std::vector<double> q(static_cast<std::size_t>(multibody.positionCount), 0.0);
+  for (const MultibodyBody& body : multibody.bodies) {
+    if (body.joint != BodyJointKind::kFree) continue;
+    const Quaternion r = quaternionFromMatrix(body.X_PJ.rotation);
+    double* x = q.data() + body.qStart;
+    x[0] = body.X_PJ.translation.x;
+    x[1] = body.X_PJ.translation.y;
+    x[2] = body.X_PJ.translation.z;
+    x[3] = r.w;
+    x[4] = r.x;
+    x[5] = r.y;
+    x[6] = r.z;
+  }
+  return q;
+}
+
+void updateKinematics(const Multibody& multibody, const double* q, MultibodyKinematics& kin) {
+  const std::size_t n = multibody.bodies.size();
+  kin.X_WB.resize(n);
+  kin.motion.resize(static_cast<std::size_t>(multibody.velocityCount));
+  kin.mass.resize(n);
+  kin.firstMoment.resize(n);
+  kin.inertiaAtOrigin.resize(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const MultibodyBody& body = multibody.bodies[b];
+    const Pose X_WP = body.parent >= 0 ? kin.X_WB[body.parent] : Pose{};
+    const double* qb = q + body.qStart;
+    SpatialVector* S = kin.motion.data() + body.vStart;
+    switch (body.joint) {
+      case BodyJointKind::kWeld: kin.X_WB[b] = X_WP * body.X_PJ; break;
+      case BodyJointKind::kRevolute: {
+        const Pose X_WJ = X_WP * body.X_PJ;
+        kin.X_WB[b] = {X_WJ.rotation * rotationAboutAxis(body.axis, qb[0]), X_WJ.translation};
+        const Vec3 axis_W = X_WJ.rotation * body.axis;
+        S[0] = {axis_W, cross(X_WJ.translation, axis_W)};
+        break;
+      }
+      case BodyJointKind::kPrismatic: {
+        const Pose X_WJ = X_WP * body.X_PJ;
+        const Vec3 axis_W = X_WJ.rotation * body.axis;
+        kin.X_WB[b] = {X_WJ.rotation, X_WJ.translation + axis_W * qb[0]};
+        S[0] = {{}, axis_W};
+        break;
+      }
+      case BodyJointKind::kFree: {
+        const Quaternion r = normalized({qb[3], qb[4], qb[5], qb[6]});
+        const Vec3 p{qb[0], qb[1], qb[2]};
+        kin.X_WB[b] = {rotationMatrix(r), p};
+        for (int k = 0; k < 3; ++k) {
+          Vec3 e{};
+          (k == 0 ? e.x : (k == 1 ? e.y : e.z)) = 1.0;
+          S[k] = {e, cross(p, e)};
+          S[3 + k] = {{}, e};
+        }
+        break;
+      }
+    }
+    const Pose& X = kin.X_WB[b];
+    const double m = body.mass.mass;
+    const Vec3 c = X * body.mass.centerOfMass;
+    const Mat3 Ic = X.rotation * body.mass.inertia * transpose(X.rotation);
+    kin.mass[b] = m;
+    kin.firstMoment[b] = c * m;
+    kin.inertiaAtOrigin[b] = Ic + m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
+  }
+}
+
+void updateVelocities(const Multibody& multibody, const double* v, MultibodyKinematics& kin) {
+  const std::size_t n = multibody.bodies.size();
+  kin.velocity.resize(n);
+  kin.biasAcceleration.resize(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const MultibodyBody& body = multibody.bodies[b];
+    const SpatialVector parent = body.parent >= 0 ? kin.velocity[body.parent] : SpatialVector{};
+    SpatialVector joint{};
+    const int nv = velocityCountOf(body.joint);
+    for (int k = 0; k < nv; ++k) joint = joint + kin.motion[body.vStart + k] * v[body.vStart + k];
+    kin.velocity[b] = parent + joint;
+    if (body.joint == BodyJointKind::kFree) {
+      // S depends on the body origin p: d/dt (S v) at fixed v is (0, ṗ × ω).
+      const double* vb = v + body.vStart;
+      kin.biasAcceleration[b] = {{}, cross(Vec3{vb[3], vb[4], vb[5]}, Vec3{vb[0], vb[1], vb[2]})};
+    } else {
+      // A joint axis fixed in the parent: Ṡ q̇ = V_parent ×m (S q̇).
+      kin.biasAcceleration[b] = crossMotion(parent, joint);
+    }
+  }
+}
+
+Pose framePose(const Multibody& multibody, const MultibodyKinematics& kin, std::int32_t frame) {
+  const MultibodyFrame& f = multibody.frames.at(static_cast<std::size_t>(frame));
+  return kin.X_WB[f.body] * f.X_BF;
+}
+
+Vec3 pointVelocity(const MultibodyKinematics& kin, std::int32_t body, const Vec3& p_WP) {
+  const SpatialVector& V = kin.velocity[body];
+  return V.linear + cross(V.angular, p_WP);
+}
+
+void pointJacobian(const Multibody& multibody, const MultibodyKinematics& kin, std::int32_t body,
+                   const Vec3& p_WP, double* translational, double* rotational) {
+  const int nv = multibody.velocityCount;
+  std::fill(translational, translational + 3 * nv, 0.0);
+  if (rotational) std::fill(rotational, rotational + 3 * nv, 0.0);
+  for (std::int32_t b = body; b != -1; b = multibody.bodies[b].parent) {
+    const MultibodyBody& mb = multibody.bodies[b];
+    for (int k = 0; k < velocityCountOf(mb.joint); ++k) {
+      const int column = mb.vStart + k;
+      const SpatialVector& S = kin.motion[column];
+      const Vec3 v = S.linear + cross(S.angular, p_WP);
+      translational[column] = v.x;
+      translational[nv + column] = v.y;
+      translational[2 * nv + column] = v.z;
+      if (rotational) {
+        rotational[column] = S.angular.x;
+        rotational[nv + column] = S.angular.y;
+        rotational[2 * nv + column] = S.angular.z;
+      }
+    }
+  }
+}
+
+void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* a,
+                     const Vec3& gravity, const SpatialVector* externalWrench, double* tau) {
+  const std::size_t n = multibody.bodies.size();
+  std::vector<SpatialVector> acceleration(n), force(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const MultibodyBody& body = multibody.bodies[b];
+    // Gravity as the world's acceleration −g (Featherstone's fictitious base acceleration).
+    SpatialVector A = body.parent >= 0 ? acceleration[body.parent] : SpatialVector{{}, -gravity};
+    A = A + kin.biasAcceleration[b];
+    if (a)
+      for (int k = 0; k < velocityCountOf(body.joint); ++k)
+        A = A + kin.motion[body.vStart + k] * a[body.vStart + k];
+    acceleration[b] = A;
+    const SpatialVector& V = kin.velocity[b];
+    const SpatialVector IV = applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], V);
+    force[b] = applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], A) +
+               crossForce(V, IV);
+    if (externalWrench) force[b] = force[b] + externalWrench[b] * -1.0;
+  }
+  for (std::size_t b = n; b-- > 0;) {
+    const MultibodyBody& body = multibody.bodies[b];
+    for (int k = 0; k < velocityCountOf(body.joint); ++k)
+      tau[body.vStart + k] = dotMotionForce(kin.motion[body.vStart + k], force[b]);
+    if (body.parent >= 0) force[body.parent] = force[body.parent] + force[b];
+  }
+}
+
+void massMatrix(const Multibody& multibody, const MultibodyKinematics& kin, double* M) {
+  const std::size_t n = multibody.bodies.size();
+  const int nv = multibody.velocityCount;
+  std::fill(M, M + static_cast<std::size_t>(nv) * nv, 0.0);
+  std::vector<double> m(kin.mass);
+  std::vector<Vec3> h(kin.firstMoment);
+  std::vector<Mat3> I(kin.inertiaAtOrigin);
+  for (std::size_t b = n; b-- > 0;) {
+    const MultibodyBody& body = multibody.bodies[b];
+    for (int k = 0; k < velocityCountOf(body.joint); ++k) {
+      const int i = body.vStart + k;
+      const SpatialVector F = applyInertia(m[b], h[b], I[b], kin.motion[i]);
+      for (int j = i; j != -1; j = multibody.dofParent[j]) {
+        const double value = dotMotionForce(kin.motion[j], F);
+        M[j * nv + i] = value;
+        M[i * nv + j] = value;
+      }
+    }
+    if (body.parent >= 0) {
+      m[body.parent] += m[b];
+      h[body.parent] += h[b];
+      I[body.parent] = I[body.parent] + I[b];
+    }
+  }
+}
+
+double kineticEnergy(const MultibodyKinematics& kin) {
+  double energy = 0.0;
+  for (std::size_t b = 0; b < kin.mass.size(); ++b) {
+    const SpatialVector& V = kin.velocity[b];
+    energy += 0.5 * dotMotionForce(V, applyInertia(kin.mass[b], kin.firstMoment[b],
+                                                   kin.inertiaAtOrigin[b], V));
+  }
+  return energy;
+}
+
+double gravitationalEnergy(const MultibodyKinematics& kin, const Vec3& gravity) {
+  double energy = 0.0;
+  for (const Vec3& h : kin.firstMoment) energy -= dot(h, gravity);
+  return energy;
+}
+
+SpatialVector spatialMomentum(const MultibodyKinematics& kin) {
+  SpatialVector total{};
+  for (std::size_t b = 0; b < kin.mass.size(); ++b)
+    total = total + applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b],
+                                 kin.velocity[b]);
+  return total;
+}
+
+void integrateConfiguration(const Multibody& multibody, double* q, const double* v, double dt) {
+  for (const MultibodyBody& body : multibody.bodies) {
+    double* qb = q + body.qStart;
+    const double* vb = v + body.vStart;
+    switch (body.joint) {
+      case BodyJointKind::kWeld: break;
+      case BodyJointKind::kRevolute:
+      case BodyJointKind::kPrismatic: qb[0] += dt * vb[0]; break;
+      case BodyJointKind::kFree: {
+        qb[0] += dt * vb[3];
+        qb[1] += dt * vb[4];
+        qb[2] += dt * vb[5];
+        // World angular velocity: R⁺ = exp(dt ω) R, on the unit quaternions.
+        const Quaternion turned =
+            normalized(quaternionFromRotationVector(Vec3{vb[0], vb[1], vb[2]} * dt) *
+                       Quaternion{qb[3], qb[4], qb[5], qb[6]});
+        qb[3] = turned.w;
+        qb[4] = turned.x;
+        qb[5] = turned.y;
+        qb[6] = turned.z;
+        break;
+      }
+    }
+  }
+}
+
+namespace {
+
+// One row of the step's impulse problem: the rate `dof` is held to `target` with an
+// impulse in [low, high] (a hard stop: one-sided; friction: ±dt F).
+struct ImpulseRow {
+  std::int32_t dof;
+  double target, low, high;
+};
+
+// x = A⁻¹ b for a symmetric positive definite 3×3 A (Cholesky).
+Vec3 solveSymmetric(const Mat3& A, const Vec3& b) {
+  const double l00 = std::sqrt(A.m[0][0]);
+  const double l10 = A.m[1][0] / l00, l20 = A.m[2][0] / l00;
+  const double l11 = std::sqrt(A.m[1][1] - l10 * l10);
+  const double l21 = (A.m[2][1] - l20 * l10) / l11;
+  const double l22 = std::sqrt(A.m[2][2] - l20 * l20 - l21 * l21);
+  const double y0 = b.x / l00, y1 = (b.y - l10 * y0) / l11, y2 = (b.z - l20 * y0 - l21 * y1) / l22;
+  const double x2 = y2 / l22, x1 = (y1 - l21 * x2) / l11, x0 = (y0 - l10 * x1 - l20 * x2) / l00;
+  return {x0, x1, x2};
+}
+
+// A free tree's semi-implicit step keeps its momentum only to O(dt²) a step (the
+// momentum map changes with q within the step). The whole tree is given the
+// rigid velocity change ΔV that restores h⁺ = h + dt W exactly: I_tot ΔV = Δh,
+// every body's velocity shifted by the same ΔV, the joint rates untouched.
+void restoreMomentum(const Multibody& multibody, const double* q, double* v,
+                     const SpatialVector& target, MultibodyKinematics& kin) {
+  updateKinematics(multibody, q, kin);
+  updateVelocities(multibody, v, kin);
+  const SpatialVector now = spatialMomentum(kin);
+  const Vec3 dL = target.angular - now.angular, dP = target.linear - now.linear;
+  double m = 0.0;
+  Vec3 h{};
+  Mat3 I = Mat3::zero();
+  for (std::size_t b = 0; b < kin.mass.size(); ++b) {
+    m += kin.mass[b];
+    h += kin.firstMoment[b];
+    I = I + kin.inertiaAtOrigin[b];
+  }
+  // (I_O ω + h × v, m v − h × ω) = (dL, dP): ω from the inertia about the centre.
+  const Mat3 hx = Mat3::crossMatrix(h);
+  const Mat3 aboutCentre = I + (1.0 / m) * (hx * hx);
+  const Vec3 omega = solveSymmetric(aboutCentre, dL - cross(h, dP) / m);
+  const Vec3 vOrigin = (dP + cross(h, omega)) / m;
+  const MultibodyBody& base = multibody.bodies[0];
+  const Vec3 p{q[base.qStart], q[base.qStart + 1], q[base.qStart + 2]};
+  const Vec3 vBase = vOrigin + cross(omega, p);
+  double* vb = v + base.vStart;
+  vb[0] += omega.x;
+  vb[1] += omega.y;
+  vb[2] += omega.z;
+  vb[3] += vBase.x;
+  vb[4] += vBase.y;
+  vb[5] += vBase.z;
+}
+
+// Projected Gauss–Seidel on the rows' exact Delassus matrix W = (A⁻¹)_rows (A
+// factored in ws.massMatrix): velocity = v_free + A⁻¹ Σ e_r λ_r with each λ_r in
+// its bounds and its row's target met where the bounds allow. Rows already solved
+// keep their impulses as the starting point.
+void solveImpulses(const std::vector<ImpulseRow>& rows, int nv, const std::vector<std::int32_t>& parent,
+                   MultibodyWorkspace& ws, std::vector<double>& velocity) {
+  const auto n = static_cast<std::size_t>(nv);
+  const std::size_t m = rows.size(), known = ws.impulse.size();
+  ws.impulse.resize(m, 0.0);
+  ws.delassus.resize(m * n);
+  for (std::size_t r = known; r < m; ++r) {  // column r: A⁻¹ e_dof(r)
+    double* column = ws.delassus.data() + r * n;
+    std::fill(column, column + n, 0.0);
+    column[rows[r].dof] = 1.0;
+    solveTree(ws.massMatrix.data(), nv, parent, column);
+  }
+  for (int sweep = 0; sweep < 200; ++sweep) {
+    double change = 0.0;
+    for (std::size_t r = 0; r < m; ++r) {
+      const double* column = ws.delassus.data() + r * n;
+      const double w = column[rows[r].dof];
+      const double old = ws.impulse[r];
+      const double next =
+          std::clamp(old + (rows[r].target - velocity[rows[r].dof]) / w, rows[r].low, rows[r].high);
+      const double delta = next - old;
+      if (delta != 0.0) {
+        ws.impulse[r] = next;
+        for (std::size_t i = 0; i < n; ++i) velocity[i] += delta * column[i];
+        change = std::max(change, std::abs(delta * w));
+      }
+    }
+    if (change < 1e-14) break;
+  }
+}
+
+double inputAt(const std::vector<double>& values, std::size_t i) {
+  return values.empty() ? 0.0 : values[i];
+}
+
+}  // namespace
+
+MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double>& q,
+                                  std::vector<double>& v, const MultibodyInputs& inputs,
+                                  double dt, const Vec3& gravity, MultibodyWorkspace& ws) {
+  const int nv = multibody.velocityCount;
+  const auto n = static_cast<std::size_t>(nv);
+  MultibodyStepReport report;
+  MultibodyKinematics& kin = ws.kinematics;
+  updateKinematics(multibody, q.data(), kin);
+  updateVelocities(multibody, v.data(), kin);
+  ws.massMatrix.resize(n * n);
+  ws.rhs.resize(n);
+  ws.tau.resize(n);
+  massMatrix(multibody, kin, ws.massMatrix.data());
+  inverseDynamics(multibody, kin, nullptr, gravity,
+                  inputs.wrench.empty() ? nullptr : inputs.wrench.data(), ws.tau.data());
+
+  // The implicit terms: joint damping b and the servos' κ and β on the diagonal;
+  // scratch holds each rate's explicit effort.
+  ws.scratch.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+    const bool oneDof = velocityCountOf(body.joint) == 1;
+    const double qi = oneDof ? q[body.qStart] : 0.0;
+    double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
+    const double target = inputAt(inputs.servoTarget, i), targetRate = inputAt(inputs.servoTargetRate, i);
+    double effort = inputAt(inputs.effort, i);
+    const double damping = oneDof ? body.damping : 0.0;
+    if (oneDof && (kappa > 0.0 || beta > 0.0)) {
+      // The servo's effort at the step's end if its rate stayed: saturated servos act
+      // explicitly at their limit.
+      const double servo = -kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate);
+      if (std::abs(effort + servo) > body.effortLimit) {
+        effort = std::clamp(effort + servo, -body.effortLimit, body.effortLimit);
+        kappa = beta = 0.0;
+      }
+    } else if (oneDof) {
+      effort = std::clamp(effort, -body.effortLimit, body.effortLimit);
+    }
+    ws.scratch[i] = effort;
+    ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + beta) + dt * dt * kappa;
+    ws.rhs[i] = dt * (effort - ws.tau[i] - kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate) -
+                      damping * v[i]);
+  }
+  factorTree(ws.massMatrix.data(), nv, multibody.dofParent);
+  solveTree(ws.massMatrix.data(), nv, multibody.dofParent, ws.rhs.data());
+  ws.velocityFree.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ws.velocityFree[i] = v[i] + ws.rhs[i];
+
+  // Hard stops and joint friction: bounded impulses on v⁺ (projected Gauss–Seidel on
+  // the rows' exact Delassus matrix W = (A⁻¹)_rows).
+  // Rows are added as the impulses of the others push a joint past a stop, until
+  // none does (at most one round a joint).
+  std::vector<ImpulseRow> rows;
+  ws.impulse.clear();
+  std::vector<char> stopped(multibody.bodies.size(), 0);
+  for (const MultibodyBody& body : multibody.bodies)
+    if (velocityCountOf(body.joint) == 1 && body.friction > 0.0)
+      rows.push_back({body.vStart, 0.0, -dt * body.friction, dt * body.friction});
+  std::vector<double>& velocity = ws.column;
+  velocity = ws.velocityFree;
+  for (std::size_t round = 0; round <= multibody.bodies.size(); ++round) {
+    const std::size_t before = rows.size();
+    for (std::size_t b = 0; b < multibody.bodies.size(); ++b) {
+      const MultibodyBody& body = multibody.bodies[b];
+      if (velocityCountOf(body.joint) != 1 || stopped[b]) continue;
+      const std::int32_t i = body.vStart;
+      const double qi = q[body.qStart];
+      const double predicted = qi + dt * velocity[i];
+      if (predicted > body.upper) rows.push_back({i, (body.upper - qi) / dt, -1e300, 0.0});
+      else if (predicted < body.lower) rows.push_back({i, (body.lower - qi) / dt, 0.0, 1e300});
+      else continue;
+      stopped[b] = 1;
+    }
+    if (rows.size() == before && round > 0) break;
+    if (rows.empty()) break;
+    solveImpulses(rows, nv, multibody.dofParent, ws, velocity);
+  }
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (ws.impulse[r] != 0.0) ++report.constrainedJoints;
+    report.dissipated -= ws.impulse[r] * velocity[rows[r].dof];
+  }
+  ws.velocityFree = velocity;
+
+  // The momentum the step must end with (a free tree): h⁺ = h + dt W, W the
+  // external wrenches and gravity at q (internal joint loads cancel).
+  const bool freeTree = !multibody.bodies.empty() && multibody.bodies[0].joint == BodyJointKind::kFree;
+  SpatialVector momentumTarget{};
+  if (freeTree) {
+    momentumTarget = spatialMomentum(kin);
+    for (std::size_t b = 0; b < multibody.bodies.size(); ++b) {
+      const Vec3 weight = gravity * kin.mass[b];
+      momentumTarget = momentumTarget + SpatialVector{cross(kin.firstMoment[b], gravity) , weight} * dt;
+      if (!inputs.wrench.empty()) momentumTarget = momentumTarget + inputs.wrench[b] * dt;
+    }
+  }
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+    const double vi = ws.velocityFree[i];
+    report.inputWork += dt * ws.scratch[i] * vi;
+    if (velocityCountOf(body.joint) == 1) report.dissipated += dt * body.damping * vi * vi;
+    v[i] = vi;
+  }
+  integrateConfiguration(multibody, q.data(), v.data(), dt);
+  if (freeTree) restoreMomentum(multibody, q.data(), v.data(), momentumTarget, kin);
+  return report;
+}
+
+}  // namespace robophi
