@@ -29,6 +29,7 @@ from ._robophi import (  # noqa: F401
     Object,
     Plate,
     RigidBody,
+    RigidRobot,
     Rope,
     Scene,
     SceneError,
@@ -51,7 +52,7 @@ from ._robophi import _is_urdf_path, _load_scene, _load_urdf
 __all__ = [
     "AdaptiveSettings", "Arm", "Ball", "Box", "DivergedError", "EnergyTally", "Error", "Hand",
     "Joint", "JointDrive", "Material", "Model", "ModelBuilder", "Object", "Plate", "RigidBody",
-    "Rope", "Scene", "SceneError", "Shape", "Snapshot", "SpecError", "State", "Trajectory",
+    "RigidRobot", "Rope", "Scene", "SceneError", "Shape", "Snapshot", "SpecError", "State", "Trajectory",
     "Urdf", "Vehicle", "Wheel", "World",
     "format_hash", "load", "rollout", "run", "state_hash",
 ]

@@ -136,4 +136,5 @@ PYBIND11_MODULE(_robophi, m) {
   bindRun(m);
   bindUrdf(m);
   bindActuators(m);
+  bindMultibody(m);
 }

@@ -184,5 +184,6 @@ void bindBuild(py::module_& m);
 void bindRun(py::module_& m);
 void bindUrdf(py::module_& m);
 void bindActuators(py::module_& m);
+void bindMultibody(py::module_& m);
 
 }  // namespace robophi::python
