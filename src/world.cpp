@@ -10,6 +10,7 @@
 #include "evaluate.h"
 #include "forces/forces.h"
 #include "integrate/integrators.h"
+#include "integrate/rigid_trees.h"
 
 namespace robophi {
 
@@ -41,7 +42,21 @@ World::World(CompiledModel model, State initial, Integrator integrator)
     throw std::invalid_argument(
         detail::text("World: particle {} of the initial state is not finite", bad));
   }
+  const std::vector<RigidTree>& trees = model_.model().rigidTrees;
+  if (initial.treePositions.size() != trees.size() || initial.treeVelocities.size() != trees.size())
+    throw std::invalid_argument(detail::text("World: the initial state has {} rigid trees; the model has {}",
+                                             initial.treePositions.size(), trees.size()));
+  for (std::size_t t = 0; t < trees.size(); ++t) {
+    const Multibody& mb = trees[t].multibody;
+    if (initial.treePositions[t].size() != static_cast<std::size_t>(mb.positionCount) ||
+        initial.treeVelocities[t].size() != static_cast<std::size_t>(mb.velocityCount))
+      throw std::invalid_argument(detail::text(
+          "World: rigid tree {} '{}' has {} coordinates and {} rates in the initial state, not {} and {}",
+          t, mb.name, initial.treePositions[t].size(), initial.treeVelocities[t].size(),
+          mb.positionCount, mb.velocityCount));
+  }
   current_.state_ = std::move(initial);
+  if (!trees.empty()) placeTreeParticles(model_.model(), current_.state_, treeWorkspaces_);
 }
 
 void World::evaluateCurrent() const {
@@ -49,6 +64,8 @@ void World::evaluateCurrent() const {
   Evaluation& evaluation = current_.evaluation_;
   evaluateForces(model_, state, workspace_, evaluation);
   measureKinetic(model_, state, workspace_, evaluation);
+  if (!model_.model().rigidTrees.empty())
+    addRigidTreeTerms(model_.model(), model_.contactTables(), state, evaluation, treeWorkspaces_);
 }
 
 void World::refresh() const {
@@ -129,6 +146,10 @@ StepStatus World::step(double dt) {
                         }
                       });
   const std::vector<double>& spinInertia = model_.contactTables().inverseSpinInertia;
+  // Rigid trees (docs/model.md §7): stepped with the loads at t on their particles,
+  // which they then carry to t + δ (the integrators' fixed-particle rule lands them).
+  const bool trees = !model.rigidTrees.empty();
+  if (trees) stepRigidTrees(model, dt, evaluation, state, treeWorkspaces_);
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ. Taylor's scheme and
   // symplectic Euler leave the velocities final: one pass integrates, starts the
@@ -160,6 +181,7 @@ StepStatus World::step(double dt) {
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
   measureKinetic(model_, state, workspace_, evaluation, pass);
+  if (trees) addRigidTreeTerms(model, model_.contactTables(), state, evaluation, treeWorkspaces_);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;

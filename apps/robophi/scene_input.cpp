@@ -26,6 +26,9 @@ void addUrdfOptions(CLI::App& command, UrdfSceneOptions& urdf, std::string& base
   command.add_option("--base", base,
                      "A bare URDF: fixed | free (default: free for a wheeled base, two or more "
                      "continuous joints; fixed otherwise)");
+  command.add_flag("--rigid", urdf.rigid,
+                   "A bare URDF: its links as rigid bodies with the file's exact mass properties "
+                   "and joints in reduced coordinates (docs/robots.md \"Rigid bodies\")");
 }
 
 bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOptions& urdf) {

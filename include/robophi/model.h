@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "robophi/contact.h"
+#include "robophi/multibody.h"
 #include "robophi/vec3.h"
 
 namespace robophi {
@@ -277,6 +278,31 @@ struct BodyLink {
   std::vector<std::int32_t> weightBodies{};
 };
 
+/// A particle that carries a rigid body's contact surface (docs/model.md §7): a
+/// fixed particle of the model (inverse mass 0) that the body moves; the force
+/// and torque the evaluation finds on it act on the body.
+struct BodyParticle {
+  ParticleIndex particle = kNoParticle;
+  /// Index into the tree's Multibody::bodies.
+  std::int32_t body = 0;
+  /// Its position in the body's frame p_BP (m).
+  Vec3 p_BP{};
+};
+
+/// A tree of rigid bodies in reduced coordinates (docs/model.md §7): its bodies'
+/// exact mass properties and joints, the particles that carry its contact surface
+/// (only its <collision> geometry), and what drives it. Its coordinates and rates
+/// are State::treePositions and treeVelocities.
+struct RigidTree {
+  Multibody multibody;
+  std::vector<BodyParticle> particles;
+  /// Efforts and servos (control; World::setTreeInputs): per rate, or empty.
+  MultibodyInputs inputs;
+  /// Adds the gravity forces at q to the efforts at every step (gravity
+  /// compensation; its work is booked as external, as a motor's).
+  bool compensateGravity = false;
+};
+
 /// The model: particles as flat arrays, connectors as small structs.
 struct Model {
   // Particles. Every array has particleCount() entries.
@@ -295,7 +321,9 @@ struct Model {
   std::vector<LinearSpring> linearSprings;
   std::vector<TorsionSpring> torsionSprings;
   std::vector<JointSpring> jointSprings;
-  /// Rigid bodies and the links between them (MODEL §1.7).
+  /// Trees of rigid bodies (docs/model.md §7).
+  std::vector<RigidTree> rigidTrees;
+  /// Rigid bodies of particles and the links between them (MODEL §1.7).
   std::vector<RigidGroup> bodies;
   std::vector<BodyLink> bodyLinks;
 

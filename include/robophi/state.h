@@ -63,6 +63,8 @@ struct State {
   /// contacts of the evaluation that ended the previous step, committed by the
   /// step. Sorted by Contact::key(). Empty at the start.
   std::vector<Contact> frictionHistory;
+  /// (Model::rigidTrees) each tree's coordinates q and rates v (docs/model.md §7).
+  std::vector<std::vector<double>> treePositions, treeVelocities;
   /// Work removed by dissipative forces since t = 0 (J), EnergyTally::dissipated.
   double dissipated = 0.0;
   /// Work done from outside since t = 0 (J), EnergyTally::external.

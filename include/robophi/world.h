@@ -195,6 +195,8 @@ class World {
   /// is brought up to date lazily by const accessors).
   mutable Snapshot current_;
   mutable Workspace workspace_;
+  /// The rigid trees' scratch (Model::rigidTrees, one each).
+  mutable std::vector<MultibodyWorkspace> treeWorkspaces_;
   /// Work booked as external for edits since the last bookExternalWork() (J).
   mutable double unreportedWork_ = 0.0;
   std::uint64_t changes_ = 0;  // changeCount()

@@ -497,6 +497,45 @@ void ModelBuilder::excludeContact(std::int32_t objectA, std::int32_t objectB) {
   if (at == pairs.end() || *at != pair) pairs.insert(at, pair);
 }
 
+std::int32_t ModelBuilder::addRigidTree(RigidTree tree, std::vector<double> q, std::vector<double> v) {
+  const std::string what = "rigid tree '" + tree.multibody.name + "'";
+  try {
+    finalize(tree.multibody);
+  } catch (const std::invalid_argument& error) {
+    throw SpecError("addRigidTree", "multibody", what + ": " + error.what());
+  }
+  const Multibody& mb = tree.multibody;
+  if (q.empty()) q = neutralConfiguration(mb);
+  if (v.empty()) v.assign(static_cast<std::size_t>(mb.velocityCount), 0.0);
+  if (q.size() != static_cast<std::size_t>(mb.positionCount) ||
+      v.size() != static_cast<std::size_t>(mb.velocityCount))
+    throw SpecError("addRigidTree", "q", what + ": " + std::to_string(q.size()) + " coordinates and " +
+                    std::to_string(v.size()) + " rates given, expected " +
+                    std::to_string(mb.positionCount) + " and " + std::to_string(mb.velocityCount));
+  for (double x : q)
+    if (!std::isfinite(x)) throw SpecError("addRigidTree", "q", what + ": a coordinate is not finite");
+  const ParticleIndex n = model_.particleCount();
+  for (const BodyParticle& bp : tree.particles) {
+    if (bp.particle < 0 || bp.particle >= n || !model_.isFixed(bp.particle))
+      throw SpecError("addRigidTree", "particles", what + ": particle " + std::to_string(bp.particle) +
+                      " must be a placed fixed particle");
+    if (bp.body < 0 || bp.body >= static_cast<std::int32_t>(mb.bodies.size()))
+      throw SpecError("addRigidTree", "particles", what + ": body " + std::to_string(bp.body) + " does not exist");
+  }
+  MultibodyKinematics kin;
+  updateKinematics(mb, q.data(), kin);
+  updateVelocities(mb, v.data(), kin);
+  for (const BodyParticle& bp : tree.particles) {
+    const auto i = static_cast<std::size_t>(bp.particle);
+    position_[i] = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
+    velocity_[i] = pointVelocity(kin, bp.body, position_[i]);
+  }
+  model_.rigidTrees.push_back(std::move(tree));
+  treePositions_.push_back(std::move(q));
+  treeVelocities_.push_back(std::move(v));
+  return static_cast<std::int32_t>(model_.rigidTrees.size()) - 1;
+}
+
 BuiltModel ModelBuilder::build() && {
   // Internal check: every method checked its arguments, so the model is consistent.
   if (const std::string problem = checkModel(model_); !problem.empty())
@@ -505,6 +544,8 @@ BuiltModel ModelBuilder::build() && {
   built.initial = State::sizedFor(built.model);
   built.initial.position = std::move(position_);
   built.initial.velocity = std::move(velocity_);
+  built.initial.treePositions = std::move(treePositions_);
+  built.initial.treeVelocities = std::move(treeVelocities_);
   *this = ModelBuilder{};
   return built;
 }

@@ -6,10 +6,16 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <tuple>
 
 #include "build/checks.h"
+#include "build/shape_fill.h"
 #include "build/urdf_parse.h"
+#include "robophi/build/model_builder.h"
+#include "robophi/build/rigid_body.h"
+#include "robophi/build/spec_error.h"
 
 namespace robophi::build {
 
@@ -307,6 +313,123 @@ UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
                                 "): the joint moves on its own unless a controller couples it");
   }
   return out;
+}
+
+namespace {
+
+Frame frameOf(const Pose& X) {
+  Frame f;
+  f.origin = X.translation;
+  for (int c = 0; c < 3; ++c) f.axes[static_cast<std::size_t>(c)] = X.rotation.column(c);
+  return f;
+}
+
+}  // namespace
+
+PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibody& robot,
+                                       const UrdfMultibodyPlacement& placement) {
+  const Multibody& mb = robot.multibody;
+  if (!(placement.particleSize >= 0.0) || placement.particlesPerBody < 1)
+    throw SpecError("UrdfMultibodyPlacement", "particleSize", "particleSize must be >= 0 m and particlesPerBody >= 1, got " +
+                    check::number(placement.particleSize) + " and " +
+                    std::to_string(placement.particlesPerBody));
+  PlacedUrdfMultibody placed;
+  // Each body's collision shapes, meshes read once per file and scale.
+  std::map<std::tuple<std::string, double, double, double>, TriangleMesh> meshes;
+  std::vector<std::vector<ShapeSpec>> shapes(mb.bodies.size());
+  for (const UrdfCollisionShape& c : robot.collisions) {
+    ShapeSpec shape;
+    shape.frame = frameOf(c.X_BS);
+    switch (c.kind) {
+      case UrdfCollisionShape::Kind::kBox:
+        shape.kind = ShapeSpec::Kind::kBox;
+        shape.size = c.size;
+        break;
+      case UrdfCollisionShape::Kind::kCylinder:
+        shape.kind = ShapeSpec::Kind::kCylinder;
+        shape.radius = c.size.x;
+        shape.length = c.size.z;
+        break;
+      case UrdfCollisionShape::Kind::kSphere:
+        shape.kind = ShapeSpec::Kind::kSphere;
+        shape.radius = c.size.x;
+        break;
+      case UrdfCollisionShape::Kind::kMesh: {
+        shape.kind = ShapeSpec::Kind::kMesh;
+        const auto key = std::make_tuple(c.mesh, c.scale.x, c.scale.y, c.scale.z);
+        auto found = meshes.find(key);
+        if (found == meshes.end()) {
+          try {
+            found = meshes.emplace(key, loadMesh(c.mesh, c.scale)).first;
+          } catch (const std::exception& error) {
+            throw UrdfError(c.mesh, 0, std::string("<collision> mesh of link '") + c.link + "': " + error.what());
+          }
+          ++placed.meshesRead;
+        }
+        shape.mesh = found->second;
+        break;
+      }
+    }
+    shapes[static_cast<std::size_t>(c.body)].push_back(std::move(shape));
+  }
+  // The bodies' poses as the robot starts.
+  std::vector<double> q = placement.q.empty() ? neutralConfiguration(mb) : placement.q;
+  MultibodyKinematics kin;
+  if (q.size() != static_cast<std::size_t>(mb.positionCount))
+    throw SpecError("UrdfMultibodyPlacement", "q", std::to_string(q.size()) + " coordinates for '" + mb.name +
+                    "', which has " + std::to_string(mb.positionCount));
+  updateKinematics(mb, q.data(), kin);
+  RigidTree tree;
+  tree.multibody = mb;
+  placed.objectOfBody.assign(mb.bodies.size(), -1);
+  std::vector<std::int32_t> objects;
+  for (std::size_t b = 0; b < mb.bodies.size(); ++b) {
+    if (shapes[b].empty()) continue;  // no <collision>: touches nothing
+    const double spacing = placement.particleSize > 0.0
+                               ? placement.particleSize
+                               : detail::spacingFor(shapes[b], placement.particlesPerBody);
+    std::vector<Vec3> local;
+    std::vector<double> radius;
+    for (const ShapeSpec& shape : shapes[b]) {
+      const detail::ShapeLattice lattice = detail::fillShape(shape, spacing);
+      const double r = 0.5 * std::min({lattice.cell.x, lattice.cell.y, lattice.cell.z});
+      for (const Vec3& p : lattice.position) {
+        local.push_back(p);
+        radius.push_back(r);
+      }
+    }
+    if (local.empty()) continue;
+    ObjectPlacement object;
+    object.name = mb.bodies[b].name;
+    object.kind = "link";
+    object.material = placement.material;
+    object.geometry.rigid = true;
+    object.geometry.spacing = spacing;
+    const double share = mb.bodies[b].mass.mass / static_cast<double>(local.size());
+    for (std::size_t k = 0; k < local.size(); ++k) {
+      object.geometry.position.push_back(kin.X_WB[b] * local[k]);
+      object.geometry.mass.push_back(share);
+      object.geometry.radius.push_back(radius[k]);
+      object.geometry.fixed.push_back(true);
+    }
+    const PlacedObject at = builder.addObject(object);
+    placed.objectOfBody[b] = at.object;
+    objects.push_back(at.object);
+    for (std::size_t k = 0; k < local.size(); ++k)
+      tree.particles.push_back({at.firstParticle + static_cast<ParticleIndex>(k), static_cast<std::int32_t>(b),
+                                local[k]});
+  }
+  // Contacts between the robot's own bodies: none, or none across a joint.
+  for (std::size_t i = 0; i < mb.bodies.size(); ++i)
+    for (std::size_t j = i + 1; j < mb.bodies.size(); ++j) {
+      const std::int32_t a = placed.objectOfBody[i], b = placed.objectOfBody[j];
+      if (a < 0 || b < 0) continue;
+      const bool jointed = mb.bodies[j].parent == static_cast<std::int32_t>(i) ||
+                           mb.bodies[i].parent == static_cast<std::int32_t>(j);
+      if (!placement.selfCollision || jointed) builder.excludeContact(a, b);
+    }
+  placed.tree = builder.addRigidTree(std::move(tree), q, placement.v);
+  return placed;
 }
 
 }  // namespace robophi::build

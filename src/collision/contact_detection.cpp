@@ -307,7 +307,7 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
   const std::int32_t begin = list.start[k], end = list.start[k + 1];
   work.pairTests += end - begin;
   const ContactTables& tables = *cache.tables;
-  if (model.inverseMass[i] != 0.0 && tables.exclusionStart[i] == tables.exclusionStart[i + 1]) {
+  if (tables.movable[i] != 0 && tables.exclusionStart[i] == tables.exclusionStart[i + 1]) {
     // The common row (i moves, no connector ties it): every partner within
     // reach touches. Each is written and kept by the test's outcome, not
     // branched on: about half the listed partners touch, a coin toss for the
@@ -332,7 +332,7 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
     const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
     const double reach = r + model.radius[j];
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
-    if (model.inverseMass[i] == 0.0 && model.inverseMass[j] == 0.0) continue;
+    if (tables.movable[i] == 0 && tables.movable[j] == 0) continue;
     if (excluded(*cache.tables, i, j)) continue;
     addSeed(work, ContactSeed::pair(i, j));
   }
@@ -378,7 +378,7 @@ void treesVersusGrid(const Model& model, const std::vector<Vec3>& position, cons
       for (std::int32_t s = begin; s < end; ++s) {
         if (checkKey && cache.sortedKey[s] != key) continue;
         const std::int32_t j = cache.sortedParticle[s];
-        if (tree.allFixed && model.inverseMass[j] == 0.0) continue;
+        if (tree.allFixed && cache.tables->movable[j] == 0) continue;
         treeVersusParticle(model, position, cache, tree.rootNode, j);
       }
     };
@@ -515,7 +515,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
     for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
       const std::int32_t i = gridParticles[k];
       listedContacts(model, position, static_cast<std::int32_t>(k), i, cache, work);
-      if (model.inverseMass[i] != 0.0)
+      if (cache.tables->movable[i] != 0)
         particleVersusEnvironment(model, position[i], i, cache, work);
     }
   });

@@ -426,10 +426,11 @@ inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle)
 // The stability rates of one contact (the larger of the normal and the
 // tangential stiffness and damping, the tangential ones for the contact point's
 // effective mass: rotationFactor), 0 when both its sides are fixed.
-inline void contactRates(const Model& model, const PairParameters& k, std::int32_t a,
+inline void contactRates(const ContactTables& tables, const PairParameters& k, std::int32_t a,
                          std::int32_t other, double rotationFactor, double tangentialDamping,
                          double& stiffness, double& damping) {
-  const double inverseMass = model.inverseMass[a] + (other >= 0 ? model.inverseMass[other] : 0.0);
+  const std::vector<double>& w = tables.contactInverseMass;
+  const double inverseMass = w[a] + (other >= 0 ? w[other] : 0.0);
   if (inverseMass == 0.0) {
     stiffness = 0.0;
     damping = 0.0;
@@ -769,7 +770,7 @@ void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std
     b.vax[l] = va.x, b.vay[l] = va.y, b.vaz[l] = va.z;
     b.wax[l] = wa.x, b.way[l] = wa.y, b.waz[l] = wa.z;
     b.ra[l] = model.radius[a];
-    b.ima[l] = model.inverseMass[a];
+    b.ima[l] = tables.contactInverseMass[a];
     b.spinInverseA[l] = tables.inverseSpinInertia[a];
     b.spinsA[l] = kindA == 1 ? 1.0 : 0.0;
     // The other side: a particle, or the environment (its side at rest, the
@@ -787,7 +788,7 @@ void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std
       vb = v[other];
       wb = spinOf(other, kindB);
       rb = model.radius[other];
-      imb = model.inverseMass[other];
+      imb = tables.contactInverseMass[other];
       spinInverseB = tables.inverseSpinInertia[other];
     }
     b.environment[l] = environment ? 1.0 : 0.0;
@@ -1123,7 +1124,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     t.ring = -1;
     double smallerRadius = model.radius[a];
     Vec3 relativeVelocity;
-    double inverseMass = model.inverseMass[a];
+    double inverseMass = tables.contactInverseMass[a];
     // MODEL §3.8 flat faces (collision/facets.h): a vertex or a particle against a
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
@@ -1156,7 +1157,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       armLengthB = g.armLengthB;
       smallerRadius = std::min(smallerRadius, model.radius[b]);
       relativeVelocity = v[a] - v[b];
-      inverseMass += model.inverseMass[b];
+      inverseMass += tables.contactInverseMass[b];
       ++stats.particleContacts;
     } else if (rimmed) {
       // A round rim or ball (rigid about its centre, above): the contact point on
@@ -1216,7 +1217,7 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
     // call reaches every capture through the closure, on every contact.)
     const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
       double stiffness = 0.0, damping = 0.0;
-      contactRates(model, k, a, other, rotationFactor, tangentialDamping, stiffness, damping);
+      contactRates(tables, k, a, other, rotationFactor, tangentialDamping, stiffness, damping);
       ContactLoad& load = Lean     ? leanLoad
                           : direct ? chunk.runLoads[index - runFirst]
                                    : cache.loads[index];
@@ -1651,8 +1652,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
   // a particle's other-side contacts come before its own).
   double criticalStep = std::numeric_limits<double>::infinity();
   const auto limitOf = [&](std::size_t i, double stiffness, double damping) {
-    const double omega = std::sqrt(2.0 * stiffness * model.inverseMass[i]);
-    const double dampingRate = 2.0 * damping * model.inverseMass[i];
+    const double omega = std::sqrt(2.0 * stiffness * tables.contactInverseMass[i]);
+    const double dampingRate = 2.0 * damping * tables.contactInverseMass[i];
     return dampedCriticalStep(omega, dampingRate);
   };
   if (stageThreads <= 1) {

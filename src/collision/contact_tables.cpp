@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <tuple>
 
@@ -60,6 +61,53 @@ void buildExclusions(const Model& model, ContactTables& cache) {
   cache.exclusionPartner.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     cache.exclusionPartner[k] = pairs[k].second;  // sorted by (i, j): rows are contiguous
+  }
+}
+
+// The smallest eigenvalue of a symmetric 3×3 matrix (the trigonometric solution).
+double smallestEigenvalue(const Mat3& a) {
+  const double p1 = a.m[0][1] * a.m[0][1] + a.m[0][2] * a.m[0][2] + a.m[1][2] * a.m[1][2];
+  const double trace = a.m[0][0] + a.m[1][1] + a.m[2][2];
+  if (p1 == 0.0) return std::min({a.m[0][0], a.m[1][1], a.m[2][2]});
+  const double q = trace / 3.0;
+  const double p2 = (a.m[0][0] - q) * (a.m[0][0] - q) + (a.m[1][1] - q) * (a.m[1][1] - q) +
+                    (a.m[2][2] - q) * (a.m[2][2] - q) + 2.0 * p1;
+  const double p = std::sqrt(p2 / 6.0);
+  const Mat3 b = (1.0 / p) * (a - Mat3::diagonal({q, q, q}));
+  const double det = b.m[0][0] * (b.m[1][1] * b.m[2][2] - b.m[1][2] * b.m[2][1]) -
+                     b.m[0][1] * (b.m[1][0] * b.m[2][2] - b.m[1][2] * b.m[2][0]) +
+                     b.m[0][2] * (b.m[1][0] * b.m[2][1] - b.m[1][1] * b.m[2][0]);
+  const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
+  return q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+}
+
+// Which particles move under the contacts' loads and the inverse mass the contact
+// law sees at each (ContactTables::movable, contactInverseMass): a rigid tree's
+// particles move with their body, whose inverse effective mass at a point p is at
+// most 1/m + |p − c|²/I_min (joints to other bodies only lower it).
+void classifyCarriers(const Model& model, ContactTables& cache) {
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  cache.treeOf.assign(n, -1);
+  cache.treeBodyOf.assign(n, -1);
+  cache.movable.resize(n);
+  cache.contactInverseMass = model.inverseMass;
+  for (std::size_t i = 0; i < n; ++i) cache.movable[i] = model.inverseMass[i] != 0.0 ? 1 : 0;
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    std::vector<double> reach(tree.multibody.bodies.size(), 0.0);
+    for (const BodyParticle& bp : tree.particles) {
+      const auto b = static_cast<std::size_t>(bp.body);
+      reach[b] = std::max(reach[b], squaredNorm(bp.p_BP - tree.multibody.bodies[b].mass.centerOfMass));
+    }
+    for (const BodyParticle& bp : tree.particles) {
+      const auto i = static_cast<std::size_t>(bp.particle);
+      const BodyMassProperties& mp = tree.multibody.bodies[static_cast<std::size_t>(bp.body)].mass;
+      cache.treeOf[i] = static_cast<std::int32_t>(t);
+      cache.treeBodyOf[i] = bp.body;
+      cache.movable[i] = 1;
+      cache.contactInverseMass[i] =
+          1.0 / mp.mass + reach[static_cast<std::size_t>(bp.body)] / std::max(smallestEigenvalue(mp.inertia), 1e-300);
+    }
   }
 }
 
@@ -131,7 +179,9 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     }
   }
   cache.inverseSpinInertia.assign(static_cast<std::size_t>(n), 0.0);
+  // A rigid tree's particles turn with their body (docs/model.md §7): no spin of their own.
   for (ParticleIndex i = 0; i < n; ++i) {
+    if (cache.treeOf[static_cast<std::size_t>(i)] >= 0) continue;
     const double inertia = 0.4 * model.mass[i] * model.radius[i] * model.radius[i];
     if (model.contact.rolling && !isVirtual(i) && inertia > 0.0 &&
         cache.rollNeighbourStart[i + 1] == cache.rollNeighbourStart[i]) {
@@ -177,7 +227,7 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   }
   for (std::size_t t = 0; t < cache.trees.size(); ++t) {
     bool allFixed = true;
-    for (std::int32_t i : cache.treeMembers[t]) allFixed = allFixed && model.inverseMass[i] == 0.0;
+    for (std::int32_t i : cache.treeMembers[t]) allFixed = allFixed && cache.movable[i] == 0;
     cache.trees[t].allFixed = allFixed;
     const std::int32_t object = cache.trees[t].object;
     if (object >= 0 && cache.treeMembers[t].size() >= 2) {
@@ -196,7 +246,7 @@ void classifySurfaces(const Model& model, ContactTables& cache) {
   cache.objectFixed.assign(objects, 1);
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
     const std::int32_t object = model.objectOf[i];
-    if (object >= 0 && static_cast<std::size_t>(object) < objects && model.inverseMass[i] != 0.0)
+    if (object >= 0 && static_cast<std::size_t>(object) < objects && cache.movable[i] != 0)
       cache.objectFixed[static_cast<std::size_t>(object)] = 0;
   }
   for (std::size_t o = 0; o < objects; ++o)
@@ -298,6 +348,7 @@ ContactTables compileContactTables(const Model& model) {
               [](const ContactPairOverride& x, const ContactPairOverride& y) {
                 return std::tie(x.objectA, x.objectB) < std::tie(y.objectA, y.objectB);
               });
+    classifyCarriers(model, *cache);
     buildExclusions(model, *cache);
     classifySurfaces(model, *cache);
     classifyParticles(model, *cache);

@@ -92,6 +92,18 @@ struct ContactTables {
   /// (particleCount). The others turn with their LS neighbours (CSR, both
   /// directions): rollNeighbour[rollNeighbourStart[i], rollNeighbourStart[i + 1]).
   std::vector<double> inverseSpinInertia;
+  /// (particleCount) the rigid tree (Model::rigidTrees) and body a particle
+  /// carries the surface of, or -1 (docs/model.md §7).
+  std::vector<std::int32_t> treeOf, treeBodyOf;
+  /// (particleCount) 1 for a particle that moves under the contacts' loads: a free
+  /// particle, or one a rigid tree's body carries; 0 for a fixed particle. Two
+  /// particles that do not move never touch, and one that does not move never
+  /// meets the environment.
+  std::vector<std::uint8_t> movable;
+  /// (particleCount) the inverse mass the contact law sees at a particle (1/kg): its
+  /// own, or for a rigid tree's particle a bound on its body's inverse effective
+  /// mass at its points, 1/m + r²/I_min (docs/model.md §7); 0: fixed.
+  std::vector<double> contactInverseMass;
   std::vector<std::int32_t> rollNeighbourStart;  // (particleCount + 1)
   /// The rim ring (Model::rims) each particle belongs to, or -1, (particleCount):
   /// rim particles meet the environment through their ring's round surface.

@@ -452,7 +452,7 @@ void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position
     }
     for (std::int32_t p = n.first; p < n.first + n.count; ++p) {
       const std::int32_t i = cache.treeParticles[p];
-      if (model.inverseMass[i] == 0.0 || cache.tables->rimOf[i] >= 0) continue;
+      if (cache.tables->movable[i] == 0 || cache.tables->rimOf[i] >= 0) continue;
       ++cache.stats.environmentTests;
       Contact c;
       if (touchesEnvironment(model.environment, i, position[i], model.radius[i], item, c))

@@ -12,27 +12,27 @@ namespace robophi {
 
 namespace {
 
-using Mat3 = std::array<std::array<double, 3>, 3>;
+using Matrix33 = std::array<std::array<double, 3>, 3>;
 
-Vec3 times(const Mat3& m, const Vec3& v) {
+Vec3 times(const Matrix33& m, const Vec3& v) {
   return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
           m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
           m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
 }
 
-Vec3 column(const Mat3& m, int c) { return {m[0][c], m[1][c], m[2][c]}; }
+Vec3 column(const Matrix33& m, int c) { return {m[0][c], m[1][c], m[2][c]}; }
 
-struct Quaternion {
+struct UnitQuaternion {
   double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
 };
 
-Quaternion multiply(const Quaternion& a, const Quaternion& b) {
+UnitQuaternion multiply(const UnitQuaternion& a, const UnitQuaternion& b) {
   return {
       a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
       a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
-Mat3 matrixOf(const Quaternion& q) {
+Matrix33 matrixOf(const UnitQuaternion& q) {
   const double w = q.w, x = q.x, y = q.y, z = q.z;
   return {{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
            {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
@@ -43,13 +43,13 @@ Mat3 matrixOf(const Quaternion& q) {
 // of A, by the iteration of Müller et al. (2016), started from the best of the
 // identity and the three half turns (so that no start sits on the iteration's
 // unstable half-turn equilibrium). Works for flat bodies (A of rank 2).
-Mat3 rotationOf(const Mat3& a) {
-  const std::array<Quaternion, 4> starts = {Quaternion{1, 0, 0, 0}, Quaternion{0, 1, 0, 0},
-                                            Quaternion{0, 0, 1, 0}, Quaternion{0, 0, 0, 1}};
-  Quaternion q = starts[0];
+Matrix33 rotationOf(const Matrix33& a) {
+  const std::array<UnitQuaternion, 4> starts = {UnitQuaternion{1, 0, 0, 0}, UnitQuaternion{0, 1, 0, 0},
+                                            UnitQuaternion{0, 0, 1, 0}, UnitQuaternion{0, 0, 0, 1}};
+  UnitQuaternion q = starts[0];
   double best = -1e300;
-  for (const Quaternion& s : starts) {
-    const Mat3 r = matrixOf(s);
+  for (const UnitQuaternion& s : starts) {
+    const Matrix33 r = matrixOf(s);
     double trace = 0.0;
     for (int c = 0; c < 3; ++c) trace += dot(column(r, c), column(a, c));
     if (trace > best) {
@@ -58,7 +58,7 @@ Mat3 rotationOf(const Mat3& a) {
     }
   }
   for (int iteration = 0; iteration < 100; ++iteration) {
-    const Mat3 r = matrixOf(q);
+    const Matrix33 r = matrixOf(q);
     Vec3 torque{};
     double alignment = 0.0;
     for (int c = 0; c < 3; ++c) {
@@ -115,7 +115,7 @@ RigidMotion rigidMotion(const Model& model, const std::vector<ParticleIndex>& pa
   }
   if (!(m.mass > 0.0)) return m;
   m.center = moment / m.mass;
-  Mat3 inertia{}, a{};
+  Matrix33 inertia{}, a{};
   for (std::size_t k = 0; k < particles.size(); ++k) {
     const ParticleIndex i = particles[k];
     const double w = model.mass[i];

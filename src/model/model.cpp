@@ -112,6 +112,28 @@ std::string checkModel(const Model& model) {
       return detail::text("particle {}: damping {} must be >= 0 (N·s/m)", i,
                           model.linearDamping[i]);
   }
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    const Multibody& mb = tree.multibody;
+    if (static_cast<std::size_t>(mb.velocityCount) != mb.dofBody.size())
+      return detail::text("rigid tree {} '{}': not finalized (finalize(Multibody))", t, mb.name);
+    const auto bodies = static_cast<std::int32_t>(mb.bodies.size());
+    for (const BodyParticle& bp : tree.particles) {
+      if (bp.particle < 0 || bp.particle >= n || bp.body < 0 || bp.body >= bodies)
+        return detail::text("rigid tree {} '{}': particle {} on body {} out of range", t, mb.name,
+                            bp.particle, bp.body);
+      if (model.inverseMass[bp.particle] != 0.0)
+        return detail::text("rigid tree {} '{}': particle {} must be fixed (the body moves it)", t,
+                            mb.name, bp.particle);
+    }
+    const auto nv = static_cast<std::size_t>(mb.velocityCount);
+    const MultibodyInputs& in = tree.inputs;
+    for (const auto* values : {&in.effort, &in.servoStiffness, &in.servoDamping, &in.servoTarget,
+                               &in.servoTargetRate})
+      if (!values->empty() && values->size() != nv)
+        return detail::text("rigid tree {} '{}': inputs of {} values for {} rates", t, mb.name,
+                            values->size(), nv);
+  }
   for (std::size_t k = 0; k < model.noContactPairs.size(); ++k) {
     const auto& [a, b] = model.noContactPairs[k];
     const auto objectCount = static_cast<std::int32_t>(model.objects.size());

@@ -577,6 +577,14 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       momentumTarget = momentumTarget + SpatialVector{cross(kin.firstMoment[b], gravity) , weight} * dt;
       if (!inputs.wrench.empty()) momentumTarget = momentumTarget + inputs.wrench[b] * dt;
     }
+    // Efforts on the free joint's own rates are external too: τ = Sᵀ W gives the
+    // wrench W = (τ_ω + p × τ_v, τ_v) about the world origin, p the base origin.
+    const MultibodyBody& base = multibody.bodies[0];
+    const double* tau = ws.scratch.data() + base.vStart;
+    const Vec3 p{q[static_cast<std::size_t>(base.qStart)], q[static_cast<std::size_t>(base.qStart) + 1],
+                 q[static_cast<std::size_t>(base.qStart) + 2]};
+    const Vec3 torque{tau[0], tau[1], tau[2]}, force{tau[3], tau[4], tau[5]};
+    momentumTarget = momentumTarget + SpatialVector{torque + cross(p, force), force} * dt;
   }
 
   for (std::size_t i = 0; i < n; ++i) {

@@ -10,6 +10,10 @@ State State::sizedFor(const Model& model) {
   state.position.assign(n, Vec3{});
   state.velocity.assign(n, Vec3{});
   state.spin.assign(n, Vec3{});
+  for (const RigidTree& tree : model.rigidTrees) {
+    state.treePositions.push_back(neutralConfiguration(tree.multibody));
+    state.treeVelocities.emplace_back(static_cast<std::size_t>(tree.multibody.velocityCount), 0.0);
+  }
   return state;
 }
 
@@ -62,6 +66,9 @@ std::uint64_t stateHash(const State& state) {
     hashValue(h, c.facetWeights);
     hashValue(h, c.frictionForce);  // a sliding anchor holds it (MODEL §3.3)
   }
+  // Rigid trees (none: nothing hashed, so a model without them hashes as before).
+  for (const auto& q : state.treePositions) hashBytes(h, q.data(), q.size() * sizeof(double));
+  for (const auto& v : state.treeVelocities) hashBytes(h, v.data(), v.size() * sizeof(double));
   return h;
 }
 

@@ -10,7 +10,10 @@
 #include <memory>
 #include <stdexcept>
 
+#include "robophi/build/model_builder.h"
+#include "robophi/build/spec_error.h"
 #include "robophi/build/urdf.h"
+#include "robophi/build/urdf_multibody.h"
 
 namespace robophi::scene {
 
@@ -167,7 +170,91 @@ bool isUrdfPath(const std::string& path) {
   return extension == ".urdf" || extension == ".xacro" || extension == ".URDF";
 }
 
+namespace {
+
+// The servo gains that hold each joint of a rigid tree where it is (docs/robots.md
+// "Rigid bodies"): ω² M_ii and 2 ω M_ii at ω = 30 rad/s (critically damped), M the
+// mass matrix at the build pose; with gravity compensation they only answer
+// disturbances.
+void holdRigidJoints(RigidTree& tree, const std::vector<double>& q) {
+  const Multibody& mb = tree.multibody;
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  MultibodyKinematics kin;
+  updateKinematics(mb, q.data(), kin);
+  std::vector<double> M(n * n);
+  massMatrix(mb, kin, M.data());
+  constexpr double omega = 30.0;
+  tree.inputs.servoStiffness.assign(n, 0.0);
+  tree.inputs.servoDamping.assign(n, 0.0);
+  tree.inputs.servoTarget.assign(n, 0.0);
+  for (const MultibodyBody& body : mb.bodies) {
+    if (velocityCountOf(body.joint) != 1) continue;
+    const auto i = static_cast<std::size_t>(body.vStart);
+    tree.inputs.servoStiffness[i] = omega * omega * M[i * n + i];
+    tree.inputs.servoDamping[i] = 2.0 * omega * M[i * n + i];
+    tree.inputs.servoTarget[i] = q[static_cast<std::size_t>(body.qStart)];
+  }
+  tree.compensateGravity = true;
+}
+
+// A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
+// bottom at z = 0.
+SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& options) {
+  SceneLoadResult result;
+  const auto fail = [&](std::string where, std::string message) {
+    result.errors.push_back(Diagnostic{std::move(where), 0, 0, "", std::move(message)});
+    return result;
+  };
+  try {
+    build::UrdfMultibodySpec spec;
+    spec.path = path;
+    spec.packagePaths = options.packagePaths;
+    spec.fixedBase = options.fixedBase.value_or(true);
+    build::UrdfMultibody robot = build::makeUrdfMultibody(spec);
+    build::UrdfMultibodyPlacement placement;
+    placement.particleSize = options.particleSize;
+    placement.particlesPerBody = options.particlesPerLink;
+    double lowest = std::numeric_limits<double>::infinity();
+    {
+      build::ModelBuilder trial;
+      build::placeUrdfMultibody(trial, robot, placement);
+      const Model& m = trial.model();
+      for (ParticleIndex i = 0; i < m.particleCount(); ++i)
+        lowest = std::min(lowest, trial.positions()[static_cast<std::size_t>(i)].z - m.radius[i]);
+    }
+    if (std::isfinite(lowest)) {
+      spec.placement.translation.z -= lowest;
+      robot = build::makeUrdfMultibody(spec);
+    }
+    for (const build::UrdfWarning& w : robot.warnings)
+      result.warnings.push_back(Diagnostic{fmt::format("{}:{}", w.file, w.line), 0, 0, "", w.message});
+    for (const std::string& adjustment : robot.adjustments)
+      result.warnings.push_back(Diagnostic{path, 0, 0, "", "adjusted: " + adjustment});
+    build::ModelBuilder builder;
+    builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
+    const build::PlacedUrdfMultibody placed = build::placeUrdfMultibody(builder, robot, placement);
+    Scene scene;
+    scene.name = robot.multibody.name;
+    scene.sourcePath = path;
+    build::BuiltModel built = std::move(builder).build();
+    RigidTree& tree = built.model.rigidTrees[static_cast<std::size_t>(placed.tree)];
+    holdRigidJoints(tree, built.initial.treePositions[static_cast<std::size_t>(placed.tree)]);
+    scene.model = std::move(built.model);
+    scene.initial = std::move(built.initial);
+    scene.run.duration = 2.0;
+    result.scene = std::move(scene);
+  } catch (const build::UrdfError& e) {
+    return fail(e.line() > 0 ? fmt::format("{}:{}", e.file(), e.line()) : e.file(), e.message());
+  } catch (const build::SpecError& e) {
+    return fail(path, e.what());
+  }
+  return result;
+}
+
+}  // namespace
+
 SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& options) {
+  if (options.rigid) return loadRigidUrdf(path, options);
   SceneLoadResult result;
   build::UrdfSpec spec;
   spec.path = path;

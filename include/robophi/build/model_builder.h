@@ -124,6 +124,13 @@ class ModelBuilder {
   const std::vector<Vec3>& positions() const { return position_; }
   const std::vector<Vec3>& velocities() const { return velocity_; }
 
+  /// Adds a rigid tree (docs/model.md §7, Model::rigidTrees) whose particles are
+  /// fixed particles already placed (BodyParticle::particle, model indices),
+  /// starting at coordinates q (empty: neutral) and rates v (empty: at rest); the
+  /// particles are moved to where its bodies put them. Returns its index. Throws
+  /// SpecError naming what is wrong.
+  std::int32_t addRigidTree(RigidTree tree, std::vector<double> q = {}, std::vector<double> v = {});
+
   /// The model and its initial state; the builder is left empty.
   BuiltModel build() &&;
 
@@ -134,6 +141,7 @@ class ModelBuilder {
   Model model_;
   std::vector<Vec3> position_;  // (particleCount) m
   std::vector<Vec3> velocity_;  // (particleCount) m/s
+  std::vector<std::vector<double>> treePositions_, treeVelocities_;  // (rigidTrees)
   bool defaultReplaced_ = false;
 };
 

@@ -86,4 +86,39 @@ struct UrdfMultibody {
 /// Reads a URDF as rigid bodies; throws UrdfError (FILE:LINE: the element and value).
 UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec);
 
+class ModelBuilder;
+
+/// How a rigid URDF robot enters a model: the particles that carry its contact
+/// surface and how it starts.
+struct UrdfMultibodyPlacement {
+  /// Lattice spacing of the particles that fill each body's <collision> shapes (m),
+  /// > 0; 0: about particlesPerBody particles a body.
+  double particleSize = 0.0;
+  int particlesPerBody = 30;
+  /// Coordinates (nq; empty: neutral) and rates (nv; empty: at rest) it starts at.
+  std::vector<double> q{}, v{};
+  /// Index into the model's materials of its surface.
+  std::int32_t material = 0;
+  /// false: its bodies never touch each other; true: all but a joint's two bodies do.
+  bool selfCollision = false;
+};
+
+/// Where a rigid URDF robot went in the model.
+struct PlacedUrdfMultibody {
+  /// Index into Model::rigidTrees.
+  std::int32_t tree = -1;
+  /// (bodies) the object of each body's surface particles (Model::objects), -1: a
+  /// body without <collision>, which touches nothing.
+  std::vector<std::int32_t> objectOfBody{};
+  /// The collision meshes read (each distinct file and scale once).
+  int meshesRead = 0;
+};
+
+/// Places a rigid URDF robot: every body's <collision> shapes (box, cylinder,
+/// sphere, mesh) filled with fixed particles that move with the body, an object
+/// (kind "link", named as the body) for each body that has them, and the tree.
+/// Throws UrdfError for a mesh that cannot be read, SpecError for bad settings.
+PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibody& robot,
+                                       const UrdfMultibodyPlacement& placement);
+
 }  // namespace robophi::build

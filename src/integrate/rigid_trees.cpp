@@ -1,0 +1,174 @@
+// The rigid trees' stage of the step (integrate/rigid_trees.h, docs/model.md §7).
+#include "integrate/rigid_trees.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "robophi/stability.h"
+
+namespace robophi {
+
+namespace {
+
+// Position and velocity of a tree particle from its body's pose and velocity.
+void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_WP, Vec3& v_WP) {
+  p_WP = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
+  v_WP = pointVelocity(kin, bp.body, p_WP);
+}
+
+void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
+  if (scratch.size() != model.rigidTrees.size()) scratch.resize(model.rigidTrees.size());
+}
+
+// addRigidTreeTerms' contact limit: per touching body, Gershgorin on its contacts'
+// stiffness and damping sums with the body's inverse effective mass bound.
+void limitTreeContactStep(const Model& model, const ContactTables& tables, const State& state,
+                          Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch) {
+  (void)state;
+  if (evaluation.contacts.empty()) return;
+  // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
+  std::vector<std::vector<double>> stiffness(model.rigidTrees.size()), damping(model.rigidTrees.size());
+  bool any = false;
+  PairParameters overridden;
+  const auto book = [&](std::int32_t particle, std::int32_t a, std::int32_t other) {
+    if (particle < 0) return;
+    const std::int32_t t = tables.treeOf[static_cast<std::size_t>(particle)];
+    if (t < 0) return;
+    const auto tree = static_cast<std::size_t>(t);
+    if (stiffness[tree].empty()) {
+      stiffness[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), 0.0);
+      damping[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), 0.0);
+    }
+    const PairParameters& pair = pairParameters(model, tables, a, other, overridden);
+    const auto b = static_cast<std::size_t>(tables.treeBodyOf[static_cast<std::size_t>(particle)]);
+    stiffness[tree][b] += pair.stiffness + pair.tangentialStiffness;
+    damping[tree][b] += pair.damping;
+    any = true;
+  };
+  for (const Contact& c : evaluation.contacts) {
+    if (c.a < 0) continue;
+    book(c.a, c.a, c.other);
+    if (c.other >= 0) book(c.other, c.a, c.other);
+  }
+  if (!any) return;
+  // Each body's inverse effective mass bound is its particles' (ContactTables).
+  double step = evaluation.contactCriticalStep;
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    if (stiffness[t].empty()) continue;
+    const RigidTree& tree = model.rigidTrees[t];
+    std::vector<double> w(tree.multibody.bodies.size(), 0.0);
+    for (const BodyParticle& bp : tree.particles)
+      w[static_cast<std::size_t>(bp.body)] = tables.contactInverseMass[static_cast<std::size_t>(bp.particle)];
+    for (std::size_t b = 0; b < stiffness[t].size(); ++b)
+      if (stiffness[t][b] != 0.0)
+        step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * stiffness[t][b] * w[b]),
+                                                 2.0 * damping[t][b] * w[b]));
+  }
+  (void)scratch;
+  evaluation.contactCriticalStep = step;
+}
+
+}  // namespace
+
+void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyWorkspace>& scratch) {
+  sizeScratch(model, scratch);
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    MultibodyKinematics& kin = scratch[t].kinematics;
+    updateKinematics(tree.multibody, state.treePositions[t].data(), kin);
+    updateVelocities(tree.multibody, state.treeVelocities[t].data(), kin);
+    for (const BodyParticle& bp : tree.particles)
+      bodyPoint(kin, bp, state.position[static_cast<std::size_t>(bp.particle)],
+                state.velocity[static_cast<std::size_t>(bp.particle)]);
+  }
+}
+
+void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation, State& state,
+                    std::vector<MultibodyWorkspace>& scratch) {
+  sizeScratch(model, scratch);
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    const Multibody& mb = tree.multibody;
+    MultibodyWorkspace& ws = scratch[t];
+    // The loads on the tree's particles as wrenches on its bodies (about the world
+    // origin): the force at the particle, and the torque of a contact off its centre.
+    MultibodyInputs inputs = tree.inputs;
+    inputs.wrench.assign(mb.bodies.size(), SpatialVector{});
+    for (const BodyParticle& bp : tree.particles) {
+      const auto i = static_cast<std::size_t>(bp.particle);
+      const Vec3& f = evaluation.force[i];
+      Vec3 moment = cross(state.position[i], f);
+      if (i < evaluation.torque.size()) moment += evaluation.torque[i];
+      SpatialVector& w = inputs.wrench[static_cast<std::size_t>(bp.body)];
+      w.angular += moment;
+      w.linear += f;
+    }
+    std::vector<double>& q = state.treePositions[t];
+    std::vector<double>& v = state.treeVelocities[t];
+    if (tree.compensateGravity) {
+      // The efforts that hold the tree at q against gravity, added to its own.
+      const auto n = static_cast<std::size_t>(mb.velocityCount);
+      std::vector<double> held(n), zero(n, 0.0);
+      MultibodyKinematics& kin = ws.kinematics;
+      updateKinematics(mb, q.data(), kin);
+      updateVelocities(mb, zero.data(), kin);
+      inverseDynamics(mb, kin, nullptr, model.gravity, nullptr, held.data());
+      if (inputs.effort.empty()) inputs.effort.assign(n, 0.0);
+      // The joints only: a free base is not held up.
+      for (std::size_t i = 0; i < n; ++i)
+        if (mb.bodies[static_cast<std::size_t>(mb.dofBody[i])].joint != BodyJointKind::kFree)
+          inputs.effort[i] += held[i];
+    }
+    const MultibodyStepReport report = stepMultibody(mb, q, v, inputs, dt, model.gravity, ws);
+    state.dissipated += report.dissipated;
+    state.external += report.inputWork;
+    MultibodyKinematics& kin = ws.kinematics;
+    updateKinematics(mb, q.data(), kin);
+    updateVelocities(mb, v.data(), kin);
+    for (const BodyParticle& bp : tree.particles) {
+      const auto i = static_cast<std::size_t>(bp.particle);
+      Vec3 p, velocity;
+      bodyPoint(kin, bp, p, velocity);
+      state.velocity[i] = velocity;
+      state.position[i] = p - velocity * dt;
+    }
+  }
+}
+
+void addRigidTreeTerms(const Model& model, const ContactTables& tables, const State& state,
+                       Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch) {
+  sizeScratch(model, scratch);
+  limitTreeContactStep(model, tables, state, evaluation, scratch);
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    const Multibody& mb = tree.multibody;
+    MultibodyKinematics& kin = scratch[t].kinematics;
+    const std::vector<double>& q = state.treePositions[t];
+    updateKinematics(mb, q.data(), kin);
+    updateVelocities(mb, state.treeVelocities[t].data(), kin);
+    evaluation.energy.kinetic += kineticEnergy(kin);
+    evaluation.energy.gravity += gravitationalEnergy(kin, model.gravity);
+    const MultibodyInputs& in = tree.inputs;
+    if (!in.servoStiffness.empty()) {
+      double servo = 0.0;
+      for (const MultibodyBody& body : mb.bodies) {
+        if (velocityCountOf(body.joint) != 1) continue;
+        const auto i = static_cast<std::size_t>(body.vStart);
+        const double target = in.servoTarget.empty() ? 0.0 : in.servoTarget[i];
+        const double e = q[static_cast<std::size_t>(body.qStart)] - target;
+        servo += 0.5 * in.servoStiffness[i] * e * e;
+      }
+      evaluation.energy.jointSpring += servo;
+    }
+    // The fixed-particle rule booked −F·v for each tree particle as driving power.
+    double taken = 0.0;
+    for (const BodyParticle& bp : tree.particles) {
+      const auto i = static_cast<std::size_t>(bp.particle);
+      taken += dot(evaluation.force[i], state.velocity[i]);
+    }
+    evaluation.drivingPower += taken;
+  }
+}
+
+}  // namespace robophi
