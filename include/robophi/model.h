@@ -347,8 +347,18 @@ struct Model {
   /// robot's links: build::ModelBuilder::excludeContact), sorted ascending.
   std::vector<std::array<std::int32_t, 2>> noContactPairs;
 
+  /// (particleCount, or empty: none) the rigid tree (index into rigidTrees) that
+  /// carries each particle, or -1 (ModelBuilder::addRigidTree sets it).
+  std::vector<std::int32_t> carriedBy;
+
   ParticleIndex particleCount() const { return static_cast<ParticleIndex>(mass.size()); }
   bool isFixed(ParticleIndex i) const { return inverseMass[i] == 0.0; }
+  /// A fixed particle that a rigid tree's body moves (docs/model.md §7).
+  bool isCarried(ParticleIndex i) const {
+    return !carriedBy.empty() && carriedBy[static_cast<std::size_t>(i)] >= 0;
+  }
+  /// The particle moves under the loads on it: free, or carried by a rigid tree.
+  bool moves(ParticleIndex i) const { return inverseMass[i] != 0.0 || isCarried(i); }
 
   /// Appends a particle and returns its index. A fixed particle gets inverseMass 0.
   ParticleIndex addParticle(double particleMass, double particleRadius, bool fixed,

@@ -123,7 +123,8 @@ void finalize(Multibody& multibody);
 int positionCountOf(BodyJointKind kind);
 int velocityCountOf(BodyJointKind kind);
 
-/// q at which every joint reads 0 (a free joint: its X_PJ).
+/// q at which every joint reads 0, or the limit nearest 0 when 0 is outside them (a
+/// free joint: its X_PJ).
 std::vector<double> neutralConfiguration(const Multibody& multibody);
 
 /// What the algorithms compute at a configuration and reuse: poses, the joints'

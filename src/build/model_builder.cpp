@@ -530,6 +530,13 @@ std::int32_t ModelBuilder::addRigidTree(RigidTree tree, std::vector<double> q, s
     position_[i] = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
     velocity_[i] = pointVelocity(kin, bp.body, position_[i]);
   }
+  model_.carriedBy.resize(static_cast<std::size_t>(n), -1);
+  for (const BodyParticle& bp : tree.particles) {
+    if (model_.carriedBy[static_cast<std::size_t>(bp.particle)] >= 0)
+      throw SpecError("addRigidTree", "particles", what + ": particle " + std::to_string(bp.particle) +
+                                                       " is carried by another tree already");
+    model_.carriedBy[static_cast<std::size_t>(bp.particle)] = static_cast<std::int32_t>(model_.rigidTrees.size());
+  }
   model_.rigidTrees.push_back(std::move(tree));
   treePositions_.push_back(std::move(q));
   treeVelocities_.push_back(std::move(v));

@@ -306,6 +306,12 @@ UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
   for (UrdfMultibodyJoint& joint : out.joints) {
     joint.positionIndex = mb.bodies[static_cast<std::size_t>(joint.body)].qStart;
     joint.velocityIndex = mb.bodies[static_cast<std::size_t>(joint.body)].vStart;
+    const MultibodyBody& moved = mb.bodies[static_cast<std::size_t>(joint.body)];
+    if (moved.lower > 0.0 || moved.upper < 0.0)
+      out.adjustments.push_back("joint '" + joint.urdfName + "' (" + d.file + ":" + std::to_string(joint.line) +
+                                "): q = 0 is outside its limits [" + check::number(moved.lower) + ", " +
+                                check::number(moved.upper) + "]; it starts at " +
+                                check::number(std::clamp(0.0, moved.lower, moved.upper)));
     if (!joint.mimicJoint.empty())
       out.adjustments.push_back("joint '" + joint.urdfName + "': <mimic> of '" + joint.mimicJoint +
                                 "' kept as data (multiplier " + check::number(joint.multiplier) +

@@ -64,12 +64,12 @@ void buildExclusions(const Model& model, ContactTables& cache) {
   }
 }
 
-// The smallest eigenvalue of a symmetric 3×3 matrix (the trigonometric solution).
-double smallestEigenvalue(const Mat3& a) {
+// The largest eigenvalue of a symmetric positive semi-definite 3×3 matrix (the
+// trigonometric solution).
+double largestEigenvalue(const Mat3& a) {
   const double p1 = a.m[0][1] * a.m[0][1] + a.m[0][2] * a.m[0][2] + a.m[1][2] * a.m[1][2];
-  const double trace = a.m[0][0] + a.m[1][1] + a.m[2][2];
-  if (p1 == 0.0) return std::min({a.m[0][0], a.m[1][1], a.m[2][2]});
-  const double q = trace / 3.0;
+  if (p1 == 0.0) return std::max({a.m[0][0], a.m[1][1], a.m[2][2]});
+  const double q = (a.m[0][0] + a.m[1][1] + a.m[2][2]) / 3.0;
   const double p2 = (a.m[0][0] - q) * (a.m[0][0] - q) + (a.m[1][1] - q) * (a.m[1][1] - q) +
                     (a.m[2][2] - q) * (a.m[2][2] - q) + 2.0 * p1;
   const double p = std::sqrt(p2 / 6.0);
@@ -78,13 +78,34 @@ double smallestEigenvalue(const Mat3& a) {
                      b.m[0][1] * (b.m[1][0] * b.m[2][2] - b.m[1][2] * b.m[2][0]) +
                      b.m[0][2] * (b.m[1][0] * b.m[2][1] - b.m[1][1] * b.m[2][0]);
   const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
-  return q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  return q + 2.0 * p * std::cos(phi);
+}
+
+// The inverse of a symmetric positive definite 3×3 matrix (its adjugate over its
+// determinant); a singular one's inverse is taken as infinite (1e300).
+Mat3 inverseOf(const Mat3& a) {
+  const auto& m = a.m;
+  Mat3 adj;
+  adj.m[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+  adj.m[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+  adj.m[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+  adj.m[1][0] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+  adj.m[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+  adj.m[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+  adj.m[2][0] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+  adj.m[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+  adj.m[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  const double det = m[0][0] * adj.m[0][0] + m[0][1] * adj.m[1][0] + m[0][2] * adj.m[2][0];
+  if (!(det > 0.0)) return Mat3::diagonal({1e300, 1e300, 1e300});
+  return (1.0 / det) * adj;
 }
 
 // Which particles move under the contacts' loads and the inverse mass the contact
 // law sees at each (ContactTables::movable, contactInverseMass): a rigid tree's
-// particles move with their body, whose inverse effective mass at a point p is at
-// most 1/m + |p − c|²/I_min (joints to other bodies only lower it).
+// particles move with their body, whose inverse effective mass at a point r from
+// its centre, along a direction n, is 1/m + (r × n)ᵀ I⁻¹ (r × n) for the body
+// alone, at most 1/m + λ_max([r]×ᵀ I⁻¹ [r]×) over n; joints to other bodies only
+// lower it.
 void classifyCarriers(const Model& model, ContactTables& cache) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   cache.treeOf.assign(n, -1);
@@ -94,19 +115,15 @@ void classifyCarriers(const Model& model, ContactTables& cache) {
   for (std::size_t i = 0; i < n; ++i) cache.movable[i] = model.inverseMass[i] != 0.0 ? 1 : 0;
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
     const RigidTree& tree = model.rigidTrees[t];
-    std::vector<double> reach(tree.multibody.bodies.size(), 0.0);
-    for (const BodyParticle& bp : tree.particles) {
-      const auto b = static_cast<std::size_t>(bp.body);
-      reach[b] = std::max(reach[b], squaredNorm(bp.p_BP - tree.multibody.bodies[b].mass.centerOfMass));
-    }
     for (const BodyParticle& bp : tree.particles) {
       const auto i = static_cast<std::size_t>(bp.particle);
       const BodyMassProperties& mp = tree.multibody.bodies[static_cast<std::size_t>(bp.body)].mass;
+      const Mat3 r = Mat3::crossMatrix(bp.p_BP - mp.centerOfMass);
       cache.treeOf[i] = static_cast<std::int32_t>(t);
       cache.treeBodyOf[i] = bp.body;
       cache.movable[i] = 1;
       cache.contactInverseMass[i] =
-          1.0 / mp.mass + reach[static_cast<std::size_t>(bp.body)] / std::max(smallestEigenvalue(mp.inertia), 1e-300);
+          1.0 / mp.mass + largestEigenvalue(transpose(r) * inverseOf(mp.inertia) * r);
     }
   }
 }

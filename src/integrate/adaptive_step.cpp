@@ -27,7 +27,7 @@ Vec3 sceneFrameVelocity(const Model& model, const State& state) {
   std::int64_t fixedCount = 0;
   Vec3 fixedSum;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
-    if (!model.isFixed(i)) continue;
+    if (model.moves(i)) continue;  // (a rigid tree's particles move with their body)
     fixedMomentum += state.velocity[i] * model.mass[i];
     fixedMass += model.mass[i];
     fixedSum += state.velocity[i];
@@ -69,7 +69,7 @@ double activeEnergy(const Model& model, const State& state, const EnergyTally& e
   const Vec3 frame = sceneFrameVelocity(model, state);
   double kinetic = 0.0;
   for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
-    if (!model.isFixed(i)) kinetic += 0.5 * model.mass[i] * squaredNorm(state.velocity[i] - frame);
+    if (model.moves(i)) kinetic += 0.5 * model.mass[i] * squaredNorm(state.velocity[i] - frame);
   }
   return kinetic + energy.linearSpring + energy.torsionSpring + energy.jointSpring + energy.contact;
 }
@@ -89,7 +89,7 @@ double gravityEnergyScale(const Model& model, const State& state) {
     const Vec3& p = state.position[i];
     low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-    if (model.isFixed(i)) continue;
+    if (!model.moves(i)) continue;
     freeMass += model.mass[i];
     height = std::max(height, 2.0 * model.radius[i]);
     for (const GroundPlane& plane : model.environment.planes) {
@@ -211,7 +211,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   // Particles [begin, end) against the environment only (no object bounds).
   const auto environmentOnly = [&](ParticleIndex begin, ParticleIndex end) {
     for (ParticleIndex i = begin; i < end; ++i)
-      if (!model.isFixed(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
+      if (model.moves(i)) againstEnvironment(i, state.velocity[i], acceleration(i));
   };
   // Objects against each other, through their bounds: two particles of objects
   // A and B close at most at |V_A − V_B| + s_A + s_B (velocity differences
@@ -260,7 +260,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
     for (; i < end; ++i) {
       const Vec3& v = state.velocity[i];
       const Vec3 a = acceleration(i);
-      if (!model.isFixed(i)) againstEnvironment(i, v, a);
+      if (model.moves(i)) againstEnvironment(i, v, a);
       if (counted == 0.0) {
         lowV = highV = v;
         lowA = highA = a;
@@ -347,7 +347,7 @@ double boxRun(const Model& model, const State& state, const std::vector<Vec3>& f
     count += 1.0;
     smallest = std::min(smallest, model.radius[i]);
     largest = std::max(largest, model.radius[i]);
-    anyFree = anyFree || !model.isFixed(i);
+    anyFree = anyFree || model.moves(i);
     every += (p.x + p.y + p.z) + (v.x + v.y + v.z) + (a.x + a.y + a.z);
   }
   box = {pLow, pHigh, vLow, vHigh, aLow, aHigh, sum, count, smallest, largest, anyFree};
@@ -403,7 +403,7 @@ __attribute__((target("avx2"))) double boxRunLanes(const Model& model, const Sta
     count += 1.0;
     smallest = std::min(smallest, radius[i]);
     largest = std::max(largest, radius[i]);
-    anyFree = anyFree || inverseMass[i] != 0.0;
+    anyFree = anyFree || inverseMass[i] != 0.0 || model.isCarried(i);
   }
   _mm256_maskstore_pd(&box.pLow.x, xyz, pLow);
   _mm256_maskstore_pd(&box.pHigh.x, xyz, pHigh);

@@ -59,7 +59,8 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables, const
     const RigidTree& tree = model.rigidTrees[t];
     std::vector<double> w(tree.multibody.bodies.size(), 0.0);
     for (const BodyParticle& bp : tree.particles)
-      w[static_cast<std::size_t>(bp.body)] = tables.contactInverseMass[static_cast<std::size_t>(bp.particle)];
+      w[static_cast<std::size_t>(bp.body)] = std::max(w[static_cast<std::size_t>(bp.body)],
+                                                      tables.contactInverseMass[static_cast<std::size_t>(bp.particle)]);
     for (std::size_t b = 0; b < stiffness[t].size(); ++b)
       if (stiffness[t][b] != 0.0)
         step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * stiffness[t][b] * w[b]),

@@ -15,6 +15,7 @@ ParticleIndex Model::addParticle(double particleMass, double particleRadius, boo
   radius.push_back(particleRadius);
   linearDamping.push_back(damping);
   objectOf.push_back(object);
+  if (!carriedBy.empty()) carriedBy.push_back(-1);
   if (object >= 0 && object < static_cast<std::int32_t>(objects.size())) {
     auto& info = objects[object];
     if (info.particleCount == 0) info.firstParticle = index;
@@ -112,8 +113,14 @@ std::string checkModel(const Model& model) {
       return detail::text("particle {}: damping {} must be >= 0 (N·s/m)", i,
                           model.linearDamping[i]);
   }
+  if (!model.carriedBy.empty() && model.carriedBy.size() != size)
+    return detail::text("carriedBy has {} entries for {} particles", model.carriedBy.size(), size);
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
     const RigidTree& tree = model.rigidTrees[t];
+    for (const BodyParticle& bp : tree.particles)
+      if (bp.particle >= 0 && bp.particle < n &&
+          (model.carriedBy.empty() || model.carriedBy[static_cast<std::size_t>(bp.particle)] != static_cast<std::int32_t>(t)))
+        return detail::text("rigid tree {}: particle {} is not marked carried by it (carriedBy)", t, bp.particle);
     const Multibody& mb = tree.multibody;
     if (static_cast<std::size_t>(mb.velocityCount) != mb.dofBody.size())
       return detail::text("rigid tree {} '{}': not finalized (finalize(Multibody))", t, mb.name);

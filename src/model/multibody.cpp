@@ -163,6 +163,10 @@ void finalize(Multibody& multibody) {
 std::vector<double> neutralConfiguration(const Multibody& multibody) {
   std::vector<double> q(static_cast<std::size_t>(multibody.positionCount), 0.0);
   for (const MultibodyBody& body : multibody.bodies) {
+    if (velocityCountOf(body.joint) == 1) {
+      q[static_cast<std::size_t>(body.qStart)] = std::clamp(0.0, body.lower, body.upper);
+      continue;
+    }
     if (body.joint != BodyJointKind::kFree) continue;
     const Quaternion r = quaternionFromMatrix(body.X_PJ.rotation);
     double* x = q.data() + body.qStart;
@@ -551,8 +555,11 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       const std::int32_t i = body.vStart;
       const double qi = q[body.qStart];
       const double predicted = qi + dt * velocity[i];
-      if (predicted > body.upper) rows.push_back({i, (body.upper - qi) / dt, -1e300, 0.0});
-      else if (predicted < body.lower) rows.push_back({i, (body.lower - qi) / dt, 0.0, 1e300});
+      // Held at the stop; a joint already past it (moved there by an edit) comes
+      // back a fifth of the way a step, not at once (no energy made in one step).
+      const auto back = [&](double gap) { return (gap >= 0.0 ? gap : 0.2 * gap) / dt; };
+      if (predicted > body.upper) rows.push_back({i, back(body.upper - qi), -1e300, 0.0});
+      else if (predicted < body.lower) rows.push_back({i, back(body.lower - qi), 0.0, 1e300});
       else continue;
       stopped[b] = 1;
     }
