@@ -211,6 +211,16 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     spec.packagePaths = options.packagePaths;
     spec.fixedBase = options.fixedBase.value_or(true);
     build::UrdfMultibody robot = build::makeUrdfMultibody(spec);
+    if (!options.fixedBase) {
+      // As the particle importer: a wheeled base (two or more continuous joints)
+      // stands free on its wheels.
+      int continuous = 0;
+      for (const build::UrdfMultibodyJoint& j : robot.joints) continuous += j.type == "continuous" ? 1 : 0;
+      if (continuous >= 2) {
+        spec.fixedBase = false;
+        robot = build::makeUrdfMultibody(spec);
+      }
+    }
     build::UrdfMultibodyPlacement placement;
     placement.particleSize = options.particleSize;
     placement.particlesPerBody = options.particlesPerLink;
