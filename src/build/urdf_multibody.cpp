@@ -330,6 +330,74 @@ Frame frameOf(const Pose& X) {
   return f;
 }
 
+// Particles of radius r whose outer surfaces reach a primitive's surface from
+// inside (their centres r within it), r = min(spacing, half the smallest extent):
+// on a flat face a grid r apart, on a curved one rings r/2 apart along the
+// curve, so that the surface they make departs from the shape by at most
+// r (1 − cos(asin(1/4))) ≈ 0.03 r (a wheel rolls on its true radius). Points in
+// the body frame.
+void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>& local,
+                      std::vector<double>& radius) {
+  std::vector<Vec3> points;  // in the shape's frame
+  const auto steps = [](double length, double step) {
+    return std::max(1, static_cast<int>(std::ceil(length / step - 1e-9)) + 1);
+  };
+  const auto along = [](double half, int k, int count) {
+    return count == 1 ? 0.0 : -half + 2.0 * half * k / (count - 1);
+  };
+  double r = 0.0;
+  switch (shape.kind) {
+    case ShapeSpec::Kind::kBox: {
+      const Vec3 h = shape.size * 0.5;
+      r = std::min({spacing, h.x, h.y, h.z});
+      const Vec3 in{h.x - r, h.y - r, h.z - r};
+      const int nx = steps(2 * in.x, r), ny = steps(2 * in.y, r), nz = steps(2 * in.z, r);
+      for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j)
+          for (int k = 0; k < nz; ++k)
+            if (i == 0 || i == nx - 1 || j == 0 || j == ny - 1 || k == 0 || k == nz - 1)
+              points.push_back({along(in.x, i, nx), along(in.y, j, ny), along(in.z, k, nz)});
+      break;
+    }
+    case ShapeSpec::Kind::kCylinder: {
+      r = std::min({spacing, shape.radius, 0.5 * shape.length});
+      const double rim = shape.radius - r, halfLength = 0.5 * shape.length - r;
+      const int rings = steps(2 * halfLength, r);
+      for (int k = 0; k < rings; ++k) {
+        const double z = along(halfLength, k, rings);
+        // The round side at every ring; the flat ends as discs of rings r apart.
+        const bool end = k == 0 || k == rings - 1;
+        for (double radial = rim; radial > -1e-12; radial -= end ? r : 2.0 * rim + 1.0) {
+          const int count = radial < 1e-9 ? 1 : std::max(6, static_cast<int>(std::ceil(2 * std::numbers::pi * radial / (0.5 * r))));
+          for (int c = 0; c < count; ++c) {
+            const double a = 2 * std::numbers::pi * c / count;
+            points.push_back({radial * std::cos(a), radial * std::sin(a), z});
+          }
+        }
+      }
+      break;
+    }
+    case ShapeSpec::Kind::kSphere: {
+      r = std::min(spacing, shape.radius);
+      const double inner = shape.radius - r;
+      const int count = inner < 1e-9 ? 1 : std::max(12, static_cast<int>(std::ceil(4 * std::numbers::pi * inner * inner / (0.25 * r * r))));
+      // A Fibonacci sphere: evenly spread directions.
+      for (int c = 0; c < count; ++c) {
+        const double z = count == 1 ? 0.0 : 1.0 - 2.0 * (c + 0.5) / count;
+        const double ring = std::sqrt(std::max(0.0, 1.0 - z * z));
+        const double a = c * std::numbers::pi * (3.0 - std::sqrt(5.0));
+        points.push_back(Vec3{ring * std::cos(a), ring * std::sin(a), z} * inner);
+      }
+      break;
+    }
+    case ShapeSpec::Kind::kMesh: break;
+  }
+  for (const Vec3& p : points) {
+    local.push_back(shape.frame.apply(p));
+    radius.push_back(r);
+  }
+}
+
 }  // namespace
 
 PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibody& robot,
@@ -397,6 +465,10 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
     std::vector<Vec3> local;
     std::vector<double> radius;
     for (const ShapeSpec& shape : shapes[b]) {
+      if (shape.kind != ShapeSpec::Kind::kMesh) {
+        surfaceParticles(shape, spacing, local, radius);
+        continue;
+      }
       const detail::ShapeLattice lattice = detail::fillShape(shape, spacing);
       const double r = 0.5 * std::min({lattice.cell.x, lattice.cell.y, lattice.cell.z});
       for (const Vec3& p : lattice.position) {

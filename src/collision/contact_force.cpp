@@ -263,9 +263,9 @@ struct Turning {
 // off, a fixed or a rope particle, or one with nothing to turn with), 1 with
 // its own spin, 2 with its LS neighbourhood.
 inline std::int32_t turningKind(const Model& model, const ContactTables& tables, std::int32_t i) {
-  if (!model.contact.rolling || model.inverseMass[i] == 0.0 || tables.ropeParticle[i] != 0)
-    return 0;
-  if (tables.inverseSpinInertia[i] > 0.0) return 1;
+  if (!model.contact.rolling || tables.movable[i] == 0 || tables.ropeParticle[i] != 0) return 0;
+  // Its own spin: a free particle's, or a rigid tree's particle's, its body's (State::spin).
+  if (tables.inverseSpinInertia[i] > 0.0 || tables.treeOf[i] >= 0) return 1;
   return tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1] ? 0 : 2;
 }
 

@@ -12,9 +12,11 @@ namespace robophi {
 namespace {
 
 // Position and velocity of a tree particle from its body's pose and velocity.
-void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_WP, Vec3& v_WP) {
+// Position, velocity and spin (its body's angular velocity) of a tree particle.
+void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_WP, Vec3& v_WP, Vec3& w_W) {
   p_WP = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
   v_WP = pointVelocity(kin, bp.body, p_WP);
+  w_W = kin.velocity[static_cast<std::size_t>(bp.body)].angular;
 }
 
 void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
@@ -79,9 +81,10 @@ void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyW
     MultibodyKinematics& kin = scratch[t].kinematics;
     updateKinematics(tree.multibody, state.treePositions[t].data(), kin);
     updateVelocities(tree.multibody, state.treeVelocities[t].data(), kin);
-    for (const BodyParticle& bp : tree.particles)
-      bodyPoint(kin, bp, state.position[static_cast<std::size_t>(bp.particle)],
-                state.velocity[static_cast<std::size_t>(bp.particle)]);
+    for (const BodyParticle& bp : tree.particles) {
+      const auto i = static_cast<std::size_t>(bp.particle);
+      bodyPoint(kin, bp, state.position[i], state.velocity[i], state.spin[i]);
+    }
   }
 }
 
@@ -130,7 +133,7 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
     for (const BodyParticle& bp : tree.particles) {
       const auto i = static_cast<std::size_t>(bp.particle);
       Vec3 p, velocity;
-      bodyPoint(kin, bp, p, velocity);
+      bodyPoint(kin, bp, p, velocity, state.spin[i]);
       state.velocity[i] = velocity;
       state.position[i] = p - velocity * dt;
     }
