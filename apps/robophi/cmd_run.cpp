@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
+#include <optional>
 
 #include "commands.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "robotics/tasks.h"
 #include "run/interrupt.h"
 #include "run/runner.h"
@@ -163,6 +165,15 @@ int runCommand(const RunArguments& args) {
           ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
           : args.outDir;
   options.force = args.force;
+  // The folder is this run's from here (runScene takes the lock again): another
+  // robophi writing it is refused before anything is looked at.
+  std::optional<output::ResultsFolderLock> lock;
+  try {
+    lock.emplace(options.outDir);
+  } catch (const output::ResultsFolderError& e) {
+    std::fprintf(stderr, "robophi run: --out: %s; nothing was run or written\n", e.what());
+    return kExitBadInput;
+  }
   if (const std::string problem = outputFolderProblem(options); !problem.empty()) {
     std::fprintf(stderr,
                  "robophi run: --out: %s. robophi deletes nothing it did not write: choose "
@@ -207,9 +218,12 @@ int runCommand(const RunArguments& args) {
   RunReport report;
   try {
     report = runScene(*scene, options);
-  } catch (const output::ResultsFolderError& e) {  // the folder changed during the run
+  } catch (const output::ResultsFolderError& e) {  // another run holds it, or it changed
     std::fprintf(stderr, "robophi run: --out: %s\n", e.what());
     return kExitBadInput;
+  } catch (const output::WriteError& e) {  // a full disk: the earlier results as they were
+    std::fprintf(stderr, "robophi run: %s\n", e.what());
+    return kExitFailure;
   }
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
   return reportRun(args.scene, options, report);

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <future>
 #include <map>
 #include <optional>
 
 #include "output/json_numbers.h"
 #include "output/replay.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/run_writer.h"
 #include "robophi/version.h"
 #include "run/checkpoint.h"
@@ -176,16 +176,9 @@ std::string contactOverload(const World& world, ParticleIndex* blamed) {
       pairs, n, mean, kMaxMeanContacts, *blamed, *most, 100.0 * deepest);
 }
 
-// A folder beside `target` that is renamed to it when complete.
-std::string stagingFolder(const std::string& target) {
-  std::filesystem::path path(target);
-  if (path.filename().empty()) path = path.parent_path();
-  return (path.parent_path() / ("." + path.filename().string() + ".partial")).string();
-}
-
 // The staging folder of a run: a stale one of robophi's (a killed run) is
 // cleared first; whatever robophi wrote into it is removed again unless it was
-// moved into place (or kept on purpose).
+// moved into place (or kept on purpose: a write that failed).
 class StagingFolder {
  public:
   explicit StagingFolder(std::string path) : path_(std::move(path)) {
@@ -211,6 +204,11 @@ class StagingFolder {
 // Time of the sample `index` of a series sampled `rate` times per second.
 double sampleTime(std::int64_t index, double rate) { return static_cast<double>(index) / rate; }
 
+// runScene's steps and files: the results go into `staging` (null: none) and
+// are published from there to options.outDir.
+RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder* staging,
+                   State* finalState);
+
 }  // namespace
 
 std::string outputFolderProblem(const RunOptions& options) {
@@ -219,11 +217,36 @@ std::string outputFolderProblem(const RunOptions& options) {
       output::resultsFolderProblem(options.outDir, "run", options.force, runFileNames());
   // The staging folder may be a killed run's (robophi's, cleared) but nothing else.
   if (problem.empty())
-    problem = output::resultsFolderProblem(stagingFolder(options.outDir), "run", false, {});
+    problem = output::resultsFolderProblem(output::stagingFolderOf(options.outDir), "run", false,
+                                           {});
   return problem;
 }
 
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState) {
+  if (options.outDir.empty()) return runSteps(scene, options, nullptr, finalState);
+  // One robophi at a time writes a folder; a replacement a kill cut short is
+  // finished first (the earlier results put back).
+  const output::ResultsFolderLock lock(options.outDir);
+  output::recoverResultsFolder(options.outDir);
+  if (const std::string problem = outputFolderProblem(options); !problem.empty())
+    throw output::ResultsFolderError(problem);
+  StagingFolder staging(output::stagingFolderOf(options.outDir).string());
+  try {
+    return runSteps(scene, options, &staging, finalState);
+  } catch (const output::WriteError& e) {
+    // A full disk: the earlier results stay; what was written is kept to look at.
+    const std::string kept = staging.path();
+    staging.release();
+    throw output::WriteError(fmt::format(
+        "{}; the results written so far are kept in {}; {} was left as it was", e.what(), kept,
+        options.outDir));
+  }
+}
+
+namespace {
+
+RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder* staging,
+                   State* finalState) {
   using Clock = std::chrono::steady_clock;
   using nlohmann::json;
   const RunSettings& settings = options.settings;
@@ -292,15 +315,11 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.energyScale = report.initialScale;
   }
 
-  std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
   // The replay page's options: the page written as the run goes and the page
   // ended (or written whole) after it take the same.
   const ReplayOptions replayOptions;
-  if (!options.outDir.empty()) {
-    if (const std::string problem = outputFolderProblem(options); !problem.empty())
-      throw output::ResultsFolderError(problem);
-    staging.emplace(stagingFolder(options.outDir));
+  if (staging) {
     if (resume) {
       // The series so far, copied beside the folder and cut back to the checkpoint.
       const auto sizes = resume->at("files").get<std::map<std::string, std::uintmax_t>>();
@@ -583,9 +602,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (finalState) *finalState = last;
 
   if (writer) {
-    // The previous results (--force) go while the last files are written.
-    std::future<void> cleared =
-        output::clearPreviousResults(options.outDir, "run", options.force, runFileNames());
     // An interrupted run stops quickly: its page can be made later.
     if (options.writeReplay && report.interrupted()) {
       report.warnings.push_back(
@@ -607,7 +623,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
     page.reset();  // (a page not ended is removed)
     output::removeFromResultsMarker(staging->path(), kReplayPagePartial);
-    cleared.wait();
     try {
       output::publishResultsFolder(staging->path(), options.outDir, "run", options.force);
     } catch (const output::ResultsFolderError&) {
@@ -618,6 +633,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   return report;
 }
+
+}  // namespace
 
 nlohmann::json readCheckpoint(const std::string& dir) {
   const std::filesystem::path path = std::filesystem::path(dir) / "checkpoint.json";
