@@ -8,6 +8,9 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
@@ -30,7 +33,44 @@ using scene::SceneObject;
 
 constexpr int kFormatVersion = 1;
 
-// Reads every object entry; names must be unique.
+// The names an entry gives the model, each with where it comes from: a
+// generated object's own name and its joints' ("<object>.<joint>"), or a URDF
+// robot's link objects ("<robot>.<link>", their carriers "<robot>.<link>.carriers")
+// and joints ("<robot>.<joint>").
+std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& object) {
+  std::vector<std::pair<std::string, std::string>> names;
+  if (!object.urdf) {
+    names.emplace_back(object.name, fmt::format("object '{}' ({})", object.name, object.pointer));
+    for (const Joint& joint : object.geometry.joints)
+      names.emplace_back(object.name + "." + joint.name,
+                         fmt::format("joint '{}' of object '{}' ({})", joint.name, object.name,
+                                     object.pointer));
+    return names;
+  }
+  // A robot's names begin "<robot>.": what follows.
+  const auto local = [&](const std::string& name) {
+    const std::string prefix = object.name + ".";
+    return name.starts_with(prefix) ? name.substr(prefix.size()) : name;
+  };
+  constexpr std::string_view kCarriers = ".carriers";
+  for (const build::ObjectPlacement& link : object.urdf->objects) {
+    const bool carriers = link.kind == "virtual";
+    std::string linkName = local(link.name);
+    if (carriers && linkName.ends_with(kCarriers)) linkName.resize(linkName.size() - kCarriers.size());
+    names.emplace_back(link.name, fmt::format("{}link '{}' of robot '{}' ({})",
+                                              carriers ? "the carriers of " : "", linkName,
+                                              object.name, object.pointer));
+  }
+  for (const build::UrdfModelJoint& joint : object.urdf->modelJoints)
+    names.emplace_back(joint.name,
+                       fmt::format("joint '{}' of robot '{}' ({})", local(joint.name),
+                                   object.name, object.pointer));
+  return names;
+}
+
+// Reads every object entry; names must be unique: the entries' and every name
+// they give the model (objects, robots' links and joints), which share one
+// space (model.json, joints.csv, the robotics targets).
 std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list,
                                      std::map<std::string, std::size_t>& byName,
                                      const std::string& sceneDirectory) {
@@ -48,6 +88,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   // checked by its builder before it allocates, the sum here after each object,
   // so no more than the budget and one object is ever held.
   std::size_t particles = 0, connectors = 0;
+  std::map<std::string, std::string> placesByName;  // every name in the model → where from
   for (std::size_t i = 0; i < list->size(); ++i) {
     const nlohmann::json& entry = (*list)[i];
     const std::string pointer = fmt::format("/objects/{}", i);
@@ -92,6 +133,19 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
         sink.error(object.pointer + "/name",
                    fmt::format("duplicate object name '{}' (first defined at {})", object.name,
                                objects[it->second].pointer));
+        object.valid = false;
+      }
+    }
+    if (object.valid) {
+      for (auto& [name, place] : modelNames(object)) {
+        const auto [it, fresh] = placesByName.emplace(name, place);
+        if (fresh) continue;
+        sink.error(object.pointer + "/name",
+                   fmt::format("the name '{}' is given twice in the model: to {} and to {}; "
+                               "objects, robots' links and joints share one set of names",
+                               name, it->second, place));
+        object.valid = false;
+        break;
       }
     }
     objects.push_back(std::move(object));
@@ -113,8 +167,8 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
       } else {
         object.firstParticle = builder.addObject(object).firstParticle;
       }
-    } catch (const build::SpecError& e) {  // a duplicate name, already reported
-      if (e.field() != "name") sink.error(object.pointer, e.message());
+    } catch (const build::SpecError& e) {  // (names clash in readObjects, never here)
+      sink.error(object.pointer, e.message());
       object.valid = false;
     }
   }
