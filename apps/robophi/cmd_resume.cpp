@@ -63,6 +63,9 @@ int resumeCommand(const ResumeArguments& args) {
   CheckpointedRun saved;
   try {
     checkpoint = readCheckpoint(args.dir);
+    // Its numbers in range, the files the run read unchanged, this folder's own.
+    if (const std::string problem = checkpointProblem(args.dir, checkpoint); !problem.empty())
+      throw std::runtime_error(problem);
     saved = checkpointedRun(checkpoint);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "robophi resume: %s\n", e.what());

@@ -68,8 +68,8 @@ int takeLock(const fs::path& target, const fs::path& lockFile) {
       const int error = errno;
       ::close(fd);
       if (error != EWOULDBLOCK) {
-        throw ResultsFolderError(fmt::format("{}: cannot lock ({})", lockFile.string(),
-                                             std::strerror(error)));
+        throw ResultsFolderError(
+            fmt::format("{}: cannot lock ({})", lockFile.string(), std::strerror(error)));
       }
       throw ResultsFolderError(fmt::format(
           "{} is being written by another robophi (pid {}; its lock file {}): wait for it to "

@@ -227,9 +227,9 @@ void RunWriter::stop() {
 void RunWriter::checkWritten(const std::ofstream& out, const std::string& name) const {
   // The stream's state is sticky: one failed write (a full disk) fails it for good.
   if (!out) {
-    throw output::WriteError(
-        fmt::format("{}: cannot write ({})", (std::filesystem::path(dir_) / name).string(),
-                    std::strerror(errno)));
+    throw output::WriteError(fmt::format("{}: cannot write ({})",
+                                         (std::filesystem::path(dir_) / name).string(),
+                                         std::strerror(errno)));
   }
 }
 

@@ -217,8 +217,8 @@ std::string outputFolderProblem(const RunOptions& options) {
       output::resultsFolderProblem(options.outDir, "run", options.force, runFileNames());
   // The staging folder may be a killed run's (robophi's, cleared) but nothing else.
   if (problem.empty())
-    problem = output::resultsFolderProblem(output::stagingFolderOf(options.outDir), "run", false,
-                                           {});
+    problem =
+        output::resultsFolderProblem(output::stagingFolderOf(options.outDir), "run", false, {});
   return problem;
 }
 
@@ -237,9 +237,9 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // A full disk: the earlier results stay; what was written is kept to look at.
     const std::string kept = staging.path();
     staging.release();
-    throw output::WriteError(fmt::format(
-        "{}; the results written so far are kept in {}; {} was left as it was", e.what(), kept,
-        options.outDir));
+    throw output::WriteError(
+        fmt::format("{}; the results written so far are kept in {}; {} was left as it was",
+                    e.what(), kept, options.outDir));
   }
 }
 
@@ -342,6 +342,12 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   }
   const std::string sceneHash =
       resume ? resume->at("scene").at("hash").get<std::string>() : fileHash(scene.sourcePath);
+  // Every file the run read, as it was when the run started (checkpointProblem
+  // compares them on resume); hashed only when a checkpoint may be written.
+  const bool checkpoints = options.checkpointEvery > 0.0 || options.stopAfter > 0.0;
+  const json inputs = resume        ? resume->value("inputs", json::array())
+                      : checkpoints ? inputDigests(scene.inputFiles)
+                                    : json::array();
 
   const auto start = Clock::now();
   auto lastProgress = start;
@@ -383,11 +389,18 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
     report.lastCheckpointTime = state.time;
     json tasks = json::array();
     for (const StepTask& task : options.tasks) tasks.push_back(task ? task->save() : json());
+    // The series files as far as written, with a digest of their last bytes:
+    // the checkpoint goes with this folder's files only.
+    const std::map<std::string, std::uintmax_t> sizes = writer->progress();
+    json digests = json::object();
+    for (const auto& [name, size] : sizes)
+      digests[name] = seriesDigest((std::filesystem::path(staging->path()) / name).string(), size);
     json checkpoint = {
         {"robophi", kVersion},
         {"kind", "checkpoint"},
         {"format", 1},
         {"scene", sceneRecord(scene, sceneHash, options.urdf)},
+        {"inputs", inputs},
         {"settings", runSettingsToJson(settings)},
         {"energy_rate", output::exactNumber(options.energyRate)},
         {"checkpoint_every", output::exactNumber(options.checkpointEvery)},
@@ -411,7 +424,8 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
            priorWallSeconds + std::chrono::duration<double>(Clock::now() - start).count()},
           {"warnings", report.warnings},
           {"events", report.events}}},
-        {"files", writer->progress()},
+        {"files", sizes},
+        {"files_digest", digests},
         {"tasks", tasks}};
     writer->writeCheckpoint(checkpoint);
   };

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "robophi/build/input_files.h"
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
@@ -42,9 +43,9 @@ std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& o
   if (!object.urdf) {
     names.emplace_back(object.name, fmt::format("object '{}' ({})", object.name, object.pointer));
     for (const Joint& joint : object.geometry.joints)
-      names.emplace_back(object.name + "." + joint.name,
-                         fmt::format("joint '{}' of object '{}' ({})", joint.name, object.name,
-                                     object.pointer));
+      names.emplace_back(
+          object.name + "." + joint.name,
+          fmt::format("joint '{}' of object '{}' ({})", joint.name, object.name, object.pointer));
     return names;
   }
   // A robot's names begin "<robot>.": what follows.
@@ -56,15 +57,15 @@ std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& o
   for (const build::ObjectPlacement& link : object.urdf->objects) {
     const bool carriers = link.kind == "virtual";
     std::string linkName = local(link.name);
-    if (carriers && linkName.ends_with(kCarriers)) linkName.resize(linkName.size() - kCarriers.size());
-    names.emplace_back(link.name, fmt::format("{}link '{}' of robot '{}' ({})",
-                                              carriers ? "the carriers of " : "", linkName,
-                                              object.name, object.pointer));
+    if (carriers && linkName.ends_with(kCarriers))
+      linkName.resize(linkName.size() - kCarriers.size());
+    names.emplace_back(
+        link.name, fmt::format("{}link '{}' of robot '{}' ({})", carriers ? "the carriers of " : "",
+                               linkName, object.name, object.pointer));
   }
   for (const build::UrdfModelJoint& joint : object.urdf->modelJoints)
-    names.emplace_back(joint.name,
-                       fmt::format("joint '{}' of robot '{}' ({})", local(joint.name),
-                                   object.name, object.pointer));
+    names.emplace_back(joint.name, fmt::format("joint '{}' of robot '{}' ({})", local(joint.name),
+                                               object.name, object.pointer));
   return names;
 }
 
@@ -255,6 +256,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 
 SceneLoadResult loadSceneFile(const std::string& path) {
   SceneLoadResult result;
+  const build::InputFileLog read;  // the scene file and what it names (URDF, meshes, heightfields)
+  build::InputFileLog::record(path);
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
     result.errors.push_back(Diagnostic{path, 0, 0, "", "is a folder, not a scene file"});
@@ -271,7 +274,9 @@ SceneLoadResult loadSceneFile(const std::string& path) {
     result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot read the scene file"});
     return result;
   }
-  return loadSceneText(text.str(), path);
+  result = loadSceneText(text.str(), path);
+  if (result.scene) result.scene->inputFiles = read.files();
+  return result;
 }
 
 }  // namespace robophi

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "robophi/build/input_files.h"
 #include "robophi/build/urdf.h"
 
 namespace robophi::scene {
@@ -144,6 +145,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   spec.holdJoints = hold.value_or(false);
   spec.roundWheels = roundWheels.value_or(true);
   try {
+    build::InputFileLog::record(spec.path);
     auto robot = std::make_shared<build::UrdfRobot>(build::makeUrdfRobot(spec));
     for (const build::UrdfWarning& w : robot->warnings)
       sink.warning(reader.memberPointer("file"),
@@ -180,6 +182,8 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
     return result;
   };
   build::UrdfRobot robot;
+  const build::InputFileLog read;  // the URDF file and its meshes
+  build::InputFileLog::record(path);
   try {
     spec.fixedBase = options.fixedBase.value_or(true);
     robot = build::makeUrdfRobot(spec);
@@ -222,6 +226,7 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   Scene scene;
   scene.name = robot.name;
   scene.sourcePath = path;
+  scene.inputFiles = read.files();
   build::ModelBuilder builder;
   builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
   build::placeUrdfRobot(builder, robot);

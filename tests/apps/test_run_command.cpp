@@ -294,8 +294,8 @@ bool wholeRunFolder(const fs::path& dir, std::string& why) {
 // the other is refused at once (exit 2) naming the lock file and the holder.
 TEST_F(RunCommandTest, TwoRunsOnOneFolderAtOnceOneIsRefusedByTheLock) {
   // (About 0.1 s of wall time, the lock held all along: the two overlap.)
-  const std::vector<std::string> args = {kScenes + "pendulum.json", "--quiet", "--duration", "30",
-                                         "--out", out_.string()};
+  const std::vector<std::string> args = {
+      kScenes + "pendulum.json", "--quiet", "--duration", "30", "--out", out_.string()};
   for (int round = 0; round < 40; ++round) {
     const fs::path errorsA = root_ / "a.txt", errorsB = root_ / "b.txt";
     const pid_t a = spawn(args, errorsA);
@@ -318,8 +318,8 @@ TEST_F(RunCommandTest, TwoRunsOnOneFolderAtOnceOneIsRefusedByTheLock) {
 // holds the earlier or the new result, whole (or, killed between the two
 // renames, the earlier one waits whole in .out.old and the next run puts it back).
 TEST_F(RunCommandTest, AKillWhileAResultIsReplacedNeverLeavesTheFolderEmptyOrHalfWritten) {
-  const std::vector<std::string> args = {kScenes + "hand_grasp.json", "--quiet", "--duration",
-                                         "0.5", "--out", out_.string()};
+  const std::vector<std::string> args = {
+      kScenes + "hand_grasp.json", "--quiet", "--duration", "0.5", "--out", out_.string()};
   const auto started = std::chrono::steady_clock::now();
   ASSERT_EQ(wait(spawn(args, root_ / "first.txt")), 0) << readText(root_ / "first.txt");
   const auto wall = std::chrono::duration_cast<std::chrono::microseconds>(

@@ -39,8 +39,8 @@ void expectClash(const SceneLoadResult& result, const std::string& pointer,
   ASSERT_EQ(result.errors.size(), 1u) << test::allErrors(result);
   EXPECT_EQ(result.errors[0].pointer, pointer);
   for (const std::string& part : parts)
-    EXPECT_NE(result.errors[0].message.find(part), std::string::npos)
-        << part << "\n" << result.errors[0].message;
+    EXPECT_NE(result.errors[0].message.find(part), std::string::npos) << part << "\n"
+                                                                      << result.errors[0].message;
 }
 
 TEST(SceneNames, AnObjectNamedLikeARobotsLinkIsAnErrorEitherWay) {
@@ -70,8 +70,8 @@ TEST(SceneNames, AnObjectNamedLikeALinksCarriersOrARobotsJointIsAnError) {
 TEST(SceneNames, ValidateAndRunRefuseAClashWithExit2) {
   const fs::path dir = testing::makeTempFolder("robophi_scene_names_");
   const fs::path scene = dir / "clash.json";
-  testing::writeText(scene, R"({"objects": [)" + kGripper + ", " + box("gripper.gripper_pole") +
-                                "]}");
+  testing::writeText(scene,
+                     R"({"objects": [)" + kGripper + ", " + box("gripper.gripper_pole") + "]}");
   for (const std::string command : {"validate", "run"}) {
     const std::string out = command == "run" ? " --out " + (dir / "out").string() : "";
     const std::string line = std::string(ROBOPHI_BINARY) + " " + command + " " + scene.string() +
