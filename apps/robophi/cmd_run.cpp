@@ -325,13 +325,14 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--min-step", args->minStep,
-                  fmt::format("Smallest step (s; minStep, default {:g}): below it the run stops "
-                              "as stalled",
+                  fmt::format("Smallest step (s; minStep, default {:g}: 1e-8 x the first trial "
+                              "step): below it the run stops as stalled",
                               defaults.minStep))
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--max-step", args->maxStep,
-                  fmt::format("Largest step (s; maxStep, default {:g})", defaults.maxStep))
+                  fmt::format("Largest step (s; maxStep, default {:g}: no ceiling)",
+                              defaults.maxStep))
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--max-penetration", args->maxPenetration,

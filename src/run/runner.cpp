@@ -109,6 +109,14 @@ std::string describePlace(const FailurePlace& at) {
                      at.object.empty() ? std::string() : fmt::format(" of object '{}'", at.object));
 }
 
+// Ends the run with `status` at `at` (a failure: also one of its warnings).
+void fail(RunReport& report, const char* status, const FailurePlace& at, std::string failure) {
+  report.status = status;
+  report.failurePlace = at;
+  report.failure = std::move(failure);
+  report.warnings.push_back(report.failure);
+}
+
 // The free particle with the most kinetic energy (kNoParticle when none moves).
 ParticleIndex mostEnergetic(const World& world) {
   const Model& model = world.model();
@@ -453,10 +461,8 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
     // Particles inside one another (a heap in one spot): stop before the step collapses.
     if (ParticleIndex blamed = kNoParticle; true) {
       if (const std::string why = contactOverload(world, &blamed); !why.empty()) {
-        report.status = "stalled";
-        report.failurePlace = placeOf(world, blamed);
-        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), why);
-        report.warnings.push_back(report.failure);
+        const FailurePlace at = placeOf(world, blamed);
+        fail(report, "stalled", at, fmt::format("at {}: {}", describePlace(at), why));
         break;
       }
     }
@@ -471,28 +477,42 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
     if (adaptive) {
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
-        report.status = "stalled";
         // The particle the step blames (the largest acceleration), else a non-finite one.
-        report.failurePlace =
+        const FailurePlace at =
             placeOf(world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
-        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
-        report.warnings.push_back(report.failure);
+        fail(report, "stalled", at, fmt::format("at {}: {}", describePlace(at), r.failure));
         break;
       }
       dtUsed = r.dt;
-    } else if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
-                                     settings.adaptive.stabilitySafety,
-                                     &constantSplits) != StepStatus::kOk) {
-      report.status = "diverged";
-      // The first non-finite particle; when only the energy is, the one with the most.
-      const ParticleIndex bad = world.firstNonFiniteParticle();
-      report.failurePlace = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
-      report.failure =
-          fmt::format("the state became non-finite at {}{}", describePlace(*report.failurePlace),
-                      bad == kNoParticle ? std::string(" (the energy: that particle has the most)")
-                                         : std::string());
-      report.warnings.push_back(report.failure);
-      break;
+    } else {
+      const std::int64_t splitsBefore = constantSplits;
+      if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
+                                settings.adaptive.stabilitySafety,
+                                &constantSplits) != StepStatus::kOk) {
+        // The first non-finite particle; when only the energy is, the one with the most.
+        const ParticleIndex bad = world.firstNonFiniteParticle();
+        const FailurePlace at = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
+        fail(report, "diverged", at,
+             fmt::format("the state became non-finite at {}{}", describePlace(at),
+                         bad == kNoParticle
+                             ? std::string(" (the energy: that particle has the most)")
+                             : std::string()));
+        break;
+      }
+      // Bounded work: a step split past the limit stops the run (the state is whole).
+      if (const std::int64_t substeps = constantSplits - splitsBefore + 1;
+          substeps > kMaxConstantSubsteps) {
+        const FailurePlace at = placeOf(world, mostEnergetic(world));
+        fail(report, "stalled", at,
+             fmt::format("at {}: the constant step {:.3g} s needed {} substeps, more than the "
+                         "limit of {} (docs/adaptive-step.md): the surfaces approach too fast for "
+                         "it or the touching contacts are too stiff (their stability limit now "
+                         "{:.3g} s; the connectors' critical step {:.3g} s); that particle moves "
+                         "fastest; use a smaller --dt or --step adaptive",
+                         describePlace(at), settings.dt, substeps, kMaxConstantSubsteps,
+                         world.evaluation().contactCriticalStep, report.stability.criticalStep));
+        break;
+      }
     }
     sample(dtUsed, false);
     // Tasks between steps (docs/robotics.md), in order; the first to say so ends the run.
@@ -569,16 +589,14 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   const double runawayScale = std::max(report.initialScale, std::abs(report.externalWork));
   const double growth = (report.finalTotal - report.initialTotal) / runawayScale;
   if (report.ok() && growth > kRunawayEnergyGrowth) {
-    report.status = "diverged";
-    report.failurePlace = placeOf(world, mostEnergetic(world));
-    report.failure = fmt::format(
-        "the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or the work from "
-        "outside, whichever is larger; E + dissipated - external, "
-        "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large for the "
-        "model's stiffness (estimate 2/omega_max = {:.3g} s)",
-        growth, runawayScale, report.initialTotal, report.finalTotal,
-        describePlace(*report.failurePlace), report.stability.criticalStep);
-    report.warnings.push_back(report.failure);
+    const FailurePlace at = placeOf(world, mostEnergetic(world));
+    fail(report, "diverged", at,
+         fmt::format("the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or "
+                     "the work from outside, whichever is larger; E + dissipated - external, "
+                     "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large "
+                     "for the model's stiffness (estimate 2/omega_max = {:.3g} s)",
+                     growth, runawayScale, report.initialTotal, report.finalTotal,
+                     describePlace(at), report.stability.criticalStep));
   }
   // The tasks' outcomes as data; a goal not reached by the end is a status.
   for (const StepTask& task : options.tasks) {
@@ -591,17 +609,17 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
       if (!goal.value("reached", true)) report.goalsNotReached.push_back(goal.value("name", ""));
   }
   if (report.ok() && report.largestAccountError > report.accountBound) {
-    report.status = "energy_account_broken";
     // Where it first went past the bound, with the most energetic particle then
     // (else, after a resume, the end and its most energetic particle).
-    report.failurePlace = accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
-    report.failure = fmt::format(
-        "the energy account (E + dissipated - external) drifted by up to {:.3g} of its scale "
-        "{:.3g} J (bound {:.3g}; final drift {:.3g}), first past the bound at {}: the "
-        "integration is not to be trusted; try a smaller --dt or --tolerance",
-        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift,
-        describePlace(*report.failurePlace));
-    report.warnings.push_back(report.failure);
+    const FailurePlace at =
+        accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
+    fail(report, "energy_account_broken", at,
+         fmt::format("the energy account (E + dissipated - external) drifted by up to {:.3g} of "
+                     "its scale {:.3g} J (bound {:.3g}; final drift {:.3g}), first past the "
+                     "bound at {}: the integration is not to be trusted; try a smaller --dt or "
+                     "--tolerance",
+                     report.largestAccountError, report.energyScale, report.accountBound,
+                     report.energyDrift, describePlace(at)));
   }
   if (report.ok() && !report.goalsNotReached.empty()) {
     report.status = "goal_not_reached";

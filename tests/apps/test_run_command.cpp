@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -229,6 +231,28 @@ TEST_F(RunCommandTest, HelpGivesTheAdaptiveOptionsWithTheirUnits) {
                            "--max-step", "(s; maxStep", "--max-penetration",
                            "(-; maxPenetrationFraction", "--force", "never a stiffness"})
     EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+}
+
+// README's defaults of the adaptive step's options are those --help gives (and
+// the code uses): "`--min-step S` (s; default 0: ..." against "default 0".
+TEST_F(RunCommandTest, TheReadmesAdaptiveDefaultsAreThoseOfHelp) {
+  const fs::path help = root_ / "help.txt";
+  ASSERT_EQ(std::system((std::string(ROBOPHI_BINARY) + " run --help > " + help.string()).c_str()),
+            0);
+  const std::string helpText = readText(help);
+  std::string readme = readText(ROBOPHI_SOURCE_DIR "/README.md");
+  std::replace(readme.begin(), readme.end(), '\n', ' ');
+  for (const std::string option : {"--tolerance", "--min-step", "--max-step", "--max-penetration"}) {
+    std::smatch inReadme, inHelp;
+    ASSERT_TRUE(std::regex_search(
+        readme, inReadme, std::regex("`" + option + " [A-Z]+` \\([-s]; default ([^:) ]+)")))
+        << option << ": no default in README.md";
+    ASSERT_TRUE(
+        std::regex_search(helpText, inHelp, std::regex(option + " NUMBER[^\n]*default ([^:) ]+)")))
+        << option << ": no default in --help";
+    EXPECT_EQ(std::stod(inReadme[1].str()), std::stod(inHelp[1].str()))
+        << option << ": README.md says " << inReadme[1] << ", --help " << inHelp[1];
+  }
 }
 
 // --dt is the step only: the model, its stiffness and so its highest frequency
