@@ -187,25 +187,11 @@ int runCommand(const RunArguments& args) {
   options.stop = &InterruptGuard::flag();
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
-  // The adaptive step stays below stabilitySafety × 2/omega_max (MODEL §2, §4):
-  // a model too stiff for its masses (a 1e-20 kg particle on a 1e4 N/m spring,
-  // omega = 1e12 rad/s) would take more steps than the limit, for days.
-  if (options.settings.stepMode == StepMode::kAdaptive) {
-    const double ceiling = options.settings.adaptive.stabilitySafety * stability.criticalStep;
-    const double fewest = options.settings.duration / ceiling;
-    if (!(fewest <= kMaxRunSteps)) {
-      std::fprintf(stderr,
-                   "robophi run: %s: the model's fastest mode (omega_max = %.3g rad/s, particle "
-                   "%d) keeps the adaptive step below %.3g s (stabilitySafety x 2/omega_max, "
-                   "reduced for damping): the duration %g s takes at least %.3g steps, more "
-                   "than the limit of %.0e steps (docs/scene-format.md#limits); soften the "
-                   "stiffest connectors or make their particles heavier; nothing was run or "
-                   "written\n",
-                   args.scene.c_str(), stability.omegaMax,
-                   static_cast<int>(stability.limitingParticle), ceiling, options.settings.duration,
-                   fewest, kMaxRunSteps);
-      return kExitBadInput;
-    }
+  if (const std::string problem = adaptiveStepLimitProblem(options.settings, stability);
+      !problem.empty()) {
+    std::fprintf(stderr, "robophi run: %s: %s; nothing was run or written\n", args.scene.c_str(),
+                 problem.c_str());
+    return kExitBadInput;
   }
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
   for (const auto& w : preflightWarnings(options.settings, stability)) {

@@ -41,6 +41,22 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
   return warnings;
 }
 
+std::string adaptiveStepLimitProblem(const RunSettings& settings,
+                                     const StabilityEstimate& stability) {
+  if (settings.stepMode != StepMode::kAdaptive) return {};
+  const double ceiling = settings.adaptive.stabilitySafety * stability.criticalStep;
+  const double fewest = settings.duration / ceiling;
+  if (fewest <= kMaxRunSteps) return {};
+  return fmt::format(
+      "the model's fastest mode (omega_max = {:.3g} rad/s, particle {}) keeps the adaptive step "
+      "below {:.3g} s (stabilitySafety x 2/omega_max, reduced for damping): the duration {:g} s "
+      "takes at least {:.3g} steps, more than the limit of {:.0e} steps "
+      "(docs/scene-format.md#limits); soften the stiffest connectors or make their particles "
+      "heavier",
+      stability.omegaMax, stability.limitingParticle, ceiling, settings.duration, fewest,
+      kMaxRunSteps);
+}
+
 std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
                              const Evaluation& start) {
   // The joint drives' damping (Evaluation::driveDampingRate) is not in the

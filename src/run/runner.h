@@ -98,6 +98,15 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
                              const Evaluation& start);
 
+/// Why an adaptive run of `settings` cannot end within kMaxRunSteps steps: the
+/// adaptive step stays below stabilitySafety × the critical step (MODEL §2, §4),
+/// so a model too stiff for its masses (a 1e-20 kg particle on a 1e4 N/m spring,
+/// omega = 1e12 rad/s) would take more steps than the limit, for days. Empty
+/// when it can, and for constant steps. robophi run and robophi validate refuse
+/// such a scene alike.
+std::string adaptiveStepLimitProblem(const RunSettings& settings,
+                                     const StabilityEstimate& stability);
+
 /// Why options.outDir (or its staging folder beside it) may not receive the
 /// results, naming the folder and what is in it; empty when it may.
 std::string outputFolderProblem(const RunOptions& options);
