@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/run_reader.h"
 #include "test_files.h"
 
@@ -337,6 +338,28 @@ TEST_F(RunCommandTest, TwoRunsOnOneFolderAtOnceOneIsRefusedByTheLock) {
     ASSERT_TRUE(wholeRunFolder(out_, why)) << why;
     EXPECT_FALSE(fs::exists(root_ / "out.lock"));
   }
+}
+
+// The lock is the folder's, whoever holds it: while this process holds it, a
+// run and an export of the folder are refused (exit 2), naming this pid.
+TEST_F(RunCommandTest, ARunOrAnExportOfALockedFolderIsRefused) {
+  const std::string args = kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string();
+  ASSERT_EQ(run(args).exitCode, 0);
+  const std::string exportHtml =
+      std::string(ROBOPHI_BINARY) + " export html " + out_.string() + " > /dev/null 2> ";
+  {
+    const output::ResultsFolderLock lock(out_);
+    const std::string holder = "pid " + std::to_string(getpid());
+    const Outcome refused = run(args);
+    EXPECT_EQ(refused.exitCode, 2);
+    EXPECT_NE(refused.errors.find(holder), std::string::npos) << refused.errors;
+    const int status = std::system((exportHtml + (root_ / "export.txt").string()).c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+    EXPECT_NE(readText(root_ / "export.txt").find((root_ / "out.lock").string()),
+              std::string::npos)
+        << readText(root_ / "export.txt");
+  }
+  EXPECT_EQ(std::system((exportHtml + "/dev/null").c_str()), 0);
 }
 
 // A run replacing an earlier result, killed outright at any moment: the folder
