@@ -4,10 +4,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "commands.h"
 #include "output/replay.h"
+#include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/vtk_export.h"
 
 namespace robophi::cli {
@@ -16,9 +20,20 @@ namespace {
 
 // main() returns the exit code of a CLI::RuntimeError without printing, so the
 // message goes to stderr here.
-[[noreturn]] void fail(const std::string& error) {
+[[noreturn]] void fail(const std::string& error, int exitCode = kExitFailure) {
   std::fprintf(stderr, "robophi export: error: %s\n", error.c_str());
-  throw CLI::RuntimeError(kExitFailure);
+  throw CLI::RuntimeError(exitCode);
+}
+
+// The run folder's lock (output/results_lock.h), held while the export reads it
+// and writes into it: a run replacing the folder meanwhile is refused, and a
+// folder a run is writing is not exported (exit 2).
+std::optional<output::ResultsFolderLock> lockRunFolder(const std::string& runDir) {
+  try {
+    return std::optional<output::ResultsFolderLock>(std::in_place, runDir);
+  } catch (const output::ResultsFolderError& e) {
+    fail(e.what(), kExitBadInput);
+  }
 }
 
 }  // namespace
@@ -44,6 +59,7 @@ void addExportCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   htmlCmd->callback([html] {
+    const auto lock = lockRunFolder(html->runDir);
     ReplayOptions options;
     options.sizeCapBytes = html->sizeCapMb * 1e6;
     options.outputPath = html->out;
@@ -65,6 +81,7 @@ void addExportCommand(CLI::App& app) {
   vtkCmd->add_option("DIR", vtk->runDir, "Run folder (written by robophi run)")->required();
   vtkCmd->add_option("--out", vtk->out, "Output folder (default DIR/vtk)");
   vtkCmd->callback([vtk] {
+    const auto lock = lockRunFolder(vtk->runDir);
     const std::string outDir =
         vtk->out.empty() ? (std::filesystem::path(vtk->runDir) / "vtk").string() : vtk->out;
     std::string error;

@@ -5,10 +5,12 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "commands.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "robotics/tasks.h"
 #include "run/checkpoint.h"
 #include "run/interrupt.h"
@@ -33,7 +35,7 @@ void adoptKilledRun(const std::string& dir) {
   namespace fs = std::filesystem;
   fs::path target(dir);
   if (target.filename().empty()) target = target.parent_path();
-  const fs::path staging = target.parent_path() / ("." + target.filename().string() + ".partial");
+  const fs::path staging = output::stagingFolderOf(target);
   std::error_code ec;
   if (fs::exists(target, ec) || !fs::is_regular_file(staging / "checkpoint.json", ec)) return;
   fs::rename(staging, target, ec);
@@ -45,11 +47,25 @@ void adoptKilledRun(const std::string& dir) {
 
 int resumeCommand(const ResumeArguments& args) {
   InterruptGuard interrupt;
+  // The folder is this resume's until it ends (its run takes the lock again);
+  // a replacement a kill cut short is finished first.
+  std::optional<output::ResultsFolderLock> lock;
+  try {
+    lock.emplace(args.dir);
+    if (const std::string note = output::recoverResultsFolder(args.dir); !note.empty())
+      std::fprintf(stderr, "robophi resume: %s\n", note.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "robophi resume: %s\n", e.what());
+    return kExitBadInput;
+  }
   adoptKilledRun(args.dir);
   nlohmann::json checkpoint;
   CheckpointedRun saved;
   try {
     checkpoint = readCheckpoint(args.dir);
+    // Its numbers in range, the files the run read unchanged, this folder's own.
+    if (const std::string problem = checkpointProblem(args.dir, checkpoint); !problem.empty())
+      throw std::runtime_error(problem);
     saved = checkpointedRun(checkpoint);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "robophi resume: %s\n", e.what());
@@ -97,6 +113,9 @@ int resumeCommand(const ResumeArguments& args) {
   } catch (const output::ResultsFolderError& e) {
     std::fprintf(stderr, "robophi resume: %s\n", e.what());
     return kExitBadInput;
+  } catch (const output::WriteError& e) {  // a full disk: the folder as it was
+    std::fprintf(stderr, "robophi resume: %s\n", e.what());
+    return kExitFailure;
   } catch (const nlohmann::json::exception& e) {
     std::fprintf(stderr, "robophi resume: %s/checkpoint.json: %s\n", args.dir.c_str(), e.what());
     return kExitBadInput;

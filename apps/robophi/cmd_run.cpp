@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
+#include <optional>
 
 #include "commands.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "robotics/tasks.h"
 #include "run/interrupt.h"
 #include "run/runner.h"
@@ -163,6 +165,15 @@ int runCommand(const RunArguments& args) {
           ? (std::filesystem::path("out") / std::filesystem::path(args.scene).stem()).string()
           : args.outDir;
   options.force = args.force;
+  // The folder is this run's from here (runScene takes the lock again): another
+  // robophi writing it is refused before anything is looked at.
+  std::optional<output::ResultsFolderLock> lock;
+  try {
+    lock.emplace(options.outDir);
+  } catch (const output::ResultsFolderError& e) {
+    std::fprintf(stderr, "robophi run: --out: %s; nothing was run or written\n", e.what());
+    return kExitBadInput;
+  }
   if (const std::string problem = outputFolderProblem(options); !problem.empty()) {
     std::fprintf(stderr,
                  "robophi run: --out: %s. robophi deletes nothing it did not write: choose "
@@ -176,25 +187,11 @@ int runCommand(const RunArguments& args) {
   options.stop = &InterruptGuard::flag();
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
-  // The adaptive step stays below stabilitySafety × 2/omega_max (MODEL §2, §4):
-  // a model too stiff for its masses (a 1e-20 kg particle on a 1e4 N/m spring,
-  // omega = 1e12 rad/s) would take more steps than the limit, for days.
-  if (options.settings.stepMode == StepMode::kAdaptive) {
-    const double ceiling = options.settings.adaptive.stabilitySafety * stability.criticalStep;
-    const double fewest = options.settings.duration / ceiling;
-    if (!(fewest <= kMaxRunSteps)) {
-      std::fprintf(stderr,
-                   "robophi run: %s: the model's fastest mode (omega_max = %.3g rad/s, particle "
-                   "%d) keeps the adaptive step below %.3g s (stabilitySafety x 2/omega_max, "
-                   "reduced for damping): the duration %g s takes at least %.3g steps, more "
-                   "than the limit of %.0e steps (docs/scene-format.md#limits); soften the "
-                   "stiffest connectors or make their particles heavier; nothing was run or "
-                   "written\n",
-                   args.scene.c_str(), stability.omegaMax,
-                   static_cast<int>(stability.limitingParticle), ceiling, options.settings.duration,
-                   fewest, kMaxRunSteps);
-      return kExitBadInput;
-    }
+  if (const std::string problem = adaptiveStepLimitProblem(options.settings, stability);
+      !problem.empty()) {
+    std::fprintf(stderr, "robophi run: %s: %s; nothing was run or written\n", args.scene.c_str(),
+                 problem.c_str());
+    return kExitBadInput;
   }
   if (!args.quiet) std::fprintf(stderr, "%s\n", describeScene(*scene, stability).c_str());
   for (const auto& w : preflightWarnings(options.settings, stability)) {
@@ -207,9 +204,12 @@ int runCommand(const RunArguments& args) {
   RunReport report;
   try {
     report = runScene(*scene, options);
-  } catch (const output::ResultsFolderError& e) {  // the folder changed during the run
+  } catch (const output::ResultsFolderError& e) {  // another run holds it, or it changed
     std::fprintf(stderr, "robophi run: --out: %s\n", e.what());
     return kExitBadInput;
+  } catch (const output::WriteError& e) {  // a full disk: the earlier results as they were
+    std::fprintf(stderr, "robophi run: %s\n", e.what());
+    return kExitFailure;
   }
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
   return reportRun(args.scene, options, report);
@@ -311,13 +311,14 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--min-step", args->minStep,
-                  fmt::format("Smallest step (s; minStep, default {:g}): below it the run stops "
-                              "as stalled",
+                  fmt::format("Smallest step (s; minStep, default {:g}: 1e-8 x the first trial "
+                              "step): below it the run stops as stalled",
                               defaults.minStep))
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--max-step", args->maxStep,
-                  fmt::format("Largest step (s; maxStep, default {:g})", defaults.maxStep))
+                  fmt::format("Largest step (s; maxStep, default {:g}: no ceiling)",
+                              defaults.maxStep))
       ->group(group)
       ->type_name("NUMBER");
   cmd->add_option("--max-penetration", args->maxPenetration,

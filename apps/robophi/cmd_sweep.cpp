@@ -11,10 +11,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <thread>
 
 #include "commands.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "run/interrupt.h"
 #include "sweep.h"
 
@@ -170,9 +172,17 @@ int sweepCommand(const SweepArguments& args, const Ranks& ranks) {
                           : std::filesystem::path(args.outDir);
   const std::vector<std::string> files = {"sweep.csv", "sweep.json", "timing.csv", "report.html"};
   int folderOk = 1;
+  std::optional<output::ResultsFolderLock> lock;  // the lead's, until the tables are in place
   if (lead) {
-    if (const std::string problem = output::resultsFolderProblem(out, "sweep", args.force, files);
-        !problem.empty()) {
+    std::string problem;
+    try {
+      lock.emplace(out);
+      output::recoverResultsFolder(out);
+      problem = output::resultsFolderProblem(out, "sweep", args.force, files);
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    if (!problem.empty()) {
       say(fmt::format("--out: {}; nothing was run or written", problem));
       folderOk = 0;
     }
@@ -226,8 +236,7 @@ int sweepCommand(const SweepArguments& args, const Ranks& ranks) {
                                                                  : InterruptGuard::caughtSignal());
   }
   // Written beside the target and moved into place: never half a table.
-  const std::filesystem::path staging =
-      out.parent_path() / ("." + out.filename().string() + ".partial");
+  const std::filesystem::path staging = output::stagingFolderOf(out);
   try {
     std::filesystem::remove_all(staging);
     std::filesystem::create_directories(staging);

@@ -23,6 +23,16 @@ void addValidateCommand(CLI::App& app, int& exitCode) {
       return;
     }
     const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
+    // What robophi run refuses before it starts, with the scene's own settings
+    // (and the default energy rate): validate accepts exactly what run accepts.
+    std::string problem = adaptiveStepLimitProblem(scene->run, stability);
+    if (const auto settings = checkRunSettings(scene->run, RunOptions().energyRate))
+      problem = settings->message;
+    if (!problem.empty()) {
+      std::fprintf(stderr, "robophi validate: %s: %s\n", path->c_str(), problem.c_str());
+      exitCode = kExitBadInput;
+      return;
+    }
     std::printf("%s\n", describeScene(*scene, stability).c_str());
     for (const auto& w : preflightWarnings(scene->run, stability)) {
       std::fprintf(stderr, "%s: warning: %s\n", path->c_str(), w.c_str());

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "build/checks.h"
+#include "robophi/build/input_files.h"
 #include "robophi/build/rigid_body.h"
 
 namespace robophi::build {
@@ -49,6 +50,7 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
 
 TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   check::finite("loadMesh", "scale", scale, "");
+  InputFileLog::record(path);
   std::error_code error;
   const std::filesystem::path file(path);
   if (!std::filesystem::exists(file, error)) meshError(path, "no such file");

@@ -466,10 +466,20 @@ std::string overCap(const PagePlan& plan, std::size_t pageBytes, std::size_t kep
       plan.path.string(), pageBytes, plan.cap, keptFrames, frames);
 }
 
-// Lists a page written into a robophi run folder in its marker.
+// Lists a page about to be written into a robophi run folder in its marker
+// (before it is there: a kill in between leaves a folder wholly robophi's).
 void listPage(const PagePlan& plan) {
   if (plan.path.has_parent_path())
     output::addToResultsMarker(plan.path.parent_path(), plan.path.filename().string());
+}
+
+// Takes a page that could not be written off the marker again.
+void unlistPage(const PagePlan& plan) {
+  try {
+    if (plan.path.has_parent_path())
+      output::removeFromResultsMarker(plan.path.parent_path(), plan.path.filename().string());
+  } catch (const std::exception&) {  // (the error already says what failed)
+  }
 }
 
 // The whole page of the plan, written at once (whole or not at all).
@@ -500,14 +510,15 @@ bool writeWholePage(const PagePlan& plan, const RunFolder& run, const ReplayRows
     return false;
   }
   try {
+    listPage(plan);
     output::writeFileAtomically(plan.path, [&](std::ostream& out) {
       writePieces(out, replay_assets::kPageHead);
       out << series;
       writePageEnd(out, data);
     });
-    listPage(plan);
   } catch (const std::exception& e) {
     error = e.what();
+    unlistPage(plan);
     return false;
   }
   return true;
@@ -628,19 +639,21 @@ bool writeReplayHtml(const std::string& runDir, const ReplayOptions& options,
     stream->abandon();
     return writeWholePage(plan, run, rows, error);  // (says what failed)
   }
-  fs::rename(s.partial, plan.path, ec);
-  if (ec) {
-    error = fmt::format("{}: cannot write ({})", plan.path.string(), ec.message());
-    stream->abandon();
-    return false;
-  }
-  stream->state_.reset();  // finished: nothing to remove
   try {
     listPage(plan);
   } catch (const std::exception& e) {
     error = e.what();
+    stream->abandon();
     return false;
   }
+  fs::rename(s.partial, plan.path, ec);
+  if (ec) {
+    error = fmt::format("{}: cannot write ({})", plan.path.string(), ec.message());
+    stream->abandon();
+    unlistPage(plan);
+    return false;
+  }
+  stream->state_.reset();  // finished: nothing to remove
   return true;
 }
 

@@ -2,9 +2,13 @@
 // finished staging folder into place that deletes nothing robophi did not write.
 #include "output/results_folder.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -54,6 +58,16 @@ void moveFile(const fs::path& from, const fs::path& to) {
   fs::remove(from);
 }
 
+// A file the marker lists, or one being written whole in its place (NAME.partial,
+// writeFileAtomically) of a listed file or of the marker itself.
+bool isListed(const std::string& name, const std::set<std::string>& files) {
+  constexpr std::string_view kPartial = ".partial";
+  if (files.count(name) > 0) return true;
+  if (!name.ends_with(kPartial)) return false;
+  const std::string whole = name.substr(0, name.size() - kPartial.size());
+  return whole == kResultsMarker || files.count(whole) > 0;
+}
+
 }  // namespace
 
 FolderContents inspectResultsFolder(const fs::path& dir) {
@@ -77,7 +91,7 @@ FolderContents inspectResultsFolder(const fs::path& dir) {
       const FolderContents sub = inspectResultsFolder(entry.path());
       (sub.marked && sub.foreign.empty() ? contents.owned : contents.foreign).push_back(name + "/");
     } else if (fs::is_regular_file(entryStatus) &&
-               (name == kResultsMarker ? contents.marked : files.count(name) > 0)) {
+               (name == kResultsMarker ? contents.marked : isListed(name, files))) {
       contents.owned.push_back(name);
     } else {
       contents.foreign.push_back(name);
@@ -173,6 +187,86 @@ void removeOwnedEntries(const fs::path& dir, bool removeFolder) {
   if (removeFolder && fs::is_empty(dir)) fs::remove(dir);
 }
 
+namespace {
+
+// `target` without a trailing separator ("out/" is "out").
+fs::path folderPath(const fs::path& target) {
+  return target.filename().empty() ? target.parent_path() : target;
+}
+
+// The folder that holds `target` ("." for a bare name).
+fs::path parentOf(const fs::path& target) {
+  const fs::path parent = folderPath(target).parent_path();
+  return parent.empty() ? fs::path(".") : parent;
+}
+
+// Renames `from` to `to`; throws WriteError naming both when it cannot.
+void renameOrThrow(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  fs::rename(from, to, ec);
+  if (ec) {
+    throw WriteError(
+        fmt::format("cannot rename {} to {} ({})", from.string(), to.string(), ec.message()));
+  }
+}
+
+// Flushes every file under `dir`, then `dir`, to disk.
+void syncTree(const fs::path& dir) {
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file() || entry.is_directory()) syncToDisk(entry.path());
+  syncToDisk(dir);
+}
+
+// --force beside foreign entries (or a `target` that is a link): robophi's
+// files replaced one by one, each by a rename; the marker lists the old and the
+// new ones until the old are gone, so the folder stays robophi's throughout.
+void publishFileByFile(const fs::path& staging, const fs::path& target, std::string_view kind,
+                       const FolderContents& previous, const std::vector<std::string>& incoming) {
+  std::vector<std::string> listed;
+  for (const std::string& name : incoming)
+    if (name != kResultsMarker) listed.push_back(name);
+  for (const std::string& name : previous.owned)
+    if (name != kResultsMarker && name.back() != '/' &&
+        std::find(listed.begin(), listed.end(), name) == listed.end())
+      listed.push_back(name);
+  writeResultsMarker(target, kind, listed);
+  for (const std::string& name : incoming)
+    if (name != kResultsMarker) moveFile(staging / name, target / name);
+  for (const std::string& name : previous.owned) {
+    if (name == kResultsMarker) continue;
+    if (name.back() == '/') {
+      removeOwnedEntries(target / name.substr(0, name.size() - 1), /*removeFolder=*/true);
+    } else if (std::find(incoming.begin(), incoming.end(), name) == incoming.end()) {
+      fs::remove(target / name);
+    }
+  }
+  moveFile(staging / kResultsMarker, target / kResultsMarker);
+  fs::remove(staging);
+  syncToDisk(target);
+}
+
+}  // namespace
+
+fs::path stagingFolderOf(const fs::path& target) {
+  const fs::path path = folderPath(target);
+  return path.parent_path() / ("." + path.filename().string() + ".partial");
+}
+
+fs::path previousFolderOf(const fs::path& target) {
+  const fs::path path = folderPath(target);
+  return path.parent_path() / ("." + path.filename().string() + ".old");
+}
+
+void syncToDisk(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    throw WriteError(fmt::format("{}: cannot flush to disk ({})", path.string(), reason));
+  }
+  ::close(fd);
+}
+
 void publishResultsFolder(const fs::path& staging, const fs::path& target, std::string_view kind,
                           bool force) {
   std::vector<std::string> incoming;
@@ -183,30 +277,44 @@ void publishResultsFolder(const fs::path& staging, const fs::path& target, std::
     throw ResultsFolderError(
         fmt::format("{}; the results were kept in {}", problem, staging.string()));
   }
+  // On disk before any rename: a power cut must not publish empty files.
+  syncTree(staging);
+  const fs::path to = folderPath(target);
+  const FolderContents contents = inspectResultsFolder(to);
   std::error_code ec;
-  if (!fs::exists(target, ec)) {
-    fs::rename(staging, target);
+  if (!contents.exists) {
+    renameOrThrow(staging, to);
+    syncToDisk(parentOf(to));
     return;
   }
-  // Replace robophi's previous files and keep the rest. The new marker goes in
-  // first, so that the folder stays marked if the move is cut short.
-  removeOwnedEntries(target, /*removeFolder=*/false);
-  moveFile(staging / kResultsMarker, target / kResultsMarker);
-  for (const std::string& name : incoming)
-    if (name != kResultsMarker) moveFile(staging / name, target / name);
-  fs::remove(staging);
+  if (!contents.foreign.empty() || fs::is_symlink(to, ec)) {
+    publishFileByFile(staging, to, kind, contents, incoming);
+    return;
+  }
+  // The earlier results step aside, the new ones take their name, then the
+  // earlier ones go: a kill between the renames is undone by recoverResultsFolder.
+  const fs::path previous = previousFolderOf(to);
+  removeOwnedEntries(previous, /*removeFolder=*/true);  // a killed replacement's, robophi's
+  renameOrThrow(to, previous);
+  renameOrThrow(staging, to);
+  syncToDisk(parentOf(to));
+  removeOwnedEntries(previous, /*removeFolder=*/true);
 }
 
-std::future<void> clearPreviousResults(const fs::path& target, std::string_view kind, bool force,
-                                       std::vector<std::string> incoming) {
-  return std::async(std::launch::async,
-                    [target, kind = std::string(kind), force, incoming = std::move(incoming)] {
-                      try {
-                        if (!resultsFolderProblem(target, kind, force, incoming).empty()) return;
-                        removeOwnedEntries(target, /*removeFolder=*/false);
-                      } catch (const std::exception&) {  // publishResultsFolder tries again
-                      }
-                    });
+std::string recoverResultsFolder(const fs::path& target) {
+  const fs::path to = folderPath(target);
+  const fs::path previous = previousFolderOf(to);
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(previous, ec))) return {};
+  if (!fs::exists(fs::symlink_status(to, ec))) {
+    renameOrThrow(previous, to);
+    syncToDisk(parentOf(to));
+    return fmt::format(
+        "{}: the earlier results were put back from {} (their replacement was cut short)",
+        to.string(), previous.string());
+  }
+  removeOwnedEntries(previous, /*removeFolder=*/true);
+  return {};
 }
 
 void writeFileAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
@@ -218,15 +326,16 @@ void writeFileAtomically(const fs::path& path, const std::function<void(std::ost
     if (out) write(out);
     if (out) out.close();
     if (!out) {
+      const std::string reason = std::strerror(errno);  // the failed write's, as a rule
       fs::remove(temporary, ec);
-      throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
+      throw WriteError(fmt::format("{}: cannot write ({})", path.string(), reason));
     }
   }
   fs::rename(temporary, path, ec);
   if (ec) {
     const std::string reason = ec.message();
     fs::remove(temporary, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write ({})", path.string(), reason));
+    throw WriteError(fmt::format("{}: cannot write ({})", path.string(), reason));
   }
 }
 

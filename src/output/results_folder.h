@@ -7,7 +7,6 @@
 
 #include <filesystem>
 #include <functional>
-#include <future>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -26,6 +25,22 @@ class ResultsFolderError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A file robophi could not write whole (a full disk, a lost device): the
+/// message names the file.
+class WriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The staging folder of the results folder `target`: `.NAME.partial` beside
+/// it, where the results are written before they are moved into place.
+std::filesystem::path stagingFolderOf(const std::filesystem::path& target);
+
+/// Where the earlier results of `target` wait while new ones take their place
+/// (`.NAME.old` beside it): publishResultsFolder renames them there, renames
+/// the staging folder to `target`, then deletes them.
+std::filesystem::path previousFolderOf(const std::filesystem::path& target);
 
 /// What a folder holds, as robophi sees it.
 struct FolderContents {
@@ -75,28 +90,35 @@ void removeFromResultsMarker(const std::filesystem::path& dir, const std::string
 void removeOwnedEntries(const std::filesystem::path& dir, bool removeFolder);
 
 /// Moves the finished results folder `staging` (beside `target`, holding
-/// files and its marker of `kind`) to `target`. A missing `target` is renamed into place in one
-/// step; otherwise robophi's previous files in `target` are deleted, the new
-/// marker moved in, then the new files, and `staging` is removed. Throws
+/// files and its marker of `kind`) to `target`, as one transaction: its files
+/// are flushed to disk first; a missing `target` is renamed into place in one
+/// step; a `target` holding nothing but robophi's results is renamed to
+/// previousFolderOf(target), `staging` renamed to `target`, and the earlier
+/// results deleted, so that a kill at any point leaves the earlier results or
+/// the new ones whole (recoverResultsFolder puts the earlier ones back when the
+/// kill came between the two renames). With `force` and foreign entries in
+/// `target`, robophi's files are replaced one by one (each whole; the marker
+/// lists old and new until the end) and the foreign ones kept. Throws
 /// ResultsFolderError, leaving `staging` as it is, when `target` may not
 /// receive them (resultsFolderProblem).
 void publishResultsFolder(const std::filesystem::path& staging, const std::filesystem::path& target,
                           std::string_view kind, bool force);
 
-/// Removes robophi's previous results from `target` ahead of
-/// publishResultsFolder, on a thread of its own (while a run writes its last
-/// files): only when `target` may take results of `kind` holding any of
-/// `incoming` (resultsFolderProblem finds nothing); else it leaves `target` as it
-/// is, and publishResultsFolder says why or removes them itself. Wait for it
-/// before publishing. (The previous results are then gone once a run has ended,
-/// whether or not its last files could be written.)
-std::future<void> clearPreviousResults(const std::filesystem::path& target, std::string_view kind,
-                                       bool force, std::vector<std::string> incoming);
+/// Finishes what a killed publishResultsFolder left beside `target`: when
+/// `target` is missing and previousFolderOf(target) exists, renames it back
+/// (the earlier results; the message says so); when both exist, deletes
+/// robophi's files in the earlier one. Returns what it did, or empty. Call it
+/// holding the folder's lock (ResultsFolderLock).
+std::string recoverResultsFolder(const std::filesystem::path& target);
+
+/// Flushes the file or folder `path` to disk (fsync); throws WriteError naming
+/// it when that fails.
+void syncToDisk(const std::filesystem::path& path);
 
 /// Writes `path` through a temporary file beside it (`path`.partial) that
 /// `write` fills and that is then renamed over `path`, so that `path` is never
-/// half written. Creates the parent folder if needed. Throws std::runtime_error
-/// naming the file on failure (and removes the temporary file).
+/// half written. Creates the parent folder if needed. Throws WriteError naming
+/// the file on failure (and removes the temporary file).
 void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write);
 

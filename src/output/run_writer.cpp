@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -22,7 +24,7 @@ namespace {
 
 std::ofstream openOrThrow(const std::filesystem::path& path) {
   std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error(fmt::format("cannot write {}", path.string()));
+  if (!out) throw output::WriteError(fmt::format("cannot write {}", path.string()));
   return out;
 }
 
@@ -59,7 +61,7 @@ std::ofstream RunWriter::open(const std::string& name, bool append) {
   const std::filesystem::path path = std::filesystem::path(dir_) / name;
   if (!append) return openOrThrow(path);
   std::ofstream out(path, std::ios::binary | std::ios::app);
-  if (!out) throw std::runtime_error(fmt::format("cannot append to {}", path.string()));
+  if (!out) throw output::WriteError(fmt::format("cannot append to {}", path.string()));
   return out;
 }
 
@@ -222,13 +224,30 @@ void RunWriter::stop() {
   thread_.join();
 }
 
+void RunWriter::checkWritten(const std::ofstream& out, const std::string& name) const {
+  // The stream's state is sticky: one failed write (a full disk) fails it for good.
+  if (!out) {
+    throw output::WriteError(fmt::format("{}: cannot write ({})",
+                                         (std::filesystem::path(dir_) / name).string(),
+                                         std::strerror(errno)));
+  }
+}
+
+void RunWriter::checkStreams() const {
+  checkWritten(energy_, "energy.csv");
+  checkWritten(particles_, "particles.csv");
+  checkWritten(objects_, "objects.csv");
+  if (contacts_.is_open()) checkWritten(contacts_, "contacts.csv");
+  if (joints_.is_open()) checkWritten(joints_, "joints.csv");
+}
+
 std::map<std::string, std::uintmax_t> RunWriter::progress() {
   drain();
   std::map<std::string, std::uintmax_t> sizes;
   auto length = [&](const char* name, std::ofstream& out) {
     if (!out.is_open()) return;
     out.flush();
-    if (!out) throw std::runtime_error(fmt::format("cannot write {}/{}", dir_, name));
+    checkWritten(out, name);
     sizes[name] = static_cast<std::uintmax_t>(out.tellp());
   };
   length("energy.csv", energy_);
@@ -240,12 +259,13 @@ std::map<std::string, std::uintmax_t> RunWriter::progress() {
 }
 
 void RunWriter::writeCheckpoint(const nlohmann::json& checkpoint) {
-  output::writeFileAtomically(std::filesystem::path(dir_) / "checkpoint.json",
-                              [&](std::ostream& out) { out << checkpoint.dump() << '\n'; });
+  // Listed before it is written: a kill in between leaves a folder wholly robophi's.
   if (std::find(files_.begin(), files_.end(), "checkpoint.json") == files_.end()) {
     files_.push_back("checkpoint.json");
     output::writeResultsMarker(dir_, "run", files_);
   }
+  output::writeFileAtomically(std::filesystem::path(dir_) / "checkpoint.json",
+                              [&](std::ostream& out) { out << checkpoint.dump() << '\n'; });
 }
 
 // How many rows are taken before they are handed to the writer thread.
@@ -370,6 +390,7 @@ void RunWriter::writeBatch(const Batch& batch) {
         break;
     }
   }
+  checkStreams();
   // The page's pieces whose rows are all here (none once the rows are dropped).
   if (page_) {
     if (replay_) {
@@ -572,20 +593,28 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
 void RunWriter::finish(const Scene& scene, const RunSettings& settings, const RunReport& report) {
   drain();
   stop();
-  energy_.close();
-  particles_.close();
-  objects_.close();
-  if (joints_.is_open()) joints_.close();
-  if (contacts_.is_open()) contacts_.close();
+  // Each file checked once closed (its last bytes written): a full disk fails the run.
+  const auto closeChecked = [&](std::ofstream& out, const char* name) {
+    if (!out.is_open()) return;
+    out.close();
+    checkWritten(out, name);
+  };
+  closeChecked(energy_, "energy.csv");
+  closeChecked(particles_, "particles.csv");
+  closeChecked(objects_, "objects.csv");
+  closeChecked(joints_, "joints.csv");
+  closeChecked(contacts_, "contacts.csv");
   files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
   output::writeResultsMarker(dir_, "run", files_);
   world_.write(dir_);
   {
     auto out = open("model.json");
     out << modelJson(scene) << '\n';
+    closeChecked(out, "model.json");
   }
   auto out = open("summary.json");
   out << summaryJson(scene, settings, report) << '\n';
+  closeChecked(out, "summary.json");
 }
 
 }  // namespace robophi

@@ -86,6 +86,10 @@ class RunWriter {
   };
 
   std::ofstream open(const std::string& name, bool append = false);
+  /// Throws output::WriteError naming the file `name` when a write to `out` failed.
+  void checkWritten(const std::ofstream& out, const std::string& name) const;
+  /// checkWritten for every series file.
+  void checkStreams() const;
   void takeObjects(const World& world);
   /// Sizes what a row holds (from the scene) and, with `ownThread` on a
   /// machine with a second core, starts the writer thread.

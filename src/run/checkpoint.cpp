@@ -4,8 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -426,19 +428,50 @@ RunSettings runSettingsFromJson(const json& j) {
   return r;
 }
 
-std::string fileHash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
+namespace {
+
+// 64-bit FNV-1a of the bytes `in` gives from where it stands, at most `limit`
+// of them; `read` counts them.
+std::uint64_t fnv1a(std::istream& in, std::uintmax_t limit, std::uintmax_t& read) {
   std::uint64_t h = 1469598103934665603ULL;
   char buffer[65536];
-  while (in) {
-    in.read(buffer, sizeof buffer);
+  read = 0;
+  while (read < limit && in) {
+    in.read(buffer,
+            static_cast<std::streamsize>(std::min<std::uintmax_t>(sizeof buffer, limit - read)));
     for (std::streamsize i = 0; i < in.gcount(); ++i) {
       h ^= static_cast<unsigned char>(buffer[i]);
       h *= 1099511628211ULL;
     }
+    read += static_cast<std::uintmax_t>(in.gcount());
   }
-  return fmt::format("{:016x}", h);
+  return h;
+}
+
+}  // namespace
+
+std::string fileHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::uintmax_t read = 0;
+  return fmt::format("{:016x}", fnv1a(in, std::numeric_limits<std::uintmax_t>::max(), read));
+}
+
+std::string seriesDigest(const std::string& path, std::uintmax_t length) {
+  std::ifstream in(path, std::ios::binary);
+  const std::uintmax_t start = length > kSeriesDigestBytes ? length - kSeriesDigestBytes : 0;
+  if (!in || !in.seekg(static_cast<std::streamoff>(start))) return {};
+  std::uintmax_t read = 0;
+  const std::uint64_t h = fnv1a(in, length - start, read);
+  // (Shorter than `length`: not the file the checkpoint was written with.)
+  return read == length - start ? fmt::format("{:016x}", h) : std::string();
+}
+
+nlohmann::json inputDigests(const std::vector<std::string>& files) {
+  json inputs = json::array();
+  for (const std::string& path : files)
+    inputs.push_back({{"path", path}, {"hash", fileHash(path)}});
+  return inputs;
 }
 
 }  // namespace robophi

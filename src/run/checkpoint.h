@@ -7,8 +7,10 @@
 /// field is one line in each of stateToJson/stateFromJson or
 /// contactToJson/contactFromJson.
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "robophi/adaptive_step.h"
 #include "robophi/evaluation.h"
@@ -48,5 +50,26 @@ RunSettings runSettingsFromJson(const nlohmann::json& j);
 
 /// A 64-bit FNV-1a hash of a file's bytes, as 16 hex digits ("" when unreadable).
 std::string fileHash(const std::string& path);
+
+/// The bytes of a series file a checkpoint's digest covers: the last up to
+/// this many before the length the checkpoint records.
+inline constexpr std::uintmax_t kSeriesDigestBytes = 4096;
+
+/// fileHash of the kSeriesDigestBytes bytes of `path` before `length` (all of
+/// them when shorter); "" when they cannot be read.
+std::string seriesDigest(const std::string& path, std::uintmax_t length);
+
+/// The checkpoint's "inputs": each file the run read (Scene::inputFiles) with
+/// its fileHash now.
+nlohmann::json inputDigests(const std::vector<std::string>& files);
+
+/// Why `checkpoint`, read from the run folder `dir`, cannot be continued; empty
+/// when it can. Names the field and its value, or the file: a number out of its
+/// range (a time that is not finite and >= 0, a duration below it, a step that
+/// is not finite and > 0, a count below 0, ...); an input file (the scene, a
+/// URDF, a mesh, a heightfield) missing or changed since the run started; a
+/// series file of `dir` that is not the one the checkpoint was written with
+/// (its digest differs: a checkpoint copied into another run's folder).
+std::string checkpointProblem(const std::string& dir, const nlohmann::json& checkpoint);
 
 }  // namespace robophi

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <future>
 #include <map>
 #include <optional>
 
 #include "output/json_numbers.h"
 #include "output/replay.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/run_writer.h"
 #include "robophi/version.h"
 #include "run/checkpoint.h"
@@ -39,6 +39,22 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
         stability.limitingParticle));
   }
   return warnings;
+}
+
+std::string adaptiveStepLimitProblem(const RunSettings& settings,
+                                     const StabilityEstimate& stability) {
+  if (settings.stepMode != StepMode::kAdaptive) return {};
+  const double ceiling = settings.adaptive.stabilitySafety * stability.criticalStep;
+  const double fewest = settings.duration / ceiling;
+  if (fewest <= kMaxRunSteps) return {};
+  return fmt::format(
+      "the model's fastest mode (omega_max = {:.3g} rad/s, particle {}) keeps the adaptive step "
+      "below {:.3g} s (stabilitySafety x 2/omega_max, reduced for damping): the duration {:g} s "
+      "takes at least {:.3g} steps, more than the limit of {:.0e} steps "
+      "(docs/scene-format.md#limits); soften the stiffest connectors or make their particles "
+      "heavier",
+      stability.omegaMax, stability.limitingParticle, ceiling, settings.duration, fewest,
+      kMaxRunSteps);
 }
 
 std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
@@ -109,6 +125,14 @@ std::string describePlace(const FailurePlace& at) {
                      at.object.empty() ? std::string() : fmt::format(" of object '{}'", at.object));
 }
 
+// Ends the run with `status` at `at` (a failure: also one of its warnings).
+void fail(RunReport& report, const char* status, const FailurePlace& at, std::string failure) {
+  report.status = status;
+  report.failurePlace = at;
+  report.failure = std::move(failure);
+  report.warnings.push_back(report.failure);
+}
+
 // The free particle with the most kinetic energy (kNoParticle when none moves).
 ParticleIndex mostEnergetic(const World& world) {
   const Model& model = world.model();
@@ -176,16 +200,9 @@ std::string contactOverload(const World& world, ParticleIndex* blamed) {
       pairs, n, mean, kMaxMeanContacts, *blamed, *most, 100.0 * deepest);
 }
 
-// A folder beside `target` that is renamed to it when complete.
-std::string stagingFolder(const std::string& target) {
-  std::filesystem::path path(target);
-  if (path.filename().empty()) path = path.parent_path();
-  return (path.parent_path() / ("." + path.filename().string() + ".partial")).string();
-}
-
 // The staging folder of a run: a stale one of robophi's (a killed run) is
 // cleared first; whatever robophi wrote into it is removed again unless it was
-// moved into place (or kept on purpose).
+// moved into place (or kept on purpose: a write that failed).
 class StagingFolder {
  public:
   explicit StagingFolder(std::string path) : path_(std::move(path)) {
@@ -211,6 +228,11 @@ class StagingFolder {
 // Time of the sample `index` of a series sampled `rate` times per second.
 double sampleTime(std::int64_t index, double rate) { return static_cast<double>(index) / rate; }
 
+// runScene's steps and files: the results go into `staging` (null: none) and
+// are published from there to options.outDir.
+RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder* staging,
+                   State* finalState);
+
 }  // namespace
 
 std::string outputFolderProblem(const RunOptions& options) {
@@ -219,11 +241,36 @@ std::string outputFolderProblem(const RunOptions& options) {
       output::resultsFolderProblem(options.outDir, "run", options.force, runFileNames());
   // The staging folder may be a killed run's (robophi's, cleared) but nothing else.
   if (problem.empty())
-    problem = output::resultsFolderProblem(stagingFolder(options.outDir), "run", false, {});
+    problem =
+        output::resultsFolderProblem(output::stagingFolderOf(options.outDir), "run", false, {});
   return problem;
 }
 
 RunReport runScene(const Scene& scene, const RunOptions& options, State* finalState) {
+  if (options.outDir.empty()) return runSteps(scene, options, nullptr, finalState);
+  // One robophi at a time writes a folder; a replacement a kill cut short is
+  // finished first (the earlier results put back).
+  const output::ResultsFolderLock lock(options.outDir);
+  output::recoverResultsFolder(options.outDir);
+  if (const std::string problem = outputFolderProblem(options); !problem.empty())
+    throw output::ResultsFolderError(problem);
+  StagingFolder staging(output::stagingFolderOf(options.outDir).string());
+  try {
+    return runSteps(scene, options, &staging, finalState);
+  } catch (const output::WriteError& e) {
+    // A full disk: the earlier results stay; what was written is kept to look at.
+    const std::string kept = staging.path();
+    staging.release();
+    throw output::WriteError(
+        fmt::format("{}; the results written so far are kept in {}; {} was left as it was",
+                    e.what(), kept, options.outDir));
+  }
+}
+
+namespace {
+
+RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder* staging,
+                   State* finalState) {
   using Clock = std::chrono::steady_clock;
   using nlohmann::json;
   const RunSettings& settings = options.settings;
@@ -292,15 +339,11 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.energyScale = report.initialScale;
   }
 
-  std::optional<StagingFolder> staging;
   std::optional<RunWriter> writer;
   // The replay page's options: the page written as the run goes and the page
   // ended (or written whole) after it take the same.
   const ReplayOptions replayOptions;
-  if (!options.outDir.empty()) {
-    if (const std::string problem = outputFolderProblem(options); !problem.empty())
-      throw output::ResultsFolderError(problem);
-    staging.emplace(stagingFolder(options.outDir));
+  if (staging) {
     if (resume) {
       // The series so far, copied beside the folder and cut back to the checkpoint.
       const auto sizes = resume->at("files").get<std::map<std::string, std::uintmax_t>>();
@@ -323,6 +366,12 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   const std::string sceneHash =
       resume ? resume->at("scene").at("hash").get<std::string>() : fileHash(scene.sourcePath);
+  // Every file the run read, as it was when the run started (checkpointProblem
+  // compares them on resume); hashed only when a checkpoint may be written.
+  const bool checkpoints = options.checkpointEvery > 0.0 || options.stopAfter > 0.0;
+  const json inputs = resume        ? resume->value("inputs", json::array())
+                      : checkpoints ? inputDigests(scene.inputFiles)
+                                    : json::array();
 
   const auto start = Clock::now();
   auto lastProgress = start;
@@ -364,11 +413,18 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     report.lastCheckpointTime = state.time;
     json tasks = json::array();
     for (const StepTask& task : options.tasks) tasks.push_back(task ? task->save() : json());
+    // The series files as far as written, with a digest of their last bytes:
+    // the checkpoint goes with this folder's files only.
+    const std::map<std::string, std::uintmax_t> sizes = writer->progress();
+    json digests = json::object();
+    for (const auto& [name, size] : sizes)
+      digests[name] = seriesDigest((std::filesystem::path(staging->path()) / name).string(), size);
     json checkpoint = {
         {"robophi", kVersion},
         {"kind", "checkpoint"},
         {"format", 1},
         {"scene", sceneRecord(scene, sceneHash, options.urdf)},
+        {"inputs", inputs},
         {"settings", runSettingsToJson(settings)},
         {"energy_rate", output::exactNumber(options.energyRate)},
         {"checkpoint_every", output::exactNumber(options.checkpointEvery)},
@@ -392,7 +448,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
            priorWallSeconds + std::chrono::duration<double>(Clock::now() - start).count()},
           {"warnings", report.warnings},
           {"events", report.events}}},
-        {"files", writer->progress()},
+        {"files", sizes},
+        {"files_digest", digests},
         {"tasks", tasks}};
     writer->writeCheckpoint(checkpoint);
   };
@@ -420,10 +477,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     // Particles inside one another (a heap in one spot): stop before the step collapses.
     if (ParticleIndex blamed = kNoParticle; true) {
       if (const std::string why = contactOverload(world, &blamed); !why.empty()) {
-        report.status = "stalled";
-        report.failurePlace = placeOf(world, blamed);
-        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), why);
-        report.warnings.push_back(report.failure);
+        const FailurePlace at = placeOf(world, blamed);
+        fail(report, "stalled", at, fmt::format("at {}: {}", describePlace(at), why));
         break;
       }
     }
@@ -438,28 +493,42 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     if (adaptive) {
       const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
       if (!r.ok) {
-        report.status = "stalled";
         // The particle the step blames (the largest acceleration), else a non-finite one.
-        report.failurePlace =
+        const FailurePlace at =
             placeOf(world, r.particle != kNoParticle ? r.particle : world.firstNonFiniteParticle());
-        report.failure = fmt::format("at {}: {}", describePlace(*report.failurePlace), r.failure);
-        report.warnings.push_back(report.failure);
+        fail(report, "stalled", at, fmt::format("at {}: {}", describePlace(at), r.failure));
         break;
       }
       dtUsed = r.dt;
-    } else if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
-                                     settings.adaptive.stabilitySafety,
-                                     &constantSplits) != StepStatus::kOk) {
-      report.status = "diverged";
-      // The first non-finite particle; when only the energy is, the one with the most.
-      const ParticleIndex bad = world.firstNonFiniteParticle();
-      report.failurePlace = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
-      report.failure =
-          fmt::format("the state became non-finite at {}{}", describePlace(*report.failurePlace),
-                      bad == kNoParticle ? std::string(" (the energy: that particle has the most)")
-                                         : std::string());
-      report.warnings.push_back(report.failure);
-      break;
+    } else {
+      const std::int64_t splitsBefore = constantSplits;
+      if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
+                                settings.adaptive.stabilitySafety,
+                                &constantSplits) != StepStatus::kOk) {
+        // The first non-finite particle; when only the energy is, the one with the most.
+        const ParticleIndex bad = world.firstNonFiniteParticle();
+        const FailurePlace at = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
+        fail(report, "diverged", at,
+             fmt::format("the state became non-finite at {}{}", describePlace(at),
+                         bad == kNoParticle
+                             ? std::string(" (the energy: that particle has the most)")
+                             : std::string()));
+        break;
+      }
+      // Bounded work: a step split past the limit stops the run (the state is whole).
+      if (const std::int64_t substeps = constantSplits - splitsBefore + 1;
+          substeps > kMaxConstantSubsteps) {
+        const FailurePlace at = placeOf(world, mostEnergetic(world));
+        fail(report, "stalled", at,
+             fmt::format("at {}: the constant step {:.3g} s needed {} substeps, more than the "
+                         "limit of {} (docs/adaptive-step.md): the surfaces approach too fast for "
+                         "it or the touching contacts are too stiff (their stability limit now "
+                         "{:.3g} s; the connectors' critical step {:.3g} s); that particle moves "
+                         "fastest; use a smaller --dt or --step adaptive",
+                         describePlace(at), settings.dt, substeps, kMaxConstantSubsteps,
+                         world.evaluation().contactCriticalStep, report.stability.criticalStep));
+        break;
+      }
     }
     sample(dtUsed, false);
     // Tasks between steps (docs/robotics.md), in order; the first to say so ends the run.
@@ -536,16 +605,14 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   const double runawayScale = std::max(report.initialScale, std::abs(report.externalWork));
   const double growth = (report.finalTotal - report.initialTotal) / runawayScale;
   if (report.ok() && growth > kRunawayEnergyGrowth) {
-    report.status = "diverged";
-    report.failurePlace = placeOf(world, mostEnergetic(world));
-    report.failure = fmt::format(
-        "the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or the work from "
-        "outside, whichever is larger; E + dissipated - external, "
-        "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large for the "
-        "model's stiffness (estimate 2/omega_max = {:.3g} s)",
-        growth, runawayScale, report.initialTotal, report.finalTotal,
-        describePlace(*report.failurePlace), report.stability.criticalStep);
-    report.warnings.push_back(report.failure);
+    const FailurePlace at = placeOf(world, mostEnergetic(world));
+    fail(report, "diverged", at,
+         fmt::format("the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or "
+                     "the work from outside, whichever is larger; E + dissipated - external, "
+                     "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large "
+                     "for the model's stiffness (estimate 2/omega_max = {:.3g} s)",
+                     growth, runawayScale, report.initialTotal, report.finalTotal,
+                     describePlace(at), report.stability.criticalStep));
   }
   // The tasks' outcomes as data; a goal not reached by the end is a status.
   for (const StepTask& task : options.tasks) {
@@ -558,17 +625,17 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
       if (!goal.value("reached", true)) report.goalsNotReached.push_back(goal.value("name", ""));
   }
   if (report.ok() && report.largestAccountError > report.accountBound) {
-    report.status = "energy_account_broken";
     // Where it first went past the bound, with the most energetic particle then
     // (else, after a resume, the end and its most energetic particle).
-    report.failurePlace = accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
-    report.failure = fmt::format(
-        "the energy account (E + dissipated - external) drifted by up to {:.3g} of its scale "
-        "{:.3g} J (bound {:.3g}; final drift {:.3g}), first past the bound at {}: the "
-        "integration is not to be trusted; try a smaller --dt or --tolerance",
-        report.largestAccountError, report.energyScale, report.accountBound, report.energyDrift,
-        describePlace(*report.failurePlace));
-    report.warnings.push_back(report.failure);
+    const FailurePlace at =
+        accountBrokenAt ? *accountBrokenAt : placeOf(world, mostEnergetic(world));
+    fail(report, "energy_account_broken", at,
+         fmt::format("the energy account (E + dissipated - external) drifted by up to {:.3g} of "
+                     "its scale {:.3g} J (bound {:.3g}; final drift {:.3g}), first past the "
+                     "bound at {}: the integration is not to be trusted; try a smaller --dt or "
+                     "--tolerance",
+                     report.largestAccountError, report.energyScale, report.accountBound,
+                     report.energyDrift, describePlace(at)));
   }
   if (report.ok() && !report.goalsNotReached.empty()) {
     report.status = "goal_not_reached";
@@ -583,9 +650,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   if (finalState) *finalState = last;
 
   if (writer) {
-    // The previous results (--force) go while the last files are written.
-    std::future<void> cleared =
-        output::clearPreviousResults(options.outDir, "run", options.force, runFileNames());
     // An interrupted run stops quickly: its page can be made later.
     if (options.writeReplay && report.interrupted()) {
       report.warnings.push_back(
@@ -607,7 +671,6 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
     }
     page.reset();  // (a page not ended is removed)
     output::removeFromResultsMarker(staging->path(), kReplayPagePartial);
-    cleared.wait();
     try {
       output::publishResultsFolder(staging->path(), options.outDir, "run", options.force);
     } catch (const output::ResultsFolderError&) {
@@ -618,6 +681,8 @@ RunReport runScene(const Scene& scene, const RunOptions& options, State* finalSt
   }
   return report;
 }
+
+}  // namespace
 
 nlohmann::json readCheckpoint(const std::string& dir) {
   const std::filesystem::path path = std::filesystem::path(dir) / "checkpoint.json";

@@ -32,6 +32,14 @@ struct RunProgress {
 /// status "energy_account_broken" (docs/output-format.md).
 inline constexpr double kDefaultEnergyAccountBound = 0.05;
 
+/// The most substeps one constant step may be split into (stepWithoutTunnelling:
+/// the approach bound and the touching contacts' stability). A step that needed
+/// more ends the run with status "stalled" (exit 3), naming the step and why
+/// (docs/adaptive-step.md "The constant step"): a constant step far past the
+/// critical step otherwise crawls on in ever smaller substeps (a 1e12 N/m rod
+/// at 1e-4 s: 46 million substeps for 0.01 s, a minute of wall time).
+inline constexpr std::int64_t kMaxConstantSubsteps = 100000;
+
 /// How to run. `settings` starts as the scene's and the command line overrides it.
 struct RunOptions {
   RunSettings settings;
@@ -89,6 +97,15 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 /// gains set); empty otherwise.
 std::string driveStepWarning(const RunSettings& settings, const StabilityEstimate& stability,
                              const Evaluation& start);
+
+/// Why an adaptive run of `settings` cannot end within kMaxRunSteps steps: the
+/// adaptive step stays below stabilitySafety × the critical step (MODEL §2, §4),
+/// so a model too stiff for its masses (a 1e-20 kg particle on a 1e4 N/m spring,
+/// omega = 1e12 rad/s) would take more steps than the limit, for days. Empty
+/// when it can, and for constant steps. robophi run and robophi validate refuse
+/// such a scene alike.
+std::string adaptiveStepLimitProblem(const RunSettings& settings,
+                                     const StabilityEstimate& stability);
 
 /// Why options.outDir (or its staging folder beside it) may not receive the
 /// results, naming the folder and what is in it; empty when it may.

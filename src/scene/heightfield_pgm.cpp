@@ -11,6 +11,8 @@
 #include <istream>
 #include <string>
 
+#include "robophi/build/input_files.h"
+
 namespace robophi {
 
 namespace {
@@ -58,6 +60,7 @@ bool parseWhole(const std::string& token, long& value) {
 std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
                                double cellSizeX, double cellSizeY, double minHeight,
                                double maxHeight, Heightfield& out) {
+  build::InputFileLog::record(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return fmt::format("{}: cannot open the file", path);
   std::string magic, token;

@@ -8,7 +8,11 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
 
+#include "robophi/build/input_files.h"
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
@@ -30,7 +34,44 @@ using scene::SceneObject;
 
 constexpr int kFormatVersion = 1;
 
-// Reads every object entry; names must be unique.
+// The names an entry gives the model, each with where it comes from: a
+// generated object's own name and its joints' ("<object>.<joint>"), or a URDF
+// robot's link objects ("<robot>.<link>", their carriers "<robot>.<link>.carriers")
+// and joints ("<robot>.<joint>").
+std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& object) {
+  std::vector<std::pair<std::string, std::string>> names;
+  if (!object.urdf) {
+    names.emplace_back(object.name, fmt::format("object '{}' ({})", object.name, object.pointer));
+    for (const Joint& joint : object.geometry.joints)
+      names.emplace_back(
+          object.name + "." + joint.name,
+          fmt::format("joint '{}' of object '{}' ({})", joint.name, object.name, object.pointer));
+    return names;
+  }
+  // A robot's names begin "<robot>.": what follows.
+  const auto local = [&](const std::string& name) {
+    const std::string prefix = object.name + ".";
+    return name.starts_with(prefix) ? name.substr(prefix.size()) : name;
+  };
+  constexpr std::string_view kCarriers = ".carriers";
+  for (const build::ObjectPlacement& link : object.urdf->objects) {
+    const bool carriers = link.kind == "virtual";
+    std::string linkName = local(link.name);
+    if (carriers && linkName.ends_with(kCarriers))
+      linkName.resize(linkName.size() - kCarriers.size());
+    names.emplace_back(
+        link.name, fmt::format("{}link '{}' of robot '{}' ({})", carriers ? "the carriers of " : "",
+                               linkName, object.name, object.pointer));
+  }
+  for (const build::UrdfModelJoint& joint : object.urdf->modelJoints)
+    names.emplace_back(joint.name, fmt::format("joint '{}' of robot '{}' ({})", local(joint.name),
+                                               object.name, object.pointer));
+  return names;
+}
+
+// Reads every object entry; names must be unique: the entries' and every name
+// they give the model (objects, robots' links and joints), which share one
+// space (model.json, joints.csv, the robotics targets).
 std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json* list,
                                      std::map<std::string, std::size_t>& byName,
                                      const std::string& sceneDirectory) {
@@ -48,6 +89,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
   // checked by its builder before it allocates, the sum here after each object,
   // so no more than the budget and one object is ever held.
   std::size_t particles = 0, connectors = 0;
+  std::map<std::string, std::string> placesByName;  // every name in the model → where from
   for (std::size_t i = 0; i < list->size(); ++i) {
     const nlohmann::json& entry = (*list)[i];
     const std::string pointer = fmt::format("/objects/{}", i);
@@ -92,6 +134,19 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
         sink.error(object.pointer + "/name",
                    fmt::format("duplicate object name '{}' (first defined at {})", object.name,
                                objects[it->second].pointer));
+        object.valid = false;
+      }
+    }
+    if (object.valid) {
+      for (auto& [name, place] : modelNames(object)) {
+        const auto [it, fresh] = placesByName.emplace(name, place);
+        if (fresh) continue;
+        sink.error(object.pointer + "/name",
+                   fmt::format("the name '{}' is given twice in the model: to {} and to {}; "
+                               "objects, robots' links and joints share one set of names",
+                               name, it->second, place));
+        object.valid = false;
+        break;
       }
     }
     objects.push_back(std::move(object));
@@ -113,8 +168,8 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
       } else {
         object.firstParticle = builder.addObject(object).firstParticle;
       }
-    } catch (const build::SpecError& e) {  // a duplicate name, already reported
-      if (e.field() != "name") sink.error(object.pointer, e.message());
+    } catch (const build::SpecError& e) {  // (names clash in readObjects, never here)
+      sink.error(object.pointer, e.message());
       object.valid = false;
     }
   }
@@ -201,6 +256,8 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 
 SceneLoadResult loadSceneFile(const std::string& path) {
   SceneLoadResult result;
+  const build::InputFileLog read;  // the scene file and what it names (URDF, meshes, heightfields)
+  build::InputFileLog::record(path);
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
     result.errors.push_back(Diagnostic{path, 0, 0, "", "is a folder, not a scene file"});
@@ -217,7 +274,9 @@ SceneLoadResult loadSceneFile(const std::string& path) {
     result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot read the scene file"});
     return result;
   }
-  return loadSceneText(text.str(), path);
+  result = loadSceneText(text.str(), path);
+  if (result.scene) result.scene->inputFiles = read.files();
+  return result;
 }
 
 }  // namespace robophi

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "robophi/build/input_files.h"
 #include "robophi/build/model_builder.h"
 #include "robophi/build/spec_error.h"
 #include "robophi/build/urdf.h"
@@ -147,6 +148,7 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   spec.holdJoints = hold.value_or(false);
   spec.roundWheels = roundWheels.value_or(true);
   try {
+    build::InputFileLog::record(spec.path);
     auto robot = std::make_shared<build::UrdfRobot>(build::makeUrdfRobot(spec));
     for (const build::UrdfWarning& w : robot->warnings)
       sink.warning(reader.memberPointer("file"),
@@ -205,6 +207,8 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     result.errors.push_back(Diagnostic{std::move(where), 0, 0, "", std::move(message)});
     return result;
   };
+  const build::InputFileLog read;  // the URDF file and its meshes
+  build::InputFileLog::record(path);
   try {
     build::UrdfMultibodySpec spec;
     spec.path = path;
@@ -252,6 +256,7 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     scene.model = std::move(built.model);
     scene.initial = std::move(built.initial);
     scene.run.duration = 2.0;
+    scene.inputFiles = read.files();
     result.scene = std::move(scene);
   } catch (const build::UrdfError& e) {
     return fail(e.line() > 0 ? fmt::format("{}:{}", e.file(), e.line()) : e.file(), e.message());
@@ -277,6 +282,8 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
     return result;
   };
   build::UrdfRobot robot;
+  const build::InputFileLog read;  // the URDF file and its meshes
+  build::InputFileLog::record(path);
   try {
     spec.fixedBase = options.fixedBase.value_or(true);
     robot = build::makeUrdfRobot(spec);
@@ -319,6 +326,7 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   Scene scene;
   scene.name = robot.name;
   scene.sourcePath = path;
+  scene.inputFiles = read.files();
   build::ModelBuilder builder;
   builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
   build::placeUrdfRobot(builder, robot);

@@ -5,18 +5,27 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mount.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <random>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/run_reader.h"
 #include "test_files.h"
 
@@ -225,6 +234,29 @@ TEST_F(RunCommandTest, HelpGivesTheAdaptiveOptionsWithTheirUnits) {
     EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
 }
 
+// README's defaults of the adaptive step's options are those --help gives (and
+// the code uses): "`--min-step S` (s; default 0: ..." against "default 0".
+TEST_F(RunCommandTest, TheReadmesAdaptiveDefaultsAreThoseOfHelp) {
+  const fs::path help = root_ / "help.txt";
+  ASSERT_EQ(std::system((std::string(ROBOPHI_BINARY) + " run --help > " + help.string()).c_str()),
+            0);
+  const std::string helpText = readText(help);
+  std::string readme = readText(ROBOPHI_SOURCE_DIR "/README.md");
+  std::replace(readme.begin(), readme.end(), '\n', ' ');
+  for (const std::string option :
+       {"--tolerance", "--min-step", "--max-step", "--max-penetration"}) {
+    std::smatch inReadme, inHelp;
+    ASSERT_TRUE(std::regex_search(readme, inReadme,
+                                  std::regex("`" + option + " [A-Z]+` \\([-s]; default ([^:) ]+)")))
+        << option << ": no default in README.md";
+    ASSERT_TRUE(
+        std::regex_search(helpText, inHelp, std::regex(option + " NUMBER[^\n]*default ([^:) ]+)")))
+        << option << ": no default in --help";
+    EXPECT_EQ(std::stod(inReadme[1].str()), std::stod(inHelp[1].str()))
+        << option << ": README.md says " << inReadme[1] << ", --help " << inHelp[1];
+  }
+}
+
 // --dt is the step only: the model, its stiffness and so its highest frequency
 // are the scene's whatever --dt says.
 TEST_F(RunCommandTest, DtChangesTheStepNotTheStiffness) {
@@ -258,6 +290,155 @@ TEST_F(RunCommandTest, TheRunsReplayPageIsThePageExportMakesFromItsFiles) {
     EXPECT_GT(page.size(), 100000u) << scene;
     EXPECT_TRUE(page == readText(exported)) << scene << ": the pages differ";
   }
+}
+
+// A run's results folder, whole: its marker lists files that are all there,
+// summary.json parses and the series read back (`why` says what is not).
+bool wholeRunFolder(const fs::path& dir, std::string& why) {
+  const output::FolderContents contents = output::inspectResultsFolder(dir);
+  if (!contents.marked || !contents.foreign.empty()) {
+    why = dir.string() + ": not marked, or holds files its marker does not list";
+    return false;
+  }
+  const auto marker =
+      nlohmann::json::parse(readText(dir / std::string(output::kResultsMarker)), nullptr, false);
+  for (const auto& name : marker["files"]) {
+    if (!fs::exists(dir / name.get<std::string>())) {
+      why = dir.string() + ": " + name.get<std::string>() + " is listed but missing";
+      return false;
+    }
+  }
+  if (nlohmann::json::parse(readText(dir / "summary.json"), nullptr, false).is_discarded()) {
+    why = dir.string() + ": summary.json does not parse";
+    return false;
+  }
+  output::RunFolder folder;
+  return output::readRunFolder(dir.string(), /*needEnergy=*/true, folder, why);
+}
+
+// Two runs started together on one folder: one holds the lock and writes it,
+// the other is refused at once (exit 2) naming the lock file and the holder.
+TEST_F(RunCommandTest, TwoRunsOnOneFolderAtOnceOneIsRefusedByTheLock) {
+  // (About 0.1 s of wall time, the lock held all along: the two overlap.)
+  const std::vector<std::string> args = {
+      kScenes + "pendulum.json", "--quiet", "--duration", "30", "--out", out_.string()};
+  for (int round = 0; round < 40; ++round) {
+    const fs::path errorsA = root_ / "a.txt", errorsB = root_ / "b.txt";
+    const pid_t a = spawn(args, errorsA);
+    const pid_t b = spawn(args, errorsB);
+    const int exitA = wait(a), exitB = wait(b);
+    const std::string textA = readText(errorsA), textB = readText(errorsB);
+    ASSERT_EQ(std::min(exitA, exitB), 0) << textA << textB;
+    ASSERT_EQ(std::max(exitA, exitB), 2) << "round " << round << ": both ran\n" << textA << textB;
+    const std::string& refused = exitA == 2 ? textA : textB;
+    const pid_t holder = exitA == 2 ? b : a;
+    EXPECT_NE(refused.find((root_ / "out.lock").string()), std::string::npos) << refused;
+    EXPECT_NE(refused.find("pid " + std::to_string(holder)), std::string::npos) << refused;
+    std::string why;
+    ASSERT_TRUE(wholeRunFolder(out_, why)) << why;
+    EXPECT_FALSE(fs::exists(root_ / "out.lock"));
+  }
+}
+
+// The lock is the folder's, whoever holds it: while this process holds it, a
+// run and an export of the folder are refused (exit 2), naming this pid.
+TEST_F(RunCommandTest, ARunOrAnExportOfALockedFolderIsRefused) {
+  const std::string args = kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string();
+  ASSERT_EQ(run(args).exitCode, 0);
+  const std::string exportHtml =
+      std::string(ROBOPHI_BINARY) + " export html " + out_.string() + " > /dev/null 2> ";
+  {
+    const output::ResultsFolderLock lock(out_);
+    const std::string holder = "pid " + std::to_string(getpid());
+    const Outcome refused = run(args);
+    EXPECT_EQ(refused.exitCode, 2);
+    EXPECT_NE(refused.errors.find(holder), std::string::npos) << refused.errors;
+    const int status = std::system((exportHtml + (root_ / "export.txt").string()).c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+    EXPECT_NE(readText(root_ / "export.txt").find((root_ / "out.lock").string()),
+              std::string::npos)
+        << readText(root_ / "export.txt");
+  }
+  EXPECT_EQ(std::system((exportHtml + "/dev/null").c_str()), 0);
+}
+
+// A run replacing an earlier result, killed outright at any moment: the folder
+// holds the earlier or the new result, whole (or, killed between the two
+// renames, the earlier one waits whole in .out.old and the next run puts it back).
+TEST_F(RunCommandTest, AKillWhileAResultIsReplacedNeverLeavesTheFolderEmptyOrHalfWritten) {
+  const std::vector<std::string> args = {
+      kScenes + "hand_grasp.json", "--quiet", "--duration", "0.5", "--out", out_.string()};
+  // The earlier result; then a replacement timed (the first run warms the caches).
+  ASSERT_EQ(wait(spawn(args, root_ / "first.txt")), 0) << readText(root_ / "first.txt");
+  const auto started = std::chrono::steady_clock::now();
+  ASSERT_EQ(wait(spawn(args, root_ / "first.txt")), 0) << readText(root_ / "first.txt");
+  const auto wall = std::chrono::duration_cast<std::chrono::microseconds>(
+      std::chrono::steady_clock::now() - started);
+  std::mt19937 random(40);
+  std::uniform_int_distribution<std::int64_t> delay(0, wall.count() * 5 / 4);
+  const fs::path previous = root_ / ".out.old";
+  int killedBeforeTheEnd = 0, caughtReplacing = 0;
+  for (int round = 0; round < 40; ++round) {
+    const pid_t pid = spawn(args, root_ / "errors.txt");
+    std::this_thread::sleep_for(std::chrono::microseconds(delay(random)));
+    kill(pid, SIGKILL);
+    if (wait(pid) != 0) ++killedBeforeTheEnd;
+    std::string why;
+    if (fs::exists(previous)) ++caughtReplacing;
+    if (fs::exists(out_)) {
+      ASSERT_TRUE(wholeRunFolder(out_, why)) << "round " << round << ": " << why;
+    } else {
+      ASSERT_TRUE(wholeRunFolder(previous, why)) << "round " << round << ": empty; " << why;
+    }
+  }
+  EXPECT_GT(killedBeforeTheEnd, 10);
+  RecordProperty("killed_while_replacing", caughtReplacing);
+  ASSERT_EQ(wait(spawn(args, root_ / "last.txt")), 0) << readText(root_ / "last.txt");
+  std::string why;
+  EXPECT_TRUE(wholeRunFolder(out_, why)) << why;
+  EXPECT_FALSE(fs::exists(previous));
+  EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+}
+
+// A disk that fills during the run: exit 1 naming the file and the staging
+// folder kept to look at, the earlier result as it was. (Needs root, to mount a
+// small tmpfs.)
+TEST_F(RunCommandTest, AFullDiskIsExit1NamingTheFileAndTheEarlierResultStays) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs (a disk that fills)";
+  const fs::path disk = root_ / "disk";
+  fs::create_directories(disk);
+  if (mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=4m") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here: " << std::strerror(errno);
+  struct Unmount {
+    fs::path dir;
+    ~Unmount() { umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{disk};
+  const fs::path out = disk / "out";
+  const std::string args = kScenes + "pendulum.json --quiet --out " + out.string();
+  const Outcome first = run(args + " --duration 0.05");
+  ASSERT_EQ(first.exitCode, 0) << first.errors;
+  std::map<std::string, std::string> earlier;
+  for (const fs::directory_entry& entry : fs::directory_iterator(out))
+    earlier[entry.path().filename().string()] = readText(entry.path());
+  // All but 32 KiB of the disk taken.
+  struct statvfs space {};
+  ASSERT_EQ(statvfs(disk.c_str(), &space), 0);
+  const auto available = static_cast<std::size_t>(space.f_bavail) * space.f_frsize;
+  ASSERT_GT(available, std::size_t{65536});
+  writeText(disk / "filler", std::string(available - 32768, 'x'));
+
+  const Outcome full = run(args + " --duration 5");
+  EXPECT_EQ(full.exitCode, 1) << full.errors;
+  const fs::path staging = disk / ".out.partial";
+  EXPECT_NE(full.errors.find("cannot write"), std::string::npos) << full.errors;
+  EXPECT_NE(full.errors.find(staging.string() + "/"), std::string::npos) << full.errors;
+  EXPECT_NE(full.errors.find("kept in " + staging.string()), std::string::npos) << full.errors;
+  EXPECT_TRUE(fs::is_directory(staging));
+  std::map<std::string, std::string> after;
+  for (const fs::directory_entry& entry : fs::directory_iterator(out))
+    after[entry.path().filename().string()] = readText(entry.path());
+  EXPECT_TRUE(after == earlier) << "the earlier result changed";
+  EXPECT_FALSE(fs::exists(disk / "out.lock"));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // a whole folder, never a staging one.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -13,6 +14,7 @@
 
 #include "output/replay.h"
 #include "output/results_folder.h"
+#include "output/results_lock.h"
 #include "output/run_reader.h"
 #include "output/run_writer.h"
 #include "output/vtk_export.h"
@@ -259,6 +261,57 @@ TEST_F(ResultsFolderTest, TasksRunInOrderAndTheFirstToStopEndsTheRun) {
   EXPECT_EQ(report.steps, 3);
   EXPECT_EQ(calls, (std::vector<int>{1, 2, 1, 2, 1}));
   EXPECT_EQ(report.events, std::vector<std::string>{"first stops"});
+}
+
+}  // namespace
+}  // namespace robophi
+
+namespace robophi {
+namespace {
+
+// A replacement killed between its two renames leaves the earlier results in
+// .out.old and no out: the next run (or recoverResultsFolder) puts them back;
+// killed after both, the earlier results are only deleted.
+TEST_F(ResultsFolderTest, AReplacementCutShortIsUndoneByTheNextRun) {
+  runScene(scene_, options());
+  const std::string earlier = readText(out_ / "summary.json");
+  const fs::path previous = output::previousFolderOf(out_);
+  EXPECT_EQ(previous, root_ / ".out.old");
+  fs::rename(out_, previous);
+  const std::string note = output::recoverResultsFolder(out_);
+  EXPECT_NE(note.find(previous.string()), std::string::npos) << note;
+  EXPECT_EQ(readText(out_ / "summary.json"), earlier);
+  EXPECT_FALSE(fs::exists(previous));
+
+  fs::create_directories(previous);
+  output::writeResultsMarker(previous, "run", {"summary.json"});
+  writeText(previous / "summary.json", "{}");
+  EXPECT_EQ(output::recoverResultsFolder(out_), "");
+  EXPECT_FALSE(fs::exists(previous));
+  EXPECT_EQ(readText(out_ / "summary.json"), earlier);
+
+  // A run does the same before it starts, then replaces the earlier results whole.
+  fs::rename(out_, previous);
+  RunOptions o = options();
+  o.settings.duration = 0.02;
+  runScene(scene_, o);
+  EXPECT_DOUBLE_EQ(summary()["duration_s"].get<double>(), 0.02);
+  EXPECT_FALSE(fs::exists(previous));
+  EXPECT_FALSE(stagingLeft());
+}
+
+// The lock is beside the folder while a run writes it, and gone after.
+TEST_F(ResultsFolderTest, TheLockFileIsBesideTheFolderOnlyWhileARunHoldsIt) {
+  EXPECT_EQ(output::lockFileOf(out_), root_ / "out.lock");
+  EXPECT_EQ(output::lockFileOf(out_.string() + "/"), root_ / "out.lock");
+  {
+    const output::ResultsFolderLock lock(out_);
+    EXPECT_EQ(readText(root_ / "out.lock"), std::to_string(getpid()) + "\n");
+    runScene(scene_, options());  // the same process may take it again
+    EXPECT_TRUE(fs::exists(root_ / "out.lock"));
+  }
+  EXPECT_FALSE(fs::exists(root_ / "out.lock"));
+  EXPECT_TRUE(fs::exists(out_ / "summary.json"));
 }
 
 }  // namespace

@@ -21,28 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// An ASCII STL of the box [0, a] × [0, b] × [0, c] (12 outward triangles).
-std::string boxStl(double a, double b, double c) {
-  const double v[8][3] = {{0, 0, 0}, {a, 0, 0}, {a, b, 0}, {0, b, 0},
-                          {0, 0, c}, {a, 0, c}, {a, b, c}, {0, b, c}};
-  const int faces[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                            {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  std::string text = "solid box\n";
-  for (const auto& f : faces) {
-    text += "facet normal 0 0 0\nouter loop\n";
-    for (const int k : f) {
-      text += "vertex " + std::to_string(v[k][0]) + " " + std::to_string(v[k][1]) + " " +
-              std::to_string(v[k][2]) + "\n";
-    }
-    text += "endloop\nendfacet\n";
-  }
-  return text + "endsolid box\n";
-}
-
 TEST(SceneMesh, FilledAtUniformDensityPlacedByItsCentreOfMass) {
   const fs::path dir = testing::makeTempFolder("robophi_scene_mesh_");
   fs::create_directories(dir / "parts");
-  testing::writeText(dir / "parts" / "box.stl", boxStl(0.1, 0.2, 0.3));
+  testing::writeText(dir / "parts" / "box.stl", testing::boxStl(0.1, 0.2, 0.3));
   const fs::path scene = dir / "scene.json";
   testing::writeText(scene, R"({
   "objects": [

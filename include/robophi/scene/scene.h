@@ -86,6 +86,10 @@ struct Scene {
   /// The URDF robots placed ({"type": "urdf"} or a bare URDF, docs/robots.md): what each
   /// file declares, next to what was built (`robophi info`).
   std::vector<std::shared_ptr<const build::UrdfRobot>> urdfRobots;
+  /// Every file the load read (absolute): the scene file, URDF files, mesh
+  /// files, heightfields (build::InputFileLog). A run's checkpoints record a
+  /// digest of each; robophi resume refuses one that changed.
+  std::vector<std::string> inputFiles;
 };
 
 /// One problem found in a scene file.
