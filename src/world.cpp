@@ -181,7 +181,8 @@ StepStatus World::step(double dt) {
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
   // dissipated work and the work of moving fixed particles by the trapezoid rule.
   measureKinetic(model_, state, workspace_, evaluation, pass);
-  if (trees) addRigidTreeTerms(model, model_.contactTables(), state, evaluation, treeWorkspaces_);
+  if (trees)  // (stepRigidTrees left each tree's kinematics at t + δ)
+    addRigidTreeTerms(model, model_.contactTables(), state, evaluation, treeWorkspaces_, true);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
   state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;

@@ -25,9 +25,7 @@ void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
 
 // addRigidTreeTerms' contact limit: per touching body, Gershgorin on its contacts'
 // stiffness and damping sums with the body's inverse effective mass bound.
-void limitTreeContactStep(const Model& model, const ContactTables& tables, const State& state,
-                          Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch) {
-  (void)state;
+void limitTreeContactStep(const Model& model, const ContactTables& tables, Evaluation& evaluation) {
   if (evaluation.contacts.empty()) return;
   // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
   std::vector<std::vector<double>> stiffness(model.rigidTrees.size()), damping(model.rigidTrees.size());
@@ -68,7 +66,6 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables, const
         step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * stiffness[t][b] * w[b]),
                                                  2.0 * damping[t][b] * w[b]));
   }
-  (void)scratch;
   evaluation.contactCriticalStep = step;
 }
 
@@ -141,16 +138,19 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
 }
 
 void addRigidTreeTerms(const Model& model, const ContactTables& tables, const State& state,
-                       Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch) {
+                       Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch,
+                       bool kinematicsCurrent) {
   sizeScratch(model, scratch);
-  limitTreeContactStep(model, tables, state, evaluation, scratch);
+  limitTreeContactStep(model, tables, evaluation);
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
     const RigidTree& tree = model.rigidTrees[t];
     const Multibody& mb = tree.multibody;
     MultibodyKinematics& kin = scratch[t].kinematics;
     const std::vector<double>& q = state.treePositions[t];
-    updateKinematics(mb, q.data(), kin);
-    updateVelocities(mb, state.treeVelocities[t].data(), kin);
+    if (!kinematicsCurrent) {
+      updateKinematics(mb, q.data(), kin);
+      updateVelocities(mb, state.treeVelocities[t].data(), kin);
+    }
     evaluation.energy.kinetic += kineticEnergy(kin);
     evaluation.energy.gravity += gravitationalEnergy(kin, model.gravity);
     const MultibodyInputs& in = tree.inputs;

@@ -33,7 +33,10 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
 /// Lowers the contacts' critical step to each touching body's (docs/model.md §7):
 /// ω² = 2 w Σ (κ + k_t) over the body's contacts, w the bound on the body's inverse
 /// effective mass at its particles (ContactTables::contactInverseMass).
+/// kinematicsCurrent: scratch already holds each tree's kinematics at `state` (as
+/// stepRigidTrees leaves them), not computed again.
 void addRigidTreeTerms(const Model& model, const ContactTables& tables, const State& state,
-                       Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch);
+                       Evaluation& evaluation, std::vector<MultibodyWorkspace>& scratch,
+                       bool kinematicsCurrent = false);
 
 }  // namespace robophi
