@@ -34,21 +34,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   Scene& scene = *loaded.scene;
-  RigidTree& tree = scene.model.rigidTrees[0];
-  Multibody& mb = tree.multibody;
-  const auto n = static_cast<std::size_t>(mb.velocityCount);
-  tree.compensateGravity = false;
-  tree.inputs = {};
-  tree.inputs.servoStiffness.assign(n, 0.0);
-  tree.inputs.servoDamping.assign(n, 0.0);
-  tree.inputs.servoTargetRate.assign(n, 0.0);
+  Multibody& mb = scene.model.rigidTrees[0].multibody;
+  // The wheels' velocity servos through the model's joints (a user's calls); every
+  // other joint passive, no gravity compensation.
   int wheels = 0;
-  for (MultibodyBody& body : mb.bodies) {
-    if (body.joint != BodyJointKind::kRevolute || body.jointName.find("wheel") == std::string::npos) continue;
-    const auto i = static_cast<std::size_t>(body.vStart);
-    tree.inputs.servoDamping[i] = 100.0;
-    tree.inputs.servoTargetRate[i] = 4.0;
-    body.effortLimit = 15.0;
+  for (Joint& joint : scene.model.joints) {
+    joint.servoStiffness = joint.servoDamping = 0.0;
+    joint.compensateGravity = false;
+    if (!joint.inTree() || joint.kind != JointKind::kRevolute || joint.name.find("wheel") == std::string::npos) continue;
+    joint.drive.rateGain = 100.0;
+    joint.drive.targetRate = 4.0;
+    mb.bodies[static_cast<std::size_t>(joint.treeBody)].effortLimit = 15.0;
     ++wheels;
   }
   World world(std::move(scene.model), std::move(scene.initial), Integrator::kSymplecticEuler);

@@ -91,9 +91,10 @@ void World::setJointTarget(std::size_t joint, double target) {
   requireIndex("World::setJointTarget", "joint", joint, m.joints.size());
   requireFinite("World::setJointTarget", "target", target);
   const Joint& j = m.joints[joint];
-  if (j.actsThroughBodies()) {
-    // MODEL §1.7: the servo of a joint with bodies is the joint's own.
-    const double raw = j.kind == JointKind::kRevolute ? wrapAngle(target) : target;
+  if (j.actsThroughBodies() || j.inTree()) {
+    // MODEL §1.7: the servo of a joint with bodies is the joint's own; a tree
+    // joint's target is its coordinate q* (docs/model.md §7), not wrapped.
+    const double raw = j.wraps() ? wrapAngle(target) : target;
     double& stored = model_.model_.joints[joint].servoTarget;
     if (stored == raw) return;
     edited();
@@ -128,7 +129,7 @@ void World::setJointServo(std::size_t joint, double stiffness, double damping) {
   const Joint& j = m.joints[joint];
   double* k = nullptr;
   double* c = nullptr;
-  if (j.actsThroughBodies()) {
+  if (j.actsThroughBodies() || j.inTree()) {
     k = &model_.model_.joints[joint].servoStiffness;
     c = &model_.model_.joints[joint].servoDamping;
   } else if (j.kind == JointKind::kRevolute) {
@@ -163,7 +164,7 @@ void World::setJointEffort(std::size_t joint, double effort) {
 void World::setGravityCompensation(std::size_t joint, bool on) {
   requireIndex("World::setGravityCompensation", "joint", joint, model().joints.size());
   Joint& j = model_.model_.joints[joint];
-  if (on && (!j.actsThroughBodies() || j.subtreeBodies.empty()))
+  if (on && !j.inTree() && (!j.actsThroughBodies() || j.subtreeBodies.empty()))
     throw std::invalid_argument(detail::text(
         "World::setGravityCompensation: joint '{}' has no bodies to carry (no body link)", j.name));
   if (j.compensateGravity == on) return;

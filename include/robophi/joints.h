@@ -12,13 +12,15 @@
 
 namespace robophi {
 
-/// The joint's value: rad in [0, 2π) for a revolute joint, m for a prismatic one.
+/// The joint's value: rad in [0, 2π) for a revolute joint, m for a prismatic one; a
+/// rigid tree's joint (Joint::inTree): its coordinate q itself (rad, not wrapped, or m).
 /// Throws std::out_of_range for a joint that does not exist, std::invalid_argument
 /// for a state not sized for the model.
 double jointValue(const Model& model, const State& state, std::size_t joint);
 
 /// The joint's position q, counted from Joint::zero: rad in (-π, π] for a revolute
-/// joint (jointValue − zero, wrapped), m for a prismatic one (jointValue − zero).
+/// joint (jointValue − zero, wrapped), m for a prismatic one (jointValue − zero); a
+/// rigid tree's joint: its coordinate q, not wrapped (a joint may turn past ±π).
 /// Same checks as jointValue.
 double jointPosition(const Model& model, const State& state, std::size_t joint);
 

@@ -220,10 +220,11 @@ struct Joint {
   /// rigid velocity: no connector particle carries the joint's torque alone. An
   /// imported URDF joint's (build::placeUrdfRobot).
   std::int32_t bodyLink = -1;
-  /// With a body link: the servo (MODEL §1.7) that World::setJointServo and
-  /// setJointTarget set, instead of the JS's or the drive LS's: stiffness
-  /// (N·m/rad or N/m) >= 0, damping (N·m·s/rad or N·s/m) >= 0, and the target as a
-  /// raw value (jointValue: rad in [0, 2π), or m).
+  /// With a body link or in a rigid tree: the servo (MODEL §1.7, docs/model.md §7)
+  /// that World::setJointServo and setJointTarget set, instead of the JS's or the
+  /// drive LS's: stiffness (N·m/rad or N/m) >= 0, damping (N·m·s/rad or N·s/m) >= 0,
+  /// and the target as a raw value (jointValue: rad in [0, 2π) with a body link, the
+  /// coordinate q* in a tree, or m).
   double servoStiffness = 0.0, servoDamping = 0.0, servoTarget = 0.0;
   /// With a body link: the bodies (Model::bodies) the joint carries — its child and
   /// every body below it — and whether its motor adds the effort that holds them
@@ -231,7 +232,24 @@ struct Joint {
   /// the motor's work): gravity compensation, World::setGravityCompensation.
   std::vector<std::int32_t> subtreeBodies{};
   bool compensateGravity = false;
+  /// A joint of a rigid tree (docs/model.md §7): the tree (index into
+  /// Model::rigidTrees) and the body (index into its Multibody::bodies) whose joint
+  /// it is, or -1. Its value is the tree's coordinate q itself (rad or m, not
+  /// wrapped, zero 0), its rate the tree's; connector, driveSpring and bodyLink are
+  /// unused. Its servo is servoStiffness, servoDamping and servoTarget (a
+  /// coordinate q*); its drive acts on the tree's rate; compensateGravity adds the
+  /// effort that holds the tree at q against gravity (ModelBuilder::addRigidTree
+  /// makes these joints).
+  std::int32_t tree = -1, treeBody = -1;
   bool actsThroughBodies() const { return bodyLink >= 0; }
+  bool inTree() const { return tree >= 0; }
+  /// Its servo: a revolute joint's JS, a body link's or tree joint's own, a
+  /// prismatic joint's drive LS (none without one).
+  bool hasServo() const {
+    return inTree() || actsThroughBodies() || kind == JointKind::kRevolute || driveSpring >= 0;
+  }
+  /// Its value is an angle wrapped into [0, 2π) (a revolute joint of connectors).
+  bool wraps() const { return kind == JointKind::kRevolute && !inTree(); }
 };
 
 /// A rigid body of particles (MODEL §1.7): a link of an imported robot. Its rest
@@ -296,11 +314,10 @@ struct BodyParticle {
 struct RigidTree {
   Multibody multibody;
   std::vector<BodyParticle> particles;
-  /// Efforts and servos (control; World::setTreeInputs): per rate, or empty.
-  MultibodyInputs inputs;
-  /// Adds the gravity forces at q to the efforts at every step (gravity
-  /// compensation; its work is booked as external, as a motor's).
-  bool compensateGravity = false;
+  /// (velocityCount) the joint (index into Model::joints) of each rate, or -1 (a
+  /// free base's): its servo, drive and gravity compensation drive the rate
+  /// (ModelBuilder::addRigidTree sets it).
+  std::vector<std::int32_t> jointOfRate;
 };
 
 /// The model: particles as flat arrays, connectors as small structs.

@@ -194,6 +194,10 @@ struct MultibodyInputs {
   /// A servo per rate, τ = −κ (q − q*) − β (q̇ − q̇*) clamped to the effort limit,
   /// integrated implicitly: κ (N·m/rad or N/m), β (N·m·s/rad or N·s/m), q*, q̇*.
   std::vector<double> servoStiffness, servoDamping, servoTarget, servoTargetRate;
+  /// A bound on |effort + servo| per rate (N·m or N), > 0, besides the joint's own
+  /// effortLimit (the smaller holds); empty: the joint's alone. A velocity-limited
+  /// motor is a rate servo bounded by its effort.
+  std::vector<double> effortLimit;
   /// External wrenches on the bodies (spatial forces in W; empty: none): contacts.
   std::vector<SpatialVector> wrench;
 };
@@ -201,7 +205,9 @@ struct MultibodyInputs {
 /// Scratch of the step (sized on first use); any workspace gives the same result.
 struct MultibodyWorkspace {
   MultibodyKinematics kinematics;
-  std::vector<double> massMatrix, rhs, tau, scratch, velocityFree, delassus, impulse, column;
+  /// The inputs a caller composes for a step (the world's tree stage), kept to reuse.
+  MultibodyInputs inputs;
+  std::vector<double> mass, massMatrix, rhs, tau, scratch, servo, velocityFree, delassus, impulse, column;
   std::vector<std::int32_t> constrained;
 };
 
@@ -209,8 +215,9 @@ struct MultibodyWorkspace {
 struct MultibodyStepReport {
   /// Work done by the efforts and the servos' targets (J): energy from outside.
   double inputWork = 0.0;
-  /// Energy the joints' damping, friction and hard stops removed (J), >= 0 up to
-  /// the step's own error.
+  /// Energy the joints' damping, friction and hard stops, the servos' dampers and
+  /// their implicit springs' step (½ κ δ² v⁺² a step) removed (J), >= 0 up to the
+  /// step's own error. The servos' targets' rates do work (β q̇* v⁺ δ) booked as inputWork.
   double dissipated = 0.0;
   /// Number of joints at a hard stop or held by friction after the step.
   int constrainedJoints = 0;

@@ -171,7 +171,7 @@ double PyWorld::jointTarget(std::size_t joint) const {
   const JointServo servo = jointServo(model, joint);
   if (!servo.hasDrive) return std::numeric_limits<double>::quiet_NaN();
   const Joint& j = model.joints[joint];
-  return j.kind == JointKind::kRevolute ? wrapSigned(servo.target - j.zero) : servo.target - j.zero;
+  return j.wraps() ? wrapSigned(servo.target - j.zero) : servo.target - j.zero;
 }
 
 double PyWorld::jointEffort(std::size_t joint) const {
@@ -182,7 +182,7 @@ double PyWorld::jointEffort(std::size_t joint) const {
   const double q = jointPosition(model, world_.state(), joint);
   const double target = jointTarget(joint);
   const double error =
-      model.joints[joint].kind == JointKind::kRevolute ? wrapSigned(q - target) : q - target;
+      model.joints[joint].wraps() ? wrapSigned(q - target) : q - target;
   return -servo.stiffness * error - servo.damping * jointRate(model, world_.state(), joint);
 }
 

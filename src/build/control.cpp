@@ -245,8 +245,7 @@ std::string checkActuator(const ActuatorSpec& a, const Model& model) {
     return bad("damping", *a.damping, "finite and >= 0");
   if (a.friction && (!(*a.friction >= 0.0) || !std::isfinite(*a.friction)))
     return bad("friction", *a.friction, "finite and >= 0");
-  if (a.mode == JointMode::kPosition && joint.kind == JointKind::kPrismatic &&
-      joint.driveSpring < 0)
+  if (a.mode == JointMode::kPosition && !joint.hasServo())
     return "prismatic joint '" + joint.name +
            "' has no drive spring: position mode needs one (use velocity or effort mode)";
   if (const std::string problem = checkTrajectory(a.target); !problem.empty())

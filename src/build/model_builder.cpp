@@ -384,7 +384,14 @@ std::int32_t ModelBuilder::addJoint(const Joint& joint) {
   const bool revolute = joint.kind == JointKind::kRevolute;
   const std::size_t connectors =
       revolute ? model_.jointSprings.size() : model_.torsionSprings.size();
-  if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= connectors)
+  if (joint.inTree()) {
+    // Made by addRigidTree before the tree is stored: its index is the next tree's.
+    if (joint.tree != static_cast<std::int32_t>(model_.rigidTrees.size()) || joint.treeBody < 0 ||
+        joint.connector != -1 || joint.driveSpring != -1 || joint.bodyLink != -1)
+      check::fail(kSpec, "tree", "'tree' " + std::to_string(joint.tree) + " / 'treeBody' " +
+                                     std::to_string(joint.treeBody) +
+                                     ": a tree joint is made by addRigidTree, with no connectors");
+  } else if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= connectors)
     check::fail(kSpec, "connector",
                 "'connector' " + std::to_string(joint.connector) + " is not a " +
                     (revolute ? "JS" : "TS") + " (" + std::to_string(connectors) + " placed)");
@@ -536,6 +543,21 @@ std::int32_t ModelBuilder::addRigidTree(RigidTree tree, std::vector<double> q, s
       throw SpecError("addRigidTree", "particles", what + ": particle " + std::to_string(bp.particle) +
                                                        " is carried by another tree already");
     model_.carriedBy[static_cast<std::size_t>(bp.particle)] = static_cast<std::int32_t>(model_.rigidTrees.size());
+  }
+  // Every revolute and prismatic joint of the tree is a model joint (Joint::inTree):
+  // read, driven and controlled by name as any other.
+  const auto index = static_cast<std::int32_t>(model_.rigidTrees.size());
+  tree.jointOfRate.assign(static_cast<std::size_t>(mb.velocityCount), -1);
+  for (std::size_t b = 0; b < mb.bodies.size(); ++b) {
+    const MultibodyBody& body = mb.bodies[b];
+    if (velocityCountOf(body.joint) != 1) continue;
+    Joint joint;
+    joint.name = body.jointName.empty() ? body.name : body.jointName;
+    joint.kind = body.joint == BodyJointKind::kRevolute ? JointKind::kRevolute : JointKind::kPrismatic;
+    joint.tree = index;
+    joint.treeBody = static_cast<std::int32_t>(b);
+    joint.servoTarget = q[static_cast<std::size_t>(body.qStart)];
+    tree.jointOfRate[static_cast<std::size_t>(body.vStart)] = addJoint(joint);
   }
   model_.rigidTrees.push_back(std::move(tree));
   treePositions_.push_back(std::move(q));

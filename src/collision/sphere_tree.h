@@ -70,7 +70,9 @@ inline void testParticlePair(const Model& model, const std::vector<Vec3>& positi
   const Vec3 r = position[a] - position[b];
   const double reach = model.radius[a] + model.radius[b];
   if (squaredNorm(r) >= reach * reach) return;
-  if (model.inverseMass[a] == 0.0 && model.inverseMass[b] == 0.0) return;
+  // Two particles that do not move under loads never touch (a rigid tree's carried
+  // particles move with their body: ContactTables::movable).
+  if (cache.tables->movable[a] == 0 && cache.tables->movable[b] == 0) return;
   if (excluded(*cache.tables, a, b)) return;
   Contact c;
   c.a = a;

@@ -165,6 +165,10 @@ ForceTally accumulateJointSprings(const Model& model, int threads,
 bool hasDrive(const JointDrive& drive);
 double motorEffort(const JointDrive& drive, double rate);
 double lossEffort(const JointDrive& drive, double rate);
+/// A rigid tree joint's servo and drive effort at coordinate q and rate (docs/model.md
+/// §7): −κ (q − q*) − β q̇ + motor + losses, within the joint's effort limit (the
+/// gravity compensation's effort not included).
+double treeJointEffort(const Model& model, const Joint& joint, double q, double rate);
 /// Joint motors and losses (MODEL §1.6): adds Q ∂q/∂p_j for every joint with a
 /// drive (a wrench on its bodies, and their servo, for a joint with bodies: MODEL
 /// §1.7, whose servo energy is the tally's potential); `motor` and `loss` (resized to the joints)

@@ -315,6 +315,7 @@ ForceTally accumulateJointDrives(const Model& model, const std::vector<RigidMoti
   weights.clear();
   for (std::size_t k = 0; k < count; ++k) {
     const Joint& joint = model.joints[k];
+    if (joint.inTree()) continue;  // the tree's stage drives it (docs/model.md §7)
     if (joint.actsThroughBodies()) {
       const bool servo = hasBodyServo(joint);
       const bool compensate = joint.compensateGravity && !joint.subtreeBodies.empty();
@@ -368,6 +369,7 @@ double jointMotorPower(const Model& model, const std::vector<RigidMotion>& motio
   for (std::size_t k = 0; k < count; ++k) {
     if (motor[k] == 0.0) continue;
     const Joint& joint = model.joints[k];
+    if (joint.inTree()) continue;
     if (joint.actsThroughBodies()) {
       const BodyJoint b = bodyJoint(model, joint, motion);
       if (b.valid) power += motor[k] * b.rate;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -34,10 +35,32 @@ const Joint& checkedJoint(const char* function, const Model& model, const State*
   return model.joints[joint];
 }
 
+// A tree joint's coordinate and rate (docs/model.md §7).
+double treeCoordinate(const Model& model, const State& state, const Joint& j) {
+  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(j.tree)]
+                                  .multibody.bodies[static_cast<std::size_t>(j.treeBody)];
+  return state.treePositions[static_cast<std::size_t>(j.tree)][static_cast<std::size_t>(body.qStart)];
+}
+double treeRate(const Model& model, const State& state, const Joint& j) {
+  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(j.tree)]
+                                  .multibody.bodies[static_cast<std::size_t>(j.treeBody)];
+  return state.treeVelocities[static_cast<std::size_t>(j.tree)][static_cast<std::size_t>(body.vStart)];
+}
+
 }  // namespace
+
+double treeJointEffort(const Model& model, const Joint& joint, double q, double rate) {
+  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(joint.tree)]
+                                  .multibody.bodies[static_cast<std::size_t>(joint.treeBody)];
+  const double servo =
+      -joint.servoStiffness * (q - joint.servoTarget) - joint.servoDamping * rate;
+  const double drive = motorEffort(joint.drive, rate) + lossEffort(joint.drive, rate);
+  return std::clamp(servo + drive, -body.effortLimit, body.effortLimit);
+}
 
 double jointValue(const Model& model, const State& state, std::size_t joint) {
   const Joint& j = checkedJoint("jointValue", model, &state, joint);
+  if (j.inTree()) return treeCoordinate(model, state, j);
   const auto& p = state.position;
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[j.connector];
@@ -49,16 +72,16 @@ double jointValue(const Model& model, const State& state, std::size_t joint) {
 double jointPosition(const Model& model, const State& state, std::size_t joint) {
   const Joint& j = checkedJoint("jointPosition", model, &state, joint);
   const double value = jointValue(model, state, joint);
-  return j.kind == JointKind::kRevolute ? wrapSigned(value - j.zero) : value - j.zero;
+  return j.wraps() ? wrapSigned(value - j.zero) : value - j.zero;
 }
 
 double jointRawValue(const Joint& joint, double position) {
-  return joint.kind == JointKind::kRevolute ? wrapAngle(joint.zero + position)
-                                            : joint.zero + position;
+  return joint.wraps() ? wrapAngle(joint.zero + position) : joint.zero + position;
 }
 
 double jointRate(const Model& model, const State& state, std::size_t joint) {
   const Joint& j = checkedJoint("jointRate", model, &state, joint);
+  if (j.inTree()) return treeRate(model, state, j);
   const auto& p = state.position;
   const auto& v = state.velocity;
   if (j.kind == JointKind::kRevolute) {
@@ -76,6 +99,7 @@ double jointServoEffort(const Model& model, const State& state, std::size_t join
   const Joint& j = checkedJoint("jointServoEffort", model, &state, joint);
   const auto& p = state.position;
   const auto& v = state.velocity;
+  if (j.inTree()) return treeJointEffort(model, j, treeCoordinate(model, state, j), treeRate(model, state, j));
   if (j.actsThroughBodies()) return bodyServoEffort(model, j, p, v);
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
@@ -120,7 +144,7 @@ std::optional<std::size_t> findJoint(const Model& model, const std::string& name
 
 JointServo jointServo(const Model& model, std::size_t joint) {
   const Joint& j = checkedJoint("jointServo", model, nullptr, joint);
-  if (j.actsThroughBodies()) return {true, j.servoTarget, j.servoStiffness, j.servoDamping};
+  if (j.actsThroughBodies() || j.inTree()) return {true, j.servoTarget, j.servoStiffness, j.servoDamping};
   if (j.kind == JointKind::kRevolute) {
     const JointSpring& s = model.jointSprings[static_cast<std::size_t>(j.connector)];
     return {true, s.restAngle, s.stiffness, s.damping};

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "forces/forces.h"
 #include "robophi/stability.h"
 
 namespace robophi {
@@ -17,6 +18,69 @@ void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_W
   p_WP = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
   v_WP = pointVelocity(kin, bp.body, p_WP);
   w_W = kin.velocity[static_cast<std::size_t>(bp.body)].angular;
+}
+
+// The tree's inputs for a step from its joints (Joint::inTree, docs/model.md §7):
+// per rate, the joint's servo (κ, β, q*) and its drive — a rate drive and viscous
+// losses join the servo's damper (implicit), a velocity-limited motor alone is a
+// rate servo to ±its velocity limit bounded by its effort, any other motor and
+// Coulomb losses are explicit efforts — and, with gravity compensation, the
+// effort that holds the tree at q against gravity.
+void composeTreeInputs(const Model& model, const RigidTree& tree, const std::vector<double>& q,
+                       const std::vector<double>& v, MultibodyWorkspace& ws) {
+  const Multibody& mb = tree.multibody;
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  MultibodyInputs& in = ws.inputs;
+  for (auto* values : {&in.effort, &in.servoStiffness, &in.servoDamping, &in.servoTarget,
+                       &in.servoTargetRate})
+    values->assign(n, 0.0);
+  in.effortLimit.assign(n, std::numeric_limits<double>::infinity());
+  bool compensate = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = tree.jointOfRate[i];
+    if (k < 0) continue;
+    const Joint& joint = model.joints[static_cast<std::size_t>(k)];
+    const JointDrive& d = joint.drive;
+    compensate = compensate || joint.compensateGravity;
+    double damping = joint.servoDamping + d.rateGain + d.damping;
+    double dampedRate = d.rateGain * d.targetRate;  // Σ β q̇* of the dampers
+    double effort = -d.friction * std::clamp(v[i] / d.frictionVelocity, -1.0, 1.0);
+    const bool limited = std::isfinite(d.velocityLimit) && d.effort != 0.0;
+    if (limited && joint.servoStiffness == 0.0 && d.rateGain == 0.0) {
+      // Pushes with |τ0| up to the velocity limit, then holds that rate: a rate
+      // servo whose damper (ten times τ0's over the limit) stays implicit.
+      const double pushRate = d.velocityLimit * (d.effort > 0.0 ? 1.0 : -1.0);
+      const double gain = 10.0 * std::abs(d.effort) / d.velocityLimit;
+      damping += gain;
+      dampedRate += gain * pushRate;
+      in.effortLimit[i] = std::min(std::abs(d.effort), d.effortLimit);
+    } else {
+      JointDrive motor = d;  // the commanded effort alone, explicit
+      motor.rateGain = motor.damping = motor.friction = 0.0;
+      effort += motorEffort(motor, v[i]);
+      in.effortLimit[i] = d.effortLimit;
+    }
+    in.effort[i] = effort;
+    in.servoStiffness[i] = joint.servoStiffness;
+    in.servoTarget[i] = joint.servoStiffness > 0.0 ? joint.servoTarget
+                                                   : q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(mb.dofBody[i])].qStart)];
+    in.servoDamping[i] = damping;
+    in.servoTargetRate[i] = damping > 0.0 ? dampedRate / damping : 0.0;
+  }
+  if (!compensate) return;
+  // The efforts that hold the tree at q against gravity (inverse dynamics at rest).
+  std::vector<double>& held = ws.tau;
+  held.resize(n);
+  std::vector<double>& zero = ws.rhs;
+  zero.assign(n, 0.0);
+  MultibodyKinematics& kin = ws.kinematics;
+  updateKinematics(mb, q.data(), kin);
+  updateVelocities(mb, zero.data(), kin);
+  inverseDynamics(mb, kin, nullptr, model.gravity, nullptr, held.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = tree.jointOfRate[i];
+    if (k >= 0 && model.joints[static_cast<std::size_t>(k)].compensateGravity) in.effort[i] += held[i];
+  }
 }
 
 void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
@@ -92,9 +156,12 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
     const RigidTree& tree = model.rigidTrees[t];
     const Multibody& mb = tree.multibody;
     MultibodyWorkspace& ws = scratch[t];
+    MultibodyInputs& inputs = ws.inputs;
+    std::vector<double>& q = state.treePositions[t];
+    std::vector<double>& v = state.treeVelocities[t];
+    composeTreeInputs(model, tree, q, v, ws);
     // The loads on the tree's particles as wrenches on its bodies (about the world
     // origin): the force at the particle, and the torque of a contact off its centre.
-    MultibodyInputs inputs = tree.inputs;
     inputs.wrench.assign(mb.bodies.size(), SpatialVector{});
     for (const BodyParticle& bp : tree.particles) {
       const auto i = static_cast<std::size_t>(bp.particle);
@@ -104,22 +171,6 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
       SpatialVector& w = inputs.wrench[static_cast<std::size_t>(bp.body)];
       w.angular += moment;
       w.linear += f;
-    }
-    std::vector<double>& q = state.treePositions[t];
-    std::vector<double>& v = state.treeVelocities[t];
-    if (tree.compensateGravity) {
-      // The efforts that hold the tree at q against gravity, added to its own.
-      const auto n = static_cast<std::size_t>(mb.velocityCount);
-      std::vector<double> held(n), zero(n, 0.0);
-      MultibodyKinematics& kin = ws.kinematics;
-      updateKinematics(mb, q.data(), kin);
-      updateVelocities(mb, zero.data(), kin);
-      inverseDynamics(mb, kin, nullptr, model.gravity, nullptr, held.data());
-      if (inputs.effort.empty()) inputs.effort.assign(n, 0.0);
-      // The joints only: a free base is not held up.
-      for (std::size_t i = 0; i < n; ++i)
-        if (mb.bodies[static_cast<std::size_t>(mb.dofBody[i])].joint != BodyJointKind::kFree)
-          inputs.effort[i] += held[i];
     }
     const MultibodyStepReport report = stepMultibody(mb, q, v, inputs, dt, model.gravity, ws);
     state.dissipated += report.dissipated;
@@ -153,18 +204,17 @@ void addRigidTreeTerms(const Model& model, const ContactTables& tables, const St
     }
     evaluation.energy.kinetic += kineticEnergy(kin);
     evaluation.energy.gravity += gravitationalEnergy(kin, model.gravity);
-    const MultibodyInputs& in = tree.inputs;
-    if (!in.servoStiffness.empty()) {
-      double servo = 0.0;
-      for (const MultibodyBody& body : mb.bodies) {
-        if (velocityCountOf(body.joint) != 1) continue;
-        const auto i = static_cast<std::size_t>(body.vStart);
-        const double target = in.servoTarget.empty() ? 0.0 : in.servoTarget[i];
-        const double e = q[static_cast<std::size_t>(body.qStart)] - target;
-        servo += 0.5 * in.servoStiffness[i] * e * e;
-      }
-      evaluation.energy.jointSpring += servo;
+    // The joints' servos' springs ½ κ (q − q*)².
+    double servo = 0.0;
+    for (const std::int32_t k : tree.jointOfRate) {
+      if (k < 0) continue;
+      const Joint& joint = model.joints[static_cast<std::size_t>(k)];
+      if (joint.servoStiffness == 0.0) continue;
+      const MultibodyBody& body = mb.bodies[static_cast<std::size_t>(joint.treeBody)];
+      const double e = q[static_cast<std::size_t>(body.qStart)] - joint.servoTarget;
+      servo += 0.5 * joint.servoStiffness * e * e;
     }
+    evaluation.energy.jointSpring += servo;
     // The fixed-particle rule booked −F·v for each tree particle as driving power.
     double taken = 0.0;
     for (const BodyParticle& bp : tree.particles) {

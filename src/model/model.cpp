@@ -134,12 +134,22 @@ std::string checkModel(const Model& model) {
                             mb.name, bp.particle);
     }
     const auto nv = static_cast<std::size_t>(mb.velocityCount);
-    const MultibodyInputs& in = tree.inputs;
-    for (const auto* values : {&in.effort, &in.servoStiffness, &in.servoDamping, &in.servoTarget,
-                               &in.servoTargetRate})
-      if (!values->empty() && values->size() != nv)
-        return detail::text("rigid tree {} '{}': inputs of {} values for {} rates", t, mb.name,
-                            values->size(), nv);
+    if (tree.jointOfRate.size() != nv)
+      return detail::text("rigid tree {} '{}': jointOfRate has {} entries for {} rates", t, mb.name,
+                          tree.jointOfRate.size(), nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+      const std::int32_t k = tree.jointOfRate[i];
+      if (k == -1) continue;
+      const auto own = [&] {
+        if (k < 0 || k >= static_cast<std::int32_t>(model.joints.size())) return false;
+        const Joint& j = model.joints[static_cast<std::size_t>(k)];
+        return j.tree == static_cast<std::int32_t>(t) && j.treeBody >= 0 &&
+               static_cast<std::size_t>(j.treeBody) < mb.bodies.size() &&
+               mb.bodies[static_cast<std::size_t>(j.treeBody)].vStart == static_cast<std::int32_t>(i);
+      };
+      if (!own())
+        return detail::text("rigid tree {} '{}': rate {} names joint {}, not its own", t, mb.name, i, k);
+    }
   }
   for (std::size_t k = 0; k < model.noContactPairs.size(); ++k) {
     const auto& [a, b] = model.noContactPairs[k];
@@ -250,7 +260,15 @@ std::string checkModel(const Model& model) {
   for (const auto& joint : model.joints) {
     const auto count = joint.kind == JointKind::kRevolute ? model.jointSprings.size()
                                                           : model.torsionSprings.size();
-    if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= count)
+    if (joint.inTree()) {
+      if (static_cast<std::size_t>(joint.tree) >= model.rigidTrees.size())
+        return detail::text("joint '{}': rigid tree {} does not exist", joint.name, joint.tree);
+      const Multibody& mb = model.rigidTrees[static_cast<std::size_t>(joint.tree)].multibody;
+      if (joint.treeBody < 0 || static_cast<std::size_t>(joint.treeBody) >= mb.bodies.size() ||
+          velocityCountOf(mb.bodies[static_cast<std::size_t>(joint.treeBody)].joint) != 1)
+        return detail::text("joint '{}': body {} of rigid tree {} has no revolute or prismatic joint",
+                            joint.name, joint.treeBody, joint.tree);
+    } else if (joint.connector < 0 || static_cast<std::size_t>(joint.connector) >= count)
       return detail::text("joint '{}': connector {} does not exist", joint.name, joint.connector);
     if (const std::string problem = checkJointDrive(joint.drive); !problem.empty())
       return detail::text("joint '{}': {}", joint.name, problem);

@@ -499,39 +499,64 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   ws.massMatrix.resize(n * n);
   ws.rhs.resize(n);
   ws.tau.resize(n);
-  massMatrix(multibody, kin, ws.massMatrix.data());
+  ws.mass.resize(n * n);  // M(q), kept: each round below factors a copy
+  massMatrix(multibody, kin, ws.mass.data());
   inverseDynamics(multibody, kin, nullptr, gravity,
                   inputs.wrench.empty() ? nullptr : inputs.wrench.data(), ws.tau.data());
 
   // The implicit terms: joint damping b and the servos' κ and β on the diagonal;
-  // scratch holds each rate's explicit effort.
+  // scratch holds each rate's explicit effort. A servo whose effort at the solution
+  // passes its bound acts explicitly at the bound instead, and the step is solved
+  // again: a servo saturates once, so the rounds end (at most one a rate).
   ws.scratch.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
-    const bool oneDof = velocityCountOf(body.joint) == 1;
-    const double qi = oneDof ? q[body.qStart] : 0.0;
-    double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
-    const double target = inputAt(inputs.servoTarget, i), targetRate = inputAt(inputs.servoTargetRate, i);
-    double effort = inputAt(inputs.effort, i);
-    const double damping = oneDof ? body.damping : 0.0;
-    if (oneDof && (kappa > 0.0 || beta > 0.0)) {
-      // The servo's effort at the step's end if its rate stayed: saturated servos act
-      // explicitly at their limit.
-      const double servo = -kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate);
-      if (std::abs(effort + servo) > body.effortLimit) {
-        effort = std::clamp(effort + servo, -body.effortLimit, body.effortLimit);
+  ws.servo.resize(2 * n);  // each rate's implicit servo (κ, β), 0 when saturated
+  std::vector<double>& bound = ws.impulse;  // each rate's effort bound, the saturated effort
+  bound.assign(n, 0.0);
+  std::vector<std::int32_t>& saturated = ws.constrained;
+  saturated.assign(n, 0);
+  for (std::size_t round = 0; round <= n; ++round) {
+    ws.massMatrix = ws.mass;
+    for (std::size_t i = 0; i < n; ++i) {
+      const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+      const bool oneDof = velocityCountOf(body.joint) == 1;
+      const double qi = oneDof ? q[body.qStart] : 0.0;
+      double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
+      const double target = inputAt(inputs.servoTarget, i), targetRate = inputAt(inputs.servoTargetRate, i);
+      double effort = inputAt(inputs.effort, i);
+      const double damping = oneDof ? body.damping : 0.0;
+      const double limit = std::min(body.effortLimit, inputs.effortLimit.empty()
+                                                          ? std::numeric_limits<double>::infinity()
+                                                          : inputs.effortLimit[i]);
+      bound[i] = limit;
+      if (!oneDof || (kappa == 0.0 && beta == 0.0)) {
+        if (oneDof) effort = std::clamp(effort, -limit, limit);
+      } else if (saturated[i] != 0) {
+        effort = saturated[i] * limit;
         kappa = beta = 0.0;
       }
-    } else if (oneDof) {
-      effort = std::clamp(effort, -body.effortLimit, body.effortLimit);
+      ws.servo[2 * i] = kappa;
+      ws.servo[2 * i + 1] = beta;
+      ws.scratch[i] = effort;
+      ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + beta) + dt * dt * kappa;
+      ws.rhs[i] = dt * (effort - ws.tau[i] - kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate) -
+                        damping * v[i]);
     }
-    ws.scratch[i] = effort;
-    ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + beta) + dt * dt * kappa;
-    ws.rhs[i] = dt * (effort - ws.tau[i] - kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate) -
-                      damping * v[i]);
+    factorTree(ws.massMatrix.data(), nv, multibody.dofParent);
+    solveTree(ws.massMatrix.data(), nv, multibody.dofParent, ws.rhs.data());
+    bool changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
+      if (kappa == 0.0 && beta == 0.0) continue;
+      const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+      const double next = v[i] + ws.rhs[i];
+      const double effort = ws.scratch[i] - kappa * (q[body.qStart] + dt * next - inputAt(inputs.servoTarget, i)) -
+                            beta * (next - inputAt(inputs.servoTargetRate, i));
+      if (std::abs(effort) <= bound[i]) continue;
+      saturated[i] = effort > 0.0 ? 1 : -1;
+      changed = true;
+    }
+    if (!changed) break;
   }
-  factorTree(ws.massMatrix.data(), nv, multibody.dofParent);
-  solveTree(ws.massMatrix.data(), nv, multibody.dofParent, ws.rhs.data());
   ws.velocityFree.resize(n);
   for (std::size_t i = 0; i < n; ++i) ws.velocityFree[i] = v[i] + ws.rhs[i];
 
@@ -594,11 +619,25 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     momentumTarget = momentumTarget + SpatialVector{torque + cross(p, force), force} * dt;
   }
 
+  // Semi-implicit Euler's own loss: the work dt τ·v⁺ exceeds the change of ½ vᵀ M v by
+  // ½ Δvᵀ M Δv (Δv = v⁺ − v), removed by the scheme.
+  double loss = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double row = 0.0;
+    for (std::size_t k = 0; k < n; ++k) row += ws.mass[i * n + k] * (ws.velocityFree[k] - v[k]);
+    loss += (ws.velocityFree[i] - v[i]) * row;
+  }
+  report.dissipated += 0.5 * loss;
   for (std::size_t i = 0; i < n; ++i) {
     const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
     const double vi = ws.velocityFree[i];
     report.inputWork += dt * ws.scratch[i] * vi;
-    if (velocityCountOf(body.joint) == 1) report.dissipated += dt * body.damping * vi * vi;
+    if (velocityCountOf(body.joint) == 1) {
+      // The implicit servo's work dt τ v⁺ = −Δ(½ κ e²) − ½ κ dt² v⁺² − β dt v⁺² + β q̇* dt v⁺.
+      const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
+      report.dissipated += dt * (body.damping + beta + 0.5 * dt * kappa) * vi * vi;
+      if (beta > 0.0) report.inputWork += dt * beta * inputAt(inputs.servoTargetRate, i) * vi;
+    }
     v[i] = vi;
   }
   integrateConfiguration(multibody, q.data(), v.data(), dt);

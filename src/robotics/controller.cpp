@@ -108,8 +108,10 @@ BaseMotionSpec baseFromJson(const json& j) {
   return b;
 }
 
+// The joint's position is an angle taken the short way round (not a rigid tree's,
+// whose coordinate is not wrapped: Joint::wraps).
 bool revolute(const World& world, std::size_t joint) {
-  return world.model().joints[joint].kind == JointKind::kRevolute;
+  return world.model().joints[joint].wraps();
 }
 
 // The signed difference to − from (the short way round for an angle).
@@ -121,11 +123,12 @@ double difference(double from, double to, bool isRevolute) {
 void applyCommand(World& world, std::size_t joint, JointMode mode,
                   const build::JointCommand& command) {
   const Joint& j = world.model().joints[joint];
-  const bool hasServo = j.kind == JointKind::kRevolute || j.driveSpring >= 0;
+  const bool hasServo = j.hasServo();
   if (mode == JointMode::kPosition) {
     world.setJointServo(joint, command.stiffness, command.damping);
     double raw = jointRawValue(j, command.target);
-    if (j.kind == JointKind::kPrismatic) raw = std::max(raw, 1e-9);  // a drive LS needs l0 > 0
+    if (j.kind == JointKind::kPrismatic && j.driveSpring >= 0)
+      raw = std::max(raw, 1e-9);  // a drive LS needs l0 > 0
     world.setJointTarget(joint, raw);
   } else if (hasServo) {
     world.setJointServo(joint, 0.0, 0.0);

@@ -24,14 +24,14 @@ double angleBetween(double from, double to) {
 
 bool setJointTarget(World& world, std::size_t joint, double target) {
   const Joint& j = world.model().joints.at(joint);
-  if (j.kind == JointKind::kPrismatic && (j.driveSpring < 0 || !(target > 0.0))) return false;
+  if (!j.hasServo() || (j.driveSpring >= 0 && !(target > 0.0))) return false;
   world.setJointTarget(joint, target);
   return true;
 }
 
 bool setJointStiffness(World& world, std::size_t joint, double stiffness, double damping) {
   const Joint& j = world.model().joints.at(joint);
-  if (j.kind == JointKind::kPrismatic && j.driveSpring < 0) return false;
+  if (!j.hasServo()) return false;
   world.setJointServo(joint, stiffness, damping);
   return true;
 }
@@ -47,7 +47,7 @@ void JointLimiter::update(World& world) {
   for (std::size_t i = 0; i < limits_.size(); ++i) {
     const JointLimitSpec& limit = limits_[i];
     const Model& model = world.model();
-    const bool revolute = model.joints[limit.joint].kind == JointKind::kRevolute;
+    const bool revolute = model.joints[limit.joint].wraps();
     const double value = jointValue(model, world.state(), limit.joint);
     // Outside [min, max]; an angular range with min > max wraps through 0. The
     // bound to hold is the nearer one (for an angle, the short way round).

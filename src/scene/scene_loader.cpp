@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "robophi/build/input_files.h"
+#include "robophi/build/rigid_object.h"
 #include "robophi/scene/scene.h"
 #include "scene/json_locator.h"
 #include "scene/scene_contact.h"
@@ -40,6 +41,18 @@ constexpr int kFormatVersion = 1;
 // and joints ("<robot>.<joint>").
 std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& object) {
   std::vector<std::pair<std::string, std::string>> names;
+  if (object.rigidUrdf) {
+    // A rigid robot's bodies and joints are "<robot>.<link>" and "<robot>.<joint>".
+    const Multibody& mb = object.rigidUrdf->robot.multibody;
+    for (const MultibodyBody& body : mb.bodies) {
+      names.emplace_back(body.name, fmt::format("link '{}' of robot '{}' ({})", body.name,
+                                                object.name, object.pointer));
+      if (velocityCountOf(body.joint) == 1)
+        names.emplace_back(body.jointName, fmt::format("joint '{}' of robot '{}' ({})",
+                                                       body.jointName, object.name, object.pointer));
+    }
+    return names;
+  }
   if (!object.urdf) {
     names.emplace_back(object.name, fmt::format("object '{}' ({})", object.name, object.pointer));
     for (const Joint& joint : object.geometry.joints)
@@ -123,6 +136,7 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
         object.geometry = {};
         object.velocity = {};
         object.urdf = nullptr;
+        object.rigidUrdf = nullptr;
       } else {
         particles += objectParticles;
         connectors += objectConnectors;
@@ -158,22 +172,36 @@ std::vector<SceneObject> readObjects(DiagnosticSink& sink, const nlohmann::json*
 void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene& scene) {
   build::ModelBuilder builder;
   builder.setGravity(scene.model.gravity);
+  std::vector<std::int32_t> held;  // rigid trees whose joints hold their start pose
   for (auto& object : objects) {
     if (!object.valid) continue;
     try {
-      if (object.urdf) {  // one object per link (docs/robots.md)
+      if (object.rigidUrdf) {  // one object per body with <collision> (docs/robots.md)
+        object.firstParticle = builder.model().particleCount();
+        const auto placed = build::placeUrdfMultibody(builder, object.rigidUrdf->robot,
+                                                      object.rigidUrdf->placement);
+        if (object.rigidUrdf->holdJoints) held.push_back(placed.tree);
+      } else if (object.urdf) {  // one object per link (docs/robots.md)
         object.firstParticle = builder.model().particleCount();
         build::placeUrdfRobot(builder, *object.urdf);
         scene.urdfRobots.push_back(object.urdf);
+      } else if (object.rigid) {  // one free rigid body (docs/model.md §7)
+        object.firstParticle =
+            build::placeRigidObject(builder, object, object.rigidVelocity, object.rigidSpin)
+                .object.firstParticle;
       } else {
         object.firstParticle = builder.addObject(object).firstParticle;
       }
     } catch (const build::SpecError& e) {  // (names clash in readObjects, never here)
       sink.error(object.pointer, e.message());
       object.valid = false;
+    } catch (const build::UrdfError& e) {  // a rigid robot's collision mesh
+      sink.error(object.pointer + "/file", e.what());
+      object.valid = false;
     }
   }
   build::BuiltModel built = std::move(builder).build();
+  for (const std::int32_t tree : held) scene::holdRigidJoints(built.model, built.initial, tree);
   scene.model = std::move(built.model);
   scene.initial = std::move(built.initial);
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "robophi/build/calibration.h"
@@ -334,6 +335,10 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto velocity = reader.vec3("velocity", "m/s");
   const auto angularVelocity = reader.vec3("angularVelocity", "rad/s");
   object.linearDamping = reader.numberOr("linearDamping", 0.0, Bound::kNonNegative, "N·s/m");
+  object.rigid = reader.boolean("rigid").value_or(false);
+  if (object.rigid && isRobotKind(object.kind))
+    sink.error(reader.memberPointer("rigid"),
+               fmt::format("'rigid': {} has joints; a robot is not one rigid body", what));
 
   bool generated = false;
   const std::string& kind = object.kind;
@@ -374,6 +379,13 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
     if (angularVelocity) build::addSpin(object.geometry, *angularVelocity, object.velocity);
   }
   readFixed(reader, object);
+  if (object.rigid) {
+    object.rigidVelocity = velocity.value_or(Vec3{});
+    object.rigidSpin = angularVelocity.value_or(Vec3{});
+    if (std::any_of(object.geometry.fixed.begin(), object.geometry.fixed.end(), [](bool f) { return f; }))
+      sink.error(reader.memberPointer("fixed"),
+                 fmt::format("'fixed': {} is rigid: it moves as a whole (fix none of its particles)", what));
+  }
   object.valid = generated && sink.errorCount() == errorsBefore;
   return object;
 }

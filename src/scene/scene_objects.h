@@ -10,6 +10,7 @@
 
 #include "robophi/build/model_builder.h"
 #include "robophi/build/urdf.h"
+#include "robophi/build/urdf_multibody.h"
 #include "scene/scene_fields.h"
 
 namespace robophi::scene {
@@ -26,6 +27,21 @@ struct SceneObject : build::ObjectPlacement {
   /// A URDF robot ({"type": "urdf"}): placed by build::placeUrdfRobot, one
   /// object per link; `geometry` stays empty.
   std::shared_ptr<const build::UrdfRobot> urdf{};
+  /// A URDF robot as rigid bodies ({"type": "urdf", "rigid": true}; docs/robots.md
+  /// "Rigid bodies"): placed by build::placeUrdfMultibody, one object per body
+  /// with <collision>, its joints the model's; `geometry` stays empty.
+  struct RigidUrdf {
+    build::UrdfMultibody robot;
+    build::UrdfMultibodyPlacement placement;
+    /// holdJoints: servos that hold the start pose, with gravity compensation.
+    bool holdJoints = false;
+  };
+  std::shared_ptr<const RigidUrdf> rigidUrdf{};
+  /// "rigid": true — one free rigid body of its particles (build::placeRigidObject),
+  /// starting at the entry's velocity and angularVelocity.
+  bool rigid = false;
+  Vec3 rigidVelocity{}, rigidSpin{};
+  bool isRobot() const { return urdf != nullptr || rigidUrdf != nullptr; }
 };
 
 /// The generator names a scene may use (aliases included), for suggestions.

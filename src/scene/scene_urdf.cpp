@@ -88,7 +88,53 @@ std::optional<std::vector<std::string>> readPaths(ObjectReader& r, const std::st
   return paths;
 }
 
+// "inertiaFromGeometry": true (every link) or ["link", ...] (MuJoCo's inertiafromgeom).
+struct InertiaFromGeometry {
+  bool all = false;
+  std::vector<std::string> links;
+};
+std::optional<InertiaFromGeometry> readInertiaFromGeometry(ObjectReader& r) {
+  InertiaFromGeometry result;
+  const nlohmann::json* value = r.member("inertiaFromGeometry");
+  if (value == nullptr) return result;
+  if (value->is_boolean()) {
+    result.all = value->get<bool>();
+    return result;
+  }
+  if (value->is_array() && std::all_of(value->begin(), value->end(),
+                                        [](const nlohmann::json& x) { return x.is_string(); })) {
+    for (const auto& x : *value) result.links.push_back(x.get<std::string>());
+    return result;
+  }
+  r.sink().error(r.memberPointer("inertiaFromGeometry"),
+                 fmt::format("'inertiaFromGeometry': expected true, false or an array of URDF link "
+                             "names, got {}",
+                             describeJson(*value)));
+  return std::nullopt;
+}
+
 }  // namespace
+
+void holdRigidJoints(Model& model, const State& state, std::int32_t treeIndex) {
+  const RigidTree& tree = model.rigidTrees[static_cast<std::size_t>(treeIndex)];
+  const Multibody& mb = tree.multibody;
+  const std::vector<double>& q = state.treePositions[static_cast<std::size_t>(treeIndex)];
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  MultibodyKinematics kin;
+  updateKinematics(mb, q.data(), kin);
+  std::vector<double> M(n * n);
+  massMatrix(mb, kin, M.data());
+  constexpr double omega = 30.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = tree.jointOfRate[i];
+    if (k < 0) continue;
+    Joint& joint = model.joints[static_cast<std::size_t>(k)];
+    joint.servoStiffness = omega * omega * M[i * n + i];
+    joint.servoDamping = 2.0 * omega * M[i * n + i];
+    joint.servoTarget = q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)];
+    joint.compensateGravity = true;
+  }
+}
 
 SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
                            const std::string& pointer, const std::string& sceneDirectory) {
@@ -116,6 +162,9 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto self = reader.boolean("selfCollision");
   const auto hold = reader.boolean("holdJoints");
   const auto roundWheels = reader.boolean("roundWheels");
+  const bool rigid = reader.boolean("rigid").value_or(false);
+  const auto balance = reader.boolean("balanceInertia");
+  const auto fromGeometry = readInertiaFromGeometry(reader);
   if (const nlohmann::json* initial = reader.member("initialPositions")) {
     if (!initial->is_object()) {
       sink.error(reader.memberPointer("initialPositions"),
@@ -134,7 +183,73 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
   reader.finish();
   const auto path =
       file ? scenePath(reader, reader.memberPointer("file"), *file, sceneDirectory) : std::nullopt;
-  if (!path || !orientation || !paths || sink.errorCount() != errorsBefore) return object;
+  if (!path || !orientation || !paths || !fromGeometry || sink.errorCount() != errorsBefore)
+    return object;
+  if (rigid) {
+    // As rigid bodies (docs/robots.md "Rigid bodies"): the same keys, read by
+    // build::makeUrdfMultibody; the particle importer's own (naturalFrequency,
+    // roundWheels) have no meaning there.
+    for (const char* key : {"naturalFrequency", "roundWheels"})
+      if (entry.contains(key))
+        sink.error(reader.memberPointer(key),
+                   fmt::format("'{}' is a key of the particle importer; a rigid robot (\"rigid\": true) "
+                               "has none", key));
+    build::UrdfMultibodySpec rigidSpec;
+    rigidSpec.path = *path;
+    rigidSpec.packagePaths = *paths;
+    rigidSpec.name = object.name;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3& axis = orientation->axes[static_cast<std::size_t>(c)];
+      rigidSpec.placement.rotation.m[0][c] = axis.x;
+      rigidSpec.placement.rotation.m[1][c] = axis.y;
+      rigidSpec.placement.rotation.m[2][c] = axis.z;
+    }
+    rigidSpec.placement.translation = position.value_or(Vec3{});
+    rigidSpec.fixedBase = fixedBase.value_or(true);
+    rigidSpec.balanceInertia = balance.value_or(true);
+    rigidSpec.inertiaFromGeometry = fromGeometry->all;
+    rigidSpec.inertiaFromGeometryLinks = fromGeometry->links;
+    try {
+      build::InputFileLog::record(rigidSpec.path);
+      auto placed = std::make_shared<SceneObject::RigidUrdf>();
+      placed->robot = build::makeUrdfMultibody(rigidSpec);
+      placed->placement.particleSize = size.value_or(0.0);
+      placed->placement.particlesPerBody = perLink.value_or(placed->placement.particlesPerBody);
+      placed->placement.selfCollision = self.value_or(false);
+      placed->holdJoints = hold.value_or(false);
+      const build::UrdfMultibody& robot = placed->robot;
+      placed->placement.q = neutralConfiguration(robot.multibody);
+      for (const auto& [joint, q] : spec.initialPositions) {
+        const auto it = std::find_if(robot.joints.begin(), robot.joints.end(),
+                                     [&](const build::UrdfMultibodyJoint& j) { return j.urdfName == joint; });
+        if (it == robot.joints.end() || it->positionIndex < 0) {
+          std::vector<std::string> names;
+          for (const build::UrdfMultibodyJoint& j : robot.joints) names.push_back(j.urdfName);
+          sink.error(reader.memberPointer("initialPositions") + "/" + joint,
+                     fmt::format("'initialPositions': the URDF has no moving joint '{}'{}", joint,
+                                 didYouMean(joint, names)));
+          continue;
+        }
+        placed->placement.q[static_cast<std::size_t>(it->positionIndex)] = q;
+      }
+      for (const build::UrdfWarning& w : robot.warnings)
+        sink.warning(reader.memberPointer("file"), fmt::format("{}:{}: {}", w.file, w.line, w.message));
+      for (const std::string& adjustment : robot.adjustments)
+        sink.warning(reader.memberPointer("file"), "adjusted: " + adjustment);
+      object.rigidUrdf = std::move(placed);
+    } catch (const build::UrdfError& e) {
+      sink.error(reader.memberPointer("file"), e.what());
+    } catch (const build::SpecError& e) {
+      sink.error(reader.memberPointer(e.field()), e.message());
+    }
+    object.valid = object.rigidUrdf != nullptr && sink.errorCount() == errorsBefore;
+    return object;
+  }
+  for (const char* key : {"balanceInertia", "inertiaFromGeometry"})
+    if (entry.contains(key))
+      sink.error(reader.memberPointer(key),
+                 fmt::format("'{}' is a key of a rigid robot (\"rigid\": true)", key));
+  if (sink.errorCount() != errorsBefore) return object;
   spec.path = *path;
   spec.name = object.name;
   spec.placement = *orientation;
@@ -173,31 +288,6 @@ bool isUrdfPath(const std::string& path) {
 }
 
 namespace {
-
-// The servo gains that hold each joint of a rigid tree where it is (docs/robots.md
-// "Rigid bodies"): ω² M_ii and 2 ω M_ii at ω = 30 rad/s (critically damped), M the
-// mass matrix at the build pose; with gravity compensation they only answer
-// disturbances.
-void holdRigidJoints(RigidTree& tree, const std::vector<double>& q) {
-  const Multibody& mb = tree.multibody;
-  const auto n = static_cast<std::size_t>(mb.velocityCount);
-  MultibodyKinematics kin;
-  updateKinematics(mb, q.data(), kin);
-  std::vector<double> M(n * n);
-  massMatrix(mb, kin, M.data());
-  constexpr double omega = 30.0;
-  tree.inputs.servoStiffness.assign(n, 0.0);
-  tree.inputs.servoDamping.assign(n, 0.0);
-  tree.inputs.servoTarget.assign(n, 0.0);
-  for (const MultibodyBody& body : mb.bodies) {
-    if (velocityCountOf(body.joint) != 1) continue;
-    const auto i = static_cast<std::size_t>(body.vStart);
-    tree.inputs.servoStiffness[i] = omega * omega * M[i * n + i];
-    tree.inputs.servoDamping[i] = 2.0 * omega * M[i * n + i];
-    tree.inputs.servoTarget[i] = q[static_cast<std::size_t>(body.qStart)];
-  }
-  tree.compensateGravity = true;
-}
 
 // A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
 // bottom at z = 0.
@@ -251,8 +341,7 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     scene.name = robot.multibody.name;
     scene.sourcePath = path;
     build::BuiltModel built = std::move(builder).build();
-    RigidTree& tree = built.model.rigidTrees[static_cast<std::size_t>(placed.tree)];
-    holdRigidJoints(tree, built.initial.treePositions[static_cast<std::size_t>(placed.tree)]);
+    scene::holdRigidJoints(built.model, built.initial, placed.tree);
     scene.model = std::move(built.model);
     scene.initial = std::move(built.initial);
     scene.run.duration = 2.0;

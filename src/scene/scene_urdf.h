@@ -16,4 +16,9 @@ namespace robophi::scene {
 SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
                            const std::string& pointer, const std::string& sceneDirectory);
 
+/// The servos that hold each joint of rigid tree `tree` at its coordinate in `state`
+/// (ω² M_ii and 2 ω M_ii, ω = 30 rad/s, M the mass matrix there) with gravity
+/// compensation on (docs/robots.md "Rigid bodies").
+void holdRigidJoints(Model& model, const State& state, std::int32_t tree);
+
 }  // namespace robophi::scene
