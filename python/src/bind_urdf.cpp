@@ -3,7 +3,9 @@
 // robophi.Urdf placed by ModelBuilder.add_urdf (build::makeUrdfRobot,
 // placeUrdfRobot), and what a scene's robots declare (Scene.urdf_robots).
 #include "py_robophi.h"
+#include "robophi/build/mjcf_multibody.h"
 #include "robophi/build/urdf.h"
+#include "robophi/scene/scene_mjcf.h"
 
 namespace robophi::python {
 
@@ -112,6 +114,21 @@ PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
   {
     py::gil_scoped_release release;
     result = loadUrdfFile(path, options);
+  }
+  PyScene scene;
+  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
+  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
+  return scene;
+}
+
+PyScene loadMjcf(const std::string& path, double particleSize, int particlesPerLink) {
+  UrdfSceneOptions options;
+  options.particleSize = particleSize;
+  options.particlesPerLink = particlesPerLink;
+  SceneLoadResult result;
+  {
+    py::gil_scoped_release release;
+    result = loadMjcfFile(path, options);
   }
   PyScene scene;
   scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
@@ -232,6 +249,10 @@ void bindUrdf(py::module_& m) {
           "elements)");
 
   m.def("_is_urdf_path", &isUrdfPath, py::arg("path"));
+  m.def("_is_mjcf_path", &isMjcfPath, py::arg("path"));
+  m.def("_mjcf_available", &build::mjcfAvailable, "Whether MJCF import was built (libmujoco-dev).");
+  m.def("_load_mjcf", &loadMjcf, py::arg("path"), py::arg("particle_size") = 0.0,
+        py::arg("particles_per_link") = 30);
   m.def(
       "_load_urdf",
       [](const py::handle& path, std::vector<std::string> packagePaths,
