@@ -48,6 +48,13 @@ struct PyRigidRobot {
     updateKinematics(mb(), qa.data(), kinematics);
     updateVelocities(mb(), va.data(), kinematics);
   }
+  // One value a joint (robot.joints' order), as a numpy array.
+  template <class Field>
+  py::array_t<double> perJoint(Field field) const {
+    std::vector<double> x;
+    for (const build::UrdfMultibodyJoint& j : robot.joints) x.push_back(field(j));
+    return py::array_t<double>(static_cast<py::ssize_t>(x.size()), x.data());
+  }
   std::int32_t frame(const std::string& name) const {
     std::int32_t f = mb().frameIndex(name);
     if (f < 0) f = mb().frameIndex(mb().name + "." + name);
@@ -127,30 +134,18 @@ void bindMultibody(py::module_& m) {
                                return names;
                              })
       .def_property_readonly("adjustments", [](const PyRigidRobot& r) { return r.robot.adjustments; })
-      .def_property_readonly("lower",
-                             [](const PyRigidRobot& r) {
-                               std::vector<double> x;
-                               for (const auto& j : r.robot.joints) x.push_back(r.mb().bodies[j.body].lower);
-                               return toArray(x);
-                             })
-      .def_property_readonly("upper",
-                             [](const PyRigidRobot& r) {
-                               std::vector<double> x;
-                               for (const auto& j : r.robot.joints) x.push_back(r.mb().bodies[j.body].upper);
-                               return toArray(x);
-                             })
-      .def_property_readonly("effort_limit",
-                             [](const PyRigidRobot& r) {
-                               std::vector<double> x;
-                               for (const auto& j : r.robot.joints) x.push_back(r.mb().bodies[j.body].effortLimit);
-                               return toArray(x);
-                             })
-      .def_property_readonly("velocity_limit",
-                             [](const PyRigidRobot& r) {
-                               std::vector<double> x;
-                               for (const auto& j : r.robot.joints) x.push_back(j.velocityLimit);
-                               return toArray(x);
-                             })
+      .def_property_readonly("lower", [](const PyRigidRobot& r) {
+        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].lower; });
+      })
+      .def_property_readonly("upper", [](const PyRigidRobot& r) {
+        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].upper; });
+      })
+      .def_property_readonly("effort_limit", [](const PyRigidRobot& r) {
+        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].effortLimit; });
+      })
+      .def_property_readonly("velocity_limit", [](const PyRigidRobot& r) {
+        return r.perJoint([](const build::UrdfMultibodyJoint& j) { return j.velocityLimit; });
+      })
       .def_property_readonly("joint_q_start",
                              [](const PyRigidRobot& r) {
                                std::vector<int> x;

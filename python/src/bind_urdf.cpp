@@ -99,6 +99,21 @@ py::dict robotDict(const build::UrdfRobot& robot) {
                        {Diagnostic{e.file(), e.line(), 0, "", e.message()}});
 }
 
+// A bare robot file as the scene the CLI runs (loadUrdfFile, loadMjcfFile), the GIL
+// released while it loads.
+PyScene loadBareRobot(const std::string& path, const UrdfSceneOptions& options,
+                      SceneLoadResult (*load)(const std::string&, const UrdfSceneOptions&)) {
+  SceneLoadResult result;
+  {
+    py::gil_scoped_release release;
+    result = load(path, options);
+  }
+  PyScene scene;
+  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
+  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
+  return scene;
+}
+
 PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
                  std::optional<std::string> base, double particleSize, int particlesPerLink) {
   UrdfSceneOptions options;
@@ -110,30 +125,14 @@ PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
   }
   options.particleSize = particleSize;
   options.particlesPerLink = particlesPerLink;
-  SceneLoadResult result;
-  {
-    py::gil_scoped_release release;
-    result = loadUrdfFile(path, options);
-  }
-  PyScene scene;
-  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
-  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
-  return scene;
+  return loadBareRobot(path, options, &loadUrdfFile);
 }
 
 PyScene loadMjcf(const std::string& path, double particleSize, int particlesPerLink) {
   UrdfSceneOptions options;
   options.particleSize = particleSize;
   options.particlesPerLink = particlesPerLink;
-  SceneLoadResult result;
-  {
-    py::gil_scoped_release release;
-    result = loadMjcfFile(path, options);
-  }
-  PyScene scene;
-  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
-  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
-  return scene;
+  return loadBareRobot(path, options, &loadMjcfFile);
 }
 
 }  // namespace

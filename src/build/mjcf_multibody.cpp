@@ -13,6 +13,8 @@
 #include <mujoco/mujoco.h>
 #endif
 
+#include "build/mass_sum.h"
+
 namespace robophi::build {
 
 bool isMjcfPath(const std::string& path) {
@@ -60,29 +62,6 @@ int lineOf(const std::string& file, const std::string& tag, const std::string& n
       return line;
   return 0;
 }
-
-// Mass properties summed in one frame: m, Σ m c and Σ (I_c + m [c]ᵀ[c]) about the origin.
-struct MassSum {
-  double mass = 0.0;
-  Vec3 moment{};
-  Mat3 inertiaAtOrigin = Mat3::zero();
-
-  void add(double m, const Vec3& c, const Mat3& inertiaAtCenter) {
-    mass += m;
-    moment = moment + c * m;
-    inertiaAtOrigin =
-        inertiaAtOrigin + inertiaAtCenter + m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
-  }
-  BodyMassProperties properties() const {
-    BodyMassProperties p;
-    p.mass = mass;
-    if (!(mass > 0.0)) return p;
-    const Vec3 c = moment / mass;
-    p.centerOfMass = c;
-    p.inertia = inertiaAtOrigin - mass * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
-    return p;
-  }
-};
 
 class Converter {
  public:
