@@ -39,7 +39,7 @@ struct Arm {
 
 std::vector<Arm> arms() {
   return {{kRobots + "/kuka_iiwa/model.urdf", "lbr_iiwa_link_0", "lbr_iiwa_link_7"},
-          {kRobots + "/franka_panda/panda.urdf", "panda_link0", "panda_link8"},
+          {kRobots + "/franka_panda/panda.urdf", "panda_link0", "panda_hand"},
           {kUr5, "base_link", "tool0"}};
 }
 
@@ -52,6 +52,8 @@ bool armsPresent() {
 build::UrdfMultibody load(const std::string& path) {
   build::UrdfMultibodySpec spec;
   spec.path = path;
+  spec.packagePaths = {std::filesystem::path(path).parent_path().string(), kRobots,
+                       kRobots + "/../robots-wild"};
   return build::makeUrdfMultibody(spec);
 }
 
@@ -129,7 +131,7 @@ Compared compareChain(const Arm& arm) {
   EXPECT_TRUE(kdl_parser::treeFromFile(arm.path, tree)) << arm.path;
   KDL::Chain chain;
   EXPECT_TRUE(tree.getChain(arm.root, arm.tip, chain)) << arm.path;
-  // What hangs off the chain (the Panda's hand and fingers past link8) is not in
+  // What hangs off the chain (the Panda's fingers past its hand) is not in
   // KDL's chain: those bodies' mass is made negligible in robophi's copy for the
   // gravity comparison.
   Multibody chainOnly = mb;
@@ -176,6 +178,8 @@ Compared compareChain(const Arm& arm) {
     EXPECT_GE(dynamics.JntToGravity(qKdl, gKdl), 0);
     // KDL's JntToGravity is the torque gravity exerts; robophi's the torque that holds.
     updateKinematics(chainOnly, q.data(), kin);
+    const std::vector<double> atRest(nv, 0.0);
+    updateVelocities(chainOnly, atRest.data(), kin);
     std::vector<double> tau(nv);
     inverseDynamics(chainOnly, kin, nullptr, {0, 0, -9.81}, nullptr, tau.data());
     for (unsigned i = 0; i < chain.getNrOfJoints(); ++i)
