@@ -35,7 +35,7 @@ def test_inverse_kinematics_keeps_the_limits_and_reports(robots):
     robot = robophi.RigidRobot(robots / "franka_panda" / "panda.urdf",
                                package_paths=[robots / "franka_panda"])
     rng = np.random.default_rng(1)
-    q_goal = robophi.RigidRobot(robots / "franka_panda" / "panda.urdf").q
+    q_goal = robot.q
     q_goal[:7] = rng.uniform(robot.lower[:7], robot.upper[:7])
     p, R = robot.frame_pose("panda_link8", q_goal)
     ik = robot.inverse_kinematics("panda_link8", p, R, seed=7)
