@@ -27,7 +27,8 @@ struct MassSum {
     if (mass <= 0.0) return p;
     const Vec3 c = moment / mass;
     p.centerOfMass = c;
-    p.inertia = inertiaAtOrigin - mass * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
+    p.inertia =
+        inertiaAtOrigin - mass * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
     return p;
   }
 };

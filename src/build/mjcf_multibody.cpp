@@ -58,7 +58,8 @@ int lineOf(const std::string& file, const std::string& tag, const std::string& n
   std::ifstream in(file);
   std::string text;
   for (int line = 1; std::getline(in, text); ++line)
-    if (text.find("<" + tag) != std::string::npos && text.find("name=\"" + name + "\"") != std::string::npos)
+    if (text.find("<" + tag) != std::string::npos &&
+        text.find("name=\"" + name + "\"") != std::string::npos)
       return line;
   return 0;
 }
@@ -81,8 +82,9 @@ class Converter {
     for (int s = 0; s < m_->nsite; ++s) {
       const Place& p = place_[static_cast<std::size_t>(m_->site_bodyid[s])];
       if (p.body >= 0)
-        out_.multibody.frames.push_back({prefix_ + "." + nameOf(m_, mjOBJ_SITE, s), p.body,
-                                         p.X_BM * poseAt(m_->site_pos + 3 * s, m_->site_quat + 4 * s)});
+        out_.multibody.frames.push_back(
+            {prefix_ + "." + nameOf(m_, mjOBJ_SITE, s), p.body,
+             p.X_BM * poseAt(m_->site_pos + 3 * s, m_->site_quat + 4 * s)});
     }
     finishMasses();
     try {
@@ -126,7 +128,8 @@ class Converter {
                "a ball joint of body '" + nameOf(m_, mjOBJ_BODY, m_->jnt_bodyid[j]) + "'");
       if ((m_->jnt_type[j] == mjJNT_HINGE || m_->jnt_type[j] == mjJNT_SLIDE) &&
           m_->qpos0[m_->jnt_qposadr[j]] != 0.0)
-        refuse("joint", mjOBJ_JOINT, j, "ref = " + std::to_string(m_->qpos0[m_->jnt_qposadr[j]]) + " is not 0");
+        refuse("joint", mjOBJ_JOINT, j,
+               "ref = " + std::to_string(m_->qpos0[m_->jnt_qposadr[j]]) + " is not 0");
     }
     if (m_->ntendon > 0) refuse("tendon", mjOBJ_TENDON, 0, "a tendon");
   }
@@ -145,7 +148,8 @@ class Converter {
                                  out_.multibody.bodies[static_cast<std::size_t>(parent)].name +
                                  "' (no joint)");
     } else if (jointCount == 0) {
-      place_[static_cast<std::size_t>(b)] = {newBody(bodyName, -1, BodyJointKind::kWeld, X_PM, "", {}), Pose{}};
+      place_[static_cast<std::size_t>(b)] = {
+          newBody(bodyName, -1, BodyJointKind::kWeld, X_PM, "", {}), Pose{}};
     } else {
       Pose X_BM{};
       for (int k = 0; k < jointCount; ++k) {
@@ -155,7 +159,8 @@ class Converter {
         const std::string name = k + 1 == jointCount ? bodyName : bodyName + "." + jointName;
         if (m_->jnt_type[j] == mjJNT_FREE) {
           if (parent != -1 || jointCount != 1)
-            refuse("joint", mjOBJ_JOINT, j, "a free joint below another body or beside other joints");
+            refuse("joint", mjOBJ_JOINT, j,
+                   "a free joint below another body or beside other joints");
           parent = newBody(name, -1, BodyJointKind::kFree, X_PM, jointName, {1, 0, 0});
           X_BM = Pose{};
           addJoint(j, parent, "free");
@@ -187,14 +192,15 @@ class Converter {
     const Place& p = place_[static_cast<std::size_t>(b)];
     if (m_->body_mass[b] > 0.0) {
       const Pose X_BI = p.X_BM * poseAt(m_->body_ipos + 3 * b, m_->body_iquat + 4 * b);
-      const Mat3 I = X_BI.rotation * Mat3::diagonal(vec3At(m_->body_inertia + 3 * b)) * transpose(X_BI.rotation);
+      const Mat3 I = X_BI.rotation * Mat3::diagonal(vec3At(m_->body_inertia + 3 * b)) *
+                     transpose(X_BI.rotation);
       mass_[static_cast<std::size_t>(p.body)].add(m_->body_mass[b], X_BI.translation, I);
     }
     out_.multibody.frames.push_back({prefix_ + "." + bodyName, p.body, p.X_BM});
   }
 
-  std::int32_t newBody(const std::string& name, std::int32_t parent, BodyJointKind kind, const Pose& X_PJ,
-                       const std::string& jointName, const Vec3& axis) {
+  std::int32_t newBody(const std::string& name, std::int32_t parent, BodyJointKind kind,
+                       const Pose& X_PJ, const std::string& jointName, const Vec3& axis) {
     MultibodyBody body;
     body.name = prefix_ + "." + name;
     body.parent = parent;
@@ -323,9 +329,11 @@ class Converter {
                mjOBJ_EQUALITY, e, "an equality other than a joint coupling");
       if (m_->eq_obj2id[e] < 0 || c[2] != 0.0 || c[3] != 0.0 || c[4] != 0.0)
         refuse("equality joint", mjOBJ_EQUALITY, e,
-               "a joint equality other than joint1 = c0 + c1 joint2 (a second joint, polycoef c2..c4 = 0)");
+               "a joint equality other than joint1 = c0 + c1 joint2 (a second joint, polycoef "
+               "c2..c4 = 0)");
       UrdfMultibodyJoint* follower = jointNamed(nameOf(m_, mjOBJ_JOINT, m_->eq_obj1id[e]));
-      if (!follower) refuse("equality joint", mjOBJ_EQUALITY, e, "couples a joint that is not a hinge or slide");
+      if (!follower)
+        refuse("equality joint", mjOBJ_EQUALITY, e, "couples a joint that is not a hinge or slide");
       follower->mimicJoint = nameOf(m_, mjOBJ_JOINT, m_->eq_obj2id[e]);
       follower->offset = c[0];
       follower->multiplier = c[1];
@@ -348,18 +356,20 @@ class Converter {
       a.gain = gain[0];
       if (m_->actuator_biastype[u] == mjBIAS_NONE && gain[0] == 1.0) {
         a.kind = MjcfActuator::Kind::kMotor;
-      } else if (m_->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0.0 && bias[1] == -gain[0] &&
-                 bias[2] == 0.0) {
+      } else if (m_->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0.0 &&
+                 bias[1] == -gain[0] && bias[2] == 0.0) {
         a.kind = MjcfActuator::Kind::kPosition;
       } else if (m_->actuator_biastype[u] == mjBIAS_AFFINE && bias[0] == 0.0 && bias[1] == 0.0 &&
                  bias[2] == -gain[0]) {
         a.kind = MjcfActuator::Kind::kVelocity;
       } else {
-        refuse("actuator", mjOBJ_ACTUATOR, u, "an actuator other than a motor, position or velocity servo");
+        refuse("actuator", mjOBJ_ACTUATOR, u,
+               "an actuator other than a motor, position or velocity servo");
       }
       a.joint = nameOf(m_, mjOBJ_JOINT, m_->actuator_trnid[2 * u]);
       const UrdfMultibodyJoint* joint = jointNamed(a.joint);
-      if (!joint || joint->type == "free") refuse("actuator", mjOBJ_ACTUATOR, u, "drives a free joint");
+      if (!joint || joint->type == "free")
+        refuse("actuator", mjOBJ_ACTUATOR, u, "drives a free joint");
       a.velocityIndex = joint->velocityIndex;
       if (m_->actuator_ctrllimited[u]) {
         a.ctrlLower = m_->actuator_ctrlrange[2 * u];
@@ -386,7 +396,8 @@ class Converter {
 
 UrdfMultibody makeMjcfMultibody(const MjcfMultibodySpec& spec, MjcfExtras* extras) {
   if (!(spec.minimumMass > 0.0))
-    throw UrdfError(spec.path, 0, "minimumMass must be > 0 kg, got " + std::to_string(spec.minimumMass));
+    throw UrdfError(spec.path, 0,
+                    "minimumMass must be > 0 kg, got " + std::to_string(spec.minimumMass));
   if (!std::filesystem::exists(spec.path)) throw UrdfError(spec.path, 0, "no such file");
   char error[1000] = "";
   mjModel* m = mj_loadXML(spec.path.c_str(), nullptr, error, sizeof error);

@@ -71,7 +71,8 @@ double uniform01(std::uint64_t& state) {
 // A joint's search range: its limits, or ±π (a turn) / ±1 m (a slide) when it has none.
 std::array<double, 2> searchRange(const MultibodyBody& body) {
   const double span = body.joint == BodyJointKind::kRevolute ? std::numbers::pi : 1.0;
-  return {std::isfinite(body.lower) ? body.lower : -span, std::isfinite(body.upper) ? body.upper : span};
+  return {std::isfinite(body.lower) ? body.lower : -span,
+          std::isfinite(body.upper) ? body.upper : span};
 }
 
 // The weighted error e = [w_p (p* − p); w_o log(R* Rᵀ)] at q, and its two norms.
@@ -144,8 +145,13 @@ class IkAttempt {
  public:
   IkAttempt(const Multibody& multibody, std::int32_t frame, const Pose& target,
             const InverseKinematicsSettings& settings)
-      : mb_(multibody), frame_(frame), target_(target), s_(settings),
-        nv_(static_cast<std::size_t>(multibody.velocityCount)), J_(6 * nv_), dq_(nv_) {}
+      : mb_(multibody),
+        frame_(frame),
+        target_(target),
+        s_(settings),
+        nv_(static_cast<std::size_t>(multibody.velocityCount)),
+        J_(6 * nv_),
+        dq_(nv_) {}
 
   // Runs one attempt from q (changed in place); returns its error at the end.
   PoseError run(std::vector<double>& q, int& iterations) {

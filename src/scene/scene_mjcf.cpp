@@ -21,7 +21,8 @@ bool isMjcfPath(const std::string& path) { return build::isMjcfPath(path); }
 namespace {
 
 // The lowest point of the robot's surface particles (z, m); infinity: none.
-double lowestSurface(const build::UrdfMultibody& robot, const build::UrdfMultibodyPlacement& placement) {
+double lowestSurface(const build::UrdfMultibody& robot,
+                     const build::UrdfMultibodyPlacement& placement) {
   build::ModelBuilder trial;
   build::placeUrdfMultibody(trial, robot, placement);
   const Model& m = trial.model();
@@ -33,17 +34,20 @@ double lowestSurface(const build::UrdfMultibody& robot, const build::UrdfMultibo
 
 // Servos of the position actuators' gains (kp gear², MuJoCo's force kp (ctrl − gear q)
 // through the gear) on their joints, with targets where they start.
-void holdByActuators(RigidTree& tree, const std::vector<double>& q, const build::MjcfExtras& extras) {
+void holdByActuators(RigidTree& tree, const std::vector<double>& q,
+                     const build::MjcfExtras& extras) {
   const auto n = static_cast<std::size_t>(tree.multibody.velocityCount);
   tree.inputs.servoStiffness.assign(n, 0.0);
   tree.inputs.servoDamping.assign(n, 0.0);
   tree.inputs.servoTarget.assign(n, 0.0);
   for (const MultibodyBody& body : tree.multibody.bodies)
     if (velocityCountOf(body.joint) == 1)
-      tree.inputs.servoTarget[static_cast<std::size_t>(body.vStart)] = q[static_cast<std::size_t>(body.qStart)];
+      tree.inputs.servoTarget[static_cast<std::size_t>(body.vStart)] =
+          q[static_cast<std::size_t>(body.qStart)];
   for (const build::MjcfActuator& a : extras.actuators)
     if (a.kind == build::MjcfActuator::Kind::kPosition)
-      tree.inputs.servoStiffness[static_cast<std::size_t>(a.velocityIndex)] += a.gain * a.gear * a.gear;
+      tree.inputs.servoStiffness[static_cast<std::size_t>(a.velocityIndex)] +=
+          a.gain * a.gear * a.gear;
   tree.compensateGravity = true;
 }
 
@@ -62,8 +66,9 @@ SceneLoadResult loadMjcfFile(const std::string& path, const UrdfSceneOptions& op
     placement.particleSize = options.particleSize;
     placement.particlesPerBody = options.particlesPerLink;
     // A floating robot is set on the ground; a fixed one stays where the file puts it.
-    const bool floating = std::any_of(robot.multibody.bodies.begin(), robot.multibody.bodies.end(),
-                                      [](const MultibodyBody& b) { return b.joint == BodyJointKind::kFree; });
+    const bool floating =
+        std::any_of(robot.multibody.bodies.begin(), robot.multibody.bodies.end(),
+                    [](const MultibodyBody& b) { return b.joint == BodyJointKind::kFree; });
     const double lowest = floating ? lowestSurface(robot, placement) : 0.0;
     if (std::isfinite(lowest) && lowest != 0.0)
       for (MultibodyBody& body : robot.multibody.bodies)
@@ -85,8 +90,8 @@ SceneLoadResult loadMjcfFile(const std::string& path, const UrdfSceneOptions& op
     scene.inputFiles = read.files();
     result.scene = std::move(scene);
   } catch (const build::UrdfError& e) {
-    result.errors.push_back(
-        Diagnostic{e.line() > 0 ? fmt::format("{}:{}", e.file(), e.line()) : e.file(), 0, 0, "", e.message()});
+    result.errors.push_back(Diagnostic{
+        e.line() > 0 ? fmt::format("{}:{}", e.file(), e.line()) : e.file(), 0, 0, "", e.message()});
   } catch (const build::SpecError& e) {
     result.errors.push_back(Diagnostic{path, 0, 0, "", e.what()});
   }

@@ -24,8 +24,8 @@ struct Outcome {
 };
 
 Outcome robophiCommand(const fs::path& folder, const std::string& args) {
-  const std::string command =
-      std::string(ROBOPHI_BINARY) + " " + args + " > /dev/null 2> " + (folder / "stderr.txt").string();
+  const std::string command = std::string(ROBOPHI_BINARY) + " " + args + " > /dev/null 2> " +
+                              (folder / "stderr.txt").string();
   const int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, testing::readText(folder / "stderr.txt")};
 }

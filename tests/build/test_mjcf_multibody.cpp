@@ -94,7 +94,8 @@ void compareWithMujoco(const std::string& file, double& worstPosition, double& w
       const mjtNum* p = d->xpos + 3 * b;
       const mjtNum* r = d->xquat + 4 * b;
       worstPosition = std::max(worstPosition, norm(X.translation - Vec3{p[0], p[1], p[2]}));
-      worstAngle = std::max(worstAngle, angleBetween(X.rotation, rotationMatrix({r[0], r[1], r[2], r[3]})));
+      worstAngle =
+          std::max(worstAngle, angleBetween(X.rotation, rotationMatrix({r[0], r[1], r[2], r[3]})));
     }
     for (int s = 0; s < m->nsite; ++s) {
       const std::int32_t f = mb.frameIndex(mb.name + "." + mj_id2name(m, mjOBJ_SITE, s));
@@ -170,7 +171,8 @@ TEST(MjcfMultibody, TheHandHoldsUnderItsPositionActuators) {
   const auto n = static_cast<std::size_t>(mb.velocityCount);
   std::vector<double> q = neutralConfiguration(mb), v(n, 0.0);
   // Every joint at 0.3 rad (within every range: the thumb's and f1_j1's are ±0.35).
-  for (const build::UrdfMultibodyJoint& j : hand.joints) q[static_cast<std::size_t>(j.positionIndex)] = 0.3;
+  for (const build::UrdfMultibodyJoint& j : hand.joints)
+    q[static_cast<std::size_t>(j.positionIndex)] = 0.3;
   const std::vector<double> target = q;
   MultibodyInputs inputs;
   inputs.servoStiffness.assign(n, 0.0);
@@ -180,21 +182,25 @@ TEST(MjcfMultibody, TheHandHoldsUnderItsPositionActuators) {
     inputs.servoStiffness[static_cast<std::size_t>(a.velocityIndex)] = a.gain * a.gear * a.gear;
   // The coupled joints follow their leader's target by a stiff servo of their own.
   for (const build::UrdfMultibodyJoint& j : hand.joints)
-    if (!j.mimicJoint.empty()) inputs.servoStiffness[static_cast<std::size_t>(j.velocityIndex)] = 5.0;
+    if (!j.mimicJoint.empty())
+      inputs.servoStiffness[static_cast<std::size_t>(j.velocityIndex)] = 5.0;
   MultibodyWorkspace ws;
-  for (int s = 0; s < 2000; ++s) stepMultibody(mb, q, v, inputs, extras.timestep, extras.gravity, ws);
+  for (int s = 0; s < 2000; ++s)
+    stepMultibody(mb, q, v, inputs, extras.timestep, extras.gravity, ws);
   double worst = 0.0, fastest = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     worst = std::max(worst, std::abs(q[i] - target[i]));
     fastest = std::max(fastest, std::abs(v[i]));
   }
-  std::printf("hand.xml held 4 s by its position actuators: worst droop %.2e rad, rate %.1e rad/s\n",
-              worst, fastest);
+  std::printf(
+      "hand.xml held 4 s by its position actuators: worst droop %.2e rad, rate %.1e rad/s\n", worst,
+      fastest);
   EXPECT_LT(worst, 0.01);
   EXPECT_LT(fastest, 1e-3);
 }
 
-void expectRefused(const std::string& name, const std::string& text, const std::string& element, int line) {
+void expectRefused(const std::string& name, const std::string& text, const std::string& element,
+                   int line) {
   const std::string path = writeTemporary(name, text);
   try {
     build::MjcfMultibodySpec spec;
@@ -215,7 +221,8 @@ TEST(MjcfMultibody, WhatRobophiCannotRepresentIsRefusedNamingTheElement) {
       <geom type="sphere" size="0.1"/>
     </body>
   </worldbody>
-</mujoco>)", "<joint> 'shoulder_ball': a ball joint of body 'arm'", 4);
+</mujoco>)",
+                "<joint> 'shoulder_ball': a ball joint of body 'arm'", 4);
   expectRefused("ellipsoid.xml", R"(<mujoco model="e">
   <worldbody>
     <body name="arm">
@@ -223,7 +230,8 @@ TEST(MjcfMultibody, WhatRobophiCannotRepresentIsRefusedNamingTheElement) {
       <geom name="egg" type="ellipsoid" size="0.1 0.2 0.3"/>
     </body>
   </worldbody>
-</mujoco>)", "<geom> 'egg': an ellipsoid on body 'arm'", 5);
+</mujoco>)",
+                "<geom> 'egg': an ellipsoid on body 'arm'", 5);
   expectRefused("weld.xml", R"(<mujoco model="w">
   <worldbody>
     <body name="a"><joint name="ja" type="hinge"/><geom type="sphere" size="0.1"/></body>
@@ -232,7 +240,8 @@ TEST(MjcfMultibody, WhatRobophiCannotRepresentIsRefusedNamingTheElement) {
   <equality>
     <weld name="glue" body1="a" body2="b"/>
   </equality>
-</mujoco>)", "<equality weld> 'glue'", 7);
+</mujoco>)",
+                "<equality weld> 'glue'", 7);
   // MuJoCo's own compile errors come through with its message.
   expectRefused("broken.xml", "<mujoco><worldbody><body><joint type=\"hinge\"/></body>",
                 "MuJoCo's compiler", 0);

@@ -101,7 +101,8 @@ TEST(Kinematics, TheFramesSpatialVelocityIsTheJacobianTimesV) {
     std::vector<double> J(6 * nv);
     calcFrameJacobian(mb, kin, tip, p_FP, J.data());
     const SpatialVector V = calcFrameSpatialVelocity(mb, kin, tip, p_FP);
-    const double want[6] = {V.linear.x, V.linear.y, V.linear.z, V.angular.x, V.angular.y, V.angular.z};
+    const double want[6] = {V.linear.x,  V.linear.y,  V.linear.z,
+                            V.angular.x, V.angular.y, V.angular.z};
     for (std::size_t r = 0; r < 6; ++r) {
       double Jv = 0.0;
       for (std::size_t k = 0; k < nv; ++k) Jv += J[r * nv + k] * v[k];
@@ -112,8 +113,9 @@ TEST(Kinematics, TheFramesSpatialVelocityIsTheJacobianTimesV) {
     std::vector<double> qp = q, qm = q;
     integrateConfiguration(mb, qp.data(), v.data(), h);
     integrateConfiguration(mb, qm.data(), v.data(), -h);
-    const Vec3 rate = (calcFramePose(mb, qp.data(), tip) * p_FP - calcFramePose(mb, qm.data(), tip) * p_FP) /
-                      (2 * h);
+    const Vec3 rate =
+        (calcFramePose(mb, qp.data(), tip) * p_FP - calcFramePose(mb, qm.data(), tip) * p_FP) /
+        (2 * h);
     EXPECT_LT(norm(rate - V.linear), 1e-7);
   }
 }
@@ -150,7 +152,8 @@ Compared compareChain(const Arm& arm) {
   for (const KDL::Segment& segment : chain.segments) {
     if (segment.getJoint().getType() == KDL::Joint::None) continue;
     for (const build::UrdfMultibodyJoint& j : robot.joints)
-      if (j.urdfName == segment.getJoint().getName()) column.push_back(static_cast<std::size_t>(j.velocityIndex));
+      if (j.urdfName == segment.getJoint().getName())
+        column.push_back(static_cast<std::size_t>(j.velocityIndex));
   }
   EXPECT_EQ(column.size(), chain.getNrOfJoints());
   KDL::ChainFkSolverPos_recursive fk(chain);
@@ -165,7 +168,8 @@ Compared compareChain(const Arm& arm) {
     KDL::Frame X;
     EXPECT_GE(fk.JntToCart(qKdl, X), 0);
     const Pose X_WT = calcFramePose(mb, q.data(), tip);
-    worst.position = std::max(worst.position, norm(X_WT.translation - Vec3{X.p.x(), X.p.y(), X.p.z()}));
+    worst.position =
+        std::max(worst.position, norm(X_WT.translation - Vec3{X.p.x(), X.p.y(), X.p.z()}));
     KDL::Jacobian JKdl(chain.getNrOfJoints());
     EXPECT_GE(jacobian.JntToJac(qKdl, JKdl), 0);
     MultibodyKinematics kin;
