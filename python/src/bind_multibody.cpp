@@ -93,8 +93,9 @@ void bindMultibody(py::module_& m) {
   py::class_<PyRigidRobot>(m, "RigidRobot",
                            "A URDF robot as rigid bodies in reduced coordinates: exact mass "
                            "properties, joints that hold, implicit servos (docs/python.md).")
-      .def(py::init([](const py::object& path, bool fixedBase, const std::vector<py::object>& packagePaths,
-                       bool balanceInertia, bool inertiaFromGeometry) {
+      .def(py::init([](const py::object& path, bool fixedBase,
+                       const std::vector<py::object>& packagePaths, bool balanceInertia,
+                       bool inertiaFromGeometry) {
              auto robot = std::make_unique<PyRigidRobot>();
              if (build::isMjcfPath(pathText(path))) {
                build::MjcfMultibodySpec spec;
@@ -114,8 +115,9 @@ void bindMultibody(py::module_& m) {
              robot->v.assign(robot->nv(), 0.0);
              return robot;
            }),
-           py::arg("path"), py::arg("fixed_base") = true, py::arg("package_paths") = std::vector<py::object>{},
-           py::arg("balance_inertia") = true, py::arg("inertia_from_geometry") = false,
+           py::arg("path"), py::arg("fixed_base") = true,
+           py::arg("package_paths") = std::vector<py::object>{}, py::arg("balance_inertia") = true,
+           py::arg("inertia_from_geometry") = false,
            "A .urdf, or an MJCF .xml read by MuJoCo's compiler (libmujoco-dev; the URDF "
            "keywords do not apply to it).")
       .def_property_readonly("name", [](const PyRigidRobot& r) { return r.mb().name; })
@@ -133,19 +135,31 @@ void bindMultibody(py::module_& m) {
                                for (const auto& f : r.mb().frames) names.push_back(f.name);
                                return names;
                              })
-      .def_property_readonly("adjustments", [](const PyRigidRobot& r) { return r.robot.adjustments; })
-      .def_property_readonly("lower", [](const PyRigidRobot& r) {
-        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].lower; });
-      })
-      .def_property_readonly("upper", [](const PyRigidRobot& r) {
-        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].upper; });
-      })
-      .def_property_readonly("effort_limit", [](const PyRigidRobot& r) {
-        return r.perJoint([&](const build::UrdfMultibodyJoint& j) { return r.mb().bodies[j.body].effortLimit; });
-      })
-      .def_property_readonly("velocity_limit", [](const PyRigidRobot& r) {
-        return r.perJoint([](const build::UrdfMultibodyJoint& j) { return j.velocityLimit; });
-      })
+      .def_property_readonly("adjustments",
+                             [](const PyRigidRobot& r) { return r.robot.adjustments; })
+      .def_property_readonly("lower",
+                             [](const PyRigidRobot& r) {
+                               return r.perJoint([&](const build::UrdfMultibodyJoint& j) {
+                                 return r.mb().bodies[j.body].lower;
+                               });
+                             })
+      .def_property_readonly("upper",
+                             [](const PyRigidRobot& r) {
+                               return r.perJoint([&](const build::UrdfMultibodyJoint& j) {
+                                 return r.mb().bodies[j.body].upper;
+                               });
+                             })
+      .def_property_readonly("effort_limit",
+                             [](const PyRigidRobot& r) {
+                               return r.perJoint([&](const build::UrdfMultibodyJoint& j) {
+                                 return r.mb().bodies[j.body].effortLimit;
+                               });
+                             })
+      .def_property_readonly(
+          "velocity_limit",
+          [](const PyRigidRobot& r) {
+            return r.perJoint([](const build::UrdfMultibodyJoint& j) { return j.velocityLimit; });
+          })
       .def_property_readonly("joint_q_start",
                              [](const PyRigidRobot& r) {
                                std::vector<int> x;
@@ -158,28 +172,30 @@ void bindMultibody(py::module_& m) {
                                for (const auto& j : r.robot.joints) x.push_back(j.velocityIndex);
                                return x;
                              })
-      .def_property_readonly("actuators",
-                             [](const PyRigidRobot& r) {
-                               py::list out;
-                               for (const build::MjcfActuator& a : r.mjcf.actuators) {
-                                 py::dict d;
-                                 d["name"] = a.name;
-                                 d["kind"] = a.kind == build::MjcfActuator::Kind::kMotor      ? "motor"
-                                             : a.kind == build::MjcfActuator::Kind::kPosition ? "position"
-                                                                                              : "velocity";
-                                 d["joint"] = a.joint;
-                                 d["v_index"] = a.velocityIndex;
-                                 d["gear"] = a.gear;
-                                 d["gain"] = a.gain;
-                                 d["ctrl_range"] = py::make_tuple(a.ctrlLower, a.ctrlUpper);
-                                 d["force_range"] = py::make_tuple(a.forceLower, a.forceUpper);
-                                 out.append(d);
-                               }
-                               return out;
-                             },
-                             "An MJCF file's actuators (motor, position, velocity) as data; [] for a URDF.")
-      .def_property_readonly("timestep", [](const PyRigidRobot& r) { return r.mjcf.timestep; },
-                             "An MJCF file's <option timestep> (s); 0.002 for a URDF.")
+      .def_property_readonly(
+          "actuators",
+          [](const PyRigidRobot& r) {
+            py::list out;
+            for (const build::MjcfActuator& a : r.mjcf.actuators) {
+              py::dict d;
+              d["name"] = a.name;
+              d["kind"] = a.kind == build::MjcfActuator::Kind::kMotor      ? "motor"
+                          : a.kind == build::MjcfActuator::Kind::kPosition ? "position"
+                                                                           : "velocity";
+              d["joint"] = a.joint;
+              d["v_index"] = a.velocityIndex;
+              d["gear"] = a.gear;
+              d["gain"] = a.gain;
+              d["ctrl_range"] = py::make_tuple(a.ctrlLower, a.ctrlUpper);
+              d["force_range"] = py::make_tuple(a.forceLower, a.forceUpper);
+              out.append(d);
+            }
+            return out;
+          },
+          "An MJCF file's actuators (motor, position, velocity) as data; [] for a URDF.")
+      .def_property_readonly(
+          "timestep", [](const PyRigidRobot& r) { return r.mjcf.timestep; },
+          "An MJCF file's <option timestep> (s); 0.002 for a URDF.")
       .def_property(
           "q", [](const PyRigidRobot& r) { return toArray(r.q); },
           [](PyRigidRobot& r, const py::object& q) { r.q = r.values(q, r.q.size(), r.q, "q"); },
@@ -197,7 +213,8 @@ void bindMultibody(py::module_& m) {
             inverseDynamics(r.mb(), r.kinematics, nullptr, r.gravity, nullptr, tau.data());
             return toArray(tau);
           },
-          py::arg("q") = py::none(), "The generalized forces that hold the robot at q against gravity.")
+          py::arg("q") = py::none(),
+          "The generalized forces that hold the robot at q against gravity.")
       .def(
           "bias_forces",
           [](PyRigidRobot& r, const py::object& q, const py::object& v) {
@@ -225,7 +242,8 @@ void bindMultibody(py::module_& m) {
             const Pose X = framePose(r.mb(), r.kinematics, r.frame(name));
             return py::make_tuple(X.translation, matrixOf(X.rotation));
           },
-          py::arg("frame"), py::arg("q") = py::none(), "X_WF: (position, 3×3 rotation) of a link frame.")
+          py::arg("frame"), py::arg("q") = py::none(),
+          "X_WF: (position, 3×3 rotation) of a link frame.")
       .def(
           "jacobian",
           [](PyRigidRobot& r, const std::string& name, const py::object& q, const Vec3& point) {
@@ -244,11 +262,15 @@ void bindMultibody(py::module_& m) {
           [](PyRigidRobot& r, const std::string& name, const py::object& q, const py::object& v,
              const Vec3& point) {
             r.at(q, v);
-            const SpatialVector V = calcFrameSpatialVelocity(r.mb(), r.kinematics, r.frame(name), point);
-            return toArray({V.linear.x, V.linear.y, V.linear.z, V.angular.x, V.angular.y, V.angular.z});
+            const SpatialVector V =
+                calcFrameSpatialVelocity(r.mb(), r.kinematics, r.frame(name), point);
+            return toArray(
+                {V.linear.x, V.linear.y, V.linear.z, V.angular.x, V.angular.y, V.angular.z});
           },
-          py::arg("frame"), py::arg("q") = py::none(), py::arg("v") = py::none(), py::arg("point") = Vec3{},
-          "The frame's velocity at the point (6: the point's velocity, then the angular velocity, in "
+          py::arg("frame"), py::arg("q") = py::none(), py::arg("v") = py::none(),
+          py::arg("point") = Vec3{},
+          "The frame's velocity at the point (6: the point's velocity, then the angular velocity, "
+          "in "
           "the world) = jacobian(frame, q, point) @ v: MuJoCo's mj_objectVelocity in world axes.")
       .def(
           "frame_transform",
@@ -274,7 +296,8 @@ void bindMultibody(py::module_& m) {
             py::dict poses;
             for (std::size_t f = 0; f < r.mb().frames.size(); ++f) {
               const Pose X = framePose(r.mb(), r.kinematics, static_cast<std::int32_t>(f));
-              poses[py::str(r.mb().frames[f].name)] = py::make_tuple(X.translation, matrixOf(X.rotation));
+              poses[py::str(r.mb().frames[f].name)] =
+                  py::make_tuple(X.translation, matrixOf(X.rotation));
             }
             return poses;
           },
@@ -282,9 +305,10 @@ void bindMultibody(py::module_& m) {
           "Every frame's X_WF at q: {frame name: (position, 3×3 rotation)} (MuJoCo's xpos, xmat).")
       .def(
           "inverse_kinematics",
-          [](PyRigidRobot& r, const std::string& name, const py::object& position, const py::object& rotation,
-             const py::object& q0, double positionWeight, double orientationWeight, int maxIterations,
-             int restarts, std::uint64_t seed, double positionTolerance, double orientationTolerance) {
+          [](PyRigidRobot& r, const std::string& name, const py::object& position,
+             const py::object& rotation, const py::object& q0, double positionWeight,
+             double orientationWeight, int maxIterations, int restarts, std::uint64_t seed,
+             double positionTolerance, double orientationTolerance) {
             const std::int32_t f = r.frame(name);
             const std::vector<double> start = r.values(q0, r.q.size(), r.q, "q0");
             InverseKinematicsSettings s;
@@ -310,18 +334,21 @@ void bindMultibody(py::module_& m) {
           },
           py::arg("frame"), py::arg("position") = py::none(), py::arg("rotation") = py::none(),
           py::kw_only(), py::arg("q0") = py::none(), py::arg("position_weight") = 1.0,
-          py::arg("orientation_weight") = 1.0, py::arg("max_iterations") = 100, py::arg("restarts") = 20,
-          py::arg("seed") = 1, py::arg("position_tolerance") = 1e-6, py::arg("orientation_tolerance") = 1e-5,
+          py::arg("orientation_weight") = 1.0, py::arg("max_iterations") = 100,
+          py::arg("restarts") = 20, py::arg("seed") = 1, py::arg("position_tolerance") = 1e-6,
+          py::arg("orientation_tolerance") = 1e-5,
           "Damped least-squares IK for the frame's pose (position and/or 3×3 rotation; None leaves "
           "it free), within the joint limits, from q0 (default: q) and then from random restarts "
           "(deterministic by seed). Returns {q, success, position_error (m), orientation_error "
           "(rad), iterations, attempts}; q is the best found, robot.q is unchanged.")
-      .def("energy",
-           [](PyRigidRobot& r) {
-             r.at(py::none(), py::none());
-             return py::make_tuple(kineticEnergy(r.kinematics), gravitationalEnergy(r.kinematics, r.gravity));
-           },
-           "(kinetic, gravitational) energy (J).")
+      .def(
+          "energy",
+          [](PyRigidRobot& r) {
+            r.at(py::none(), py::none());
+            return py::make_tuple(kineticEnergy(r.kinematics),
+                                  gravitationalEnergy(r.kinematics, r.gravity));
+          },
+          "(kinetic, gravitational) energy (J).")
       .def(
           "step",
           [](PyRigidRobot& r, double dt, const py::object& effort, const py::object& kp,
@@ -337,7 +364,8 @@ void bindMultibody(py::module_& m) {
             return report.constrainedJoints;
           },
           py::arg("dt"), py::arg("effort") = py::none(), py::arg("kp") = py::none(),
-          py::arg("kd") = py::none(), py::arg("target") = py::none(), py::arg("target_rate") = py::none(),
+          py::arg("kd") = py::none(), py::arg("target") = py::none(),
+          py::arg("target_rate") = py::none(),
           "One step: efforts applied as given; servos τ = −kp (q − target) − kd (q̇ − target_rate) "
           "integrated implicitly (stable at any gain); joint limits are hard stops. Returns the "
           "number of joints at a stop or held by friction.");
