@@ -32,14 +32,6 @@ build::UrdfMultibody loadMjcf(const std::string& file, build::MjcfExtras* extras
   return build::makeMjcfMultibody(spec, extras);
 }
 
-std::string writeTemporary(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "robophi_mjcf_tests";
-  std::filesystem::create_directories(dir);
-  const auto path = (dir / name).string();
-  std::ofstream(path) << text;
-  return path;
-}
-
 TEST(MjcfMultibody, RecognisesMjcfPaths) {
   EXPECT_TRUE(build::isMjcfPath("robot.xml"));
   EXPECT_TRUE(build::isMjcfPath("a/b/robot.mjcf"));
@@ -59,6 +51,14 @@ TEST(MjcfMultibody, WithoutLibmujocoSaysWhatIsNeeded) {
 }
 
 #else
+
+std::string writeTemporary(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "robophi_mjcf_tests";
+  std::filesystem::create_directories(dir);
+  const auto path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
 
 double angleBetween(const Mat3& a, const Mat3& b) { return norm(rotationVector(transpose(a) * b)); }
 
