@@ -36,6 +36,10 @@ install_missing \
   liburdfdom-dev liborocos-kdl-dev libkdl-parser-dev \
   pybind11-dev python3-dev
 
+# MJCF import through MuJoCo's own compiler (docs/robots.md "MJCF"; optional: without
+# it, robophi builds and says that MJCF needs libmujoco-dev).
+install_missing libmujoco-dev
+
 # robophi sweep across processes (docs/sweep.md): Open MPI.
 install_missing openmpi-bin libopenmpi-dev
 

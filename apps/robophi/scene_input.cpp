@@ -4,10 +4,14 @@
 
 #include <cstdio>
 
+#include "robophi/scene/scene_mjcf.h"
+
 namespace robophi::cli {
 
 std::optional<Scene> loadSceneOrReport(const std::string& path, const UrdfSceneOptions& urdf) {
-  SceneLoadResult result = isUrdfPath(path) ? loadUrdfFile(path, urdf) : loadSceneFile(path);
+  SceneLoadResult result = isMjcfPath(path)   ? loadMjcfFile(path, urdf)
+                           : isUrdfPath(path) ? loadUrdfFile(path, urdf)
+                                              : loadSceneFile(path);
   for (const Diagnostic& d : result.warnings)
     std::fprintf(stderr, "%s\n", d.format("warning").c_str());
   for (const Diagnostic& d : result.errors) std::fprintf(stderr, "%s\n", d.format("error").c_str());

@@ -47,7 +47,7 @@ from ._robophi import (  # noqa: F401
     run,
     state_hash,
 )
-from ._robophi import _is_urdf_path, _load_scene, _load_urdf
+from ._robophi import _is_mjcf_path, _is_urdf_path, _load_mjcf, _load_scene, _load_urdf
 
 __all__ = [
     "AdaptiveSettings", "Arm", "Ball", "Box", "DivergedError", "EnergyTally", "Error", "Hand",
@@ -59,7 +59,8 @@ __all__ = [
 
 
 def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_per_link=30):
-    """Loads a scene file (.json) or a bare URDF robot (.urdf) into a robophi.Scene.
+    """Loads a scene file (.json), a bare URDF robot (.urdf) or an MJCF robot (.xml, read by
+    MuJoCo's compiler: rigid bodies held by its position actuators) into a robophi.Scene.
 
     A scene file: SceneError (a ValueError) lists every problem as the CLI does, each
     as file:line:column: error: message (at /JSON pointer); its .diagnostics holds
@@ -77,6 +78,11 @@ def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_pe
     file declares in scene.urdf_robots.
     """
     text = _os.fspath(path)
+    if _is_mjcf_path(text):
+        if package_paths is not None or base is not None:
+            raise TypeError(f"robophi.load: {text}: package_paths and base are for a URDF; "
+                            "an MJCF file names its meshes and base itself")
+        return _load_mjcf(text, particle_size=particle_size, particles_per_link=particles_per_link)
     if _is_urdf_path(text):
         return _load_urdf(text, package_paths=[_os.fspath(p) for p in package_paths or []],
                           base=base, particle_size=particle_size,

@@ -11,6 +11,7 @@
 #include "output/results_folder.h"
 #include "py_robophi.h"
 #include "robophi/joints.h"
+#include "robophi/scene/scene_mjcf.h"
 #include "robophi/stability.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
@@ -50,7 +51,9 @@ py::dict runScenePython(const py::handle& sceneArg, std::optional<std::string> o
     scene = sceneArg.cast<const PyScene&>().scene;
   } else {
     const std::string path = pathText(sceneArg);
-    scene = isUrdfPath(path) ? sceneOrThrow(loadUrdfFile(path), path) : loadScene(path);
+    scene = isMjcfPath(path)   ? sceneOrThrow(loadMjcfFile(path), path)
+            : isUrdfPath(path) ? sceneOrThrow(loadUrdfFile(path), path)
+                               : loadScene(path);
   }
   RunOptions options;
   options.settings = scene->run;

@@ -3,7 +3,9 @@
 // robophi.Urdf placed by ModelBuilder.add_urdf (build::makeUrdfRobot,
 // placeUrdfRobot), and what a scene's robots declare (Scene.urdf_robots).
 #include "py_robophi.h"
+#include "robophi/build/mjcf_multibody.h"
 #include "robophi/build/urdf.h"
+#include "robophi/scene/scene_mjcf.h"
 
 namespace robophi::python {
 
@@ -97,6 +99,21 @@ py::dict robotDict(const build::UrdfRobot& robot) {
                        {Diagnostic{e.file(), e.line(), 0, "", e.message()}});
 }
 
+// A bare robot file as the scene the CLI runs (loadUrdfFile, loadMjcfFile), the GIL
+// released while it loads.
+PyScene loadBareRobot(const std::string& path, const UrdfSceneOptions& options,
+                      SceneLoadResult (*load)(const std::string&, const UrdfSceneOptions&)) {
+  SceneLoadResult result;
+  {
+    py::gil_scoped_release release;
+    result = load(path, options);
+  }
+  PyScene scene;
+  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
+  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
+  return scene;
+}
+
 PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
                  std::optional<std::string> base, double particleSize, int particlesPerLink) {
   UrdfSceneOptions options;
@@ -108,15 +125,14 @@ PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
   }
   options.particleSize = particleSize;
   options.particlesPerLink = particlesPerLink;
-  SceneLoadResult result;
-  {
-    py::gil_scoped_release release;
-    result = loadUrdfFile(path, options);
-  }
-  PyScene scene;
-  scene.scene = sceneOrThrow(std::move(result), path, &scene.warnings);
-  scene.model = PyModel{std::make_shared<const CompiledModel>(scene.scene->model)};
-  return scene;
+  return loadBareRobot(path, options, &loadUrdfFile);
+}
+
+PyScene loadMjcf(const std::string& path, double particleSize, int particlesPerLink) {
+  UrdfSceneOptions options;
+  options.particleSize = particleSize;
+  options.particlesPerLink = particlesPerLink;
+  return loadBareRobot(path, options, &loadMjcfFile);
 }
 
 }  // namespace
@@ -232,6 +248,10 @@ void bindUrdf(py::module_& m) {
           "elements)");
 
   m.def("_is_urdf_path", &isUrdfPath, py::arg("path"));
+  m.def("_is_mjcf_path", &isMjcfPath, py::arg("path"));
+  m.def("_mjcf_available", &build::mjcfAvailable, "Whether MJCF import was built (libmujoco-dev).");
+  m.def("_load_mjcf", &loadMjcf, py::arg("path"), py::arg("particle_size") = 0.0,
+        py::arg("particles_per_link") = 30);
   m.def(
       "_load_urdf",
       [](const py::handle& path, std::vector<std::string> packagePaths,

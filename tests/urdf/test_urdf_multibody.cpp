@@ -7,7 +7,6 @@
 
 #ifdef ROBOPHI_HAVE_KDL
 #include <kdl/chain.hpp>
-#include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
 #include <kdl/treefksolverpos_recursive.hpp>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
@@ -223,44 +222,8 @@ TEST(UrdfMultibody, KinematicsAndGravityEqualKdlsOnEverySharedRobot) {
   }
 }
 
-TEST(UrdfMultibody, TheIiwasTipJacobianEqualsKdls) {
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
-  const std::string path = kRobots + "/kuka_iiwa/model.urdf";
-  const build::UrdfMultibody robot = build::makeUrdfMultibody(specOf(path));
-  const Multibody& mb = robot.multibody;
-  KDL::Tree tree;
-  ASSERT_TRUE(kdl_parser::treeFromFile(path, tree));
-  KDL::Chain chain;
-  ASSERT_TRUE(tree.getChain("lbr_iiwa_link_0", "lbr_iiwa_link_7", chain));
-  KDL::ChainJntToJacSolver solver(chain);
-  std::mt19937 random(5);
-  const std::int32_t tip = mb.frameIndex(mb.name + ".lbr_iiwa_link_7");
-  ASSERT_GE(tip, 0);
-  const auto n = static_cast<std::size_t>(mb.velocityCount);
-  ASSERT_EQ(n, chain.getNrOfJoints());
-  double worst = 0.0;
-  for (int c = 0; c < 20; ++c) {
-    std::vector<double> q(n);
-    KDL::JntArray qKdl(static_cast<unsigned>(n));
-    for (std::size_t i = 0; i < n; ++i) qKdl(static_cast<unsigned>(i)) = q[i] =
-        std::uniform_real_distribution<double>(-2.0, 2.0)(random);
-    KDL::Jacobian J(static_cast<unsigned>(n));
-    ASSERT_GE(solver.JntToJac(qKdl, J), 0);
-    MultibodyKinematics kin;
-    updateKinematics(mb, q.data(), kin);
-    const Pose X_WT = framePose(mb, kin, tip);
-    std::vector<double> Jv(3 * n), Jw(3 * n);
-    pointJacobian(mb, kin, mb.frames[static_cast<std::size_t>(tip)].body, X_WT.translation, Jv.data(),
-                  Jw.data());
-    for (std::size_t i = 0; i < n; ++i)
-      for (unsigned r = 0; r < 3; ++r) {
-        worst = std::max(worst, std::abs(Jv[r * n + i] - J(r, static_cast<unsigned>(i))));
-        worst = std::max(worst, std::abs(Jw[r * n + i] - J(r + 3, static_cast<unsigned>(i))));
-      }
-  }
-  EXPECT_LT(worst, 1e-8);
-}
-
+// The tip Jacobians of the iiwa, Panda and UR5 against KDL's ChainJntToJacSolver:
+// tests/urdf/test_kinematics_kdl.cpp.
 
 TEST(UrdfMultibody, EachBodysMassPropertiesAreTheSumOfItsLinksInKdl) {
   // KDL's segments carry the file's inertias (its root's excepted: kdl_parser drops

@@ -7,6 +7,7 @@
 /// coordinates. What real URDFs carry is accepted with MuJoCo's compiler's
 /// switches, each adjustment listed with the link's name and line.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,8 @@ struct UrdfMultibodyJoint {
   std::string mimicJoint;
   double multiplier = 1.0, offset = 0.0;
   int line = 0;
+  /// The bound on |q̇| (rad/s or m/s; <limit velocity>); infinity: none (or not read).
+  double velocityLimit = std::numeric_limits<double>::infinity();
 };
 
 /// A URDF robot as rigid bodies.
