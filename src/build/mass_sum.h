@@ -1,7 +1,6 @@
 #pragma once
 // Mass properties accumulated in one frame (the importers' bodies made of several
 // links or MJCF bodies): m, Σ m c and Σ (I_c + m (|c|² 1 − c cᵀ)) about the origin.
-// (src/build/urdf_multibody.cpp holds a copy of this struct; to be replaced by it.)
 
 #include "robophi/multibody.h"
 #include "robophi/rotation.h"

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "build/checks.h"
+#include "build/mass_sum.h"
 #include "build/shape_fill.h"
 #include "build/urdf_parse.h"
 #include "robophi/build/model_builder.h"
@@ -75,29 +76,6 @@ double shapeVolume(const urdf::Geometry& g) {
   }
   return 0.0;
 }
-
-// Mass properties accumulated as a sum: m, Σ m c and Σ (I_c + m (|c|² 1 − c cᵀ)).
-struct MassSum {
-  double mass = 0.0;
-  Vec3 moment{};
-  Mat3 inertiaAtOrigin = Mat3::zero();
-
-  void add(double m, const Vec3& c, const Mat3& inertiaAboutCentre) {
-    mass += m;
-    moment += c * m;
-    inertiaAtOrigin = inertiaAtOrigin + inertiaAboutCentre +
-                      m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
-  }
-  BodyMassProperties properties() const {
-    BodyMassProperties p;
-    p.mass = mass;
-    if (mass <= 0.0) return p;
-    const Vec3 c = moment / mass;
-    p.centerOfMass = c;
-    p.inertia = inertiaAtOrigin - mass * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
-    return p;
-  }
-};
 
 // A link's mass properties in its own frame, as the file gives them or from its
 // geometry; balanced if asked.
@@ -244,6 +222,7 @@ UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
     joint.type = j.typeName;
     joint.body = linkBody[c];
     joint.line = j.line;
+    if (j.hasLimit && j.velocity > 0.0) joint.velocityLimit = j.velocity;
     if (j.hasMimic) {
       joint.mimicJoint = j.mimicJoint;
       joint.multiplier = j.multiplier;

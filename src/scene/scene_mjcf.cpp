@@ -33,22 +33,17 @@ double lowestSurface(const build::UrdfMultibody& robot,
 }
 
 // Servos of the position actuators' gains (kp gear², MuJoCo's force kp (ctrl − gear q)
-// through the gear) on their joints, with targets where they start.
-void holdByActuators(RigidTree& tree, const std::vector<double>& q,
-                     const build::MjcfExtras& extras) {
-  const auto n = static_cast<std::size_t>(tree.multibody.velocityCount);
-  tree.inputs.servoStiffness.assign(n, 0.0);
-  tree.inputs.servoDamping.assign(n, 0.0);
-  tree.inputs.servoTarget.assign(n, 0.0);
-  for (const MultibodyBody& body : tree.multibody.bodies)
-    if (velocityCountOf(body.joint) == 1)
-      tree.inputs.servoTarget[static_cast<std::size_t>(body.vStart)] =
-          q[static_cast<std::size_t>(body.qStart)];
-  for (const build::MjcfActuator& a : extras.actuators)
-    if (a.kind == build::MjcfActuator::Kind::kPosition)
-      tree.inputs.servoStiffness[static_cast<std::size_t>(a.velocityIndex)] +=
-          a.gain * a.gear * a.gear;
-  tree.compensateGravity = true;
+// through the gear) on their joints (the model's joints of the tree), with targets
+// where they start, and every joint's gravity compensated.
+void holdByActuators(Model& model, std::int32_t treeIndex, const build::MjcfExtras& extras) {
+  const RigidTree& tree = model.rigidTrees[static_cast<std::size_t>(treeIndex)];
+  for (const std::int32_t k : tree.jointOfRate)
+    if (k >= 0) model.joints[static_cast<std::size_t>(k)].compensateGravity = true;
+  for (const build::MjcfActuator& a : extras.actuators) {
+    if (a.kind != build::MjcfActuator::Kind::kPosition) continue;
+    const std::int32_t k = tree.jointOfRate[static_cast<std::size_t>(a.velocityIndex)];
+    if (k >= 0) model.joints[static_cast<std::size_t>(k)].servoStiffness += a.gain * a.gear * a.gear;
+  }
 }
 
 }  // namespace
@@ -79,8 +74,7 @@ SceneLoadResult loadMjcfFile(const std::string& path, const UrdfSceneOptions& op
     builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
     const build::PlacedUrdfMultibody placed = build::placeUrdfMultibody(builder, robot, placement);
     build::BuiltModel built = std::move(builder).build();
-    const auto tree = static_cast<std::size_t>(placed.tree);
-    holdByActuators(built.model.rigidTrees[tree], built.initial.treePositions[tree], extras);
+    holdByActuators(built.model, placed.tree, extras);
     Scene scene;
     scene.name = robot.multibody.name;
     scene.sourcePath = path;
