@@ -52,7 +52,10 @@ def chunks(text: str):
 
 def emit_array(name: str, text: str) -> str:
     lines = [f"inline constexpr std::string_view {name}[] = {{"]
-    lines += [f"    {c_literal(piece)}," for piece in chunks(text)]
+    # With its length given: GCC would count the characters at compile time, and
+    # its constexpr operation limit is shared by the whole file.
+    lines += [f"    std::string_view{{{c_literal(piece)}, {len(piece.encode('utf-8'))}}},"
+              for piece in chunks(text)]
     lines.append("};")
     return "\n".join(lines)
 

@@ -660,7 +660,8 @@ const carriesVisual = new Uint8Array(particleCount);
 for (const c of robotCarriers) for (const i of c.particles) if (i >= 0 && i < particleCount) carriesVisual[i] = 1;
 
 if (robotVisuals.length === 0) {
-  for (const id of ['show-robots', 'show-particles']) $(id).parentElement.hidden = true;
+  $('show-particles').parentElement.hidden = true;
+  if (!(world && world.shapes)) $('show-robots').parentElement.hidden = true;
 } else {
   // The robots as they look; their particles and connectors are the optional layer.
   $('show-particles').checked = false;
@@ -776,6 +777,9 @@ async function buildRobots(THREE) {
           const { ColladaLoader } = await import('three/addons/loaders/ColladaLoader.js');
           const collada = new ColladaLoader().parse(text(), '');
           object = collada ? collada.scene : null;
+          // A URDF's DAE is in its link's frame: the loader's turn of a Z_UP file
+          // into three.js's Y-up is undone (its unit scale is kept).
+          if (object) object.rotation.set(0, 0, 0);
         } else {
           console.warn(`robophi replay: mesh format '${file.format}' is not drawn`);
         }
@@ -851,6 +855,100 @@ function placeRobots(robotsView, frame) {
   }
 }
 
+// ---------------------------------------------------------------- objects' shapes
+// world.json's "shapes" (docs/viewer.md "Objects' shapes"): round bodies (balls,
+// wheels' rims, cylinder wheels) and surface meshes (cloths, meshed objects), drawn
+// from the particles of each frame.
+const objectShapes = (world && world.shapes) || null;
+function buildObjectShapes(THREE) {
+  const group = new THREE.Group();
+  group.name = 'shapes';
+  const updates = [];
+  const counts = { rims: 0, surfaceTriangles: 0 };
+  if (!objectShapes) return { group, updates, counts };
+  const at = (base, i) => new THREE.Vector3(framePosition[base + 3 * i], framePosition[base + 3 * i + 1],
+    framePosition[base + 3 * i + 2]);
+  const zAxis = new THREE.Vector3(0, 0, 1);
+  for (const rim of objectShapes.rims || []) {
+    if (!(rim.count > 0) || rim.first + rim.count > particleCount) continue;
+    const colour = objectColour(objectOf[rim.first]);
+    const material = new THREE.MeshStandardMaterial({ color: colour, roughness: 0.7, transparent: true, opacity: 0.85 });
+    let mesh;
+    let place;
+    if (rim.axisParticle >= 0 && rim.hub >= 0) {
+      // A cylinder wheel about the hub → axis particle line.
+      const geometry = new THREE.CylinderGeometry(rim.sphereRadius, rim.sphereRadius, 2 * rim.halfLength, 40);
+      geometry.rotateX(Math.PI / 2);
+      mesh = new THREE.Mesh(geometry, material);
+      place = (base) => {
+        const hub = at(base, rim.hub);
+        const n = at(base, rim.axisParticle).sub(hub).normalize();
+        mesh.position.copy(hub).addScaledVector(n, rim.axialOffset);
+        mesh.quaternion.setFromUnitVectors(zAxis, n);
+      };
+    } else if (rim.sphereRadius > 0) {
+      // A ball: the sphere about its particles' centre.
+      mesh = new THREE.Mesh(new THREE.SphereGeometry(rim.sphereRadius, 32, 20), material);
+      place = (base) => {
+        const c = new THREE.Vector3();
+        for (let k = 0; k < rim.count; ++k) c.add(at(base, rim.first + k));
+        mesh.position.copy(c.multiplyScalar(1 / rim.count));
+      };
+    } else if (rim.hub >= 0 && rim.count >= 3) {
+      // A wheel's rim ring: a disc through its particles, about its hub.
+      const width = 2 * radius[rim.first];
+      mesh = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, width, 40).rotateX(Math.PI / 2), material);
+      place = (base) => {
+        const hub = at(base, rim.hub);
+        const a = at(base, rim.first).sub(hub);
+        const b = at(base, rim.first + Math.floor(rim.count / 3)).sub(hub);
+        const n = new THREE.Vector3().crossVectors(a, b).normalize();
+        const r = a.length() + radius[rim.first];
+        mesh.position.copy(hub);
+        mesh.quaternion.setFromUnitVectors(zAxis, n);
+        mesh.scale.set(r, r, 1);
+      };
+    } else continue;
+    group.add(mesh);
+    updates.push(place);
+    ++counts.rims;
+  }
+  const s = objectShapes.surfaces;
+  if (s && s.triangles && s.triangles.length > 0) {
+    const slots = s.slots || 8;
+    const vertexCount = s.particles.length / slots;
+    const positions = new Float32Array(vertexCount * 3);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage));
+    geometry.setIndex(s.triangles);
+    // Colour by the triangles' object: one mesh a colour would need splitting; the first object's.
+    const colour = s.objects.length > 0 ? objectColour(s.objects[0]) : '#999999';
+    const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: colour, roughness: 0.8,
+      side: THREE.DoubleSide, transparent: true, opacity: 0.85 }));
+    mesh.frustumCulled = false;
+    group.add(mesh);
+    counts.surfaceTriangles = s.triangles.length / 3;
+    updates.push((base) => {
+      for (let v = 0; v < vertexCount; ++v) {
+        let x = 0, y = 0, z = 0;
+        for (let k = 0; k < slots; ++k) {
+          const i = s.particles[v * slots + k];
+          const w = s.weights[v * slots + k];
+          if (i < 0 || i >= particleCount || w === 0) continue;
+          x += w * framePosition[base + 3 * i];
+          y += w * framePosition[base + 3 * i + 1];
+          z += w * framePosition[base + 3 * i + 2];
+        }
+        positions[3 * v] = x; positions[3 * v + 1] = y; positions[3 * v + 2] = z;
+      }
+      geometry.attributes.position.needsUpdate = true;
+      geometry.computeVertexNormals();
+      geometry.computeBoundingBox();
+    });
+  }
+  return { group, updates, counts };
+}
+
 let scene3d = null;
 async function setupScene() {
   const THREE = await import('three');
@@ -865,11 +963,15 @@ async function setupScene() {
   // The robots' shapes, and their extent over the run (some frames of it) in the bounds.
   const robotsView = await buildRobots(THREE);
   scene.add(robotsView.group);
-  if (robotsView.holders.length > 0) {
+  const shapesView = buildObjectShapes(THREE);
+  robotsView.group.add(shapesView.group);
+  if (robotsView.holders.length > 0 || shapesView.updates.length > 0) {
     const box = new THREE.Box3();
     const samples = Math.min(frameCount, 24);
     for (let k = 0; k < samples; ++k) {
-      placeRobots(robotsView, Math.round((k * (frameCount - 1)) / Math.max(samples - 1, 1)));
+      const frame = Math.round((k * (frameCount - 1)) / Math.max(samples - 1, 1));
+      placeRobots(robotsView, frame);
+      for (const place of shapesView.updates) place(frame * particleCount * 3);
       robotsView.group.updateMatrixWorld(true);
       box.expandByObject(robotsView.group);
     }
@@ -1203,6 +1305,7 @@ async function setupScene() {
   function update(frame) {
     const base = frame * particleCount * 3;
     placeRobots(robotsView, frame);
+    for (const place of shapesView.updates) place(frame * particleCount * 3);
     const particleLayer = $('show-particles').checked;
     for (let i = 0; i < particleCount; ++i) {
       const r = particleLayer || !carriesVisual[i] ? shownRadius[i] : 0;
@@ -1405,6 +1508,7 @@ async function setupScene() {
   return {
     spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
     frictionDrawn: Boolean(frictionColumns), robotCounts: robotsView.counts, robotPixelBox, resetView,
+    shapeCounts: shapesView.counts,
   };
 }
 
@@ -1487,6 +1591,8 @@ window.robophiReplay = {
   },
   /** The robots' visuals: {visuals, drawn, meshes, shapes, missing} (docs/viewer.md). */
   robotCounts: () => (scene3d ? { ...scene3d.robotCounts } : {}),
+  /** The objects' shapes drawn: {rims, surfaceTriangles}. */
+  shapeCounts: () => (scene3d ? { ...scene3d.shapeCounts } : {}),
   /** After "reset view": the screen box of the robots' own pixels, {width, height, area}
    * as fractions of the view, and `lit`, the fraction of its pixels they cover (null: none). */
   robotPixelBox: () => {

@@ -92,6 +92,7 @@ void placeUrdfMultibodyVisuals(ModelBuilder& builder, const UrdfMultibody& robot
     const std::int32_t f = mb.frameIndex(visual.shape.link);
     if (f < 0) continue;
     const MultibodyFrame& frame = mb.frames[static_cast<std::size_t>(f)];
+    if (frame.body < 0 || static_cast<std::size_t>(frame.body) >= kin.X_WB.size()) continue;
     VisualShape shape = visual.shape;
     shape.tree = tree;
     shape.treeBody = frame.body;

@@ -70,7 +70,7 @@ Json visualsJson(const Scene& scene) {
         if (i < 0 || static_cast<std::size_t>(i) >= scene.initial.position.size()) continue;
         const Vec3& p = scene.initial.position[static_cast<std::size_t>(i)];
         particles.push_back(i);
-        rest.insert(rest.end(), {p.x, p.y, p.z});
+        for (const double value : {p.x, p.y, p.z}) rest.push_back(value);
       }
       found = carrierOf.emplace(key, carriers.size()).first;
       carriers.push_back({{"particles", particles}, {"rest", rest}});
@@ -106,13 +106,48 @@ Json visualsJson(const Scene& scene) {
     if (v.hasColor) item["rgba"] = v.rgba;
     // X_WV as built: rotation row by row, then the translation.
     Json pose = Json::array();
-    for (const auto& row : v.X_WV.rotation.m) pose.insert(pose.end(), row.begin(), row.end());
-    pose.insert(pose.end(), {v.X_WV.translation.x, v.X_WV.translation.y, v.X_WV.translation.z});
+    for (const auto& row : v.X_WV.rotation.m)
+      for (const double value : row) pose.push_back(value);
+    for (const double value : {v.X_WV.translation.x, v.X_WV.translation.y, v.X_WV.translation.z})
+      pose.push_back(value);
     item["pose"] = pose;
     if (!v.warning.empty()) item["warning"] = v.warning;
     visuals.push_back(std::move(item));
   }
   return {{"carriers", carriers}, {"meshes", meshes}, {"visuals", visuals}};
+}
+
+Json shapesJson(const Model& model) {
+  Json rims = Json::array();
+  for (const RimRing& r : model.rims) {
+    rims.push_back({{"first", r.first},
+                    {"count", r.count},
+                    {"hub", r.hub},
+                    {"sphereRadius", r.sphereRadius},
+                    {"axisParticle", r.axisParticle},
+                    {"halfLength", r.halfLength},
+                    {"axialOffset", r.axialOffset}});
+  }
+  Json particles = Json::array(), weights = Json::array(), triangles = Json::array(),
+       objects = Json::array();
+  for (const SurfaceVertex& v : model.surfaceVertices) {
+    for (std::size_t k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+      particles.push_back(v.particle[k]);
+      weights.push_back(v.weight[k]);
+    }
+  }
+  for (const SurfaceTriangle& t : model.surfaceTriangles) {
+    for (const std::int32_t v : t.vertex) triangles.push_back(v);
+    objects.push_back(t.object);
+  }
+  if (rims.empty() && triangles.empty()) return nullptr;
+  return {{"rims", rims},
+          {"surfaces",
+           {{"slots", SurfaceVertex::kMaxParticles},
+            {"particles", particles},
+            {"weights", weights},
+            {"triangles", triangles},
+            {"objects", objects}}}};
 }
 
 }  // namespace robophi::output

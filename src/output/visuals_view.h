@@ -15,4 +15,10 @@ namespace robophi::output {
 /// "format"}], "visuals": [...]} of the scene's model, or null when it has no visuals.
 nlohmann::ordered_json visualsJson(const Scene& scene);
 
+/// The shapes the model knows of its built-in objects (docs/viewer.md "Objects'
+/// shapes"): {"rims": [RimRing's fields], "surfaces": {"slots", "particles",
+/// "weights" (slots a vertex), "triangles" (3 vertices each), "objects" (one a
+/// triangle)}}, or null when it has neither.
+nlohmann::ordered_json shapesJson(const Model& model);
+
 }  // namespace robophi::output

@@ -160,6 +160,7 @@ WorldView::WorldView(const Scene& scene)
   j["sphereSecurity"] = sphereMargin;
   j["boxSecurity"] = boxMargin;
   if (Json robots = visualsJson(scene); !robots.is_null()) j["robots"] = std::move(robots);
+  if (Json shapes = shapesJson(scene.model); !shapes.is_null()) j["shapes"] = std::move(shapes);
   // The URDF joints' position limits (rad or m), by model joint, for the joint plot.
   Json limits = Json::array();
   for (const auto& robot : scene.urdfRobots) {
@@ -240,6 +241,7 @@ std::string WorldView::json() const {
   j["paths"] = base["paths"];
   j["attractors"] = base["attractors"];
   if (base.contains("robots")) j["robots"] = base["robots"];
+  if (base.contains("shapes")) j["shapes"] = base["shapes"];
   if (base.contains("jointLimits")) j["jointLimits"] = base["jointLimits"];
   return j.dump();
 }

@@ -57,7 +57,9 @@ stopped="$artifacts/interrupted"
 rm -rf "$stopped" "$stopped.log"
 "$robophi" run "$robots/kuka_iiwa/model.urdf" --duration 1000 --out "$stopped" > "$stopped.log" 2>&1 &
 pid=$!
-until [ -n "$(find "$artifacts" -maxdepth 2 -path "*interrupted*" -name particles.csv -size +2k 2>/dev/null)" ]; do
+# (It writes into its staging folder, .interrupted.partial, until it ends.)
+rows() { cat "$artifacts/.interrupted.partial/energy.csv" 2>/dev/null | wc -l; }
+until [ "$(rows)" -ge 2 ]; do
   if ! kill -0 "$pid" 2>/dev/null; then break; fi
   sleep 0.2
 done
