@@ -47,7 +47,7 @@ run iiwa "$robots/kuka_iiwa/model.urdf"
 run iiwa_rigid "$robots/kuka_iiwa/model.urdf" --rigid
 run ur5 "$ur5" --package-path "$wild"
 run ur5_rigid "$ur5" --package-path "$wild" --rigid
-run panda "$robots/franka_panda/panda.urdf"
+run panda "$robots/franka_panda/panda.urdf" --package-path "$robots/franka_panda"
 node "$here/robots.test.mjs" "$artifacts/robots" "$artifacts/iiwa:q" "$artifacts/iiwa_rigid" \
   "$artifacts/ur5:q" "$artifacts/ur5_rigid" "$artifacts/panda:q"
 
