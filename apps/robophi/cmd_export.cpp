@@ -137,7 +137,7 @@ void addExportCommand(CLI::App& app) {
     if (chromium.empty()) {
       fail("no headless Chromium found (looked at $ROBOPHI_CHROMIUM, then chromium, "
            "chromium-browser, google-chrome on the PATH): install one (apt-get install "
-           "chromium), or open DIR/replay.html#t=" + std::to_string(png->time) +
+           "chromium), or open DIR/replay.html#t=" + fmt::format("{}", png->time) +
            " in a browser");
     }
     const std::filesystem::path page =
