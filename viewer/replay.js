@@ -822,7 +822,9 @@ async function buildRobots(THREE) {
     }
     if (v.rgba) {
       const material = new THREE.MeshStandardMaterial({
-        color: new THREE.Color(v.rgba[0], v.rgba[1], v.rgba[2]), roughness: 0.55, metalness: 0.1,
+        // (A little below full: a white link would burn out where the key light meets it.)
+        color: new THREE.Color(v.rgba[0], v.rgba[1], v.rgba[2]).multiplyScalar(0.82), roughness: 0.55,
+        metalness: 0.1,
         transparent: v.rgba[3] < 1, opacity: v.rgba[3],
       });
       shape.traverse((o) => { if (o.isMesh) o.material = material; });
@@ -871,6 +873,7 @@ function buildObjectShapes(THREE) {
   const zAxis = new THREE.Vector3(0, 0, 1);
   for (const rim of objectShapes.rims || []) {
     if (!(rim.count > 0) || rim.first + rim.count > particleCount) continue;
+    if (carriesVisual[rim.first]) continue;  // a robot's link: drawn as its URDF visual
     const colour = objectColour(objectOf[rim.first]);
     const material = new THREE.MeshStandardMaterial({ color: colour, roughness: 0.7, transparent: true, opacity: 0.85 });
     let mesh;
@@ -920,14 +923,21 @@ function buildObjectShapes(THREE) {
     const positions = new Float32Array(vertexCount * 3);
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage));
-    geometry.setIndex(s.triangles);
+    // A robot's link's surface is drawn as its URDF visual instead.
+    const covered = (v) => s.particles.slice(v * slots, (v + 1) * slots).some((i) => i >= 0 && carriesVisual[i]);
+    const kept = [];
+    for (let t = 0; t < s.triangles.length; t += 3) {
+      if (!covered(s.triangles[t])) kept.push(s.triangles[t], s.triangles[t + 1], s.triangles[t + 2]);
+    }
+    if (kept.length === 0) return { group, updates, counts };
+    geometry.setIndex(kept);
     // Colour by the triangles' object: one mesh a colour would need splitting; the first object's.
     const colour = s.objects.length > 0 ? objectColour(s.objects[0]) : '#999999';
     const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: colour, roughness: 0.8,
       side: THREE.DoubleSide, transparent: true, opacity: 0.85 }));
     mesh.frustumCulled = false;
     group.add(mesh);
-    counts.surfaceTriangles = s.triangles.length / 3;
+    counts.surfaceTriangles = kept.length / 3;
     updates.push((base) => {
       for (let v = 0; v < vertexCount; ++v) {
         let x = 0, y = 0, z = 0;
