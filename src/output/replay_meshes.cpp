@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "output/base64.h"
@@ -42,8 +44,9 @@ std::string meshFilesJson(const std::string& world, double capBytes, std::size_t
     if (ec) {
       note = "not found: " + path;
     } else if (used + size > budget) {
-      note = "left out: the page's mesh budget (" + std::to_string(budget >> 20) +
-             " MB of files) is spent; " + path + " has " + std::to_string(size) + " bytes";
+      note = fmt::format(
+          "left out: the page's mesh budget ({:.1f} MB of files) is spent; {} has {} bytes",
+          static_cast<double>(budget) / 1e6, path, size);
     } else {
       std::ifstream in(path, std::ios::binary);
       bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
