@@ -52,7 +52,10 @@ def chunks(text: str):
 
 def emit_array(name: str, text: str) -> str:
     lines = [f"inline constexpr std::string_view {name}[] = {{"]
-    lines += [f"    {c_literal(piece)}," for piece in chunks(text)]
+    # With its length given: GCC would count the characters at compile time, and
+    # its constexpr operation limit is shared by the whole file.
+    lines += [f"    std::string_view{{{c_literal(piece)}, {len(piece.encode('utf-8'))}}},"
+              for piece in chunks(text)]
     lines.append("};")
     return "\n".join(lines)
 
@@ -80,10 +83,25 @@ def main() -> int:
     if "./three.core.min.js" in module:
         sys.exit("embed_assets.py: three.module.min.js imports ./three.core.min.js in an unknown form")
 
+    # The loaders of the robots' meshes (docs/viewer.md "Robots as they look"); a
+    # loader's relative import of another loader goes through the import map too.
+    loaders = {}
+    for name in ("STLLoader", "OBJLoader", "ColladaLoader", "TGALoader"):
+        source = (three / f"examples/jsm/loaders/{name}.js").read_text(encoding="utf-8")
+        for other in ("TGALoader",):
+            for quote in ('"', "'"):
+                source = source.replace(f"from {quote}../loaders/{other}.js{quote}",
+                                        f"from {quote}three/addons/loaders/{other}.js{quote}")
+        if "from '../" in source or 'from "../' in source:
+            sys.exit(f"embed_assets.py: {name}.js imports a relative path this script does not map")
+        loaders[name] = source
+
     import_map = ('{"imports":{'
                   f'"three/core":"{data_url(core)}",'
                   f'"three":"{data_url(module)}",'
                   f'"three/addons/controls/OrbitControls.js":"{data_url(orbit)}"'
+                  + "".join(f',"three/addons/loaders/{name}.js":"{data_url(source)}"'
+                            for name, source in loaders.items()) +
                   '}}')
 
     page = pathlib.Path(args.template).read_text(encoding="utf-8")

@@ -252,6 +252,9 @@ class Plot {
       for (const v of s.v) {
         if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
       }
+      for (const v of s.limits || []) {
+        if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+      }
     }
     if (!Number.isFinite(lo)) { lo = 0; hi = 1; }
     if (this.options.includeZero) { lo = Math.min(lo, 0); hi = Math.max(hi, 0); }
@@ -337,6 +340,18 @@ class Plot {
     g.clip();
     g.lineWidth = 1.6;
     g.lineJoin = 'round';
+    // A series' limits (a joint's lower and upper position): thin dotted lines in its colour.
+    g.lineWidth = 1;
+    for (const s of this.series) {
+      g.strokeStyle = s.colour;
+      g.setLineDash([2, 3]);
+      for (const v of s.limits || []) {
+        if (!Number.isFinite(v)) continue;
+        const y = Math.round(this.yOf(v)) + 0.5;
+        g.beginPath(); g.moveTo(m.left, y); g.lineTo(w - m.right, y); g.stroke();
+      }
+    }
+    g.lineWidth = 1.6;
     for (const s of this.series) {
       g.strokeStyle = s.colour;
       g.setLineDash(s.dash || []);
@@ -430,10 +445,17 @@ if (joints && jointNames.length > 0) {
   const kinds = data.jointKinds || [];
   const unitOf = (j) => (kinds[j] === 'prismatic' ? 'm' : 'rad');
   const units = [...new Set(jointNames.map((_, j) => unitOf(j)))];
-  $('joints-caption').textContent = `Joints (${units.join(', ')})`;
+  // The joint position q in the robot's own coordinates (joints.csv's "NAME:q",
+  // jointPosition: a URDF's q), with the joint's limits when world.json has them;
+  // an older run folder without it: the raw value.
+  const limitOf = new Map(((world && world.jointLimits) || []).map((l) => [l.joint, [l.lower, l.upper]]));
+  const robotCoordinates = jointNames.every((name) => joints[`${name}:q`]);
+  $('joints-caption').textContent = `Joint positions q (${units.join(', ')})` +
+    (limitOf.size > 0 ? ', limits dotted' : '');
   $('fig-joints').hidden = false;
   addPlot('plot-joints', jointNames.map((name, j) => ({
-    name, label: name, colour: palette[(j + 4) % palette.length], t: joints.t, v: joints[name], unit: unitOf(j),
+    name, label: name, colour: palette[(j + 4) % palette.length], t: joints.t,
+    v: robotCoordinates ? joints[`${name}:q`] : joints[name], unit: unitOf(j), limits: limitOf.get(name),
   })), { includeZero: false });
 }
 listeners.push(() => { for (const plot of plots) plot.draw(); });
@@ -490,12 +512,40 @@ if (connectorIndex.length === 0 && attractorIndex.length === 0) {
 {
   const legend = $('legend');
   const objects = data.objects.length > 0 ? data.objects : [{ name: 'particles', kind: '' }];
-  objects.forEach((o, i) => {
+  const objectRow = (o, i) => {
     const row = document.createElement('div');
     row.innerHTML = `<span class="swatch" style="background:${o.kind === 'virtual' ? virtualColour : objectColour(i)}"></span>`;
     const fixedObject = world && world.objects && world.objects[i] && world.objects[i].fixed && o.kind !== 'virtual';
     row.append(`${o.name}${o.kind ? ` (${o.kind})` : ''}${fixedObject ? ', fixed' : ''}`);
-    legend.appendChild(row);
+    return row;
+  };
+  // A robot's links ("<robot>.<link>", kind link, and their carriers): one entry,
+  // its links inside when opened.
+  const robotOf = (o) => (o.kind === 'link' || o.kind === 'virtual') && o.name.includes('.')
+    ? o.name.slice(0, o.name.indexOf('.')) : null;
+  const members = new Map();
+  objects.forEach((o, i) => {
+    const r = robotOf(o);
+    if (r !== null) { if (!members.has(r)) members.set(r, []); members.get(r).push(i); }
+  });
+  const collapsed = new Set([...members].filter(([, list]) => list.some((i) => objects[i].kind === 'link') &&
+    list.length >= 2).map(([r]) => r));
+  const shownRobots = new Set();
+  objects.forEach((o, i) => {
+    const r = robotOf(o);
+    if (r === null || !collapsed.has(r)) { legend.appendChild(objectRow(o, i)); return; }
+    if (shownRobots.has(r)) return;
+    shownRobots.add(r);
+    const list = members.get(r);
+    const links = list.filter((k) => objects[k].kind === 'link').length;
+    const entry = document.createElement('details');
+    entry.className = 'legend-robot';
+    const summary = document.createElement('summary');
+    summary.innerHTML = `<span class="swatch" style="background:${objectColour(i)}"></span>`;
+    summary.append(`${r} (robot, ${links} link${links === 1 ? '' : 's'})`);
+    entry.appendChild(summary);
+    for (const k of list) entry.appendChild(objectRow(objects[k], k));
+    legend.appendChild(entry);
   });
   if (fixedFlag.some((f, i) => f && !isVirtualParticle(i))) {
     const row = document.createElement('div');
@@ -520,8 +570,9 @@ function showViewMessage(text) {
   $('view-message').textContent = text;
 }
 
-// Extent of the whole run (every kept frame, plus radii; virtual particles are
-// points) and of the environment and goals: what the camera frames.
+// Extent of the whole run (every kept frame of the particles that collide, plus
+// radii; virtual particles, such as far inertia carriers, left out) and of the
+// environment and goals: what the camera frames (the robots' shapes are added).
 function runBounds() {
   const lo = [Infinity, Infinity, Infinity];
   const hi = [-Infinity, -Infinity, -Infinity];
@@ -535,6 +586,7 @@ function runBounds() {
   };
   for (let k = 0; k < frameCount; ++k) {
     for (let i = 0; i < particleCount; ++i) {
+      if (isVirtualParticle(i)) continue;  // goal copies, inertia carriers: not what is seen
       const base = (k * particleCount + i) * 3;
       add([framePosition[base], framePosition[base + 1], framePosition[base + 2]], radius[i]);
     }
@@ -562,7 +614,7 @@ function runBounds() {
     if (p.type === 'line') { add(p.from); add(p.to); } else if (p.type === 'arc') add(p.center, p.radius);
   }
   if (!Number.isFinite(lo[0]) || !Number.isFinite(lo[1]) || !Number.isFinite(lo[2])) {
-    return { lo: [-1, -1, -1], hi: [1, 1, 1] };
+    return { lo: [-1, -1, -1], hi: [1, 1, 1], fallback: true };
   }
   return { lo, hi };
 }
@@ -594,6 +646,319 @@ const worldColour = {
   terrainLow: [0.55, 0.68, 0.45], terrainHigh: [0.69, 0.55, 0.36], friction: 0xff7f0e,
 };
 
+// ---------------------------------------------------------------- robots as they look
+// world.json's "robots" block (docs/viewer.md "Robots as they look"): each URDF
+// <visual> (a mesh or a box, cylinder, sphere) at its pose as built, moved by the
+// best-fit rigid motion of the particles that carry it (its link's body, or the
+// particles its rigid tree body moves) from where they started.
+const robots = (world && world.robots) || null;
+const robotVisuals = robots ? robots.visuals || [] : [];
+const robotCarriers = robots ? robots.carriers || [] : [];
+const meshFiles = data.meshFiles || [];
+// Particles drawn as their link's shapes (their spheres are the optional particle layer).
+const carriesVisual = new Uint8Array(particleCount);
+for (const c of robotCarriers) for (const i of c.particles) if (i >= 0 && i < particleCount) carriesVisual[i] = 1;
+
+if (robotVisuals.length === 0) {
+  $('show-particles').parentElement.hidden = true;
+  if (!(world && world.shapes)) $('show-robots').parentElement.hidden = true;
+} else {
+  // The robots as they look; their particles and connectors are the optional layer.
+  $('show-particles').checked = false;
+  $('show-connectors').checked = false;
+}
+
+// (carrier) per frame the rigid motion x = R r + t of its particles from rest r:
+// R row by row, then t (12 numbers). The rotation is the polar part of
+// A = Σ (x − x̄)(r − r̄)ᵀ, found by Müller et al.'s iteration ("A robust method to
+// extract the rotational part of deformations", 2016), from the previous frame's.
+function carrierMotions() {
+  const motions = [];
+  for (const c of robotCarriers) {
+    const n = c.particles.length;
+    const motion = new Float64Array(frameCount * 12);
+    const r0 = [0, 0, 0];
+    for (let k = 0; k < n; ++k) for (let d = 0; d < 3; ++d) r0[d] += c.rest[3 * k + d] / n;
+    let q = [1, 0, 0, 0];  // w, x, y, z
+    const R = new Float64Array(9);
+    const toMatrix = () => {
+      const [w, x, y, z] = q;
+      R.set([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+        2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+        2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]);
+    };
+    for (let f = 0; f < frameCount; ++f) {
+      const base = f * particleCount * 3;
+      const x0 = [0, 0, 0];
+      let finite = n > 0;
+      for (const i of c.particles) {
+        for (let d = 0; d < 3; ++d) x0[d] += framePosition[base + 3 * i + d] / n;
+      }
+      finite = finite && x0.every(Number.isFinite);
+      if (finite) {
+        const A = new Float64Array(9);  // row-major
+        c.particles.forEach((i, k) => {
+          for (let a = 0; a < 3; ++a) {
+            const xa = framePosition[base + 3 * i + a] - x0[a];
+            for (let b = 0; b < 3; ++b) A[3 * a + b] += xa * (c.rest[3 * k + b] - r0[b]);
+          }
+        });
+        for (let iteration = 0; iteration < 40; ++iteration) {
+          toMatrix();
+          // ω = Σ_j R_j × A_j / (|Σ_j R_j · A_j| + ε), over the columns j.
+          const w = [0, 0, 0];
+          let dot = 0;
+          for (let j = 0; j < 3; ++j) {
+            const r = [R[j], R[3 + j], R[6 + j]];
+            const a = [A[j], A[3 + j], A[6 + j]];
+            w[0] += r[1] * a[2] - r[2] * a[1];
+            w[1] += r[2] * a[0] - r[0] * a[2];
+            w[2] += r[0] * a[1] - r[1] * a[0];
+            dot += r[0] * a[0] + r[1] * a[1] + r[2] * a[2];
+          }
+          const scale = 1 / (Math.abs(dot) + 1e-300);
+          const angle = Math.hypot(w[0], w[1], w[2]) * scale;
+          if (!(angle > 1e-12)) break;
+          const s = Math.sin(angle / 2) / (angle / scale);
+          const dq = [Math.cos(angle / 2), w[0] * s, w[1] * s, w[2] * s];
+          q = [dq[0] * q[0] - dq[1] * q[1] - dq[2] * q[2] - dq[3] * q[3],
+            dq[0] * q[1] + dq[1] * q[0] + dq[2] * q[3] - dq[3] * q[2],
+            dq[0] * q[2] - dq[1] * q[3] + dq[2] * q[0] + dq[3] * q[1],
+            dq[0] * q[3] + dq[1] * q[2] - dq[2] * q[1] + dq[3] * q[0]];
+          const norm = Math.hypot(...q);
+          q = q.map((v) => v / norm);
+        }
+      }
+      toMatrix();
+      const out = motion.subarray(12 * f, 12 * f + 12);
+      out.set(R);
+      for (let d = 0; d < 3; ++d) {
+        const t = finite ? x0[d] - (R[3 * d] * r0[0] + R[3 * d + 1] * r0[1] + R[3 * d + 2] * r0[2])
+          : (f > 0 ? motion[12 * (f - 1) + 9 + d] : 0);
+        out[9 + d] = t;
+      }
+    }
+    motions.push(motion);
+  }
+  return motions;
+}
+
+// The robots' shapes: a group per visual, its matrix the carrier's motion (set per
+// frame) times the visual's pose as built. Meshes are parsed once by three.js's
+// loaders and shared by the visuals that use them.
+async function buildRobots(THREE) {
+  const group = new THREE.Group();
+  group.name = 'robots';
+  const counts = { visuals: robotVisuals.length, drawn: 0, meshes: 0, shapes: 0, missing: 0 };
+  const holders = [];
+  if (robotVisuals.length === 0) return { group, holders, counts, motions: [] };
+  const motions = carrierMotions();
+  const parsed = new Map();
+  const parseMesh = async (index) => {
+    if (parsed.has(index)) return parsed.get(index);
+    const file = meshFiles[index];
+    let object = null;
+    if (file && file.data) {
+      const binary = atob(file.data);
+      const bytes = new Uint8Array(binary.length);
+      for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
+      const text = () => new TextDecoder().decode(bytes);
+      try {
+        if (file.format === 'stl') {
+          const { STLLoader } = await import('three/addons/loaders/STLLoader.js');
+          const geometry = new STLLoader().parse(bytes.buffer);
+          if (!geometry.attributes.normal) geometry.computeVertexNormals();
+          object = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: 0xb8bcc4, roughness: 0.55,
+            metalness: 0.1 }));
+        } else if (file.format === 'obj') {
+          const { OBJLoader } = await import('three/addons/loaders/OBJLoader.js');
+          object = new OBJLoader().parse(text());
+        } else if (file.format === 'dae') {
+          const { ColladaLoader } = await import('three/addons/loaders/ColladaLoader.js');
+          const collada = new ColladaLoader().parse(text(), '');
+          object = collada ? collada.scene : null;
+          // A URDF's DAE is in its link's frame: the loader's turn of a Z_UP file
+          // into three.js's Y-up is undone (its unit scale is kept).
+          if (object) object.rotation.set(0, 0, 0);
+        } else {
+          console.warn(`robophi replay: mesh format '${file.format}' is not drawn`);
+        }
+      } catch (error) {
+        console.warn('robophi replay: a mesh could not be parsed:', error);
+        object = null;
+      }
+    } else if (file && file.note) {
+      console.warn(`robophi replay: mesh ${file.note}`);
+    }
+    parsed.set(index, object);
+    return object;
+  };
+  for (const v of robotVisuals) {
+    let shape = null;
+    if (v.kind === 'mesh') {
+      const source = v.mesh >= 0 ? await parseMesh(v.mesh) : null;
+      if (source) {
+        shape = source.clone();
+        shape.scale.set(...(v.scale || [1, 1, 1]));
+        ++counts.meshes;
+      }
+    } else {
+      let geometry = null;
+      if (v.kind === 'box') geometry = new THREE.BoxGeometry(...v.size);
+      else if (v.kind === 'sphere') geometry = new THREE.SphereGeometry(v.radius, 32, 20);
+      else if (v.kind === 'cylinder') {
+        geometry = new THREE.CylinderGeometry(v.radius, v.radius, v.length, 40);
+        geometry.rotateX(Math.PI / 2);  // along z, as URDF's cylinders
+      }
+      if (geometry) {
+        shape = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: 0xb8bcc4, roughness: 0.55 }));
+        ++counts.shapes;
+      }
+    }
+    if (!shape) {
+      ++counts.missing;
+      if (v.warning) console.warn(`robophi replay: ${v.link}: ${v.warning}`);
+      continue;
+    }
+    if (v.rgba) {
+      const material = new THREE.MeshStandardMaterial({
+        // (A little below full: a white link would burn out where the key light meets it.)
+        color: new THREE.Color(v.rgba[0], v.rgba[1], v.rgba[2]).multiplyScalar(0.82), roughness: 0.55,
+        metalness: 0.1,
+        transparent: v.rgba[3] < 1, opacity: v.rgba[3],
+      });
+      shape.traverse((o) => { if (o.isMesh) o.material = material; });
+    }
+    const built = new THREE.Group();
+    built.matrixAutoUpdate = false;
+    const p = v.pose;
+    built.matrix.set(p[0], p[1], p[2], p[9], p[3], p[4], p[5], p[10], p[6], p[7], p[8], p[11], 0, 0, 0, 1);
+    built.add(shape);
+    const holder = new THREE.Group();
+    holder.matrixAutoUpdate = false;
+    holder.add(built);
+    holder.userData = { carrier: v.carrier, robot: v.robot, link: v.link };
+    group.add(holder);
+    holders.push(holder);
+    ++counts.drawn;
+  }
+  return { group, holders, counts, motions };
+}
+
+// Moves the robots' shapes to frame `frame`.
+function placeRobots(robotsView, frame) {
+  for (const holder of robotsView.holders) {
+    const m = robotsView.motions[holder.userData.carrier];
+    if (!m) continue;
+    const b = 12 * frame;
+    holder.matrix.set(m[b], m[b + 1], m[b + 2], m[b + 9], m[b + 3], m[b + 4], m[b + 5], m[b + 10],
+      m[b + 6], m[b + 7], m[b + 8], m[b + 11], 0, 0, 0, 1);
+    holder.matrixWorldNeedsUpdate = true;
+  }
+}
+
+// ---------------------------------------------------------------- objects' shapes
+// world.json's "shapes" (docs/viewer.md "Objects' shapes"): round bodies (balls,
+// wheels' rims, cylinder wheels) and surface meshes (cloths, meshed objects), drawn
+// from the particles of each frame.
+const objectShapes = (world && world.shapes) || null;
+function buildObjectShapes(THREE) {
+  const group = new THREE.Group();
+  group.name = 'shapes';
+  const updates = [];
+  const counts = { rims: 0, surfaceTriangles: 0 };
+  if (!objectShapes) return { group, updates, counts };
+  const at = (base, i) => new THREE.Vector3(framePosition[base + 3 * i], framePosition[base + 3 * i + 1],
+    framePosition[base + 3 * i + 2]);
+  const zAxis = new THREE.Vector3(0, 0, 1);
+  for (const rim of objectShapes.rims || []) {
+    if (!(rim.count > 0) || rim.first + rim.count > particleCount) continue;
+    if (carriesVisual[rim.first]) continue;  // a robot's link: drawn as its URDF visual
+    const colour = objectColour(objectOf[rim.first]);
+    const material = new THREE.MeshStandardMaterial({ color: colour, roughness: 0.7, transparent: true, opacity: 0.85 });
+    let mesh;
+    let place;
+    if (rim.axisParticle >= 0 && rim.hub >= 0) {
+      // A cylinder wheel about the hub → axis particle line.
+      const geometry = new THREE.CylinderGeometry(rim.sphereRadius, rim.sphereRadius, 2 * rim.halfLength, 40);
+      geometry.rotateX(Math.PI / 2);
+      mesh = new THREE.Mesh(geometry, material);
+      place = (base) => {
+        const hub = at(base, rim.hub);
+        const n = at(base, rim.axisParticle).sub(hub).normalize();
+        mesh.position.copy(hub).addScaledVector(n, rim.axialOffset);
+        mesh.quaternion.setFromUnitVectors(zAxis, n);
+      };
+    } else if (rim.sphereRadius > 0) {
+      // A ball: the sphere about its particles' centre.
+      mesh = new THREE.Mesh(new THREE.SphereGeometry(rim.sphereRadius, 32, 20), material);
+      place = (base) => {
+        const c = new THREE.Vector3();
+        for (let k = 0; k < rim.count; ++k) c.add(at(base, rim.first + k));
+        mesh.position.copy(c.multiplyScalar(1 / rim.count));
+      };
+    } else if (rim.hub >= 0 && rim.count >= 3) {
+      // A wheel's rim ring: a disc through its particles, about its hub.
+      const width = 2 * radius[rim.first];
+      mesh = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, width, 40).rotateX(Math.PI / 2), material);
+      place = (base) => {
+        const hub = at(base, rim.hub);
+        const a = at(base, rim.first).sub(hub);
+        const b = at(base, rim.first + Math.floor(rim.count / 3)).sub(hub);
+        const n = new THREE.Vector3().crossVectors(a, b).normalize();
+        const r = a.length() + radius[rim.first];
+        mesh.position.copy(hub);
+        mesh.quaternion.setFromUnitVectors(zAxis, n);
+        mesh.scale.set(r, r, 1);
+      };
+    } else continue;
+    group.add(mesh);
+    updates.push(place);
+    ++counts.rims;
+  }
+  const s = objectShapes.surfaces;
+  if (s && s.triangles && s.triangles.length > 0) {
+    const slots = s.slots || 8;
+    const vertexCount = s.particles.length / slots;
+    const positions = new Float32Array(vertexCount * 3);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage));
+    // A robot's link's surface is drawn as its URDF visual instead.
+    const covered = (v) => s.particles.slice(v * slots, (v + 1) * slots).some((i) => i >= 0 && carriesVisual[i]);
+    const kept = [];
+    for (let t = 0; t < s.triangles.length; t += 3) {
+      if (!covered(s.triangles[t])) kept.push(s.triangles[t], s.triangles[t + 1], s.triangles[t + 2]);
+    }
+    if (kept.length === 0) return { group, updates, counts };
+    geometry.setIndex(kept);
+    // Colour by the triangles' object: one mesh a colour would need splitting; the first object's.
+    const colour = s.objects.length > 0 ? objectColour(s.objects[0]) : '#999999';
+    const mesh = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({ color: colour, roughness: 0.8,
+      side: THREE.DoubleSide, transparent: true, opacity: 0.85 }));
+    mesh.frustumCulled = false;
+    group.add(mesh);
+    counts.surfaceTriangles = kept.length / 3;
+    updates.push((base) => {
+      for (let v = 0; v < vertexCount; ++v) {
+        let x = 0, y = 0, z = 0;
+        for (let k = 0; k < slots; ++k) {
+          const i = s.particles[v * slots + k];
+          const w = s.weights[v * slots + k];
+          if (i < 0 || i >= particleCount || w === 0) continue;
+          x += w * framePosition[base + 3 * i];
+          y += w * framePosition[base + 3 * i + 1];
+          z += w * framePosition[base + 3 * i + 2];
+        }
+        positions[3 * v] = x; positions[3 * v + 1] = y; positions[3 * v + 2] = z;
+      }
+      geometry.attributes.position.needsUpdate = true;
+      geometry.computeVertexNormals();
+      geometry.computeBoundingBox();
+    });
+  }
+  return { group, updates, counts };
+}
+
 let scene3d = null;
 async function setupScene() {
   const THREE = await import('three');
@@ -605,6 +970,29 @@ async function setupScene() {
 
   const scene = new THREE.Scene();
   const bounds = runBounds();
+  // The robots' shapes, and their extent over the run (some frames of it) in the bounds.
+  const robotsView = await buildRobots(THREE);
+  scene.add(robotsView.group);
+  const shapesView = buildObjectShapes(THREE);
+  robotsView.group.add(shapesView.group);
+  if (robotsView.holders.length > 0 || shapesView.updates.length > 0) {
+    const box = new THREE.Box3();
+    const samples = Math.min(frameCount, 24);
+    for (let k = 0; k < samples; ++k) {
+      const frame = Math.round((k * (frameCount - 1)) / Math.max(samples - 1, 1));
+      placeRobots(robotsView, frame);
+      for (const place of shapesView.updates) place(frame * particleCount * 3);
+      robotsView.group.updateMatrixWorld(true);
+      box.expandByObject(robotsView.group);
+    }
+    if (!box.isEmpty()) {
+      const hadParticles = particleCount > 0 && Number.isFinite(bounds.lo[0]) && !bounds.fallback;
+      for (let d = 0; d < 3; ++d) {
+        bounds.lo[d] = hadParticles ? Math.min(bounds.lo[d], box.min.getComponent(d)) : box.min.getComponent(d);
+        bounds.hi[d] = hadParticles ? Math.max(bounds.hi[d], box.max.getComponent(d)) : box.max.getComponent(d);
+      }
+    }
+  }
   const centre = new THREE.Vector3(...bounds.lo).add(new THREE.Vector3(...bounds.hi)).multiplyScalar(0.5);
   const size = Math.max(new THREE.Vector3(...bounds.hi).sub(new THREE.Vector3(...bounds.lo)).length(), 1e-3);
   // Typical particle radius (non-virtual): the size of markers.
@@ -926,8 +1314,11 @@ async function setupScene() {
   const frameInterval = frameCount > 1 ? (tEnd - tStart) / (frameCount - 1) : Infinity;
   function update(frame) {
     const base = frame * particleCount * 3;
+    placeRobots(robotsView, frame);
+    for (const place of shapesView.updates) place(frame * particleCount * 3);
+    const particleLayer = $('show-particles').checked;
     for (let i = 0; i < particleCount; ++i) {
-      const r = shownRadius[i];
+      const r = particleLayer || !carriesVisual[i] ? shownRadius[i] : 0;
       matrix.makeScale(r, r, r);
       matrix.setPosition(framePosition[base + 3 * i], framePosition[base + 3 * i + 1], framePosition[base + 3 * i + 2]);
       spheres.setMatrixAt(i, matrix);
@@ -1064,15 +1455,18 @@ async function setupScene() {
 
   const setVisible = () => {
     links.visible = $('show-connectors').checked;
+    robotsView.group.visible = $('show-robots').checked;
     pulls.visible = $('show-connectors').checked && $('show-goals').checked;
     contacts.visible = contactPoints.visible = friction.visible = $('show-contacts').checked;
     for (const grid of grids) grid.visible = $('show-grid').checked;
     environmentGroup.visible = $('show-environment').checked;
     goalGroup.visible = $('show-goals').checked;
   };
-  for (const id of ['show-connectors', 'show-contacts', 'show-grid', 'show-environment', 'show-goals']) {
+  for (const id of ['show-connectors', 'show-contacts', 'show-grid', 'show-environment', 'show-goals',
+    'show-robots']) {
     $(id).addEventListener('change', setVisible);
   }
+  $('show-particles').addEventListener('change', () => update(view.frame));
   setVisible();
 
   function render() {
@@ -1090,9 +1484,41 @@ async function setupScene() {
     if (controls) controls.update();
     renderer.render(scene, camera);
   }
+  // The screen box of the robots' pixels alone (the rest hidden for one render): the
+  // fraction of the view's width and height it spans, and of its area.
+  function robotPixelBox() {
+    if (!renderer || robotsView.holders.length === 0) return null;
+    const hidden = [];
+    for (const child of scene.children) {
+      if (child !== robotsView.group && child.visible && !child.isLight) { hidden.push(child); child.visible = false; }
+    }
+    render();
+    const canvas = renderer.domElement;
+    const copy = document.createElement('canvas');
+    copy.width = canvas.width;
+    copy.height = canvas.height;
+    const context = copy.getContext('2d');
+    context.drawImage(canvas, 0, 0);
+    const pixels = context.getImageData(0, 0, copy.width, copy.height).data;
+    for (const child of hidden) child.visible = true;
+    render();
+    let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity, lit = 0;
+    for (let y = 0; y < copy.height; ++y) {
+      for (let x = 0; x < copy.width; ++x) {
+        if (pixels[4 * (y * copy.width + x) + 3] === 0) continue;
+        ++lit;
+        x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
+      }
+    }
+    if (lit === 0) return { width: 0, height: 0, area: 0, lit: 0 };
+    const width = (x1 - x0 + 1) / copy.width;
+    const height = (y1 - y0 + 1) / copy.height;
+    return { width, height, area: width * height, lit: lit / (copy.width * copy.height) };
+  }
   return {
     spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
-    frictionDrawn: Boolean(frictionColumns),
+    frictionDrawn: Boolean(frictionColumns), robotCounts: robotsView.counts, robotPixelBox, resetView,
+    shapeCounts: shapesView.counts,
   };
 }
 
@@ -1120,7 +1546,16 @@ function tick(now) {
   if (scene3d) scene3d.render();
   requestAnimationFrame(tick);
 }
-showTime(tStart);
+// A moment to show from the address: replay.html#t=2.0 (s).
+function timeFromAddress() {
+  const match = /(?:^#|[#&])t=([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)/.exec(window.location.hash);
+  return match && Number.isFinite(Number(match[1])) ? Number(match[1]) : null;
+}
+showTime(timeFromAddress() ?? tStart);
+window.addEventListener('hashchange', () => {
+  const t = timeFromAddress();
+  if (t !== null) { setPlaying(false); showTime(t); }
+});
 requestAnimationFrame(tick);
 
 // ---------------------------------------------------------------- test hook
@@ -1143,6 +1578,11 @@ window.robophiReplay = {
   },
   frameTimes: () => Array.from(frameTime),
   plotSeries: () => plotSeriesNames.slice(),
+  /** The values a plot draws for series `name` (the joint plot's: q), as numbers. */
+  plotValues: (name) => {
+    for (const plot of plots) for (const s of plot.series) if (s.name === name) return Array.from(s.v);
+    return null;
+  },
   webgl: () => Boolean(scene3d && scene3d.webgl),
   /** What the scene graph holds of the world: {planes, heightfields, heightfieldTriangles,
    * boxes, spheres, securityShells, virtualObstacles, goals, goalMarkers, paths,
@@ -1158,6 +1598,17 @@ window.robophiReplay = {
    * (or one of the given elevation, the weight of "up" against 1.1 and 1.6 across). */
   setView: (target, distance, elevation) => {
     if (scene3d) { scene3d.setView(target, distance, elevation); scene3d.render(); }
+  },
+  /** The robots' visuals: {visuals, drawn, meshes, shapes, missing} (docs/viewer.md). */
+  robotCounts: () => (scene3d ? { ...scene3d.robotCounts } : {}),
+  /** The objects' shapes drawn: {rims, surfaceTriangles}. */
+  shapeCounts: () => (scene3d ? { ...scene3d.shapeCounts } : {}),
+  /** After "reset view": the screen box of the robots' own pixels, {width, height, area}
+   * as fractions of the view, and `lit`, the fraction of its pixels they cover (null: none). */
+  robotPixelBox: () => {
+    if (!scene3d) return null;
+    scene3d.resetView();
+    return scene3d.robotPixelBox();
   },
   /** Whether the page has the run's world description (world.json). */
   hasWorld: () => Boolean(world),

@@ -1,12 +1,21 @@
-// robophi export html|vtk DIR: a finished run folder as a replay page or a
-// ParaView time series (docs/viewer.md). Exit 0 on success, 1 on failure, with
-// the message naming the file and what is wrong.
+// robophi export html|vtk|png DIR: a finished run folder as a replay page, a
+// ParaView time series, or a picture of the page at a moment (docs/viewer.md).
+// Exit 0 on success, 1 on failure, with the message naming the file and what is
+// wrong.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "commands.h"
 #include "output/replay.h"
@@ -34,6 +43,42 @@ std::optional<output::ResultsFolderLock> lockRunFolder(const std::string& runDir
   } catch (const output::ResultsFolderError& e) {
     fail(e.what(), kExitBadInput);
   }
+}
+
+// The headless Chromium to shoot a page with: $ROBOPHI_CHROMIUM, else the first of
+// chromium, chromium-browser, google-chrome on the PATH; empty when there is none.
+std::string findChromium() {
+  if (const char* given = std::getenv("ROBOPHI_CHROMIUM"); given != nullptr && *given != '\0')
+    return given;
+  const char* path = std::getenv("PATH");
+  std::string folders = path != nullptr ? path : "/usr/bin:/bin";
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
+    std::size_t start = 0;
+    while (start <= folders.size()) {
+      const std::size_t end = std::min(folders.find(':', start), folders.size());
+      const std::filesystem::path candidate =
+          std::filesystem::path(folders.substr(start, end - start)) / name;
+      if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
+      start = end + 1;
+    }
+  }
+  return {};
+}
+
+// Runs `argv` (no shell) and returns its exit status, -1 when it could not start.
+int runProgram(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t child = ::fork();
+  if (child < 0) return -1;
+  if (child == 0) {
+    ::execvp(args[0], args.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  if (::waitpid(child, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -69,6 +114,55 @@ void addExportCommand(CLI::App& app) {
                                     ? (std::filesystem::path(html->runDir) / "replay.html").string()
                                     : html->out;
     std::printf("wrote %s\n", written.c_str());
+  });
+
+  // robophi export png DIR --time T: the replay page at model time T (its #t=T
+  // address) shot by headless Chromium, the page written first when it is missing.
+  struct PngArgs {
+    std::string runDir;
+    std::string out;
+    double time = 0.0;
+    int width = 1400, height = 820;
+  };
+  auto png = std::make_shared<PngArgs>();
+  auto* pngCmd = cmd->add_subcommand(
+      "png", "Picture the replay page at a moment (needs headless Chromium)");
+  pngCmd->add_option("DIR", png->runDir, "Run folder (written by robophi run)")->required();
+  pngCmd->add_option("--time", png->time, "Model time to show (s; the frame at or before it)");
+  pngCmd->add_option("--out", png->out, "Output file (default DIR/replay-T.png)");
+  pngCmd->add_option("--width", png->width, "Picture width (px)")->check(CLI::PositiveNumber);
+  pngCmd->add_option("--height", png->height, "Picture height (px)")->check(CLI::PositiveNumber);
+  pngCmd->callback([png] {
+    const std::string chromium = findChromium();
+    if (chromium.empty()) {
+      fail("no headless Chromium found (looked at $ROBOPHI_CHROMIUM, then chromium, "
+           "chromium-browser, google-chrome on the PATH): install one (apt-get install "
+           "chromium), or open DIR/replay.html#t=" + fmt::format("{}", png->time) +
+           " in a browser");
+    }
+    const std::filesystem::path page =
+        std::filesystem::absolute(std::filesystem::path(png->runDir) / "replay.html");
+    if (!std::filesystem::exists(page)) {
+      const auto lock = lockRunFolder(png->runDir);
+      std::string error;
+      if (!writeReplayHtml(png->runDir, ReplayOptions{}, error)) fail(error);
+    }
+    const std::string out =
+        png->out.empty()
+            ? (std::filesystem::path(png->runDir) / fmt::format("replay-{}.png", png->time)).string()
+            : png->out;
+    const std::string address = "file://" + page.string() + fmt::format("#t={}", png->time);
+    // The virtual time budget lets the page load, parse its meshes and draw first.
+    const int status = runProgram(
+        {chromium, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+         "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist", "--hide-scrollbars",
+         "--no-first-run", "--disable-background-networking", "--disable-component-update",
+         "--disable-sync", "--virtual-time-budget=20000",
+         fmt::format("--window-size={},{}", png->width, png->height),
+         "--screenshot=" + std::filesystem::absolute(out).string(), address});
+    if (status != 0 || !std::filesystem::exists(out))
+      fail(fmt::format("{} did not write {} (exit status {})", chromium, out, status));
+    std::printf("wrote %s\n", out.c_str());
   });
 
   struct VtkArgs {

@@ -77,7 +77,9 @@ std::string csvField(const std::string& s) {
 std::string cellText(const nlohmann::json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return v.get<std::string>();
-  if (v.is_number_float()) return fmt::format("{:.17g}", v.get<double>());
+  // The shortest text that reads back as the same double: 0.1 as typed, not
+  // 0.10000000000000001.
+  if (v.is_number_float()) return fmt::format("{}", v.get<double>());
   return v.dump();
 }
 
@@ -395,66 +397,133 @@ std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPla
   writeFile(dir + "/timing.csv", timing);
 
   // The report: every numeric figure against every numeric parameter.
+  writeFile(dir + "/report.html", sweepReportHtml(plan, rows, names, sharing));
+  return {"sweep.csv", "sweep.json", "timing.csv", "report.html"};
+}
+
+std::string sweepReportHtml(const SweepPlan& plan, const std::vector<nlohmann::json>& rows,
+                            const std::vector<std::string>& names, const std::string& sharing) {
+  // One page width: plots wrap, the table scrolls inside its own box, long cells wrap.
   std::string html = fmt::format(
       "<!doctype html><html><head><meta charset='utf-8'><title>robophi sweep: {0}</title>"
-      "<style>body{{font-family:sans-serif;margin:1.5em}}table{{border-collapse:collapse;"
-      "font-size:12px}}td,th{{border:1px solid #ccc;padding:2px 6px}}.plots{{display:flex;"
-      "flex-wrap:wrap;gap:12px}}figure{{margin:0}}figcaption{{font-size:12px}}</style></head>"
+      "<style>body{{font-family:sans-serif;margin:1.5em;max-width:100%;overflow-x:hidden}}"
+      "table{{border-collapse:collapse;font-size:12px}}td,th{{border:1px solid #ccc;"
+      "padding:2px 6px;vertical-align:top}}td{{max-width:24em;overflow-wrap:anywhere}}"
+      ".table{{overflow-x:auto;max-width:100%}}.plots{{display:flex;flex-wrap:wrap;gap:12px}}"
+      "figure{{margin:0;max-width:100%}}figure svg{{max-width:100%;height:auto}}"
+      "figcaption{{font-size:12px;font-weight:bold;margin-bottom:2px}}"
+      "details{{margin:6px 0}}summary{{cursor:pointer}}</style></head>"
       "<body><h1>robophi sweep</h1><p>Scene <code>{0}</code>: {1} runs ({2}). Seeds: {3}; "
-      "jitter {4:g} of a particle's radius.</p>",
-      escapeHtml(plan.scenePath), rows.size(), escapeHtml(sharing), plan.seeds, plan.jitter);
+      "jitter {4} of a particle's radius.</p>",
+      escapeHtml(plan.scenePath), rows.size(), escapeHtml(sharing), plan.seeds,
+      cellText(nlohmann::json(plan.jitter)));
   std::map<std::string, int> statusCount;
   for (const nlohmann::json& row : rows) ++statusCount[row.value("status", std::string("?"))];
   html += "<p>Status:";
   for (const auto& [status, count] : statusCount) html += fmt::format(" {} {};", status, count);
-  html += "</p><h2>Figures against parameters</h2>";
+  html += "</p>";
+  const auto isParameter = [&](const std::string& name) {
+    return std::any_of(plan.parameters.begin(), plan.parameters.end(),
+                       [&](const SweepParameter& p) { return p.pointer == name; });
+  };
+  const auto isEnd = [](const std::string& name) { return name.starts_with("end/"); };
+  // The report's order: the run and its parameters, then what came out (status,
+  // the outcomes, the failure), then the run's own figures; the objects' end
+  // states last, collapsed.
+  std::vector<std::string> order = {"run"};
+  for (const SweepParameter& p : plan.parameters) order.push_back(p.pointer);
+  order.emplace_back("status");
+  for (const std::string& name : names)
+    if (name.starts_with("outcomes/")) order.push_back(name);
+  order.emplace_back("failure");
+  for (const std::string& name : names)
+    if (std::find(order.begin(), order.end(), name) == order.end() && !isEnd(name))
+      order.push_back(name);
+  std::vector<std::string> ends;
+  for (const std::string& name : names)
+    if (isEnd(name)) ends.push_back(name);
+
   std::vector<std::string> figures;
-  for (const std::string& name : names) {
-    if (name == "run" || name == "seed") continue;
-    if (std::any_of(plan.parameters.begin(), plan.parameters.end(),
-                    [&](const SweepParameter& p) { return p.pointer == name; }))
-      continue;
+  for (const std::string& name : order) {
+    if (name == "run" || name == "seed" || isParameter(name)) continue;
     const bool numeric = std::any_of(rows.begin(), rows.end(), [&](const nlohmann::json& r) {
       const auto it = r.find(name);
       return it != r.end() && (it->is_number() || it->is_boolean());
     });
     if (numeric) figures.push_back(name);
   }
+  // A figure against a parameter: its caption above its plot.
+  const auto figure = [&](const SweepParameter& p, const std::string& name) -> std::string {
+    std::vector<std::pair<double, double>> points;
+    for (const nlohmann::json& row : rows) {
+      const auto x = row.find(p.pointer);
+      const auto y = row.find(name);
+      if (x == row.end() || y == row.end()) continue;
+      if (!(y->is_number() || y->is_boolean())) continue;
+      const double yv = y->is_boolean() ? (y->get<bool>() ? 1.0 : 0.0) : y->get<double>();
+      if (std::isfinite(yv)) points.emplace_back(x->get<double>(), yv);
+    }
+    if (points.empty()) return {};
+    return fmt::format("<figure><figcaption>{}</figcaption>{}</figure>", escapeHtml(name),
+                       scatterSvg(p.pointer, name, points));
+  };
+  html += "<h2>Figures against parameters</h2>";
   for (const SweepParameter& p : plan.parameters) {
     const bool numeric = std::all_of(p.values.begin(), p.values.end(),
                                      [](const nlohmann::json& v) { return v.is_number(); });
     if (!numeric || p.values.size() < 2) continue;
     html += fmt::format("<h3><code>{}</code></h3><div class='plots'>", escapeHtml(p.pointer));
-    for (const std::string& figure : figures) {
-      std::vector<std::pair<double, double>> points;
-      for (const nlohmann::json& row : rows) {
-        const auto x = row.find(p.pointer);
-        const auto y = row.find(figure);
-        if (x == row.end() || y == row.end()) continue;
-        if (!(y->is_number() || y->is_boolean())) continue;
-        const double yv = y->is_boolean() ? (y->get<bool>() ? 1.0 : 0.0) : y->get<double>();
-        if (std::isfinite(yv)) points.emplace_back(x->get<double>(), yv);
-      }
-      if (points.empty()) continue;
-      html += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>",
-                          scatterSvg(p.pointer, figure, points), escapeHtml(figure));
-    }
+    for (const std::string& name : figures) html += figure(p, name);
     html += "</div>";
+    std::string endPlots;
+    std::size_t endCount = 0;
+    for (const std::string& name : ends) {
+      const std::string one = figure(p, name);
+      endCount += one.empty() ? 0 : 1;
+      endPlots += one;
+    }
+    if (endCount > 0) {
+      html += fmt::format(
+          "<details><summary>Where the objects ended ({} plots)</summary><div class='plots'>{}"
+          "</div></details>",
+          endCount, endPlots);
+    }
   }
-  html += "<h2>Table</h2><table><tr>";
-  for (const std::string& name : names) html += "<th>" + escapeHtml(name) + "</th>";
+  html += "<h2>Table</h2><div class='table'><table><tr>";
+  for (const std::string& name : order) html += "<th>" + escapeHtml(name) + "</th>";
+  if (!ends.empty()) html += "<th>end states</th>";
   html += "</tr>";
   for (const nlohmann::json& row : rows) {
     html += "<tr>";
-    for (const std::string& name : names) {
+    for (const std::string& name : order) {
       const auto it = row.find(name);
       html += "<td>" + escapeHtml(it == row.end() ? std::string() : cellText(*it)) + "</td>";
     }
+    if (!ends.empty()) {
+      // Per object: "name: x, y, z (m), speed (m/s)", collapsed.
+      std::string list;
+      std::size_t objects = 0;
+      for (std::size_t k = 0; k < ends.size(); ++k) {
+        const std::string& name = ends[k];
+        const std::size_t slash = name.rfind('/');
+        const std::string object = name.substr(4, slash - 4);
+        const bool first = k == 0 || ends[k - 1].substr(0, ends[k - 1].rfind('/')) !=
+                                         name.substr(0, slash);
+        if (first) {
+          list += (objects > 0 ? "<br>" : "") + escapeHtml(object) + ":";
+          ++objects;
+        }
+        const auto it = row.find(name);
+        list += " " + escapeHtml(name.substr(slash + 1)) + " " +
+                escapeHtml(it == row.end() ? std::string() : cellText(*it));
+      }
+      html += fmt::format("<td><details><summary>{} object{}</summary>{}</details></td>", objects,
+                          objects == 1 ? "" : "s", list);
+    }
     html += "</tr>";
   }
-  html += "</table></body></html>\n";
-  writeFile(dir + "/report.html", html);
-  return {"sweep.csv", "sweep.json", "timing.csv", "report.html"};
+  html += "</table></div></body></html>\n";
+  return html;
 }
 
 }  // namespace robophi::cli

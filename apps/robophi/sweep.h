@@ -87,4 +87,12 @@ std::vector<std::string> writeSweepTables(const std::string& dir, const SweepPla
                                           const std::vector<double>& wallSeconds,
                                           const std::string& sharing);
 
+/// report.html's text: per numeric parameter the numeric figures of `names` (the
+/// table's columns) plotted against it, each caption above its plot, the run,
+/// the parameters and what came out (status, outcomes, failure) first, the
+/// objects' end states collapsed; then the table in that order (numbers as
+/// typed: the shortest text that reads back as the same double).
+std::string sweepReportHtml(const SweepPlan& plan, const std::vector<nlohmann::json>& rows,
+                            const std::vector<std::string>& names, const std::string& sharing);
+
 }  // namespace robophi::cli

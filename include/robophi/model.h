@@ -13,6 +13,7 @@
 #include "robophi/contact.h"
 #include "robophi/multibody.h"
 #include "robophi/vec3.h"
+#include "robophi/visuals.h"
 
 namespace robophi {
 
@@ -367,6 +368,9 @@ struct Model {
   /// (particleCount, or empty: none) the rigid tree (index into rigidTrees) that
   /// carries each particle, or -1 (ModelBuilder::addRigidTree sets it).
   std::vector<std::int32_t> carriedBy;
+
+  /// What the robots look like (URDF <visual>; robophi/visuals.h): for display only.
+  std::vector<VisualShape> visuals;
 
   ParticleIndex particleCount() const { return static_cast<ParticleIndex>(mass.size()); }
   bool isFixed(ParticleIndex i) const { return inverseMass[i] == 0.0; }

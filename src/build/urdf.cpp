@@ -13,6 +13,7 @@
 
 #include "build/checks.h"
 #include "build/urdf_parse.h"
+#include "build/urdf_visuals.h"
 #include "robophi/connector_forces.h"
 #include "robophi/joints.h"
 
@@ -319,6 +320,7 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
   robot.file = file;
   robot.warnings = d.warnings;
   const std::string prefix = spec.name.empty() ? d.robotName : spec.name;
+  robot.visuals = urdfVisuals(d, prefix);
 
   // Joint positions the robot is built at.
   std::vector<double> q(d.joints.size(), 0.0);
@@ -912,6 +914,7 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
   for (const auto& [a, b] : robot.noContact)
     builder.excludeContact(placed.objects[static_cast<std::size_t>(a)].object,
                            placed.objects[static_cast<std::size_t>(b)].object);
+  placeUrdfVisuals(builder, robot, placed);
   return placed;
 }
 

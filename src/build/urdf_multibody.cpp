@@ -14,6 +14,7 @@
 #include "build/mass_sum.h"
 #include "build/shape_fill.h"
 #include "build/urdf_parse.h"
+#include "build/urdf_visuals.h"
 #include "robophi/build/model_builder.h"
 #include "robophi/build/rigid_body.h"
 #include "robophi/build/spec_error.h"
@@ -174,6 +175,7 @@ UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
   const std::string prefix = spec.name.empty() ? d.robotName : spec.name;
   Multibody& mb = out.multibody;
   mb.name = prefix;
+  out.visuals = urdfVisuals(d, prefix);
   const std::size_t linkCount = d.links.size();
   std::vector<std::int32_t> linkBody(linkCount, -1);
   std::vector<Pose> X_BL(linkCount);
@@ -486,6 +488,7 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
       if (!placement.selfCollision || jointed) builder.excludeContact(a, b);
     }
   placed.tree = builder.addRigidTree(std::move(tree), q, placement.v);
+  placeUrdfMultibodyVisuals(builder, robot, placed.tree, kin);
   return placed;
 }
 

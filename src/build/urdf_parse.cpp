@@ -260,6 +260,38 @@ Geometry geometry(Reader& reader, const XMLElement* owner,
   return out;
 }
 
+// A <material>'s <color rgba>, when it has one.
+bool materialColor(Reader& reader, const XMLElement* material, std::array<double, 4>& rgba) {
+  const XMLElement* color = material != nullptr ? material->FirstChildElement("color") : nullptr;
+  if (color == nullptr || Reader::attribute(color, "rgba") == nullptr) return false;
+  const std::vector<double> v = reader.numbers(color, "rgba", 4);
+  for (std::size_t k = 0; k < 4; ++k) rgba[k] = std::clamp(v[k], 0.0, 1.0);
+  return true;
+}
+
+// A <visual> (display only, docs/viewer.md): what cannot be drawn is a warning, never an error.
+Visual visual(Reader& reader, const XMLElement* e, const std::vector<std::string>& packagePaths) {
+  Visual out;
+  out.line = e->GetLineNum();
+  try {
+    out.origin = reader.origin(e);
+    out.geometry = geometry(reader, e, packagePaths);
+  } catch (const UrdfError& problem) {
+    out.geometry.kind = Geometry::Kind::kMesh;
+    out.geometry.mesh.clear();
+    out.warning = problem.what();
+  }
+  if (const XMLElement* m = e->FirstChildElement("material"); m != nullptr) {
+    const char* name = Reader::attribute(m, "name");
+    out.material = name != nullptr ? name : "";
+    try {
+      out.hasColor = materialColor(reader, m, out.rgba);
+    } catch (const UrdfError&) {  // NOLINT(bugprone-empty-catch): a colour is display only
+    }
+  }
+  return out;
+}
+
 Link link(Reader& reader, const XMLElement* e, const std::vector<std::string>& packagePaths) {
   Link out;
   out.name = reader.required(e, "name");
@@ -310,7 +342,8 @@ Link link(Reader& reader, const XMLElement* e, const std::vector<std::string>& p
       }
       out.collisions.push_back(std::move(c));
     } else if (kind == "visual") {
-      reader.ignore(child, "<visual>");
+      reader.ignore(child, "<visual>");  // by the physics; kept for display
+      out.visuals.push_back(visual(reader, child, packagePaths));
     } else {
       reader.ignore(child, "<" + kind + ">");
     }
@@ -439,6 +472,13 @@ Description readUrdf(const std::string& path, const std::vector<std::string>& pa
     } else if (kind == "joint") {
       jointElements.push_back(e);
     } else {
+      std::array<double, 4> rgba{};
+      if (kind == "material" && Reader::attribute(e, "name") != nullptr) {
+        try {
+          if (materialColor(reader, e, rgba)) d.materials.emplace_back(e->Attribute("name"), rgba);
+        } catch (const UrdfError&) {  // NOLINT(bugprone-empty-catch): a colour is display only
+        }
+      }
       reader.ignore(e, "<" + kind + ">");
     }
   }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "robophi/build/urdf_error.h"
@@ -34,6 +35,18 @@ struct Collision {
   int line = 0;
 };
 
+/// A <visual> (display only): its shape, and its <material>'s name and colour.
+struct Visual {
+  Origin origin{};
+  Geometry geometry{};
+  std::string material{};
+  bool hasColor = false;
+  std::array<double, 4> rgba{0.7, 0.7, 0.7, 1.0};
+  /// Why its geometry cannot be drawn (a mesh not found), or empty.
+  std::string warning{};
+  int line = 0;
+};
+
 struct Inertial {
   bool present = false;
   Origin origin{};
@@ -47,6 +60,7 @@ struct Link {
   int line = 0;
   Inertial inertial{};
   std::vector<Collision> collisions{};
+  std::vector<Visual> visuals{};
 };
 
 struct Joint {
@@ -76,6 +90,8 @@ struct Description {
   int root = 0;                    // index into links
   std::vector<int> parentJoint{};  // (links) index into joints, -1 for the root
   std::vector<UrdfWarning> warnings{};
+  /// The robot's named <material> colours (RGBA), for visuals that name one.
+  std::vector<std::pair<std::string, std::array<double, 4>>> materials{};
 };
 
 /// Reads and checks a URDF file; throws UrdfError (file:line and the element).

@@ -30,6 +30,7 @@
 #include "output/replay.h"
 #include "output/results_folder.h"
 #include "output/run_reader.h"
+#include "output/replay_meshes.h"
 #include "output/world_view.h"
 #include "robophi/replay_assets.h"
 
@@ -371,6 +372,7 @@ bool planPage(const std::string& runDir, const ReplayOptions& options, const Run
   if (!readWorldView(fs::path(runDir), world, error)) return false;
   plan.model = modelJson(run);
   if (!world.empty()) plan.model += ",\"world\":" + world;
+  plan.model += output::meshFilesJson(world, options.sizeCapBytes);  // the robots' meshes, once
   plan.particles = static_cast<std::size_t>(run.particleCount);
   if (rows.framePosition.size() != rows.frameTime.size() * 3 * plan.particles) {
     error = fmt::format("{}: {} positions for {} frames of {} particles", runDir,

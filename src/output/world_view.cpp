@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "output/results_folder.h"
+#include "output/visuals_view.h"
 #include "robophi/build/goals.h"
 
 namespace robophi::output {
@@ -158,6 +159,18 @@ WorldView::WorldView(const Scene& scene)
   securityDistances(scene, sphereMargin, boxMargin);
   j["sphereSecurity"] = sphereMargin;
   j["boxSecurity"] = boxMargin;
+  if (Json robots = visualsJson(scene); !robots.is_null()) j["robots"] = std::move(robots);
+  if (Json shapes = shapesJson(scene.model); !shapes.is_null()) j["shapes"] = std::move(shapes);
+  // The URDF joints' position limits (rad or m), by model joint, for the joint plot.
+  Json limits = Json::array();
+  for (const auto& robot : scene.urdfRobots) {
+    if (!robot) continue;
+    for (const build::UrdfJoint& joint : robot->joints) {
+      if (joint.hasPositionLimits && !joint.modelJoint.empty())
+        limits.push_back({{"joint", joint.modelJoint}, {"lower", joint.lower}, {"upper", joint.upper}});
+    }
+  }
+  if (!limits.empty()) j["jointLimits"] = std::move(limits);
   sceneJson_ = j.dump();
 }
 
@@ -227,6 +240,9 @@ std::string WorldView::json() const {
   j["goals"] = base["goals"];
   j["paths"] = base["paths"];
   j["attractors"] = base["attractors"];
+  if (base.contains("robots")) j["robots"] = base["robots"];
+  if (base.contains("shapes")) j["shapes"] = base["shapes"];
+  if (base.contains("jointLimits")) j["jointLimits"] = base["jointLimits"];
   return j.dump();
 }
 

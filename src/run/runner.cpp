@@ -650,8 +650,11 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   if (finalState) *finalState = last;
 
   if (writer) {
-    // An interrupted run stops quickly: its page can be made later.
-    if (options.writeReplay && report.interrupted()) {
+    // Every run that wrote results gets its page, an interrupted or failed one too:
+    // the page of the rows it kept is ended (0.05 s where the rows are kept). A
+    // stopped run (--stop-after) is to be resumed: its page comes at its end.
+    const bool stopped = report.status == "stopped";
+    if (options.writeReplay && stopped) {
       report.warnings.push_back(
           fmt::format("replay.html not written ({}): robophi export html {} makes it",
                       report.status, options.outDir));
@@ -664,7 +667,7 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
     // or a number that is not finite, from the finished files); a failure there
     // is a warning (the results are complete without it).
     std::string replayError;
-    if (options.writeReplay && !report.interrupted() &&
+    if (options.writeReplay && !stopped &&
         !(rows ? writeReplayHtml(staging->path(), replayOptions, *rows, page.get(), replayError)
                : writeReplayHtml(staging->path(), replayOptions, replayError))) {
       report.warnings.push_back("replay.html not written: " + replayError);

@@ -179,7 +179,9 @@ TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) 
   EXPECT_EQ(o.exitCode, 130) << o.errors;
   EXPECT_NE(o.errors.find("interrupted by SIGINT"), std::string::npos) << o.errors;
   expectWholeInterruptedFolder();
-  EXPECT_FALSE(fs::exists(out_ / "replay.html"));  // made later by robophi export html
+  // Its page too (docs/output-format.md "Interrupted runs"), listed in the marker.
+  EXPECT_TRUE(fs::exists(out_ / "replay.html"));
+  EXPECT_NE(readText(out_ / "robophi-results.json").find("replay.html"), std::string::npos);
 }
 
 TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) {

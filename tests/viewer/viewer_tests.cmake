@@ -6,3 +6,11 @@ add_test(NAME viewer_replay
          COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_viewer_test.sh $<TARGET_FILE:robophi>
                  ${CMAKE_CURRENT_BINARY_DIR}/viewer)
 set_tests_properties(viewer_replay PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 300)
+
+# The robots as they look (URDF meshes), the joint plot in the URDF's q and an
+# interrupted run's page (tests/viewer/run_robots_test.sh).
+add_test(NAME viewer_robots
+         COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_robots_test.sh $<TARGET_FILE:robophi>
+                 ${CMAKE_CURRENT_BINARY_DIR}/viewer)
+set_tests_properties(viewer_robots PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 600
+                     ENVIRONMENT "ROBOPHI_ROBOTS_DIR=${ROBOPHI_ROBOTS_DIR}")

@@ -130,6 +130,8 @@ class ModelBuilder {
   /// particles are moved to where its bodies put them. Returns its index. Throws
   /// SpecError naming what is wrong.
   std::int32_t addRigidTree(RigidTree tree, std::vector<double> q = {}, std::vector<double> v = {});
+  /// Adds a visual shape (display only: robophi/visuals.h).
+  void addVisual(VisualShape visual) { model_.visuals.push_back(std::move(visual)); }
 
   /// The model and its initial state; the builder is left empty.
   BuiltModel build() &&;

@@ -24,6 +24,7 @@
 #include "robophi/build/model_builder.h"
 #include "robophi/build/rigid_body.h"
 #include "robophi/build/urdf_error.h"
+#include "robophi/build/urdf_visuals.h"
 
 namespace robophi::build {
 
@@ -205,6 +206,8 @@ struct UrdfRobot {
   std::vector<UrdfWarning> warnings{};
   /// The mass given to a notional base (kg).
   double notionalMass = 0.0;
+  /// Its links' <visual> elements (display only), placed with it as Model::visuals.
+  std::vector<UrdfVisual> visuals{};
 };
 
 /// Reads, checks and builds a URDF robot; throws UrdfError (file:line and the element or

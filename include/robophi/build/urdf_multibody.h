@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "robophi/build/urdf_error.h"
+#include "robophi/build/urdf_visuals.h"
 #include "robophi/multibody.h"
 #include "robophi/rotation.h"
 
@@ -84,6 +85,8 @@ struct UrdfMultibody {
   std::vector<std::string> adjustments;
   /// Elements robophi ignores (one a kind).
   std::vector<UrdfWarning> warnings;
+  /// Its links' <visual> elements (display only), placed with it as Model::visuals.
+  std::vector<UrdfVisual> visuals{};
 };
 
 /// Reads a URDF as rigid bodies; throws UrdfError (FILE:LINE: the element and value).

@@ -1,0 +1,80 @@
+// The robots' mesh files in the replay page: see output/replay_meshes.h.
+#include "output/replay_meshes.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "output/base64.h"
+
+namespace robophi::output {
+
+std::string meshFilesJson(const std::string& world, double capBytes, std::size_t budgetBytes) {
+  if (world.empty()) return {};
+  nlohmann::json parsed;
+  try {
+    parsed = nlohmann::json::parse(world);
+  } catch (const nlohmann::json::exception&) {
+    return {};
+  }
+  const auto robots = parsed.find("robots");
+  if (robots == parsed.end() || !robots->is_object() || !robots->contains("meshes")) return {};
+  const nlohmann::json& meshes = (*robots)["meshes"];
+  if (!meshes.is_array() || meshes.empty()) return {};
+  // What may go in: the budget of files, and a third of the page's cap in base64.
+  const double capShare = capBytes / 3.0;
+  const std::size_t budget = std::min(
+      budgetBytes, capShare > 0.0 ? static_cast<std::size_t>(capShare * 3.0 / 4.0) : std::size_t{0});
+  std::size_t used = 0;
+  std::string out = ",\"meshFiles\":[";
+  bool first = true;
+  for (const nlohmann::json& mesh : meshes) {
+    if (!first) out += ',';
+    first = false;
+    const std::string path = mesh.value("path", std::string{});
+    nlohmann::json entry = {{"format", mesh.value("format", std::string{})}};
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    std::string note;
+    std::string bytes;
+    if (ec) {
+      note = "not found: " + path;
+    } else if (used + size > budget) {
+      note = fmt::format(
+          "left out: the page's mesh budget ({:.1f} MB of files) is spent; {} has {} bytes",
+          static_cast<double>(budget) / 1e6, path, size);
+    } else {
+      std::ifstream in(path, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      if (!in.good() && !in.eof()) {
+        note = "cannot be read: " + path;
+        bytes.clear();
+      }
+    }
+    entry["bytes"] = bytes.size();
+    if (!note.empty()) entry["note"] = note;
+    std::string text = entry.dump();
+    // Inside <script>: no "</" (a path could hold one).
+    for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+      text.replace(at, 2, "<\\/");
+    text.pop_back();  // the closing brace: the data follows
+    out += text + ",\"data\":";
+    if (note.empty()) {
+      used += bytes.size();
+      out += '"';
+      appendBase64(out, bytes.data(), bytes.size());
+      out += '"';
+    } else {
+      out += "null";
+    }
+    out += '}';
+  }
+  out += ']';
+  return out;
+}
+
+}  // namespace robophi::output

@@ -1,0 +1,22 @@
+#pragma once
+// The mesh files of the robots' visuals, embedded once in the replay page
+// (docs/viewer.md "Robots as they look", the mesh budget).
+
+#include <cstddef>
+#include <string>
+
+namespace robophi::output {
+
+/// The most bytes of mesh files a page embeds (before base64): files past it are
+/// left out (their visuals are not drawn, and the page says so).
+inline constexpr std::size_t kMeshBudgetBytes = std::size_t{32} << 20;
+
+/// `,"meshFiles":[...]` for the data object: for each of world.json's
+/// robots.meshes (the JSON text `world`), {"format", "bytes", "data"} with the
+/// file's bytes in base64, or "data": null and a "note" (not found, not read,
+/// over the budget: at most `budgetBytes` of files, and a third of `capBytes`
+/// in base64). Empty when the world has no meshes.
+std::string meshFilesJson(const std::string& world, double capBytes,
+                          std::size_t budgetBytes = kMeshBudgetBytes);
+
+}  // namespace robophi::output

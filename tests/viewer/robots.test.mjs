@@ -1,0 +1,79 @@
+// The robots of a replay page as they look (docs/viewer.md "Robots as they look"),
+// in headless Chromium: each run folder's page loads with no console error, draws
+// its URDF visuals (meshes), and after "reset view" the robot's own pixels span
+// a screen box of at least 20% of the view's area (or 60% of its height or width,
+// for a robot of another shape than the view's), at t = 0 and at the last frame.
+//
+//   node tests/viewer/robots.test.mjs OUT_DIR RUN_DIR[:q] ...
+//
+// A RUN_DIR followed by ":q" is a bare URDF run built at q = 0: its joint plot
+// must start at q = 0 (the URDF's coordinates) within 1e-6 rad or m. Screenshots
+// (t = 0 and the last frame) go to OUT_DIR/<run folder name>-t0.png, -end.png.
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import { createRequire } from 'node:module';
+import os from 'node:os';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const require = createRequire(path.join(here, '..', '..', 'viewer', 'package.json'));
+const { chromium } = require('playwright-core');
+
+const [outDir, ...runArgs] = process.argv.slice(2);
+const runs = runArgs.map((a) => (a.endsWith(':q') ? { dir: a.slice(0, -2), q: true } : { dir: a, q: false }));
+let context;
+
+before(async () => {
+  fs.mkdirSync(outDir, { recursive: true });
+  const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'robophi-chromium-'));
+  context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: process.env.ROBOPHI_CHROMIUM || '/usr/bin/chromium',
+    headless: true,
+    viewport: { width: 1400, height: 820 },
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+  });
+});
+after(async () => { if (context) await context.close(); });
+
+for (const run of runs) {
+  const name = path.basename(run.dir);
+  test(`${name}: the robot is drawn as it looks`, async () => {
+    const page = await context.newPage();
+    const errors = [];
+    page.on('console', (message) => { if (message.type() === 'error') errors.push(message.text()); });
+    page.on('pageerror', (error) => errors.push(`page error: ${error.message}`));
+    await page.route(/^(https?|wss?):/, (route) => { errors.push(`network: ${route.request().url()}`); return route.abort(); });
+    await page.goto(pathToFileURL(path.join(run.dir, 'replay.html')).href);
+    await page.waitForFunction(() => window.robophiReplay && window.robophiReplay.ready, null, { timeout: 120000 });
+    const counts = await page.evaluate(() => window.robophiReplay.robotCounts());
+    console.log(`# ${name}: ${JSON.stringify(counts)}`);
+    assert.ok(counts.drawn > 0, `${name}: no visual drawn`);
+    assert.ok(counts.meshes > 0, `${name}: no mesh drawn`);
+    const times = await page.evaluate(() => window.robophiReplay.frameTimes());
+    for (const [label, t] of [['t0', times[0]], ['end', times[times.length - 1]]]) {
+      await page.evaluate((at) => window.robophiReplay.seek(at), t);
+      const box = await page.evaluate(() => window.robophiReplay.robotPixelBox());
+      console.log(`# ${name} at t = ${t} s: robot box ${JSON.stringify(box)}`);
+      // The box covers 20% of the view, or, for a robot much taller (or wider) than the
+      // view's shape (an upright arm: 12% × 85%), spans 60% of the view along its long side.
+      assert.ok(box && (box.area >= 0.2 || Math.max(box.width, box.height) >= 0.6),
+        `${name} at t = ${t} s: the robot's box is ${JSON.stringify(box)} of the view`);
+      await page.screenshot({ path: path.join(outDir, `${name}-${label}.png`) });
+    }
+    if (run.q) {
+      const series = await page.evaluate(() => window.robophiReplay.plotSeries());
+      const jointNames = series.filter((s) => s.includes('.'));
+      assert.ok(jointNames.length > 0, `${name}: no joint plotted`);
+      for (const joint of jointNames) {
+        const values = await page.evaluate((j) => window.robophiReplay.plotValues(j), joint);
+        assert.ok(Math.abs(values[0]) <= 1e-6, `${name}: ${joint} starts at q = ${values[0]}, not 0`);
+      }
+    }
+    assert.deepEqual(errors, []);
+    await page.close();
+  });
+}
