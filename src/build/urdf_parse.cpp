@@ -15,6 +15,7 @@
 #include <tuple>
 
 #include "build/checks.h"
+#include "robophi/build/input_files.h"
 #include "robophi/build/urdf.h"
 #include "robophi/build/urdf_error.h"
 
@@ -408,11 +409,14 @@ Description readUrdf(const std::string& path, const std::vector<std::string>& pa
   const std::string xacro = "a xacro file: run xacro first: xacro " + path + " > " +
                             fs::path(path).replace_extension(".urdf").filename().string();
   if (fs::path(path).extension() == ".xacro") throw UrdfError(path, 0, xacro);
-  std::error_code error;
-  if (!fs::is_regular_file(path, error))
-    throw UrdfError(path, 0, "cannot read the file (missing or not a regular file)");
+  std::string text;
+  try {
+    text = readInputFile(path);  // a regular file (never a FIFO), recorded
+  } catch (const InputFileError& e) {
+    throw UrdfError(path, 0, "cannot read the file: " + e.problem());
+  }
   tinyxml2::XMLDocument document;
-  if (document.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS)
+  if (document.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
     throw UrdfError(path, document.ErrorLineNum(),
                     std::string("malformed XML: ") + document.ErrorName());
   if (const XMLElement* x = firstXacroElement(document.RootElement()))
