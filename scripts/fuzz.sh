@@ -32,6 +32,8 @@ cmake --build "$build" --target "robophi_fuzz_$target" -j "${ROBOPHI_FUZZ_JOBS:-
 
 mkdir -p "$build/corpus" "$build/corpus-urdf" "$build/artifacts"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+# Leaks inside the system's assimp are its own (fuzz/lsan.supp says which).
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}"
 if [ "$target" = scene ]; then
   # Defaults: a million runs, 30 s per input is a hang (a scene at the size budget
   # takes a few seconds under ASan), 2 GB is out of memory;
