@@ -141,5 +141,31 @@ TEST_F(InputFiles, AZeroScaleAndAFileWithoutGeometryAreRefused) {
             "mesh '" + point.string() + "': has no triangle of non-zero area: no geometry to fill");
 }
 
+// A fuzz finding: assimp's COLLADA reader took "2x1" in a <p> list for a count
+// and allocated 12.6 GB over 30 s before it failed; such a list is refused first.
+TEST_F(InputFiles, AColladaIndexListThatIsNotNumbersIsRefusedBeforeAssimpReadsIt) {
+  const fs::path dae = dir_ / "tet.dae";
+  const std::string head =
+      "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/"
+      "COLLADASchema\" version=\"1.4.1\">\n<library_geometries><geometry id=\"t\"><mesh>\n"
+      "<source id=\"p\"><float_array id=\"a\" count=\"12\">0 0 0 1 0 0 0 1 0 0 0 1"
+      "</float_array><technique_common><accessor source=\"#a\" count=\"4\" stride=\"3\">"
+      "<param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param "
+      "name=\"Z\" type=\"float\"/></accessor></technique_common></source>\n"
+      "<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>\n"
+      "<triangles count=\"4\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>\n";
+  const std::string tail =
+      "</triangles></mesh></geometry></library_geometries>\n<library_visual_scenes>"
+      "<visual_scene id=\"s\"><node id=\"n\"><instance_geometry url=\"#t\"/></node>"
+      "</visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url=\"#s\"/>"
+      "</scene>\n</COLLADA>\n";
+  testing::writeText(dae, head + "<p>0 2 1 0 1 3 0 3 2 1 2 3</p>" + tail);
+  EXPECT_EQ(meshMessage(dae), "loaded");
+  testing::writeText(dae, head + "<p>0 2x1 0 1 3 0 3 2 1 2 3</p>" + tail);
+  EXPECT_EQ(meshMessage(dae), "mesh '" + dae.string() +
+                                  "': a COLLADA index list <p> at line 7 holds a character that "
+                                  "is not a digit (byte 120)");
+}
+
 }  // namespace
 }  // namespace robophi::build
