@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the normal build, then
 # once more under AddressSanitizer + UndefinedBehaviorSanitizer, then a short
-# run of the scene loader's fuzz target.
+# run of each fuzz target (the scene loader, the URDF importer).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install-deps.sh"
@@ -19,6 +19,7 @@ ROBOPHI_TARGETS="robophi robophi_tests" "$root/scripts/build.sh" "$root/build-as
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -LE "slow|package|viewer|bench"
 
-# The scene loader's fuzz target (fuzz/README.md): a short libFuzzer run, its own
-# clang build of the libraries and the target only (scripts/fuzz.sh for the long run).
+# The fuzz targets (fuzz/README.md): a short libFuzzer run of each, their own
+# clang build of the libraries and the targets only (scripts/fuzz.sh for the long run).
 ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" -runs=20000 -max_total_time=120
+ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" urdf -runs=20000 -max_total_time=100

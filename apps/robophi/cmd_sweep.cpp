@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <thread>
@@ -17,6 +16,7 @@
 #include "commands.h"
 #include "output/results_folder.h"
 #include "output/results_lock.h"
+#include "robophi/build/input_files.h"
 #include "run/interrupt.h"
 #include "sweep.h"
 
@@ -111,12 +111,13 @@ int sweepCommand(const SweepArguments& args, const Ranks& ranks) {
     return kExitBadInput;
   }
   {
-    std::ifstream in(args.scene, std::ios::binary);
-    if (!in) {
-      say(fmt::format("{}: cannot read the scene file", args.scene));
+    std::string text;
+    try {
+      text = build::readInputFile(args.scene);  // a regular file, never a FIFO
+    } catch (const build::InputFileError& e) {
+      say(fmt::format("{}: cannot open the scene file: {}", args.scene, e.problem()));
       return kExitBadInput;
     }
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     plan.scene = nlohmann::json::parse(text, nullptr, false, true);
     if (plan.scene.is_discarded() || !plan.scene.is_object()) {
       // The loader says where: report its diagnostics.

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "robotics/tasks.h"
+#include "run/interrupt.h"
 #include "run/runner.h"
 
 namespace robophi::cli {
@@ -334,6 +335,8 @@ nlohmann::json runCase(const SweepPlan& plan, const SweepCase& c, double& wallSe
     // The runs themselves share the cores (--threads): one thread a run.
     options.threads = 1;
     options.tasks = {robotics::makeSceneTasks(scene)};
+    // A signal stops the run at once (robophi sweep then writes nothing).
+    options.stop = &InterruptGuard::flag();
     State finalState;
     const RunReport report = runScene(scene, options, &finalState);
     row["status"] = report.status;

@@ -4,6 +4,7 @@
 /// out in docs/adaptive-step.md). The paper's factors are lost: every factor
 /// here is our own choice, set in AdaptiveStepSettings.
 
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -129,9 +130,15 @@ double approachStepQuickFloor(const Model& model, const State& state,
 /// touching contacts' stability limit (Evaluation::contactCriticalStep; 0: not
 /// used) is shorter, in as many equal substeps as they require (re-bounded
 /// after each); the last substep lands on t + dt exactly. Adds the number of
-/// extra substeps to `*splits` when given. Stops at the first non-finite substep.
+/// extra substeps to `*splits` when given. Stops at the first non-finite substep
+/// (kNonFinite). Bounded work: returns kStopped at the end of a whole substep,
+/// short of t + dt, when `maxSubsteps` (> 0) substeps are taken and more are
+/// needed, or when `stop` is set and true (checked before every substep: a
+/// signal's flag, InterruptGuard).
 StepStatus stepWithoutTunnelling(World& world, double dt, double fraction = 0.1,
-                                 double contactSafety = 0.9, std::int64_t* splits = nullptr);
+                                 double contactSafety = 0.9, std::int64_t* splits = nullptr,
+                                 std::int64_t maxSubsteps = 0,
+                                 const std::atomic<bool>* stop = nullptr);
 
 /// Counters of an adaptive run.
 struct AdaptiveStepStats {
@@ -184,6 +191,9 @@ struct AdaptiveStepResult {
   /// When !ok: the particle the failure is blamed on (the largest acceleration
   /// in the failed trial), or kNoParticle.
   ParticleIndex particle = kNoParticle;
+  /// When !ok: a stop was requested (advance's `stop`) between trials; the
+  /// world is as it was before the call, and `failure` is empty.
+  bool stopped = false;
 };
 
 /// Takes accepted steps of a World, rejecting and retrying the ones that create
@@ -194,13 +204,21 @@ class AdaptiveStepper {
   /// Throws std::invalid_argument naming a setting out of its range.
   AdaptiveStepper(const Model& model, AdaptiveStepSettings settings);
 
-  /// Advances `world` by one accepted step of at most `maxDt` seconds.
-  AdaptiveStepResult advance(World& world, double maxDt);
+  /// Advances `world` by one accepted step of at most `maxDt` seconds. A trial
+  /// whose step the model's own limits (the touching contacts' stability, the
+  /// drives' damping, the approach bound) hold below floor() fails as a stall,
+  /// as does a rejection that shrinks the step below it. When `stop` is set and
+  /// true before a retry, the world is restored and the result says `stopped`.
+  AdaptiveStepResult advance(World& world, double maxDt,
+                             const std::atomic<bool>* stop = nullptr);
 
   const AdaptiveStepStats& stats() const { return stats_; }
   const AdaptiveStepSettings& settings() const { return settings_; }
   /// The step the next trial will use (s).
   double nextStep() const { return step_; }
+  /// The step floor in use (s): settings().minStep, or when that is 0, 1e-8 ×
+  /// the first trial step (the initial step within maxStep and the stability cap).
+  double floor() const { return minStep_; }
 
   /// The controller's state between steps, for a checkpoint: a plain value.
   struct Progress {

@@ -37,6 +37,9 @@ enum class StepStatus : std::uint8_t {
   kOk,
   /// A position, velocity or energy became NaN or infinite.
   kNonFinite,
+  /// stepWithoutTunnelling ended short of t + δ, at the end of a whole substep:
+  /// its substep limit was reached or a stop was requested.
+  kStopped,
 };
 
 /// The simulation: owns a compiled model, its state and its last evaluation.

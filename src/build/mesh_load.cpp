@@ -1,13 +1,21 @@
 // Mesh files → TriangleMesh through assimp (private to the build layer).
 
+#include <assimp/DefaultIOSystem.h>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
+#include <array>
 #include <assimp/Importer.hpp>
+#include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "build/checks.h"
 #include "robophi/build/input_files.h"
@@ -21,58 +29,208 @@ namespace {
   throw std::runtime_error("mesh '" + path + "': " + problem);
 }
 
-// Appends the node's meshes (vertices through the node's accumulated transform)
-// and recurses into its children.
-void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, const Vec3& scale,
-             TriangleMesh& out) {
-  const aiMatrix4x4 transform = parent * node.mTransformation;
-  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
-    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
-    const auto base = static_cast<std::int32_t>(out.vertices.size());
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D p = transform * mesh.mVertices[v];
-      out.vertices.push_back({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+// Appends the meshes of the node tree (vertices through each node's accumulated
+// transform), walked with a stack of its own (a deep tree is no deep recursion).
+void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out) {
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, aiMatrix4x4{}}};
+  while (!stack.empty()) {
+    const auto [node, parent] = stack.back();
+    stack.pop_back();
+    const aiMatrix4x4 transform = parent * node->mTransformation;
+    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+      const aiMesh& mesh = *scene.mMeshes[node->mMeshes[m]];
+      const auto base = static_cast<std::int32_t>(out.vertices.size());
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        const aiVector3D p = transform * mesh.mVertices[v];
+        out.vertices.push_back({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+      }
+      for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+        const aiFace& face = mesh.mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines carry no volume
+        out.triangles.push_back({base + static_cast<std::int32_t>(face.mIndices[0]),
+                                 base + static_cast<std::int32_t>(face.mIndices[1]),
+                                 base + static_cast<std::int32_t>(face.mIndices[2])});
+      }
     }
+    for (unsigned c = node->mNumChildren; c-- > 0;)
+      stack.emplace_back(node->mChildren[c], transform);
+  }
+}
+
+// assimp's file access through readInputFile: every file a mesh reads (an OBJ's
+// .mtl, a glTF's .bin too) is a regular file within the budget, never a FIFO
+// or a folder waited on, and is recorded with the load's inputs. The mesh file
+// itself is read once, before assimp starts, and served from memory. The first
+// refusal is kept for the message (assimp's own would say only "unable to open").
+class InputFileSystem : public Assimp::DefaultIOSystem {
+ public:
+  InputFileSystem(std::string path, std::string bytes)
+      : path_(std::move(path)), bytes_(std::move(bytes)) {}
+  bool Exists(const char* file) const override {
+    std::error_code error;
+    return file == path_ || std::filesystem::exists(file, error);  // any kind: Open says why not
+  }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr) return nullptr;
+    if (file == path_)
+      return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes_.data()),
+                                        bytes_.size());
+    try {
+      const std::string bytes = readInputFile(file);
+      auto* copy = new std::uint8_t[bytes.size()];
+      std::memcpy(copy, bytes.data(), bytes.size());
+      return new Assimp::MemoryIOStream(copy, bytes.size(), /*own=*/true);
+    } catch (const InputFileError& e) {
+      if (refused.empty()) refused = e.what();
+      return nullptr;
+    }
+  }
+  /// The first file Open refused, and why ("<path>: <problem>").
+  std::string refused;
+
+ private:
+  const std::string path_, bytes_;
+};
+
+// The budgets of a mesh file (kMaxMeshVertices, kMaxMeshFaces,
+// kMaxMeshFaceIndices, kMaxMeshPolygonWork): a problem in words, or "". Before
+// the triangulation (`triangulated` false) the faces as read; after it the
+// meshes as the node tree instances them. Also: every index names a vertex.
+std::string meshBudgetProblem(const aiScene& scene, bool triangulated) {
+  const auto count = [](std::uint64_t n) { return std::to_string(n); };
+  std::uint64_t polygonWork = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes && !triangulated; ++m) {
+    const aiMesh& mesh = *scene.mMeshes[m];
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-      const aiFace& face = mesh.mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines carry no volume
-      out.triangles.push_back({base + static_cast<std::int32_t>(face.mIndices[0]),
-                               base + static_cast<std::int32_t>(face.mIndices[1]),
-                               base + static_cast<std::int32_t>(face.mIndices[2])});
+      const std::uint64_t corners = mesh.mFaces[f].mNumIndices;
+      if (corners > kMaxMeshFaceIndices)
+        return "face " + count(f) + " of mesh " + count(m) + " has " + count(corners) +
+               " vertex indices, more than the budget of " + count(kMaxMeshFaceIndices) + " a face";
+      if (corners > 4) polygonWork += corners * corners;
+      for (unsigned k = 0; k < corners; ++k)
+        if (mesh.mFaces[f].mIndices[k] >= mesh.mNumVertices)
+          return "face " + count(f) + " of mesh " + count(m) + " names vertex " +
+                 count(mesh.mFaces[f].mIndices[k]) + " of " + count(mesh.mNumVertices);
     }
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) {
-    collect(scene, *node.mChildren[c], transform, scale, out);
+  if (polygonWork > kMaxMeshPolygonWork)
+    return "has polygons whose triangulation costs " + count(polygonWork) +
+           " (the sum of their corners squared, faces of more than four corners), more than the "
+           "budget of " +
+           count(kMaxMeshPolygonWork);
+  // The meshes as the node tree places them (a mesh placed twice counts twice).
+  std::uint64_t vertices = 0, faces = 0;
+  std::vector<const aiNode*> nodes{scene.mRootNode};
+  while (!nodes.empty()) {
+    const aiNode* node = nodes.back();
+    nodes.pop_back();
+    if (node == nullptr) continue;
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      if (node->mMeshes[k] >= scene.mNumMeshes)
+        return "node '" + std::string(node->mName.C_Str()) + "' names mesh " +
+               count(node->mMeshes[k]) + " of " + count(scene.mNumMeshes);
+      vertices += scene.mMeshes[node->mMeshes[k]]->mNumVertices;
+      faces += scene.mMeshes[node->mMeshes[k]]->mNumFaces;
+    }
+    const auto past = [&](std::uint64_t n, const char* what, std::uint64_t budget) {
+      return "has at least " + count(n) + " " + what +
+             " as its nodes place its meshes, more than the budget of " + count(budget);
+    };
+    if (vertices > kMaxMeshVertices) return past(vertices, "vertices", kMaxMeshVertices);
+    if (faces > kMaxMeshFaces) return past(faces, "faces", kMaxMeshFaces);
+    nodes.insert(nodes.end(), node->mChildren, node->mChildren + node->mNumChildren);
   }
+  return {};
+}
+
+// assimp 5.2's COLLADA reader takes a token that is not a number in an index
+// list (<p>, <vcount>, <v>) for a count and allocates gigabytes (12.6 GB and 30 s
+// for "<p>0 2x1 ...</p>", a fuzz finding): such a list is refused before it
+// reads the file. A problem in words, or "".
+std::string colladaIndexProblem(const std::string& path, const std::string& text) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".dae") return {};
+  for (const char* tag : {"<p>", "<vcount>", "<v>"}) {
+    for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1)) {
+      const std::size_t start = at + std::strlen(tag);
+      const std::size_t end = text.find('<', start);
+      for (std::size_t k = start; k < std::min(end, text.size()); ++k) {
+        const char c = text[k];
+        if (!std::isdigit(static_cast<unsigned char>(c)) &&
+            !std::isspace(static_cast<unsigned char>(c)))
+          return "a COLLADA index list " + std::string(tag) + " at line " +
+                 std::to_string(1 + std::count(text.begin(),
+                                               text.begin() + static_cast<std::ptrdiff_t>(k),
+                                               '\n')) +
+                 " holds a character that is not a digit (byte " +
+                 std::to_string(static_cast<unsigned char>(c)) + ")";
+      }
+    }
+  }
+  return {};
 }
 
 }  // namespace
 
 TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   check::finite("loadMesh", "scale", scale, "");
-  InputFileLog::record(path);
-  std::error_code error;
-  const std::filesystem::path file(path);
-  if (!std::filesystem::exists(file, error)) meshError(path, "no such file");
-  if (std::filesystem::is_directory(file, error)) meshError(path, "is a folder, not a mesh file");
+  if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0)
+    meshError(path, "the scale (" + std::to_string(scale.x) + ", " + std::to_string(scale.y) +
+                        ", " + std::to_string(scale.z) +
+                        ") has a zero factor: the mesh would have no volume");
+  std::string bytes;
+  try {
+    bytes = readInputFile(path);  // a regular file within the budget, recorded
+  } catch (const InputFileError& e) {
+    meshError(path, e.problem());
+  }
+  if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
+    meshError(path, problem);
   Assimp::Importer importer;
+  auto* files = new InputFileSystem(path, std::move(bytes));  // the importer owns it
+  importer.SetIOHandler(files);
   // ROS meshes are Z-up whatever a COLLADA file's <up_axis> says (as rviz reads them).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  // Read as it is, checked against the budgets, then triangulated: a polygon of
+  // 200 000 corners is refused here instead of hanging the triangulator.
+  const aiScene* scene = importer.ReadFile(path, 0);
   if (scene == nullptr) {
     const std::string reason = importer.GetErrorString();
-    meshError(path,
-              "cannot be read (" + (reason.empty() ? std::string("unknown format") : reason) + ")");
+    meshError(path, !files->refused.empty()
+                        ? "cannot be read: " + files->refused
+                        : "cannot be read (" +
+                              (reason.empty() ? std::string("unknown format") : reason) + ")");
   }
+  // A file without geometry (an empty or skeleton-only COLLADA scene): assimp
+  // stands a placeholder skeleton mesh in for it and flags the scene incomplete.
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mNumMeshes == 0)
+    meshError(path, "has no geometry (no mesh in the file)");
+  if (const std::string problem = meshBudgetProblem(*scene, false); !problem.empty())
+    meshError(path, problem + " (docs/scene-format.md#limits)");
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                       aiProcess_SortByPType);
+  if (scene == nullptr)
+    meshError(path, "cannot be triangulated (" + std::string(importer.GetErrorString()) + ")");
+  if (const std::string problem = meshBudgetProblem(*scene, true); !problem.empty())
+    meshError(path, problem + " (docs/scene-format.md#limits)");
   TriangleMesh mesh;
-  if (scene->mRootNode != nullptr) collect(*scene, *scene->mRootNode, aiMatrix4x4{}, scale, mesh);
+  if (scene->mRootNode != nullptr) collect(*scene, scale, mesh);
   if (mesh.triangles.empty()) meshError(path, "has no triangles");
   for (const Vec3& v : mesh.vertices) {
     if (!isFinite(v)) meshError(path, "has a vertex that is not a finite number");
   }
+  // Triangles that all collapse to a line or a point enclose nothing to fill.
+  const auto area = [&](const std::array<std::int32_t, 3>& t) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    return norm(cross(mesh.vertices[static_cast<std::size_t>(t[1])] - a,
+                      mesh.vertices[static_cast<std::size_t>(t[2])] - a));
+  };
+  if (std::none_of(mesh.triangles.begin(), mesh.triangles.end(),
+                   [&](const auto& t) { return area(t) > 0.0; }))
+    meshError(path, "has no triangle of non-zero area: no geometry to fill");
   // A mirroring scale (an odd number of negative factors) turns the winding inside out.
   if (scale.x * scale.y * scale.z < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);

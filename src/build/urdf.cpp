@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <set>
 #include <stdexcept>
@@ -438,6 +439,25 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     }
   }
 
+  // The size budgets before a link is read or filled (docs/scene-format.md#limits).
+  const auto bodyCount =
+      static_cast<std::size_t>(std::count_if(order.begin(), order.end(), [&](int l) {
+        return attached[static_cast<std::size_t>(l)] == l;
+      }));
+  if (bodyCount > static_cast<std::size_t>(kMaxUrdfBodies))
+    throw UrdfError(file, 0,
+                    std::to_string(bodyCount) + " links carry particles, more than the budget of " +
+                        std::to_string(kMaxUrdfBodies) +
+                        " links of a robot (docs/scene-format.md#limits)");
+  if (spec.particleSize == 0.0 &&
+      static_cast<double>(bodyCount) * spec.particlesPerLink > kMaxParticlesPerObject)
+    throw UrdfError(file, 0,
+                    std::to_string(bodyCount) + " links of about " +
+                        std::to_string(spec.particlesPerLink) +
+                        " particles (particlesPerLink) make more than the budget of " +
+                        std::to_string(kMaxParticlesPerObject) +
+                        " particles (docs/scene-format.md#limits): give fewer particlesPerLink");
+
   // Bodies: one per link with particles.
   double massSum = 0.0;
   int massCount = 0;
@@ -496,7 +516,6 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
   }
   for (std::size_t l = 0; l < linkCount; ++l)
     if (bodyOf[l] < 0) bodyOf[l] = bodyOf[static_cast<std::size_t>(attached[l])];
-
   // Joint particles (required points of the bodies), before the bodies are built.
   struct Plan {
     int joint = -1, parent = -1, child = -1;  // joint index, body indices
@@ -539,7 +558,9 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     plans.push_back(plan);
   }
 
-  // Fill the bodies (makeRigidBody: mass, centre and inertia fitted).
+  // Fill the bodies (makeRigidBody: mass, centre and inertia fitted), their
+  // particles held to the budget as they are made (at most one link past it).
+  std::size_t particles = 0;
   for (Body& body : bodies) {
     const urdf::Link& link = d.links[static_cast<std::size_t>(body.link)];
     try {
@@ -548,6 +569,13 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
       throw UrdfError(file, link.line,
                       "link '" + link.name + "' cannot be filled: " + error.message());
     }
+    particles += body.built.object.size();
+    if (particles > static_cast<std::size_t>(kMaxParticlesPerObject))
+      throw UrdfError(file, link.line,
+                      "link '" + link.name + "' brings the robot to " + std::to_string(particles) +
+                          " particles, more than the budget of " +
+                          std::to_string(kMaxParticlesPerObject) +
+                          " (docs/scene-format.md#limits): give a larger particleSize");
     for (const Vec3& p : body.built.object.position) body.world.push_back(body.frame.apply(p));
     const auto& springs = body.built.object.linearSprings;
     if (!springs.empty()) {
@@ -725,6 +753,9 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
   std::vector<UrdfLinearSpring> carrierTies;
   const auto objectCount = static_cast<int>(bodies.size());
   std::vector<ObjectPlacement> carrierObjects;
+  std::vector<std::vector<std::size_t>> plansOfChild(bodies.size());
+  for (std::size_t k = 0; k < plans.size(); ++k)
+    plansOfChild[static_cast<std::size_t>(plans[k].child)].push_back(k);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     Body& body = bodies[b];
     UrdfLink& out = robot.links[static_cast<std::size_t>(body.link)];
@@ -762,8 +793,8 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     }
     placement.geometry.spacing = g.spacing;
     placement.geometry.rigid = true;
-    for (const Plan& plan : plans)
-      if (spec.roundWheels && plan.child == static_cast<int>(b) && plan.childPoints.size() >= 2)
+    for (const std::size_t k : plansOfChild[b])
+      if (const Plan& plan = plans[k]; spec.roundWheels && plan.childPoints.size() >= 2)
         addRoundWheel(body, d.joints[static_cast<std::size_t>(plan.joint)],
                       body.built.required[static_cast<std::size_t>(plan.childPoints[0])],
                       body.built.required[static_cast<std::size_t>(plan.childPoints[1])],
@@ -856,16 +887,30 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
         builder.addBody(robot.objects[static_cast<std::size_t>(link.object)].name,
                         std::move(particles), robot.bodyFrequency, robot.bodyDampingRatio);
   }
-  // The bodies at and below a link (its own and every link's below it), once each.
-  const auto bodiesBelow = [&](int top) {
-    std::vector<int> below{top};
-    for (std::size_t q = 0; q < below.size(); ++q)
-      for (const UrdfJoint& next : robot.joints)
-        if (next.parent == below[q]) below.push_back(next.child);
+  // The bodies at and below a link (its own and every link's below it), once
+  // each: a walk of the link's subtree by its children lists, in time linear in
+  // its size (the lists are the model's, one per joint: a chain's sum is n²/2).
+  std::vector<std::vector<int>> childLinks(robot.links.size());
+  for (const UrdfJoint& j : robot.joints)
+    childLinks[static_cast<std::size_t>(j.parent)].push_back(j.child);
+  std::vector<int> seenIn;  // body → the last walk that listed it
+  int walk = 0;
+  const auto bodiesBelow = [&](const std::vector<int>& tops) {
+    ++walk;
     std::vector<std::int32_t> out;
-    for (int l : below) {
-      const std::int32_t b = placed.body[static_cast<std::size_t>(l)];
-      if (b >= 0 && std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
+    for (int top : tops) {
+      std::vector<int> below{top};
+      for (std::size_t q = 0; q < below.size(); ++q) {
+        const auto l = static_cast<std::size_t>(below[q]);
+        below.insert(below.end(), childLinks[l].begin(), childLinks[l].end());
+        const std::int32_t b = placed.body[l];
+        if (b < 0) continue;
+        const auto bi = static_cast<std::size_t>(b);
+        if (bi >= seenIn.size()) seenIn.resize(bi + 1, 0);
+        if (seenIn[bi] == walk) continue;
+        seenIn[bi] = walk;
+        out.push_back(b);
+      }
     }
     return out;
   };
@@ -873,13 +918,23 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
   for (const UrdfBodyLink& link : robot.bodyLinks) {
     BodyLink gains = link.gains;
     // MODEL §1.7: held joints' links carry their weight bodies (the weight preload).
-    if (robot.compensateGravity) gains.weightBodies = bodiesBelow(link.child);
+    if (robot.compensateGravity) gains.weightBodies = bodiesBelow({link.child});
     bodyLinkOf.push_back(builder.addBodyLink(
         link.kind, placed.body[static_cast<std::size_t>(link.child)],
         placed.body[static_cast<std::size_t>(link.parent)], link.point, link.axis, gains));
   }
+  // The URDF joints of each model joint (a name → index table, not a search per joint).
+  std::map<std::string, std::size_t> modelJointIndex;
+  for (std::size_t k = 0; k < robot.modelJoints.size(); ++k)
+    modelJointIndex.emplace(robot.modelJoints[k].name, k);
+  std::vector<std::vector<int>> urdfJointsOf(robot.modelJoints.size());
+  for (const UrdfJoint& u : robot.joints)
+    if (const auto found = modelJointIndex.find(u.modelJoint);
+        !u.modelJoint.empty() && found != modelJointIndex.end())
+      urdfJointsOf[found->second].push_back(u.child);
   std::vector<std::int32_t> modelJointOf;
-  for (const UrdfModelJoint& j : robot.modelJoints) {
+  for (std::size_t k = 0; k < robot.modelJoints.size(); ++k) {
+    const UrdfModelJoint& j = robot.modelJoints[k];
     Joint model;
     model.name = j.name;
     model.kind = j.kind;
@@ -894,22 +949,14 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     model.drive = j.drive;
     if (j.bodyLink >= 0) model.bodyLink = bodyLinkOf[static_cast<std::size_t>(j.bodyLink)];
     // The bodies it carries: its child link's and every link's below it.
-    for (const UrdfJoint& u : robot.joints) {
-      if (u.modelJoint != j.name) continue;
-      for (std::int32_t b : bodiesBelow(u.child))
-        if (std::find(model.subtreeBodies.begin(), model.subtreeBodies.end(), b) ==
-            model.subtreeBodies.end())
-          model.subtreeBodies.push_back(b);
-    }
+    model.subtreeBodies = bodiesBelow(urdfJointsOf[k]);
     model.compensateGravity = robot.compensateGravity;
     modelJointOf.push_back(builder.addJoint(model));
   }
   for (const UrdfJoint& j : robot.joints) {
-    std::int32_t found = -1;
-    for (std::size_t k = 0; k < robot.modelJoints.size(); ++k)
-      if (!j.modelJoint.empty() && robot.modelJoints[k].name == j.modelJoint)
-        found = modelJointOf[k];
-    placed.modelJoint.push_back(found);
+    const auto found = modelJointIndex.find(j.modelJoint);
+    placed.modelJoint.push_back(
+        j.modelJoint.empty() || found == modelJointIndex.end() ? -1 : modelJointOf[found->second]);
   }
   for (const auto& [a, b] : robot.noContact)
     builder.excludeContact(placed.objects[static_cast<std::size_t>(a)].object,

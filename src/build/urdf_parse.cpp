@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -15,6 +16,7 @@
 #include <tuple>
 
 #include "build/checks.h"
+#include "robophi/build/input_files.h"
 #include "robophi/build/urdf.h"
 #include "robophi/build/urdf_error.h"
 
@@ -436,16 +438,65 @@ const XMLElement* firstXacroElement(const XMLElement* e) {
 
 }  // namespace
 
+namespace {
+
+// The offset of the first byte of `text` that is not valid UTF-8 (RFC 3629: no
+// overlong form, no surrogate, at most U+10FFFF), or npos.
+std::size_t firstInvalidUtf8(const std::string& text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char c = byte(i);
+    std::size_t length = 1;
+    unsigned char low = 0x80, high = 0xBF;  // the second byte's range
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if (c >= 0xC2 && c <= 0xDF) {
+      length = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      length = 3;
+      low = c == 0xE0 ? 0xA0 : 0x80;
+      high = c == 0xED ? 0x9F : 0xBF;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      length = 4;
+      low = c == 0xF0 ? 0x90 : 0x80;
+      high = c == 0xF4 ? 0x8F : 0xBF;
+    } else {
+      return i;
+    }
+    if (i + length > text.size() || byte(i + 1) < low || byte(i + 1) > high) return i;
+    for (std::size_t k = 2; k < length; ++k)
+      if ((byte(i + k) & 0xC0) != 0x80) return i;
+    i += length;
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
 Description readUrdf(const std::string& path, const std::vector<std::string>& packagePaths) {
   Reader reader(path);
   const std::string xacro = "a xacro file: run xacro first: xacro " + path + " > " +
                             fs::path(path).replace_extension(".urdf").filename().string();
   if (fs::path(path).extension() == ".xacro") throw UrdfError(path, 0, xacro);
-  std::error_code error;
-  if (!fs::is_regular_file(path, error))
-    throw UrdfError(path, 0, "cannot read the file (missing or not a regular file)");
+  std::string text;
+  try {
+    text = readInputFile(path);  // a regular file (never a FIFO), recorded
+  } catch (const InputFileError& e) {
+    throw UrdfError(path, 0, "cannot read the file: " + e.problem());
+  }
+  // Names and messages reach model.json, summary.json and the terminal: UTF-8 only.
+  if (const std::size_t bad = firstInvalidUtf8(text); bad != std::string::npos) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+    throw UrdfError(path,
+                    1 + static_cast<int>(std::count(
+                            text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n')),
+                    std::string("not UTF-8 text: byte ") + hex + " at offset " +
+                        std::to_string(bad) + " (names and messages must be UTF-8)");
+  }
   tinyxml2::XMLDocument document;
-  if (document.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS)
+  if (document.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
     throw UrdfError(path, document.ErrorLineNum(),
                     std::string("malformed XML: ") + document.ErrorName());
   if (const XMLElement* x = firstXacroElement(document.RootElement()))

@@ -604,10 +604,15 @@ double approachLimitBelow(double others, const Model& model, const State& state,
 }  // namespace
 
 StepStatus stepWithoutTunnelling(World& world, double dt, double fraction, double contactSafety,
-                                 std::int64_t* splits) {
+                                 std::int64_t* splits, std::int64_t maxSubsteps,
+                                 const std::atomic<bool>* stop) {
   const double end = world.state().time + dt;
   double left = dt;
-  for (;;) {
+  for (std::int64_t taken = 0;; ++taken) {
+    // Bounded work: the limit and a requested stop end the step between substeps.
+    if ((maxSubsteps > 0 && taken >= maxSubsteps) ||
+        (stop != nullptr && stop->load(std::memory_order_relaxed)))
+      return StepStatus::kStopped;
     const Evaluation& evaluation = world.evaluation();
     const double contactBound = contactSafety > 0.0
                                     ? contactSafety * evaluation.contactCriticalStep
@@ -700,7 +705,8 @@ bool AdaptiveStepper::Measured::holdsFor(const World& w) const {
          time == w.state().time;
 }
 
-AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
+AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt,
+                                            const std::atomic<bool>* stop) {
   AdaptiveStepResult result;
   world.refresh();
   if (!refinedLimit_) {
@@ -755,6 +761,20 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
   const double approachLimit =
       approachLimitBelow(std::min({step_, maxDt, contactLimit, driveLimit}), world.model(),
                          saved_.state(), saved_.evaluation().force, settings_.maxApproachFraction);
+  // The floor holds for the model's own limits too (not for the time left to
+  // the end): a step they hold below it is a stall, not a crawl of ever smaller steps.
+  if (const double limit = std::min({contactLimit, driveLimit, approachLimit});
+      limit < minStep_ && limit < maxDt) {
+    result.ok = false;
+    const char* which = limit == contactLimit ? "the touching contacts' stability limit"
+                        : limit == driveLimit ? "the joint drives' damping limit"
+                                              : "the approach bound (MODEL §4.4)";
+    result.failure = detail::text(
+        "{} allows a step of {:.3g} s, below the adaptive step's floor {:.3g} s, at t = {:.6g} "
+        "s: {}",
+        which, limit, minStep_, saved_.state().time, diagnose(world, &result.particle));
+    return result;
+  }
   for (;;) {
     const double dt = std::min({step_, maxDt, contactLimit, driveLimit, approachLimit});
     const StepStatus status = world.step(dt);
@@ -826,6 +846,11 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt) {
           "the adaptive step fell to {:.3g} s (floor {:.3g} s) after {} rejections at t = {:.6g} "
           "s: {}",
           step_, minStep_, result.rejections, saved_.state().time, why);
+      return result;
+    }
+    if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+      result.ok = false;
+      result.stopped = true;
       return result;
     }
   }

@@ -69,6 +69,9 @@ struct RunReport {
   StabilityEstimate stability;
   /// Accepted and rejected steps, step sizes (adaptive mode).
   AdaptiveStepStats adaptive;
+  /// The adaptive step's floor in use (s, AdaptiveStepper::floor): minStep, or
+  /// 1e-8 × the first trial step when minStep is 0. 0 in constant mode.
+  double adaptiveFloor = 0.0;
   std::uint64_t stateHash = 0;
   std::vector<std::string> warnings;
   /// What the step tasks did (goal reached, virtual obstacles added, grasp

@@ -546,9 +546,10 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
                      {"final_energy_error", a.lastEnergyError},
                      // what set each accepted step's size
                      {"steps_set_by", stepCauseCounts(a)},
-                     // the settings in use (scene run.adaptive, command line)
+                     // the settings in use (scene run.adaptive, command line; the
+                     // floor as applied: minStep 0 is relative to the first step)
                      {"energy_tolerance", settings.adaptive.energyTolerance},
-                     {"min_step_s", settings.adaptive.minStep},
+                     {"min_step_s", report.adaptiveFloor},
                      {"max_step_s", settings.adaptive.maxStep},
                      {"max_penetration_fraction", settings.adaptive.maxPenetrationFraction}};
   }

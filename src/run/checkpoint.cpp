@@ -8,10 +8,12 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include "output/json_numbers.h"
+#include "robophi/build/input_files.h"
 
 namespace robophi {
 
@@ -451,8 +453,12 @@ std::uint64_t fnv1a(std::istream& in, std::uintmax_t limit, std::uintmax_t& read
 }  // namespace
 
 std::string fileHash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
+  std::istringstream in;
+  try {
+    in.str(build::readInputFile(path));  // a regular file, never a FIFO
+  } catch (const build::InputFileError&) {
+    return {};
+  }
   std::uintmax_t read = 0;
   return fmt::format("{:016x}", fnv1a(in, std::numeric_limits<std::uintmax_t>::max(), read));
 }

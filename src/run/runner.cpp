@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 
@@ -17,6 +16,7 @@
 #include "output/results_folder.h"
 #include "output/results_lock.h"
 #include "output/run_writer.h"
+#include "robophi/build/input_files.h"
 #include "robophi/version.h"
 #include "run/checkpoint.h"
 #include "run/start_checks.h"
@@ -461,17 +461,25 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   // A resumed constant-step run goes on counting its steps of dt.
   if (resume && !adaptive) constantSteps = std::llround(world.state().time / settings.dt);
   if (!resume) sample(adaptive ? stepper->nextStep() : settings.dt, false);
+  // A requested stop (a signal) ends the run with its results so far: between
+  // steps (with a checkpoint when the run writes them), or inside one, between
+  // the substeps of a split constant step or the trials of an adaptive one
+  // (`betweenSteps` false: no checkpoint there, as a constant run resumes on k·dt).
+  auto interrupted = [&](bool betweenSteps) {
+    const State& state = world.state();
+    report.status = "interrupted";
+    report.warnings.push_back(fmt::format("interrupted at t = {:.6g} s of {:.6g} s, step {}{}",
+                                          state.time, settings.duration, state.stepCount,
+                                          betweenSteps ? "" : " (within a step)"));
+    if (betweenSteps && options.checkpointEvery > 0.0) writeCheckpoint();
+  };
   for (;;) {
     const State& state = world.state();
     const bool done =
         adaptive ? state.time >= settings.duration * (1.0 - 1e-12) : constantSteps >= totalSteps;
     if (done) break;
-    // A requested stop (a signal) ends the run between steps, with its results so far.
     if (options.stop && options.stop->load(std::memory_order_relaxed)) {
-      report.status = "interrupted";
-      report.warnings.push_back(fmt::format("interrupted at t = {:.6g} s of {:.6g} s, step {}",
-                                            state.time, settings.duration, state.stepCount));
-      if (options.checkpointEvery > 0.0) writeCheckpoint();
+      interrupted(true);
       break;
     }
     // Particles inside one another (a heap in one spot): stop before the step collapses.
@@ -491,7 +499,12 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
       dtUsed = target - state.time;
     }
     if (adaptive) {
-      const AdaptiveStepResult r = stepper->advance(world, settings.duration - state.time);
+      const AdaptiveStepResult r =
+          stepper->advance(world, settings.duration - state.time, options.stop);
+      if (r.stopped) {
+        interrupted(false);
+        break;
+      }
       if (!r.ok) {
         // The particle the step blames (the largest acceleration), else a non-finite one.
         const FailurePlace at =
@@ -501,10 +514,29 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
       }
       dtUsed = r.dt;
     } else {
-      const std::int64_t splitsBefore = constantSplits;
-      if (stepWithoutTunnelling(world, dtUsed, settings.adaptive.maxPenetrationFraction,
-                                settings.adaptive.stabilitySafety,
-                                &constantSplits) != StepStatus::kOk) {
+      // Bounded work: at most kMaxConstantSubsteps substeps, and a signal stops it between them.
+      const StepStatus status = stepWithoutTunnelling(
+          world, dtUsed, settings.adaptive.maxPenetrationFraction,
+          settings.adaptive.stabilitySafety, &constantSplits, kMaxConstantSubsteps, options.stop);
+      if (status == StepStatus::kStopped && options.stop &&
+          options.stop->load(std::memory_order_relaxed)) {
+        interrupted(false);
+        break;
+      }
+      if (status == StepStatus::kStopped) {  // the state is whole, at a substep's end
+        const FailurePlace at = placeOf(world, mostEnergetic(world));
+        fail(report, "stalled", at,
+             fmt::format("at {}: the constant step {:.3g} s needed at least {} substeps, more than "
+                         "the limit of {} (docs/adaptive-step.md): the surfaces approach too fast "
+                         "for it or the touching contacts are too stiff (their stability limit now "
+                         "{:.3g} s; the connectors' critical step {:.3g} s); that particle moves "
+                         "fastest; use a smaller --dt or --step adaptive",
+                         describePlace(at), settings.dt, kMaxConstantSubsteps + 1,
+                         kMaxConstantSubsteps, world.evaluation().contactCriticalStep,
+                         report.stability.criticalStep));
+        break;
+      }
+      if (status != StepStatus::kOk) {
         // The first non-finite particle; when only the energy is, the one with the most.
         const ParticleIndex bad = world.firstNonFiniteParticle();
         const FailurePlace at = placeOf(world, bad != kNoParticle ? bad : mostEnergetic(world));
@@ -513,20 +545,6 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
                          bad == kNoParticle
                              ? std::string(" (the energy: that particle has the most)")
                              : std::string()));
-        break;
-      }
-      // Bounded work: a step split past the limit stops the run (the state is whole).
-      if (const std::int64_t substeps = constantSplits - splitsBefore + 1;
-          substeps > kMaxConstantSubsteps) {
-        const FailurePlace at = placeOf(world, mostEnergetic(world));
-        fail(report, "stalled", at,
-             fmt::format("at {}: the constant step {:.3g} s needed {} substeps, more than the "
-                         "limit of {} (docs/adaptive-step.md): the surfaces approach too fast for "
-                         "it or the touching contacts are too stiff (their stability limit now "
-                         "{:.3g} s; the connectors' critical step {:.3g} s); that particle moves "
-                         "fastest; use a smaller --dt or --step adaptive",
-                         describePlace(at), settings.dt, substeps, kMaxConstantSubsteps,
-                         world.evaluation().contactCriticalStep, report.stability.criticalStep));
         break;
       }
     }
@@ -577,7 +595,10 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
     }
   }
   if (!report.failed()) sample(adaptive ? stepper->stats().lastStep : settings.dt, true);
-  if (stepper) report.adaptive = stepper->stats();
+  if (stepper) {
+    report.adaptive = stepper->stats();
+    report.adaptiveFloor = stepper->floor();
+  }
   if (constantSplits > 0) {
     report.warnings.push_back(fmt::format(
         "the constant step {:.3g} s was split {} times to keep approaching surfaces from "
@@ -689,13 +710,15 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
 
 nlohmann::json readCheckpoint(const std::string& dir) {
   const std::filesystem::path path = std::filesystem::path(dir) / "checkpoint.json";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string text;
+  try {
+    text = build::readInputFile(path.string());  // a regular file, never a FIFO
+  } catch (const build::InputFileError& e) {
     throw std::runtime_error(fmt::format(
-        "{}: no checkpoint (run with --checkpoint-every S or --stop-after S to write one)",
-        path.string()));
+        "{}: no checkpoint ({}; run with --checkpoint-every S or --stop-after S to write one)",
+        path.string(), e.problem()));
   }
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object() || j.value("kind", "") != "checkpoint" ||
       j.value("format", 0) != 1) {
     throw std::runtime_error(fmt::format("{}: not a robophi checkpoint (format 1)", path.string()));

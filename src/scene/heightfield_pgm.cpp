@@ -7,8 +7,8 @@
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
-#include <fstream>
 #include <istream>
+#include <sstream>
 #include <string>
 
 #include "robophi/build/input_files.h"
@@ -60,9 +60,12 @@ bool parseWhole(const std::string& token, long& value) {
 std::string loadHeightfieldPgm(const std::string& path, double originX, double originY,
                                double cellSizeX, double cellSizeY, double minHeight,
                                double maxHeight, Heightfield& out) {
-  build::InputFileLog::record(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return fmt::format("{}: cannot open the file", path);
+  std::istringstream in;
+  try {
+    in.str(build::readInputFile(path));  // a regular file (never a FIFO), recorded
+  } catch (const build::InputFileError& e) {
+    return fmt::format("{}: cannot open the file: {}", path, e.problem());
+  }
   std::string magic, token;
   if (!pgmToken(in, magic) || (magic != "P2" && magic != "P5"))
     return fmt::format("{}: not a PGM image (expected P2 or P5, got {})", path, shown(magic));

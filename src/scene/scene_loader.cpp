@@ -5,9 +5,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -285,24 +283,15 @@ SceneLoadResult loadSceneText(const std::string& text, const std::string& fileNa
 SceneLoadResult loadSceneFile(const std::string& path) {
   SceneLoadResult result;
   const build::InputFileLog read;  // the scene file and what it names (URDF, meshes, heightfields)
-  build::InputFileLog::record(path);
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    result.errors.push_back(Diagnostic{path, 0, 0, "", "is a folder, not a scene file"});
+  std::string text;
+  try {
+    text = build::readInputFile(path);  // a regular file, recorded in `read`
+  } catch (const build::InputFileError& e) {
+    result.errors.push_back(
+        Diagnostic{path, 0, 0, "", "cannot open the scene file: " + e.problem()});
     return result;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot open the scene file"});
-    return result;
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    result.errors.push_back(Diagnostic{path, 0, 0, "", "cannot read the scene file"});
-    return result;
-  }
-  result = loadSceneText(text.str(), path);
+  result = loadSceneText(text, path);
   if (result.scene) result.scene->inputFiles = read.files();
   return result;
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/mount.h>
+#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "output/results_folder.h"
@@ -499,6 +501,74 @@ TEST_F(RunCommandTest, AFullDiskIsExit1NamingTheFileAndTheEarlierResultStays) {
     after[entry.path().filename().string()] = readText(entry.path());
   EXPECT_TRUE(after == earlier) << "the earlier result changed";
   EXPECT_FALSE(fs::exists(disk / "out.lock"));
+}
+
+// Bounded work (issue 40): SIGTERM stops a run inside a constant step's split
+// (a hundred 1e12 N/m rods at 1e-4 s, 380 times their critical step: the steps
+// split into ever more substeps, minutes of them before the substep limit
+// stops the run as stalled), the results so far written as for any interrupt.
+// No wall time is asserted: the signal comes once the run has started (its
+// staging folder exists) and a second later, and the minute of wait() is a guard.
+TEST_F(RunCommandTest, SigtermStopsARunInsideASplitConstantStep) {
+  std::string objects;
+  for (int k = 0; k < 100; ++k) {
+    const std::string y = std::to_string(0.3 * k);
+    objects += std::string(k > 0 ? ",\n" : "") + R"(    {"name": "rod)" + std::to_string(k) +
+               R"(", "type": "rope", "start": [0, )" + y + R"(, 0.021], "end": [0.5, )" + y +
+               R"(, 0.2], "particles": 10, "mass": 1, "radius": 0.02, "stiffness": 1e12, )" +
+               R"("velocity": [0, 0, -1]})";
+  }
+  const fs::path scene = root_ / "stiff_rods.json";
+  writeText(scene, R"({"robophi": 1, "name": "stiff rods",
+  "run": {"duration": 0.06, "dt": 1e-4, "step": "constant"},
+  "environment": {"ground": true},
+  "objects": [
+)" + objects + "\n  ]\n}\n");
+  const fs::path errors = root_ / "stderr.txt";
+  const pid_t pid = spawn({scene.string(), "--quiet", "--out", out_.string()}, errors);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(root_ / ".out.partial") && waitpid(pid, nullptr, WNOHANG) == 0 &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  kill(pid, SIGTERM);
+  const int exitCode = wait(pid);
+  const std::string text = readText(errors);
+  ASSERT_EQ(exitCode, 143) << text;
+  EXPECT_NE(text.find("interrupted by SIGTERM"), std::string::npos) << text;
+  const nlohmann::json s = summary();
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_LT(s["simulated_time_s"].get<double>(), 0.06);
+  EXPECT_FALSE(fs::exists(root_ / ".out.partial"));
+}
+
+// Only regular files are read (issue 40): a FIFO given as the scene, as a bare
+// URDF or as a scene's mesh, and a folder given as a URDF, are refused with exit
+// 2 and a message naming them; none is waited on (wait()'s minute is a guard).
+TEST_F(RunCommandTest, AFifoOrAFolderAsAnInputIsRefusedAndNeverWaitedOn) {
+  const fs::path fifoScene = root_ / "scene.json", fifoUrdf = root_ / "robot.urdf";
+  const fs::path fifoMesh = root_ / "part.stl", folderUrdf = root_ / "folder.urdf";
+  ASSERT_EQ(mkfifo(fifoScene.c_str(), 0600), 0);
+  ASSERT_EQ(mkfifo(fifoUrdf.c_str(), 0600), 0);
+  ASSERT_EQ(mkfifo(fifoMesh.c_str(), 0600), 0);
+  fs::create_directories(folderUrdf);
+  const fs::path meshScene = root_ / "mesh_scene.json";
+  writeText(meshScene, R"({"robophi": 1, "objects": [{"name": "part", "type": "mesh",
+    "file": "part.stl", "center": [0, 0, 0.2], "mass": 1}]})");
+  const std::vector<std::pair<fs::path, std::string>> cases = {
+      {fifoScene, "cannot open the scene file: is a FIFO (named pipe), not a regular file"},
+      {fifoUrdf, "cannot read the file: is a FIFO (named pipe), not a regular file"},
+      {meshScene, "part.stl': is a FIFO (named pipe), not a regular file"},
+      {folderUrdf, "cannot read the file: is a folder, not a regular file"}};
+  for (const auto& [input, message] : cases) {
+    const fs::path errors = root_ / "stderr.txt";
+    const int exitCode = wait(spawn({input.string(), "--quiet", "--out", out_.string()}, errors));
+    const std::string text = readText(errors);
+    EXPECT_EQ(exitCode, 2) << input << ": " << text;
+    EXPECT_NE(text.find(message), std::string::npos) << input << ": " << text;
+    EXPECT_NE(text.find(input.filename().string()), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out_));
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // a thin plate, bounce instead of passing through each other.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 
 #include "robophi/adaptive_step.h"
@@ -118,4 +119,58 @@ TEST(Tunnelling, ApproachBoundIsGalileanAndScalesWithTheRadius) {
 }
 
 }  // namespace
+// Bounded work (issue 40): the split stops at its substep limit, or at a
+// requested stop, at the end of a whole substep and short of t + dt.
+TEST(Tunnelling, TheSplitStopsAtItsLimitAndAtARequestedStop) {
+  World reference = ballOnPlate();
+  std::int64_t splits = 0;
+  for (int i = 0; i < 9; ++i) stepWithoutTunnelling(reference, 2.0e-3, 0.1, 0.9, &splits);
+  const std::int64_t before = reference.state().stepCount;
+  ASSERT_EQ(stepWithoutTunnelling(reference, 2.0e-3, 0.1, 0.9), StepStatus::kOk);
+  const std::int64_t needed = reference.state().stepCount - before;
+  ASSERT_GT(needed, 3) << "the ball no longer needs a split at its tenth step";
+
+  World limited = ballOnPlate();
+  for (int i = 0; i < 9; ++i) stepWithoutTunnelling(limited, 2.0e-3, 0.1, 0.9);
+  const double start = limited.state().time;
+  EXPECT_EQ(stepWithoutTunnelling(limited, 2.0e-3, 0.1, 0.9, nullptr, 3), StepStatus::kStopped);
+  EXPECT_EQ(limited.state().stepCount, before + 3);
+  EXPECT_GT(limited.state().time, start);
+  EXPECT_LT(limited.state().time, start + 2.0e-3);
+
+  // A stop already requested: not one substep more.
+  std::atomic<bool> stop{true};
+  const std::int64_t steps = limited.state().stepCount;
+  EXPECT_EQ(stepWithoutTunnelling(limited, 2.0e-3, 0.1, 0.9, nullptr, 0, &stop),
+            StepStatus::kStopped);
+  EXPECT_EQ(limited.state().stepCount, steps);
+  // Neither binds: the step ends on t + dt as without them.
+  stop = false;
+  World free = ballOnPlate();
+  for (int i = 0; i < 10; ++i)
+    ASSERT_EQ(stepWithoutTunnelling(free, 2.0e-3, 0.1, 0.9, nullptr, 1000000, &stop),
+              StepStatus::kOk);
+  EXPECT_EQ(free.state().position[0].z, reference.state().position[0].z);
+  EXPECT_EQ(free.state().velocity[0].z, reference.state().velocity[0].z);
+}
+
+// The adaptive step's floor holds for the model's own limits too: a ball at
+// 1e12 m/s just above a plate may step only 5e-15 s by the approach bound,
+// below the default floor (1e-8 × the first step 1e-4 s): a stall that says
+// so, not a crawl of 1e-15 s steps (issue 40: steps of 4.5e-151 s).
+TEST(Tunnelling, AnApproachBoundBelowTheFloorIsAStall) {
+  World world = ballOnPlate();
+  world.setPosition(0, {0.0, 0.0, 0.013});
+  world.setVelocity(0, {0.0, 0.0, -1.0e12});
+  AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+  EXPECT_DOUBLE_EQ(stepper.floor(), 1.0e-12);
+  const AdaptiveStepResult r = stepper.advance(world, 1.0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.stopped);
+  EXPECT_NE(r.failure.find("the approach bound"), std::string::npos) << r.failure;
+  EXPECT_NE(r.failure.find("below the adaptive step's floor 1e-12 s"), std::string::npos)
+      << r.failure;
+  EXPECT_EQ(world.state().stepCount, 0);
+}
+
 }  // namespace robophi

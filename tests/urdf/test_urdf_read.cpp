@@ -61,7 +61,8 @@ INSTANTIATE_TEST_SUITE_P(
         BrokenCase{"unknown_type.urdf", 9,
                    "joint 'socket': unknown type \"spherical\" (expected revolute, continuous, "
                    "prismatic or fixed)"},
-        BrokenCase{"malformed.urdf", 5, "malformed XML: XML_ERROR_PARSING_ELEMENT"}),
+        BrokenCase{"malformed.urdf", 5, "malformed XML: XML_ERROR_PARSING_ELEMENT"},
+        BrokenCase{"not_utf8.urdf", 5, "not UTF-8 text: byte 0xC3 at offset "}),
     [](const auto& param) {
       std::string name = param.param.file;
       for (char& ch : name)

@@ -65,8 +65,19 @@ struct TriangleMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<std::int32_t, 3>> triangles;
 };
+/// The budgets of a mesh file (docs/scene-format.md#limits), checked as it is
+/// read and before it is triangulated: the vertex indices (corners) of one face,
+/// and Σ corners² of the faces of more than four (assimp's triangulation of a
+/// polygon takes time that grows faster than its corners: 0.25 s for one of
+/// 1 000 here, minutes for 200 000); then the vertices and faces of all its
+/// meshes as its nodes place them (a mesh placed twice counts twice).
+inline constexpr std::uint64_t kMaxMeshVertices = 4'000'000;
+inline constexpr std::uint64_t kMaxMeshFaces = 4'000'000;
+inline constexpr unsigned kMaxMeshFaceIndices = 1'000;
+inline constexpr std::uint64_t kMaxMeshPolygonWork = 10'000'000;
 /// Reads a mesh (STL binary and ASCII, OBJ, DAE and what else assimp reads), scaled per axis.
-/// Throws std::runtime_error naming the file and the problem (missing, unreadable, no triangles).
+/// Throws std::runtime_error naming the file and the problem: missing or not a regular
+/// file (readInputFile), unreadable, past a budget, no triangles, a scale factor of 0.
 TriangleMesh loadMesh(const std::string& path, const Vec3& scale = {1, 1, 1});
 
 /// One piece of a body's volume, in the body's frame.

@@ -28,6 +28,15 @@
 
 namespace robophi::build {
 
+/// The most links with particles (bodies) a URDF robot may have
+/// (docs/scene-format.md#limits), checked before any link is filled: the model
+/// keeps lists that grow as their square (without self-collision every pair of
+/// links that never touch; per joint, the bodies it carries), 12.5 million
+/// entries for a chain of 5 000. The robot's particles are held to the scene's
+/// budget (kMaxParticlesPerObject) as its links are filled, and before that by
+/// their count × particlesPerLink.
+inline constexpr int kMaxUrdfBodies = 5'000;
+
 /// What to import and how.
 struct UrdfSpec {
   /// The URDF file (a .xacro file is refused: run xacro first).

@@ -1,0 +1,171 @@
+// Input files (issue 40): readInputFile, the one way a load opens a file, reads
+// regular files only (a FIFO or a folder is refused at once, never waited on)
+// and records them; a mesh is checked against its budgets before assimp
+// triangulates it (a face of 200 000 corners hung it), a zero scale and a file
+// without geometry are refused, and a mesh's own files (an OBJ's .mtl) go the
+// same road. Each case names the file and the value.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "robophi/build/input_files.h"
+#include "robophi/build/rigid_body.h"
+#include "test_files.h"
+
+namespace robophi::build {
+namespace {
+
+namespace fs = std::filesystem;
+
+class InputFiles : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = testing::makeTempFolder("robophi_input_files_"); }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // What loadMesh says of `path` (scaled by `scale`), or "loaded".
+  static std::string meshMessage(const fs::path& path, const Vec3& scale = {1, 1, 1}) {
+    try {
+      loadMesh(path.string(), scale);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "loaded";
+  }
+  // What readInputFile says of `path`, or "read".
+  static std::string readMessage(const fs::path& path) {
+    try {
+      readInputFile(path.string());
+    } catch (const InputFileError& e) {
+      EXPECT_EQ(e.path(), path.string());
+      return e.problem();
+    }
+    return "read";
+  }
+  // An OBJ of one planar polygon of `corners` corners (a circle).
+  static std::string polygonObj(int corners) {
+    std::string text;
+    for (int k = 0; k < corners; ++k)
+      text += "v " + std::to_string(std::cos(6.283185307 * k / corners)) + " " +
+              std::to_string(std::sin(6.283185307 * k / corners)) + " 0\n";
+    text += "f";
+    for (int k = 1; k <= corners; ++k) text += " " + std::to_string(k);
+    return text + "\n";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(InputFiles, OnlyRegularFilesAreReadAndTheyAreRecorded) {
+  const fs::path file = dir_ / "a.txt";
+  testing::writeText(file, "hello");
+  {
+    const InputFileLog log;
+    EXPECT_EQ(readInputFile(file.string()), "hello");
+    ASSERT_EQ(log.files().size(), 1u);
+    EXPECT_EQ(log.files()[0], fs::absolute(file).lexically_normal().string());
+  }
+  EXPECT_EQ(readMessage(dir_ / "missing.txt"), "no such file");
+  EXPECT_EQ(readMessage(dir_), "is a folder, not a regular file");
+  // A FIFO without a writer: opening it for reading would wait forever.
+  const fs::path fifo = dir_ / "pipe";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(readMessage(fifo), "is a FIFO (named pipe), not a regular file");
+  // An empty file is read (its content is the reader's to judge).
+  testing::writeText(dir_ / "empty", "");
+  EXPECT_EQ(readInputFile((dir_ / "empty").string()), "");
+}
+
+TEST_F(InputFiles, AMeshThatIsAFifoOrAFolderIsRefusedNamingIt) {
+  const fs::path fifo = dir_ / "part.stl";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(meshMessage(fifo),
+            "mesh '" + fifo.string() + "': is a FIFO (named pipe), not a regular file");
+  EXPECT_EQ(meshMessage(dir_), "mesh '" + dir_.string() + "': is a folder, not a regular file");
+}
+
+// An OBJ whose material library is a FIFO: assimp reads it through the same
+// road, so it is refused (and the mesh loads without it), never waited on.
+TEST_F(InputFiles, AMeshsOwnFilesGoTheSameRoad) {
+  const fs::path obj = dir_ / "box.obj";
+  testing::writeText(obj,
+                     "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                     "v 1 1 1\nv 0 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\n"
+                     "f 4 1 5 8\n");
+  ASSERT_EQ(mkfifo((dir_ / "box.mtl").c_str(), 0600), 0);
+  EXPECT_EQ(meshMessage(obj), "loaded");
+  const TriangleMesh mesh = loadMesh(obj.string());
+  EXPECT_EQ(mesh.triangles.size(), 12u);  // six quads, triangulated
+}
+
+// The budgets are checked as the file is read, before the triangulator: a face
+// of 200 000 corners is refused with the file, the face and its count.
+TEST_F(InputFiles, AFaceOfTwoHundredThousandCornersIsRefusedBeforeTheTriangulator) {
+  const fs::path huge = dir_ / "huge_face.obj";
+  testing::writeText(huge, polygonObj(200000));
+  EXPECT_EQ(meshMessage(huge), "mesh '" + huge.string() +
+                                   "': face 0 of mesh 0 has 200000 vertex indices, more than the "
+                                   "budget of 1000 a face (docs/scene-format.md#limits)");
+  // At the budget a face is triangulated (a flat polygon: no volume, but triangles).
+  const fs::path atBudget = dir_ / "budget_face.obj";
+  testing::writeText(atBudget, polygonObj(static_cast<int>(kMaxMeshFaceIndices)));
+  EXPECT_EQ(loadMesh(atBudget.string()).triangles.size(), kMaxMeshFaceIndices - 2);
+}
+
+TEST_F(InputFiles, AZeroScaleAndAFileWithoutGeometryAreRefused) {
+  const fs::path box = dir_ / "box.stl";
+  testing::writeText(box, testing::boxStl(0.1, 0.2, 0.3));
+  EXPECT_EQ(meshMessage(box), "loaded");
+  const std::string zero = meshMessage(box, {1.0, 0.0, 1.0});
+  EXPECT_EQ(zero.rfind("mesh '" + box.string() + "': the scale (1", 0), 0u) << zero;
+  EXPECT_NE(zero.find("has a zero factor"), std::string::npos) << zero;
+  // A COLLADA file of an empty scene: nothing to fill.
+  const fs::path empty = dir_ / "empty.dae";
+  testing::writeText(empty,
+                     "<?xml version=\"1.0\"?>\n<COLLADA "
+                     "xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
+                     "<asset><unit meter=\"1\"/><up_axis>Z_UP</up_axis></asset>\n"
+                     "<library_visual_scenes><visual_scene id=\"s\"><node id=\"n\"/>"
+                     "</visual_scene></library_visual_scenes>\n"
+                     "<scene><instance_visual_scene url=\"#s\"/></scene>\n</COLLADA>\n");
+  // (assimp stands a placeholder skeleton mesh in for it: it was filled with a particle.)
+  EXPECT_EQ(meshMessage(empty),
+            "mesh '" + empty.string() + "': has no geometry (no mesh in the file)");
+  // Triangles that all collapse to a point: nothing to fill either.
+  const fs::path point = dir_ / "point.stl";
+  testing::writeText(point, testing::boxStl(0.0, 0.0, 0.0));
+  EXPECT_EQ(meshMessage(point),
+            "mesh '" + point.string() + "': has no triangle of non-zero area: no geometry to fill");
+}
+
+// A fuzz finding: assimp's COLLADA reader took "2x1" in a <p> list for a count
+// and allocated 12.6 GB over 30 s before it failed; such a list is refused first.
+TEST_F(InputFiles, AColladaIndexListThatIsNotNumbersIsRefusedBeforeAssimpReadsIt) {
+  const fs::path dae = dir_ / "tet.dae";
+  const std::string head =
+      "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/"
+      "COLLADASchema\" version=\"1.4.1\">\n<library_geometries><geometry id=\"t\"><mesh>\n"
+      "<source id=\"p\"><float_array id=\"a\" count=\"12\">0 0 0 1 0 0 0 1 0 0 0 1"
+      "</float_array><technique_common><accessor source=\"#a\" count=\"4\" stride=\"3\">"
+      "<param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param "
+      "name=\"Z\" type=\"float\"/></accessor></technique_common></source>\n"
+      "<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>\n"
+      "<triangles count=\"4\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>\n";
+  const std::string tail =
+      "</triangles></mesh></geometry></library_geometries>\n<library_visual_scenes>"
+      "<visual_scene id=\"s\"><node id=\"n\"><instance_geometry url=\"#t\"/></node>"
+      "</visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url=\"#s\"/>"
+      "</scene>\n</COLLADA>\n";
+  testing::writeText(dae, head + "<p>0 2 1 0 1 3 0 3 2 1 2 3</p>" + tail);
+  EXPECT_EQ(meshMessage(dae), "loaded");
+  testing::writeText(dae, head + "<p>0 2x1 0 1 3 0 3 2 1 2 3</p>" + tail);
+  EXPECT_EQ(meshMessage(dae), "mesh '" + dae.string() +
+                                  "': a COLLADA index list <p> at line 7 holds a character that "
+                                  "is not a digit (byte 120)");
+}
+
+}  // namespace
+}  // namespace robophi::build
