@@ -418,7 +418,15 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   scene.inputFiles = read.files();
   build::ModelBuilder builder;
   builder.addPlane({{0, 0, 0}, {0, 0, 1}, 0});
-  build::placeUrdfRobot(builder, robot);
+  try {
+    // What the file's values make of the robot (a mass of 1e300 kg: a damping of
+    // inf) is refused by the builder: bad input, named, exit 2.
+    build::placeUrdfRobot(builder, robot);
+  } catch (const build::SpecError& e) {
+    return fail(path, e.what());
+  } catch (const std::invalid_argument& e) {
+    return fail(path, e.what());
+  }
   build::BuiltModel built = std::move(builder).build();
   scene.model = std::move(built.model);
   scene.initial = std::move(built.initial);
