@@ -219,9 +219,9 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
       placed->holdJoints = hold.value_or(false);
       const build::UrdfMultibody& robot = placed->robot;
       placed->placement.q = neutralConfiguration(robot.multibody);
-      for (const auto& entry : spec.initialPositions) {
-        const std::string& joint = entry.first;  // (named: clang 14 captures no binding)
-        const double q = entry.second;
+      for (const auto& initial : spec.initialPositions) {
+        const std::string& joint = initial.first;  // (named: clang 14 captures no binding)
+        const double q = initial.second;
         const auto it = std::find_if(robot.joints.begin(), robot.joints.end(),
                                      [&](const build::UrdfMultibodyJoint& j) { return j.urdfName == joint; });
         if (it == robot.joints.end() || it->positionIndex < 0) {
