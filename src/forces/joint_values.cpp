@@ -35,23 +35,24 @@ const Joint& checkedJoint(const char* function, const Model& model, const State*
   return model.joints[joint];
 }
 
-// A tree joint's coordinate and rate (docs/model.md §7).
+// A tree joint's body (docs/model.md §7), and its coordinate and rate.
+const MultibodyBody& treeBodyOf(const Model& model, const Joint& j) {
+  return model.rigidTrees[static_cast<std::size_t>(j.tree)]
+      .multibody.bodies[static_cast<std::size_t>(j.treeBody)];
+}
 double treeCoordinate(const Model& model, const State& state, const Joint& j) {
-  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(j.tree)]
-                                  .multibody.bodies[static_cast<std::size_t>(j.treeBody)];
-  return state.treePositions[static_cast<std::size_t>(j.tree)][static_cast<std::size_t>(body.qStart)];
+  return state.treePositions[static_cast<std::size_t>(j.tree)]
+                            [static_cast<std::size_t>(treeBodyOf(model, j).qStart)];
 }
 double treeRate(const Model& model, const State& state, const Joint& j) {
-  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(j.tree)]
-                                  .multibody.bodies[static_cast<std::size_t>(j.treeBody)];
-  return state.treeVelocities[static_cast<std::size_t>(j.tree)][static_cast<std::size_t>(body.vStart)];
+  return state.treeVelocities[static_cast<std::size_t>(j.tree)]
+                             [static_cast<std::size_t>(treeBodyOf(model, j).vStart)];
 }
 
 }  // namespace
 
 double treeJointEffort(const Model& model, const Joint& joint, double q, double rate) {
-  const MultibodyBody& body = model.rigidTrees[static_cast<std::size_t>(joint.tree)]
-                                  .multibody.bodies[static_cast<std::size_t>(joint.treeBody)];
+  const MultibodyBody& body = treeBodyOf(model, joint);
   const double servo =
       -joint.servoStiffness * (q - joint.servoTarget) - joint.servoDamping * rate;
   const double drive = motorEffort(joint.drive, rate) + lossEffort(joint.drive, rate);
