@@ -149,7 +149,7 @@ StepStatus World::step(double dt) {
   // Rigid trees (docs/model.md §7): stepped with the loads at t on their particles,
   // which they then carry to t + δ (the integrators' fixed-particle rule lands them).
   const bool trees = !model.rigidTrees.empty();
-  if (trees) stepRigidTrees(model, dt, evaluation, state, treeWorkspaces_);
+  if (trees) stepRigidTrees(model, model_.contactTables(), dt, evaluation, state, treeWorkspaces_);
 
   // 2. Integrate to t + δ; 3. forces and potentials at t + δ. Taylor's scheme and
   // symplectic Euler leave the velocities final: one pass integrates, starts the

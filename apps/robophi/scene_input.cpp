@@ -30,9 +30,11 @@ void addUrdfOptions(CLI::App& command, UrdfSceneOptions& urdf, std::string& base
   command.add_option("--base", base,
                      "A bare URDF: fixed | free (default: free for a wheeled base, two or more "
                      "continuous joints; fixed otherwise)");
-  command.add_flag("--rigid", urdf.rigid,
-                   "A bare URDF: its links as rigid bodies with the file's exact mass properties "
-                   "and joints in reduced coordinates (docs/robots.md \"Rigid bodies\")");
+  command.add_flag("--rigid{true},--particles{false}", urdf.rigid,
+                   "A bare URDF: --rigid (the default) its links as rigid bodies with the "
+                   "file's exact mass properties and joints in reduced coordinates "
+                   "(docs/robots.md \"Rigid bodies\"); --particles the paper's model, links "
+                   "filled with particles tied by connectors (docs/robots.md \"A bare URDF\")");
 }
 
 bool urdfOptionsOk(const char* command, const std::string& base, UrdfSceneOptions& urdf) {

@@ -58,7 +58,8 @@ __all__ = [
 ]
 
 
-def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_per_link=30):
+def load(path, *, package_paths=None, base=None, rigid=True, particle_size=0.0,
+         particles_per_link=30):
     """Loads a scene file (.json), a bare URDF robot (.urdf) or an MJCF robot (.xml, read by
     MuJoCo's compiler: rigid bodies held by its position actuators) into a robophi.Scene.
 
@@ -67,12 +68,14 @@ def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_pe
     them as dicts.
 
     A URDF (.urdf, .xacro) becomes the scene `robophi run ROBOT.urdf` runs: the robot
-    on a ground plane (z = 0) under gravity, its lowest particle resting on it, its
-    joints held where they are built by servos as stiff as their links.
+    on a ground plane (z = 0) under gravity, resting on it, its joints held where they
+    are built by servos. rigid (the default): its links rigid bodies with the file's
+    exact mass properties, joints in reduced coordinates; rigid=False (--particles):
+    the paper's model, links filled with particles tied by connectors, whose
+    resolution particle_size (m, 0: by count) or particles_per_link set.
     package_paths: folders for package://NAME/... meshes (--package-path; then
-    ROS_PACKAGE_PATH); base: "fixed" or "free" (--base; None: free for a wheeled
-    base, two or more continuous joints, fixed otherwise); particle_size (m, 0: by
-    count) or particles_per_link set the links' resolution. A URDF that cannot be
+    ROS_PACKAGE_PATH; then beside the file); base: "fixed" or "free" (--base; None:
+    free for a wheeled base, fixed otherwise). A URDF that cannot be
     imported is a SceneError with the CLI's lines (FILE:LINE: error: message);
     ignored elements (<gazebo>, <visual>, ...) are in scene.warnings, and what the
     file declares in scene.urdf_robots.
@@ -85,11 +88,11 @@ def load(path, *, package_paths=None, base=None, particle_size=0.0, particles_pe
         return _load_mjcf(text, particle_size=particle_size, particles_per_link=particles_per_link)
     if _is_urdf_path(text):
         return _load_urdf(text, package_paths=[_os.fspath(p) for p in package_paths or []],
-                          base=base, particle_size=particle_size,
+                          base=base, rigid=rigid, particle_size=particle_size,
                           particles_per_link=particles_per_link)
     if package_paths is not None or base is not None or particle_size != 0.0 \
-            or particles_per_link != 30:
-        raise TypeError(f"robophi.load: {text}: package_paths, base, particle_size and "
+            or particles_per_link != 30 or rigid is not True:
+        raise TypeError(f"robophi.load: {text}: package_paths, base, rigid, particle_size and "
                         "particles_per_link are for a URDF (.urdf); a scene file sets them "
                         "in its {\"type\": \"urdf\"} objects")
     return _load_scene(text)

@@ -115,9 +115,11 @@ PyScene loadBareRobot(const std::string& path, const UrdfSceneOptions& options,
 }
 
 PyScene loadUrdf(const std::string& path, std::vector<std::string> packagePaths,
-                 std::optional<std::string> base, double particleSize, int particlesPerLink) {
+                 std::optional<std::string> base, bool rigid, double particleSize,
+                 int particlesPerLink) {
   UrdfSceneOptions options;
   options.packagePaths = std::move(packagePaths);
+  options.rigid = rigid;
   if (base) {
     if (*base != "fixed" && *base != "free")
       throw std::invalid_argument("robophi.load: base '" + *base + "': expected fixed or free");
@@ -255,12 +257,13 @@ void bindUrdf(py::module_& m) {
   m.def(
       "_load_urdf",
       [](const py::handle& path, std::vector<std::string> packagePaths,
-         std::optional<std::string> base, double particleSize, int particlesPerLink) {
-        return loadUrdf(pathText(path), std::move(packagePaths), std::move(base), particleSize,
-                        particlesPerLink);
+         std::optional<std::string> base, bool rigid, double particleSize,
+         int particlesPerLink) {
+        return loadUrdf(pathText(path), std::move(packagePaths), std::move(base), rigid,
+                        particleSize, particlesPerLink);
       },
       py::arg("path"), py::arg("package_paths") = std::vector<std::string>{},
-      py::arg("base") = py::none(), py::arg("particle_size") = 0.0,
+      py::arg("base") = py::none(), py::arg("rigid") = true, py::arg("particle_size") = 0.0,
       py::arg("particles_per_link") = 30);
 }
 

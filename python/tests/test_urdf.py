@@ -14,7 +14,8 @@ robophi = pytest.importorskip("robophi", reason="the Python module was not built
 
 
 def test_load_a_bare_urdf(robots):
-    scene = robophi.load(robots / "cartpole" / "cartpole.urdf")
+    # The paper's particle robot (rigid=False, --particles): one object a link.
+    scene = robophi.load(robots / "cartpole" / "cartpole.urdf", rigid=False)
     model = scene.model
     assert [j.name for j in model.joints] == ["physics.slider_to_cart", "physics.cart_to_pole"]
     assert [j.kind for j in model.joints] == ["prismatic", "revolute"]
@@ -66,16 +67,22 @@ def test_a_bare_urdf_is_the_clis_scene(robots, tmp_path, cli):
 
 def test_urdf_options(robots):
     urdf = robots / "pr2_gripper" / "pr2_gripper.urdf"
-    fixed = robophi.load(urdf, base="fixed")
-    free = robophi.load(urdf, base="free")
+    fixed = robophi.load(urdf, base="fixed", rigid=False)
+    free = robophi.load(urdf, base="free", rigid=False)
     assert (fixed.model.inverse_masses == 0).any()
     assert not (free.model.inverse_masses == 0).any()
-    coarse = robophi.load(urdf, particles_per_link=10)
+    coarse = robophi.load(urdf, particles_per_link=10, rigid=False)
     assert coarse.model.particle_count < fixed.model.particle_count
     with pytest.raises(ValueError, match="robophi.load: base 'sideways': expected fixed or free"):
         robophi.load(urdf, base="sideways")
     with pytest.raises(TypeError, match="are for a URDF"):
         robophi.load(robots / ".." / "nothing.json", base="fixed")
+    with pytest.raises(TypeError, match="are for a URDF"):
+        robophi.load(robots / ".." / "nothing.json", rigid=False)
+    # Rigid, the default: the links are rigid bodies of one tree, exact mass.
+    rigid = robophi.load(urdf)
+    assert rigid.model.particle_count > 0 and [j.name for j in rigid.model.joints] == \
+        [j.name for j in fixed.model.joints]
 
 
 def test_a_few_steps_of_a_loaded_urdf(robots):

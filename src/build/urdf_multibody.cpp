@@ -78,6 +78,9 @@ double shapeVolume(const urdf::Geometry& g) {
   return 0.0;
 }
 
+// The largest mass (kg) and inertia entry (kg·m²) of a rigid link.
+constexpr double kMaxRigidBodyMass = 1e12;
+
 // A link's mass properties in its own frame, as the file gives them or from its
 // geometry; balanced if asked.
 BodyMassProperties linkMass(const urdf::Description& d, const urdf::Link& link,
@@ -85,6 +88,17 @@ BodyMassProperties linkMass(const urdf::Description& d, const urdf::Link& link,
   BodyMassProperties p;
   if (!link.inertial.present || link.inertial.mass <= 0.0) return p;
   const double m = link.inertial.mass;
+  // The step squares energies and stiffnesses made of masses and inertias: past
+  // kMaxRigidBodyMass they overflow (docs/scene-format.md#limits).
+  const auto& entries = link.inertial.inertia;
+  const double largest = std::max({std::abs(entries[0]), std::abs(entries[1]), std::abs(entries[2]),
+                                   std::abs(entries[3]), std::abs(entries[4]), std::abs(entries[5])});
+  if (m > kMaxRigidBodyMass || largest > kMaxRigidBodyMass)
+    throw UrdfError(d.file, link.inertial.line,
+                    "<inertial> of link '" + link.name + "': mass " + check::number(m) +
+                        " kg, largest inertia entry " + check::number(largest) +
+                        " kg·m²: more than " + check::number(kMaxRigidBodyMass) +
+                        " can be simulated");
   const bool fromGeometry =
       spec.inertiaFromGeometry || std::find(spec.inertiaFromGeometryLinks.begin(),
                                             spec.inertiaFromGeometryLinks.end(),

@@ -138,6 +138,11 @@ class Reader {
     notes_.push_back({file_, e->GetLineNum(), message});
   }
 
+  // A warning given once for each key.
+  void noteOnce(const XMLElement* e, const std::string& key, const std::string& message) {
+    if (noted_.insert(key).second) note(e, message);
+  }
+
   void ignore(const XMLElement* e, const std::string& kind) {
     ignored_.emplace(kind, e->GetLineNum());  // keeps the first of each kind
   }
@@ -161,11 +166,15 @@ class Reader {
   std::string file_;
   std::map<std::string, int> ignored_;
   std::vector<UrdfWarning> notes_;
+  std::set<std::string> noted_;
 };
 
 // package://NAME/rest: NAME a folder directly under a package path, or the
-// package path itself ending in NAME.
-std::string resolvePackage(const Reader& reader, const XMLElement* e, const std::string& uri,
+// package path itself ending in NAME. Where no package path holds it, the
+// URDF's own folder and the folders above it are the package paths (a robot
+// published with its meshes beside it loads as published, as in PyBullet and
+// MuJoCo, which look beside the file), with one warning a package.
+std::string resolvePackage(Reader& reader, const XMLElement* e, const std::string& uri,
                            const std::vector<std::string>& packagePaths) {
   const std::string body = uri.substr(std::string("package://").size());
   const auto slash = body.find('/');
@@ -193,11 +202,25 @@ std::string resolvePackage(const Reader& reader, const XMLElement* e, const std:
       if (fs::is_regular_file(candidate, error)) return candidate.string();
     }
   }
+  std::error_code error;
+  fs::path folder = fs::absolute(fs::path(reader.file()), error).parent_path();
+  for (; !folder.empty(); folder = folder.parent_path()) {
+    for (const fs::path& candidate :
+         {folder / name / rest, folder.filename() == name ? folder / rest : fs::path()}) {
+      if (candidate.empty() || !fs::is_regular_file(candidate, error)) continue;
+      reader.noteOnce(e, "package:" + name,
+                      "package '" + name + "' taken from " + candidate.string().substr(
+                          0, candidate.string().size() - rest.size()) +
+                          " (beside the URDF; no package path held it)");
+      return candidate.string();
+    }
+    if (folder == folder.root_path()) break;
+  }
   std::string message = "mesh '" + uri + "' not found: ";
   if (tried.empty()) {
     message +=
-        "no package path to look in (give --package-path DIR or the scene's "
-        "\"packagePaths\", or set ROS_PACKAGE_PATH)";
+        "not beside the URDF (in its folder or one above it) and no package path to look in "
+        "(give --package-path DIR or the scene's \"packagePaths\", or set ROS_PACKAGE_PATH)";
   } else {
     message += "tried";
     for (std::size_t k = 0; k < tried.size(); ++k) message += (k ? ", " : " ") + tried[k];
@@ -205,7 +228,7 @@ std::string resolvePackage(const Reader& reader, const XMLElement* e, const std:
   reader.fail(e, message);
 }
 
-std::string resolveMesh(const Reader& reader, const XMLElement* e, const std::string& filename,
+std::string resolveMesh(Reader& reader, const XMLElement* e, const std::string& filename,
                         const std::vector<std::string>& packagePaths) {
   if (filename.rfind("package://", 0) == 0)
     return resolvePackage(reader, e, filename, packagePaths);

@@ -1645,7 +1645,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
 
   // The loads of the pair contacts: each particle adds them (the contacts where
   // it is the other side, then those where it is a, in contact order) and takes
-  // its stability limit, by Gershgorin as for the connectors (estimateStability):
+  // its stability limit (a rigid tree's particle: its body's, addRigidTreeTerms),
+  // by Gershgorin as for the connectors (estimateStability):
   // ω² <= 2 Σk / m, 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). The sums are zeroed
   // again. On threads, a gather by particle; on one, the scatter in contact order,
   // which adds the same terms in the same order (a pair contact has a < other, so
@@ -1667,7 +1668,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
       if (stiffness == 0.0 && damping == 0.0) continue;
       cache.contactStiffnessSum[i] = 0.0;
       cache.contactDampingSum[i] = 0.0;
-      if (stiffness != 0.0) criticalStep = std::min(criticalStep, limitOf(i, stiffness, damping));
+      if (stiffness != 0.0 && tables.treeOf[i] < 0)
+        criticalStep = std::min(criticalStep, limitOf(i, stiffness, damping));
     }
   } else {
     indexLoads(particles, cache);
@@ -1704,7 +1706,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
             if (stiffness == 0.0 && damping == 0.0) continue;
             cache.contactStiffnessSum[i] = 0.0;
             cache.contactDampingSum[i] = 0.0;
-            if (stiffness != 0.0) step = std::min(step, limitOf(i, stiffness, damping));
+            if (stiffness != 0.0 && tables.treeOf[i] < 0)
+              step = std::min(step, limitOf(i, stiffness, damping));
           }
           cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
         });

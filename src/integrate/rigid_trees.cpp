@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "forces/forces.h"
+#include "model/multibody_contacts.h"
 #include "robophi/stability.h"
 
 namespace robophi {
@@ -87,16 +88,67 @@ void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
   if (scratch.size() != model.rigidTrees.size()) scratch.resize(model.rigidTrees.size());
 }
 
-// addRigidTreeTerms' contact limit: per touching body, Gershgorin on its contacts'
-// stiffness and damping sums with the body's inverse effective mass bound.
+// The tree of `side` (a particle of contact c) when its tree's step takes the
+// contact's load implicitly (docs/model.md §7 "Contacts on rigid trees"), else -1:
+// a pressing contact of a particle or the environment on a tree particle whose
+// other side is not of the same tree (a tree's contact with itself would couple
+// two branches: explicit, as facet and rim contacts).
+std::int32_t implicitTreeOf(const Contact& c, const ContactTables& tables, std::int32_t side) {
+  if (side < 0 || c.normalForce <= 0.0 || c.involvesFacets() || c.rim >= 0) return -1;
+  const std::int32_t tree = tables.treeOf[static_cast<std::size_t>(side)];
+  if (tree < 0) return -1;
+  const std::int32_t opposite = side == c.a ? c.other : c.a;
+  if (opposite >= 0 && tables.treeOf[static_cast<std::size_t>(opposite)] == tree) return -1;
+  return tree;
+}
+
+// Each tree's implicit contact loads (implicitTreeOf) at the evaluation's contacts:
+// the contact point on the tree particle's surface, the pair's normal stiffness
+// and damping, and while it sticks its anchor's k_t and c_t (c_t for the pair's
+// effective mass, as the contact law's).
+void collectImplicitLoads(const Model& model, const ContactTables& tables, const State& state,
+                          const std::vector<Contact>& contacts,
+                          std::vector<std::vector<PointLoadStiffness>>& loads) {
+  loads.resize(model.rigidTrees.size());
+  for (auto& list : loads) list.clear();
+  PairParameters overridden;
+  for (const Contact& c : contacts) {
+    for (const std::int32_t side : {c.a, c.other}) {
+      const std::int32_t tree = implicitTreeOf(c, tables, side);
+      if (tree < 0) continue;
+      const auto i = static_cast<std::size_t>(side);
+      const PairParameters& pair = pairParameters(model, tables, c.a, c.other, overridden);
+      PointLoadStiffness load;
+      load.body = tables.treeBodyOf[i];
+      load.normal = c.normal;  // from the other side to a
+      load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
+      load.normalStiffness = pair.stiffness;
+      load.normalDamping = pair.damping;
+      if (c.sliding == 0 && pair.tangentialStiffness > 0.0) {
+        const double inverseMass =
+            tables.contactInverseMass[static_cast<std::size_t>(c.a)] +
+            (c.other >= 0 ? tables.contactInverseMass[static_cast<std::size_t>(c.other)] : 0.0);
+        load.tangentialStiffness = pair.tangentialStiffness;
+        load.tangentialDamping =
+            pair.tangentialDampingRatio * 2.0 * std::sqrt(pair.tangentialStiffness / inverseMass);
+      }
+      loads[static_cast<std::size_t>(tree)].push_back(load);
+    }
+  }
+}
+
+// addRigidTreeTerms' contact limit: per touching body, Gershgorin on the stiffness
+// and damping sums of its contacts that its step takes explicitly, with the body's
+// inverse effective mass bound.
 void limitTreeContactStep(const Model& model, const ContactTables& tables, Evaluation& evaluation) {
   if (evaluation.contacts.empty()) return;
   // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
   std::vector<std::vector<double>> stiffness(model.rigidTrees.size()), damping(model.rigidTrees.size());
   bool any = false;
   PairParameters overridden;
-  const auto book = [&](std::int32_t particle, std::int32_t a, std::int32_t other) {
-    if (particle < 0) return;
+  const auto book = [&](const Contact& c, std::int32_t particle) {
+    if (particle < 0 || implicitTreeOf(c, tables, particle) >= 0) return;
+    const std::int32_t a = c.a, other = c.other;
     const std::int32_t t = tables.treeOf[static_cast<std::size_t>(particle)];
     if (t < 0) return;
     const auto tree = static_cast<std::size_t>(t);
@@ -112,8 +164,8 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables, Evalu
   };
   for (const Contact& c : evaluation.contacts) {
     if (c.a < 0) continue;
-    book(c.a, c.a, c.other);
-    if (c.other >= 0) book(c.other, c.a, c.other);
+    book(c, c.a);
+    if (c.other >= 0) book(c, c.other);
   }
   if (!any) return;
   // Each body's inverse effective mass bound is its particles' (ContactTables).
@@ -149,9 +201,13 @@ void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyW
   }
 }
 
-void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation, State& state,
+void stepRigidTrees(const Model& model, const ContactTables& tables, double dt,
+                    const Evaluation& evaluation, State& state,
                     std::vector<MultibodyWorkspace>& scratch) {
   sizeScratch(model, scratch);
+  thread_local std::vector<std::vector<PointLoadStiffness>> implicitLoads;
+  // (The contacts found at t are the friction history by now: World::step.)
+  collectImplicitLoads(model, tables, state, state.frictionHistory, implicitLoads);
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
     const RigidTree& tree = model.rigidTrees[t];
     const Multibody& mb = tree.multibody;
@@ -172,7 +228,8 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
       w.angular += moment;
       w.linear += f;
     }
-    const MultibodyStepReport report = stepMultibody(mb, q, v, inputs, dt, model.gravity, ws);
+    const MultibodyStepReport report =
+        stepMultibody(mb, q, v, inputs, implicitLoads[t], dt, model.gravity, ws);
     state.dissipated += report.dissipated;
     state.external += report.inputWork;
     MultibodyKinematics& kin = ws.kinematics;

@@ -22,8 +22,12 @@ void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyW
 /// velocity to its body's at t + dt and its position to where its body puts it at
 /// t + dt less dt times that velocity: the integrators' rule for a fixed particle
 /// (p += v dt, in every scheme) then lands it on the body. The trees' dissipated
-/// and input work go into state.dissipated and state.external.
-void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation, State& state,
+/// and input work go into state.dissipated and state.external. The pressing contacts
+/// between a tree and anything but itself are implicit in the tree's step (their
+/// stiffness and damping, model/multibody_contacts.h; docs/model.md §7 "Contacts on
+/// rigid trees"), and no longer bound the step.
+void stepRigidTrees(const Model& model, const ContactTables& tables, double dt,
+                    const Evaluation& evaluation, State& state,
                     std::vector<MultibodyWorkspace>& scratch);
 
 /// Adds the trees' terms to an evaluation measured at `state`: their kinetic and
@@ -31,8 +35,9 @@ void stepRigidTrees(const Model& model, double dt, const Evaluation& evaluation,
 /// driving power booked for their particles as fixed particles (−F·v each): the
 /// loads on them act on the trees, whose energy is in the account, not from outside.
 /// Lowers the contacts' critical step to each touching body's (docs/model.md §7):
-/// ω² = 2 w Σ (κ + k_t) over the body's contacts, w the bound on the body's inverse
-/// effective mass at its particles (ContactTables::contactInverseMass).
+/// ω² = 2 w Σ (κ + k_t) over the body's contacts that its step takes explicitly, w
+/// the bound on the body's inverse effective mass at its particles
+/// (ContactTables::contactInverseMass); the contact stage leaves tree particles out.
 /// kinematicsCurrent: scratch already holds each tree's kinematics at `state` (as
 /// stepRigidTrees leaves them), not computed again.
 void addRigidTreeTerms(const Model& model, const ContactTables& tables, const State& state,

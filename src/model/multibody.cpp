@@ -4,6 +4,8 @@
 // joint damping and servos, hard stops and joint friction.
 #include "robophi/multibody.h"
 
+#include "model/multibody_contacts.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -485,11 +487,59 @@ double inputAt(const std::vector<double>& values, std::size_t i) {
   return values.empty() ? 0.0 : values[i];
 }
 
+// K x for a point load's K = k_n n nᵀ + k_t (I − n nᵀ) (or its C, with the dampings).
+Vec3 pointLoadTimes(const Vec3& n, double normal, double tangential, const Vec3& x) {
+  const Vec3 along = n * dot(n, x);
+  return along * normal + (x - along) * tangential;
+}
+
+// The implicit point loads' terms: each load's Jacobian J (3 × n, into jacobians),
+// their matrix Σ Jᵀ (dt C + dt² K) J (n × n, into matrix) and right-hand side
+// −dt² Σ Jᵀ K J v (into rhs). Jᵀ X J is non-zero only between a body's ancestors'
+// rates, within the mass matrix's tree pattern.
+void assemblePointLoads(const Multibody& multibody, const MultibodyKinematics& kin,
+                        const std::vector<PointLoadStiffness>& loads, const std::vector<double>& v,
+                        double dt, std::vector<double>& jacobians, std::vector<double>& matrix,
+                        std::vector<double>& rhs) {
+  const auto n = static_cast<std::size_t>(multibody.velocityCount);
+  jacobians.assign(3 * n * loads.size(), 0.0);
+  matrix.assign(n * n, 0.0);
+  rhs.assign(n, 0.0);
+  for (std::size_t l = 0; l < loads.size(); ++l) {
+    const PointLoadStiffness& load = loads[l];
+    double* J = jacobians.data() + 3 * n * l;
+    pointJacobian(multibody, kin, load.body, load.point, J, nullptr);
+    // Columns: the Jacobian's non-zero rates (the body's ancestors' rates).
+    Vec3 pointVelocity{};
+    for (std::size_t i = 0; i < n; ++i)
+      pointVelocity += Vec3{J[i], J[n + i], J[2 * n + i]} * v[i];
+    const Vec3 stiffnessTimesVelocity =
+        pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, pointVelocity);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 column{J[i], J[n + i], J[2 * n + i]};
+      if (column.x == 0.0 && column.y == 0.0 && column.z == 0.0) continue;
+      rhs[i] -= dt * dt * dot(column, stiffnessTimesVelocity);
+      const Vec3 weighted =
+          pointLoadTimes(load.normal, dt * load.normalDamping + dt * dt * load.normalStiffness,
+                         dt * load.tangentialDamping + dt * dt * load.tangentialStiffness, column);
+      for (std::size_t k = 0; k < n; ++k)
+        matrix[i * n + k] += dot(weighted, Vec3{J[k], J[n + k], J[2 * n + k]});
+    }
+  }
+}
+
 }  // namespace
 
 MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double>& q,
                                   std::vector<double>& v, const MultibodyInputs& inputs,
                                   double dt, const Vec3& gravity, MultibodyWorkspace& ws) {
+  return stepMultibody(multibody, q, v, inputs, {}, dt, gravity, ws);
+}
+
+MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double>& q,
+                                  std::vector<double>& v, const MultibodyInputs& inputs,
+                                  const std::vector<PointLoadStiffness>& implicitLoads, double dt,
+                                  const Vec3& gravity, MultibodyWorkspace& ws) {
   const int nv = multibody.velocityCount;
   const auto n = static_cast<std::size_t>(nv);
   MultibodyStepReport report;
@@ -503,6 +553,11 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   massMatrix(multibody, kin, ws.mass.data());
   inverseDynamics(multibody, kin, nullptr, gravity,
                   inputs.wrench.empty() ? nullptr : inputs.wrench.data(), ws.tau.data());
+  // The contacts' implicit terms (multibody_contacts.h).
+  std::vector<double> loadJacobians, loadMatrix, loadRhs;
+  const bool loaded = !implicitLoads.empty();
+  if (loaded)
+    assemblePointLoads(multibody, kin, implicitLoads, v, dt, loadJacobians, loadMatrix, loadRhs);
 
   // The implicit terms: joint damping b and the servos' κ and β on the diagonal;
   // scratch holds each rate's explicit effort. A servo whose effort at the solution
@@ -516,6 +571,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   saturated.assign(n, 0);
   for (std::size_t round = 0; round <= n; ++round) {
     ws.massMatrix = ws.mass;
+    if (loaded)
+      for (std::size_t k = 0; k < n * n; ++k) ws.massMatrix[k] += loadMatrix[k];
     for (std::size_t i = 0; i < n; ++i) {
       const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
       const bool oneDof = velocityCountOf(body.joint) == 1;
@@ -540,6 +597,7 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + beta) + dt * dt * kappa;
       ws.rhs[i] = dt * (effort - ws.tau[i] - kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate) -
                         damping * v[i]);
+      if (loaded) ws.rhs[i] += loadRhs[i];
     }
     factorTree(ws.massMatrix.data(), nv, multibody.dofParent);
     solveTree(ws.massMatrix.data(), nv, multibody.dofParent, ws.rhs.data());
@@ -617,6 +675,25 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
                  q[static_cast<std::size_t>(base.qStart) + 2]};
     const Vec3 torque{tau[0], tau[1], tau[2]}, force{tau[3], tau[4], tau[5]};
     momentumTarget = momentumTarget + SpatialVector{torque + cross(p, force), force} * dt;
+  }
+  // The implicit loads' change over the step, −K dt v⁺ − C Δv at each point: the
+  // scheme's loss, and (a free tree) the momentum it brings.
+  for (std::size_t l = 0; l < implicitLoads.size(); ++l) {
+    const PointLoadStiffness& load = implicitLoads[l];
+    const double* J = loadJacobians.data() + 3 * n * l;
+    Vec3 after{}, change{};
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 column{J[i], J[n + i], J[2 * n + i]};
+      after += column * ws.velocityFree[i];
+      change += column * (ws.velocityFree[i] - v[i]);
+    }
+    const Vec3 spring = pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, after);
+    const Vec3 damper = pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, change);
+    report.dissipated += 0.5 * dt * dt * dot(after, spring) + dt * dot(after, damper);
+    if (freeTree) {
+      const Vec3 force = -(spring * dt + damper);
+      momentumTarget = momentumTarget + SpatialVector{cross(load.point, force), force} * dt;
+    }
   }
 
   // Semi-implicit Euler's own loss: the work dt τ·v⁺ exceeds the change of ½ vᵀ M v by

@@ -79,6 +79,11 @@ Contact contactFromJson(const json& j) {
 }
 
 json stateToJson(const State& s) {
+  const auto trees = [](const std::vector<std::vector<double>>& values) {
+    json out = json::array();
+    for (const std::vector<double>& tree : values) out.push_back(exactNumbers(tree));
+    return out;
+  };
   json history = json::array();
   for (const Contact& c : s.frictionHistory) history.push_back(contactToJson(c));
   return {{"time", exactNumber(s.time)},
@@ -86,6 +91,8 @@ json stateToJson(const State& s) {
           {"position", exactVec3s(s.position)},
           {"velocity", exactVec3s(s.velocity)},
           {"spin", exactVec3s(s.spin)},
+          {"tree_positions", trees(s.treePositions)},
+          {"tree_velocities", trees(s.treeVelocities)},
           {"friction_history", history},
           {"dissipated", exactNumber(s.dissipated)},
           {"external", exactNumber(s.external)}};
@@ -98,6 +105,17 @@ State stateFromJson(const json& j, const Model& model) {
   s.position = vec3sFromJson(j.at("position"), "position");
   s.velocity = vec3sFromJson(j.at("velocity"), "velocity");
   s.spin = vec3sFromJson(j.at("spin"), "spin");
+  // The rigid trees' coordinates and rates (docs/model.md §7); a checkpoint of a
+  // model without trees may lack them.
+  for (const auto& [key, values] : {std::pair{"tree_positions", &s.treePositions},
+                                    std::pair{"tree_velocities", &s.treeVelocities}}) {
+    if (!j.contains(key)) continue;
+    for (const json& tree : j.at(key)) values->push_back(numbersFromJson(tree, key));
+  }
+  if (s.treePositions.size() != model.rigidTrees.size() ||
+      s.treeVelocities.size() != model.rigidTrees.size())
+    throw std::runtime_error(fmt::format("the checkpoint's state has {} rigid trees, the scene {}",
+                                         s.treePositions.size(), model.rigidTrees.size()));
   for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
   s.dissipated = number(j, "dissipated");
   s.external = number(j, "external");

@@ -89,6 +89,7 @@ nlohmann::json sceneRecord(const Scene& scene, const std::string& hash,
     record["urdf"] = {
         {"package_paths", paths},
         {"fixed_base", urdf.fixedBase ? nlohmann::json(*urdf.fixedBase) : nlohmann::json()},
+        {"rigid", urdf.rigid},
         {"particle_size", output::exactNumber(urdf.particleSize)},
         {"particles_per_link", urdf.particlesPerLink}};
   }
@@ -735,6 +736,8 @@ CheckpointedRun checkpointedRun(const nlohmann::json& checkpoint) {
     const nlohmann::json& urdf = scene.at("urdf");
     run.urdf.packagePaths = urdf.at("package_paths").get<std::vector<std::string>>();
     if (!urdf.at("fixed_base").is_null()) run.urdf.fixedBase = urdf.at("fixed_base").get<bool>();
+    // Checkpoints written before the rigid default were of the particle model.
+    run.urdf.rigid = urdf.contains("rigid") && urdf.at("rigid").get<bool>();
     run.urdf.particleSize = output::numberFromJson(urdf.at("particle_size"), "particle_size");
     run.urdf.particlesPerLink = urdf.at("particles_per_link").get<int>();
   }

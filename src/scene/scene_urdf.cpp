@@ -344,9 +344,24 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     scene.sourcePath = path;
     build::BuiltModel built = std::move(builder).build();
     scene::holdRigidJoints(built.model, built.initial, placed.tree);
+    // Values past what can be simulated (a <mass value="1e300"/>) show in the servos
+    // that hold the joints, whose squares the step's products reach: refused here,
+    // naming the joint, not a run of NaN.
+    for (const Joint& joint : built.model.joints) {
+      const double kappa = joint.servoStiffness, beta = joint.servoDamping;
+      if (!joint.inTree() || (std::isfinite(kappa * kappa) && std::isfinite(beta * beta))) continue;
+      return fail(path, fmt::format("joint '{}': the servo that holds it would need κ = {} and "
+                                    "β = {}: the bodies it moves are too heavy or their inertia "
+                                    "too large to simulate (see their <inertial>)",
+                                    joint.name, joint.servoStiffness, joint.servoDamping));
+    }
     scene.model = std::move(built.model);
     scene.initial = std::move(built.initial);
     scene.run.duration = 2.0;
+    // Its joints' servos and its contacts are implicit (docs/model.md §7): nothing
+    // stiff bounds the step and the energy error sees little of their error; steps
+    // of at most MuJoCo's default 2 ms keep them accurate.
+    scene.run.adaptive.maxStep = 2e-3;
     scene.inputFiles = read.files();
     result.scene = std::move(scene);
   } catch (const build::UrdfError& e) {

@@ -45,6 +45,7 @@ class UrdfBudget : public ::testing::Test {
     testing::writeText(file, chainUrdf(links, type));
     UrdfSceneOptions options;
     options.particlesPerLink = particlesPerLink;
+    options.rigid = false;  // budgets of the particle model
     return loadUrdfFile(file.string(), options);
   }
   static std::string errors(const SceneLoadResult& result) {

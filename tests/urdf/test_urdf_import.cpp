@@ -40,6 +40,7 @@ const RobotCase kCases[] = {
 Scene loadRobot(const std::string& file) {
   UrdfSceneOptions options;
   options.packagePaths = {kRobots + "/franka_panda"};
+  options.rigid = false;  // the paper's model: links filled with particles
   SceneLoadResult result = loadUrdfFile(kRobots + "/" + file, options);
   for (const auto& e : result.errors) ADD_FAILURE() << e.format();
   if (!result.ok()) return Scene{};

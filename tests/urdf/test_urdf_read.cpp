@@ -82,6 +82,16 @@ TEST(UrdfRead, MissingMeshListsEveryPlaceTried) {
     EXPECT_NE(e.message().find("/nowhere/no_such_package/meshes/base.stl"), std::string::npos)
         << e.what();
   }
+  // No package path, and no folder beside the URDF or above it holds the package.
+  try {
+    urdf::readUrdf(path, {});
+    FAIL();
+  } catch (const UrdfError& e) {
+    EXPECT_NE(e.message().find("not beside the URDF (in its folder or one above it) and no "
+                               "package path to look in"),
+              std::string::npos)
+        << e.what();
+  }
   const std::string relative = kBroken + "missing_mesh.urdf";
   try {
     urdf::readUrdf(relative, {});
@@ -121,8 +131,17 @@ TEST(UrdfRead, KukaIiwaTreeLimitsAndWarnings) {
 TEST(UrdfRead, PandaPackagePathsAndGripper) {
   // package://meshes/...: NAME "meshes" is a folder directly under the package path.
   const std::string dir = kRobots + "/franka_panda";
-  EXPECT_THROW(urdf::readUrdf(dir + "/panda.urdf", {}), UrdfError);
+  // Without a package path, the URDF's folder holds "meshes": found beside it.
+  const urdf::Description beside = urdf::readUrdf(dir + "/panda.urdf", {});
+  bool named = false;
+  for (const UrdfWarning& w : beside.warnings)
+    named = named || w.message.find("package 'meshes' taken from " + dir + "/meshes/") != std::string::npos;
+  EXPECT_TRUE(named);
   const urdf::Description d = urdf::readUrdf(dir + "/panda.urdf", {dir});
+  ASSERT_EQ(beside.links.size(), d.links.size());
+  for (std::size_t k = 0; k < d.links.size(); ++k)
+    for (std::size_t c = 0; c < d.links[k].collisions.size(); ++c)
+      EXPECT_EQ(beside.links[k].collisions[c].geometry.mesh, d.links[k].collisions[c].geometry.mesh);
   ASSERT_EQ(d.links.size(), 13u);
   int revolute = 0, prismatic = 0, fixed = 0;
   for (const auto& j : d.joints) {

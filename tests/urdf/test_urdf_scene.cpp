@@ -123,16 +123,24 @@ TEST(UrdfCommand, ValidateABareUrdfAndABrokenOne) {
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_NE(bad.errors.find(broken + ":14: error: link 'c' has two parents"), std::string::npos)
       << bad.errors;
-  // The Panda needs its package path for package://meshes/...
+  // The Panda's package://meshes/... is found beside it (a warning names the
+  // folder taken), or in the package path given.
   const std::string panda = kRobots + "/franka_panda/panda.urdf";
-  EXPECT_EQ(robophi("validate " + panda).exitCode, 2);
-  EXPECT_EQ(robophi("validate " + panda + " --package-path " + kRobots + "/franka_panda").exitCode,
-            0);
+  const Outcome beside = robophi("validate " + panda);
+  EXPECT_EQ(beside.exitCode, 0) << beside.errors;
+  EXPECT_NE(beside.errors.find("package 'meshes' taken from " + kRobots + "/franka_panda/meshes/"),
+            std::string::npos)
+      << beside.errors;
+  const Outcome given = robophi("validate " + panda + " --package-path " + kRobots + "/franka_panda");
+  EXPECT_EQ(given.exitCode, 0);
+  EXPECT_EQ(given.errors.find("package 'meshes' taken from"), std::string::npos) << given.errors;
   EXPECT_EQ(robophi("validate " + panda + " --base sideways").exitCode, 2);
 }
 
 TEST(UrdfCommand, InfoJsonReportsEveryLinkAgainstTheUrdf) {
-  const Outcome o = robophi("info " + kRobots + "/pr2_gripper/pr2_gripper.urdf --json");
+  // The particle robot: one object a link, each against the URDF's values.
+  const Outcome o =
+      robophi("info " + kRobots + "/pr2_gripper/pr2_gripper.urdf --particles --json");
   ASSERT_EQ(o.exitCode, 0) << o.errors;
   const nlohmann::json info = nlohmann::json::parse(o.out);
   EXPECT_EQ(info["file"], kRobots + "/pr2_gripper/pr2_gripper.urdf");
@@ -155,7 +163,7 @@ TEST(UrdfCommand, InfoJsonReportsEveryLinkAgainstTheUrdf) {
   }
   EXPECT_NEAR(total, 0.5 + 4 * 0.1, 1e-6);
   // The text form names the declared values too.
-  const Outcome text = robophi("info " + kRobots + "/kuka_iiwa/model.urdf");
+  const Outcome text = robophi("info " + kRobots + "/kuka_iiwa/model.urdf --particles");
   ASSERT_EQ(text.exitCode, 0) << text.errors;
   EXPECT_NE(text.out.find("declared (URDF)"), std::string::npos);
   EXPECT_NE(text.out.find("notional base"), std::string::npos);

@@ -130,10 +130,12 @@ struct UrdfSceneOptions {
   /// build::UrdfSpec's resolution: lattice spacing (m, 0: by count) or particles a link.
   double particleSize = 0.0;
   int particlesPerLink = 30;
-  /// The robot as rigid bodies (docs/robots.md "Rigid bodies", build::makeUrdfMultibody):
-  /// exact mass properties, joints in reduced coordinates, contact by its <collision>
-  /// geometry only; its joints held by servos with gravity compensation.
-  bool rigid = false;
+  /// The robot as rigid bodies, the default (docs/robots.md "Rigid bodies",
+  /// build::makeUrdfMultibody): exact mass properties, joints in reduced coordinates,
+  /// contact by its <collision> geometry only; its joints held by servos with gravity
+  /// compensation. False: the paper's model, links filled with particles
+  /// (build::makeUrdfRobot; --particles).
+  bool rigid = true;
 };
 /// A URDF robot on a ground plane (z = 0) under gravity: its lowest particle resting on it,
 /// its joints held where they are built by servos (build::UrdfSpec::holdJoints). URDF
