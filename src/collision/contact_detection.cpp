@@ -333,7 +333,7 @@ inline void listedContacts(const Model& model, const std::vector<Vec3>& position
     const double reach = r + model.radius[j];
     if (dx * dx + dy * dy + dz * dz >= reach * reach) continue;
     if (tables.movable[i] == 0 && tables.movable[j] == 0) continue;
-    if (excluded(*cache.tables, i, j)) continue;
+    if (excluded(*cache.tables, i, j) || sameRigidBody(tables, i, j)) continue;
     addSeed(work, ContactSeed::pair(i, j));
   }
 }

@@ -452,6 +452,14 @@ inline bool objectsExcluded(const ContactTables& tables, std::int32_t a, std::in
   return std::binary_search(tables.noContactPairs.begin(), tables.noContactPairs.end(), key);
 }
 
+/// Whether particles a and b are carried by one body of a rigid tree: they never
+/// touch (their distance cannot change).
+inline bool sameRigidBody(const ContactTables& tables, std::int32_t a, std::int32_t b) {
+  const std::int32_t body = tables.treeBodyOf[static_cast<std::size_t>(a)];
+  return body >= 0 && body == tables.treeBodyOf[static_cast<std::size_t>(b)] &&
+         tables.treeOf[static_cast<std::size_t>(a)] == tables.treeOf[static_cast<std::size_t>(b)];
+}
+
 /// Whether a connector ties particles a < b.
 inline bool excluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {
   const std::int32_t* begin = tables.exclusionPartner.data() + tables.exclusionStart[a];

@@ -73,7 +73,7 @@ inline void testParticlePair(const Model& model, const std::vector<Vec3>& positi
   // Two particles that do not move under loads never touch (a rigid tree's carried
   // particles move with their body: ContactTables::movable).
   if (cache.tables->movable[a] == 0 && cache.tables->movable[b] == 0) return;
-  if (excluded(*cache.tables, a, b)) return;
+  if (excluded(*cache.tables, a, b) || sameRigidBody(*cache.tables, a, b)) return;
   Contact c;
   c.a = a;
   c.other = b;
