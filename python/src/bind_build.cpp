@@ -133,7 +133,8 @@ void bindBuild(py::module_& m) {
       .def_readwrite("width", &WheelSpec::width, "m")
       .def_readwrite("axis", &WheelSpec::axis)
       .def_readwrite("rim_particles", &WheelSpec::rimParticles)
-      .def_readwrite("mass", &WheelSpec::mass, "kg");
+      .def_readwrite("mass", &WheelSpec::mass, "kg")
+      .def_readwrite("hub_span", &WheelSpec::hubSpan, "m");
 
   // Rigid bodies from geometry (build/rigid_body.h): shapes filled with fitted particles.
   py::class_<ShapeSpec>(m, "Shape", "One piece of a rigid body's volume (build::ShapeSpec).")

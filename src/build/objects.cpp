@@ -403,6 +403,7 @@ GeneratedObject makeWheel(const WheelSpec& spec) {
   check::fitsBudget(kSpec, "rimParticles", "'rimParticles' " + std::to_string(spec.rimParticles),
                     2.0 * spec.rimParticles + 2.0, 9.0 * spec.rimParticles + 1.0);
   check::positive(kSpec, "mass", spec.mass, "kg");
+  check::nonNegative(kSpec, "hubSpan", spec.hubSpan, "m");
   GeneratedObject wheel;
   const int n = spec.rimParticles;
   const Vec3 axis = spec.axis / norm(spec.axis);
@@ -422,8 +423,9 @@ GeneratedObject makeWheel(const WheelSpec& spec) {
     }
   }
   const int hub0 = 2 * n, hub1 = 2 * n + 1;
-  positions.push_back(spec.center - axis * halfGap);
-  positions.push_back(spec.center + axis * halfGap);
+  const double hubHalfSpan = spec.hubSpan > 0.0 ? 0.5 * spec.hubSpan : halfGap;
+  positions.push_back(spec.center - axis * hubHalfSpan);
+  positions.push_back(spec.center + axis * hubHalfSpan);
   wheel.spacing = std::min(2.0 * halfGap, 2.0 * rimRadius * std::sin(M_PI / n));
   addParticles(wheel, std::move(positions), spec.mass, particleRadius);
   for (int i = 0; i < n; ++i) {

@@ -92,25 +92,51 @@ GeneratedObject makeVehicle(const VehicleSpec& spec) {
   const int n = spec.rimParticles;
   const double mountMass = 0.02 * spec.mass;
   const double mountRadius = 0.1 * R;
+  // Every length of the suspension scales with the wheel's radius, none with its
+  // width: a wheel stands on its hubs, and the chassis leans on the wheels' camber
+  // stiffness (the vehicle sways sideways on them when it is short, the wheels
+  // tilting under the chassis: the weight on a wheel, N, tilts it further by
+  // N R per radian). That stiffness is about k s² / 2 for a hub span s held by
+  // links of stiffness k, so the hubs stand at least R/2 apart (beyond a narrow
+  // tyre, as a bicycle's hub flanges; the mounts beside them, 0.2 R across, never
+  // touch), and each wheel's hubs hang from a knuckle held by stiff arms (below).
+  const double hubSpan = std::max(0.5 * W, 0.5 * R);
+  // The lateral arms (hub and knuckle to their inward mounts): the length of a
+  // wheel, not of its width; the chassis sags by millimetres whatever the width,
+  // and an arm of millimetres would turn steeply with that sag and carry weight.
+  const double lateralArm = 0.3 * R;
+  const double trailingArm = 1.5 * R;
+  // The knuckle stands this high above the axle, beside the tyre's inner face.
+  const double knuckleHeight = 0.5 * R;
+  struct Corner {
+    int hubs[2];
+    double side, towardMiddle;
+    Vec3 wheelCenter;
+  };
+  std::vector<Corner> corners;
   int wheelIndex = 0;
   for (double x : xs) {
     for (double y : ys) {
       ++wheelIndex;
       const Vec3 wheelCenter = spec.center + Vec3{x, y, 0.0};
-      const int offset = append(g, makeWheel({wheelCenter, R, W, {0, 1, 0}, n, spec.wheelMass}));
+      const int offset =
+          append(g, makeWheel({wheelCenter, R, W, {0, 1, 0}, n, spec.wheelMass, hubSpan}));
       const double side = y > 0.0 ? 1.0 : -1.0;
       int hubs[2] = {offset + 2 * n, offset + 2 * n + 1};
       if (side * (g.position[hubs[0]].y - g.position[hubs[1]].y) > 0.0) std::swap(hubs[0], hubs[1]);
       // Mounts, rigid with the chassis: ahead/behind (toward the middle), inward on
-      // the axle line, and above each hub. Two stiff links fix a hub in x and y;
-      // the soft link above is the suspension spring (MODEL §6.3: the vehicle adapts).
+      // the axle line, and above each hub. Two stiff links fix a hub in x and y
+      // (the lower trailing and lateral arms); the soft link above is the
+      // suspension spring (MODEL §6.3: the vehicle adapts).
       const double towardMiddle = x > 0.0 ? -1.0 : 1.0;
-      const int inward = addParticle(g, g.position[hubs[0]] - Vec3{0.0, side * 0.6 * W, 0.0},
+      corners.push_back({{hubs[0], hubs[1]}, side, towardMiddle, wheelCenter});
+      const int inward = addParticle(g, g.position[hubs[0]] - Vec3{0.0, side * lateralArm, 0.0},
                                      mountMass, mountRadius);
       std::vector<int> mounts = {inward};
       for (int hub : hubs) {
-        const int ahead = addParticle(g, g.position[hub] + Vec3{towardMiddle * 1.5 * R, 0.0, 0.0},
-                                      mountMass, mountRadius);
+        const int ahead =
+            addParticle(g, g.position[hub] + Vec3{towardMiddle * trailingArm, 0.0, 0.0},
+                        mountMass, mountRadius);
         const int above =
             addParticle(g, g.position[hub] + Vec3{0.0, 0.0, 1.5 * R}, mountMass, mountRadius);
         mounts.push_back(ahead);
@@ -139,6 +165,26 @@ GeneratedObject makeVehicle(const VehicleSpec& spec) {
       motor.effort = side * spec.wheelTorque;
       if (spec.wheelTorqueLimit) motor.effortLimit = *spec.wheelTorqueLimit;
     }
+  }
+  // Knuckles (after the wheels: the layout above stays chassis 0..11, then 2n + 7
+  // particles a wheel). A knuckle K above the axle beside the tyre forms a
+  // triangle with the two hubs; an upper lateral arm (to J) and an upper trailing
+  // arm (to A) parallel to the hub's lower ones and as long make parallelograms,
+  // so that the wheel travels up and down on its suspension springs alone while
+  // its camber (K sideways) is held by a stiff arm at a lever of R/2.
+  for (const Corner& corner : corners) {
+    const Vec3 outward{0.0, corner.side, 0.0};
+    const Vec3 knuckle = corner.wheelCenter - outward * (0.5 * W + 1.5 * mountRadius) +
+                         Vec3{0.0, 0.0, knuckleHeight};
+    const int k = addParticle(g, knuckle, mountMass, mountRadius);
+    const int lateral = addParticle(g, knuckle - outward * lateralArm, mountMass, mountRadius);
+    const int trailing = addParticle(
+        g, knuckle + Vec3{corner.towardMiddle * trailingArm, 0.0, 0.0}, mountMass, mountRadius);
+    for (int hub : corner.hubs) addLink(g, k, hub);
+    addLink(g, k, lateral);
+    addLink(g, k, trailing);
+    for (int mount : {lateral, trailing})
+      for (int c = 0; c < chassisCount; ++c) addLink(g, mount, c);
   }
   g.spacing = spec.size.x / 3.0;
   detail::resolveRobotLinks(g, spec.structure);

@@ -174,7 +174,7 @@ bool readWheel(ObjectReader& r, GeneratedObject& out) {
   const SpringSettings springs = readSprings(r);
   if (!center || !radius || !width || !mass || (r.member("rimParticles") && !rim)) return false;
   out = build::makeWheel(
-      {*center, *radius, *width, axis.value_or(Vec3{0, 1, 0}), rim.value_or(16), *mass});
+      {*center, *radius, *width, axis.value_or(Vec3{0, 1, 0}), rim.value_or(16), *mass, 0.0});
   build::resolveSprings(out, springs);
   return true;
 }

@@ -113,8 +113,9 @@ VehicleSpec hillsVehicle() {
 
 TEST(BuildVehicle, ParticlesAxlesAndSuspension) {
   const GeneratedObject vehicle = makeVehicle(hillsVehicle());
-  // Chassis 3×2×2, four wheels of 2·12 rim and 2 hub particles, five mounts each.
-  ASSERT_EQ(vehicle.size(), 12u + 4u * 26u + 4u * 5u);
+  // Chassis 3×2×2, four wheels of 2·12 rim and 2 hub particles, five mounts each,
+  // then each wheel's knuckle and its two upper mounts.
+  ASSERT_EQ(vehicle.size(), 12u + 4u * 26u + 4u * 5u + 4u * 3u);
   ASSERT_EQ(vehicle.joints.size(), 4u);
   for (std::size_t w = 0; w < 4; ++w) {
     EXPECT_EQ(vehicle.joints[w].name, "axle" + std::to_string(w + 1));

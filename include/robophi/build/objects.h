@@ -175,6 +175,10 @@ struct WheelSpec {
   int rimParticles = 16;
   /// Total mass (kg), > 0.
   double mass = 1.0;
+  /// Distance between the two hub particles along the axis (m), >= 0; 0: width/2
+  /// (between the rings). The span the wheel's bearings hold it by: its camber and
+  /// toe stiffness on its hubs grow with its square.
+  double hubSpan = 0.0;
 };
 GeneratedObject makeWheel(const WheelSpec& spec);
 
