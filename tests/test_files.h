@@ -6,6 +6,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace robophi::testing {
 
@@ -23,6 +24,25 @@ inline std::filesystem::path makeTempFolder(const std::string& prefix) {
   const auto dir = std::filesystem::temp_directory_path() / (prefix + std::to_string(seed()));
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+/// The URDFs of ../shared/robots (under `robots`, ROBOPHI_ROBOTS_DIR) and of
+/// ../shared/robots-wild beside it, as the issues' must-shows name them.
+inline std::vector<std::string> sharedRobotUrdfs(const std::string& robots) {
+  std::vector<std::string> files;
+  for (const char* f : {"cartpole/cartpole.urdf", "husky/husky.urdf", "pr2_gripper/pr2_gripper.urdf",
+                        "r2d2/r2d2.urdf", "franka_panda/panda.urdf", "kuka_iiwa/model.urdf",
+                        "kuka_iiwa/model_vr_limits.urdf", "kuka_iiwa/model_free_base.urdf",
+                        "kuka_iiwa/model_for_sdf.urdf"})
+    files.push_back(robots + "/" + f);
+  for (const char* f : {"laikago_description/urdf/laikago.urdf",
+                        "allegro_hand_description/urdf/allegro_right_hand.urdf",
+                        "allegro_hand_description/urdf/allegro_left_hand.urdf",
+                        "ur_description/urdf/ur5_joint_limited_robot.urdf",
+                        "ur_description/urdf/ur5_robot.urdf", "ur_description/urdf/ur5_gripper.urdf",
+                        "solo_description/robots/solo.urdf", "solo_description/robots/solo12.urdf"})
+    files.push_back(robots + "/../robots-wild/example-robot-data/robots/" + f);
+  return files;
 }
 
 /// Writes `text` to a file, replacing it.

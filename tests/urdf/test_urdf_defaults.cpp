@@ -13,34 +13,17 @@
 
 #include "robophi/scene/scene.h"
 #include "run/runner.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
 const std::string kRobots = ROBOPHI_ROBOTS_DIR;
 
-std::vector<std::string> sharedRobotFiles() {
-  std::vector<std::string> files;
-  for (const char* f : {"cartpole/cartpole.urdf", "husky/husky.urdf", "pr2_gripper/pr2_gripper.urdf",
-                        "r2d2/r2d2.urdf", "franka_panda/panda.urdf", "kuka_iiwa/model.urdf",
-                        "kuka_iiwa/model_vr_limits.urdf", "kuka_iiwa/model_free_base.urdf",
-                        "kuka_iiwa/model_for_sdf.urdf"})
-    files.push_back(kRobots + "/" + f);
-  const std::string wild = kRobots + "/../robots-wild/example-robot-data/robots/";
-  for (const char* f : {"laikago_description/urdf/laikago.urdf",
-                        "allegro_hand_description/urdf/allegro_right_hand.urdf",
-                        "allegro_hand_description/urdf/allegro_left_hand.urdf",
-                        "ur_description/urdf/ur5_joint_limited_robot.urdf",
-                        "ur_description/urdf/ur5_robot.urdf", "ur_description/urdf/ur5_gripper.urdf",
-                        "solo_description/robots/solo.urdf", "solo_description/robots/solo12.urdf"})
-    files.push_back(wild + f);
-  return files;
-}
-
 TEST(UrdfDefaults, EverySharedRobotRunsAsPublishedWithTheDefaults) {
   if (!std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"))
     GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
-  for (const std::string& file : sharedRobotFiles()) {
+  for (const std::string& file : testing::sharedRobotUrdfs(kRobots)) {
     if (!std::filesystem::exists(file)) {
       ADD_FAILURE() << "missing " << file;
       continue;

@@ -25,13 +25,13 @@
 
 #include "robophi/build/urdf_multibody.h"
 #include "robophi/multibody.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
 const std::string kRobots = ROBOPHI_ROBOTS_DIR;
 const std::string kWild = kRobots + "/../robots-wild";
-const std::string kExampleRobots = kWild + "/example-robot-data/robots";
 
 struct RobotFile {
   std::string path;
@@ -40,20 +40,11 @@ struct RobotFile {
 
 std::vector<RobotFile> sharedRobots() {
   std::vector<RobotFile> files;
-  for (const char* f : {"cartpole/cartpole.urdf", "husky/husky.urdf", "pr2_gripper/pr2_gripper.urdf",
-                        "r2d2/r2d2.urdf", "franka_panda/panda.urdf", "kuka_iiwa/model.urdf",
-                        "kuka_iiwa/model_vr_limits.urdf", "kuka_iiwa/model_free_base.urdf",
-                        "kuka_iiwa/model_for_sdf.urdf"}) {
-    const std::string path = kRobots + "/" + f;
-    files.push_back({path, {std::filesystem::path(path).parent_path().string(), kRobots}});
+  for (const std::string& path : testing::sharedRobotUrdfs(kRobots)) {
+    const bool wild = path.find("/robots-wild/") != std::string::npos;
+    files.push_back({path, wild ? std::vector<std::string>{kWild}
+                                : std::vector<std::string>{std::filesystem::path(path).parent_path().string(), kRobots}});
   }
-  for (const char* f : {"laikago_description/urdf/laikago.urdf",
-                        "allegro_hand_description/urdf/allegro_right_hand.urdf",
-                        "allegro_hand_description/urdf/allegro_left_hand.urdf",
-                        "ur_description/urdf/ur5_joint_limited_robot.urdf",
-                        "ur_description/urdf/ur5_robot.urdf", "ur_description/urdf/ur5_gripper.urdf",
-                        "solo_description/robots/solo.urdf", "solo_description/robots/solo12.urdf"})
-    files.push_back({kExampleRobots + "/" + f, {kWild}});
   return files;
 }
 
