@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "robophi/build/input_files.h"
@@ -293,6 +294,42 @@ namespace {
 
 // A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
 // bottom at z = 0.
+// A bare rigid URDF's <mimic> joints follow their leaders (q = multiplier q_leader +
+// offset) by a position servo (build::MimicSpec, run by the scene's controller)
+// ω = 300 rad/s on the follower's own inertia: a gripper's second finger closes with
+// its first.
+void coupleMimics(const build::UrdfMultibody& robot, const Model& model, Scene& scene,
+                  SceneLoadResult& result) {
+  const auto indexOf = [&](const std::string& name) -> std::optional<std::size_t> {
+    for (std::size_t k = 0; k < model.joints.size(); ++k)
+      if (model.joints[k].name == name) return k;
+    return std::nullopt;
+  };
+  constexpr double kHold = 30.0, kMimic = 300.0;  // holdRigidJoints' ω, the coupling's
+  for (const build::UrdfMultibodyJoint& follower : robot.joints) {
+    if (follower.mimicJoint.empty()) continue;
+    const auto leader = std::find_if(robot.joints.begin(), robot.joints.end(), [&](const auto& j) {
+      return j.urdfName == follower.mimicJoint;
+    });
+    const auto f = indexOf(follower.name);
+    const auto l = leader == robot.joints.end() ? std::nullopt : indexOf(leader->name);
+    if (!f || !l || *f == *l) continue;
+    const double inertia = model.joints[*f].servoStiffness / (kHold * kHold);  // M_ii
+    build::MimicSpec mimic;
+    mimic.joint = *f;
+    mimic.leader = *l;
+    mimic.multiplier = follower.multiplier;
+    mimic.offset = follower.offset;
+    mimic.kp = kMimic * kMimic * inertia;
+    mimic.kd = 2.0 * kMimic * inertia;
+    scene.robotics.control.mimics.push_back(mimic);
+    result.warnings.push_back(Diagnostic{
+        scene.sourcePath, 0, 0, "",
+        fmt::format("adjusted: joint '{}' follows '{}' (<mimic>) by a servo kp {:.4g}, kd {:.4g}",
+                    follower.urdfName, follower.mimicJoint, mimic.kp, mimic.kd)});
+  }
+}
+
 // A bare rigid URDF's default material: κ_c (N/m) and μ_c (N·s/m) a contact point.
 constexpr double kRigidContactStiffness = 1e6;
 constexpr double kRigidContactDamping = 100.0;
@@ -366,6 +403,7 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
                                     "too large to simulate (see their <inertial>)",
                                     joint.name, joint.servoStiffness, joint.servoDamping));
     }
+    coupleMimics(robot, built.model, scene, result);
     scene.model = std::move(built.model);
     scene.initial = std::move(built.initial);
     scene.run.duration = 2.0;

@@ -11,7 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "robophi/joints.h"
 #include "robophi/scene/scene.h"
+#include "robophi/world.h"
+#include "robotics/tasks.h"
 #include "run/runner.h"
 #include "test_files.h"
 
@@ -47,6 +50,46 @@ TEST(UrdfDefaults, EverySharedRobotRunsAsPublishedWithTheDefaults) {
     std::printf("%s: %s, %lld steps, %s base\n", file.c_str(), report.status.c_str(),
                 static_cast<long long>(report.steps), fixedBase ? "fixed" : "free");
   }
+}
+
+// The Panda's <mimic> finger follows the first as a bare URDF: finger 1's servo
+// target moved from 0 to 0.03 m, finger 2 follows within 0.1 mm.
+TEST(UrdfDefaults, AMimicJointFollowsItsLeader) {
+  const std::string file = kRobots + "/franka_panda/panda.urdf";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no robots at " << kRobots;
+  SceneLoadResult loaded = loadUrdfFile(file);
+  ASSERT_TRUE(loaded.ok());
+  const Scene& scene = *loaded.scene;
+  ASSERT_EQ(scene.robotics.control.mimics.size(), 1u);
+  std::size_t leader = 0, follower = 0;
+  for (std::size_t k = 0; k < scene.model.joints.size(); ++k) {
+    if (scene.model.joints[k].name == "panda.panda_finger_joint1") leader = k;
+    if (scene.model.joints[k].name == "panda.panda_finger_joint2") follower = k;
+  }
+  EXPECT_EQ(scene.robotics.control.mimics[0].leader, leader);
+  EXPECT_EQ(scene.robotics.control.mimics[0].joint, follower);
+  double q1 = 0.0, q2 = 0.0;
+  RunOptions options;
+  options.settings = scene.run;
+  options.settings.duration = 1.0;
+  options.writeReplay = false;
+  options.threads = 1;
+  const robotics::SceneTaskHook hook = robotics::makeSceneTaskHook(scene);
+  bool moved = false;
+  options.tasks = {[&](World& world, std::vector<std::string>& events) {
+                     if (!moved) world.setJointTarget(leader, 0.03);
+                     moved = true;
+                     return hook.task(world, events);
+                   },
+                   [&](World& world, std::vector<std::string>&) {
+                     q1 = jointPosition(world.model(), world.state(), leader);
+                     q2 = jointPosition(world.model(), world.state(), follower);
+                     return true;
+                   }};
+  const RunReport report = runScene(scene, options);
+  ASSERT_EQ(report.status, "ok") << report.failure;
+  EXPECT_NEAR(q1, 0.03, 1e-3);
+  EXPECT_NEAR(q2, q1, 1e-4);
 }
 
 }  // namespace
