@@ -294,6 +294,28 @@ namespace {
 
 // A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
 // bottom at z = 0.
+// The robot's wheels: continuous joints whose body touches by a cylinder along
+// the joint's axis or a sphere, centred on the axis (a continuous knee is no wheel).
+int wheelCount(const build::UrdfMultibody& robot) {
+  int wheels = 0;
+  for (const build::UrdfMultibodyJoint& joint : robot.joints) {
+    if (joint.type != "continuous") continue;
+    const Vec3 axis = robot.multibody.bodies[static_cast<std::size_t>(joint.body)].axis;
+    const bool round = std::any_of(robot.collisions.begin(), robot.collisions.end(), [&](const auto& shape) {
+      using Kind = build::UrdfCollisionShape::Kind;
+      if (shape.body != joint.body || (shape.kind != Kind::kCylinder && shape.kind != Kind::kSphere))
+        return false;
+      // Its centre on the axis (through the body's origin), within a tenth of its radius.
+      const Vec3 c = shape.X_BS.translation;
+      if (norm(c - axis * dot(c, axis)) > 0.1 * shape.size.x) return false;
+      const Vec3 along = shape.X_BS.rotation * Vec3{0.0, 0.0, 1.0};
+      return shape.kind == Kind::kSphere || std::abs(dot(along, axis)) > 0.99;
+    });
+    wheels += round ? 1 : 0;
+  }
+  return wheels;
+}
+
 // A bare rigid URDF's <mimic> joints follow their leaders (q = multiplier q_leader +
 // offset) by a position servo (build::MimicSpec, run by the scene's controller)
 // ω = 300 rad/s on the follower's own inertia: a gripper's second finger closes with
@@ -349,11 +371,8 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     spec.fixedBase = options.fixedBase.value_or(true);
     build::UrdfMultibody robot = build::makeUrdfMultibody(spec);
     if (!options.fixedBase) {
-      // As the particle importer: a wheeled base (two or more continuous joints)
-      // stands free on its wheels.
-      int continuous = 0;
-      for (const build::UrdfMultibodyJoint& j : robot.joints) continuous += j.type == "continuous" ? 1 : 0;
-      if (continuous >= 2) {
+      // A wheeled base (two or more wheels: wheelCount) stands free on its wheels.
+      if (wheelCount(robot) >= 2) {
         spec.fixedBase = false;
         robot = build::makeUrdfMultibody(spec);
       }
