@@ -13,6 +13,7 @@
 #include "build/checks.h"
 #include "build/mass_sum.h"
 #include "build/shape_fill.h"
+#include "build/urdf_multibody_description.h"
 #include "build/urdf_parse.h"
 #include "build/urdf_visuals.h"
 #include "robophi/build/model_builder.h"
@@ -183,7 +184,10 @@ Vec3 sizeOf(const urdf::Geometry& g) {
 }  // namespace
 
 UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec) {
-  const urdf::Description d = urdf::readUrdf(spec.path, spec.packagePaths);
+  return makeUrdfMultibody(urdf::readUrdf(spec.path, spec.packagePaths), spec);
+}
+
+UrdfMultibody makeUrdfMultibody(const urdf::Description& d, const UrdfMultibodySpec& spec) {
   UrdfMultibody out;
   out.warnings = d.warnings;
   const std::string prefix = spec.name.empty() ? d.robotName : spec.name;

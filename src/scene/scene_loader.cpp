@@ -171,6 +171,7 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
   build::ModelBuilder builder;
   builder.setGravity(scene.model.gravity);
   std::vector<std::int32_t> held;  // rigid trees whose joints hold their start pose
+  std::vector<std::pair<std::int32_t, const SceneObject::RigidUrdf*>> servoed;  // built-in robots
   for (auto& object : objects) {
     if (!object.valid) continue;
     try {
@@ -179,6 +180,8 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
         const auto placed = build::placeUrdfMultibody(builder, object.rigidUrdf->robot,
                                                       object.rigidUrdf->placement);
         if (object.rigidUrdf->holdJoints) held.push_back(placed.tree);
+        if (object.rigidUrdf->servoStiffness > 0.0)
+          servoed.emplace_back(placed.tree, object.rigidUrdf.get());
       } else if (object.urdf) {  // one object per link (docs/robots.md)
         object.firstParticle = builder.model().particleCount();
         build::placeUrdfRobot(builder, *object.urdf);
@@ -200,6 +203,9 @@ void placeObjects(DiagnosticSink& sink, std::vector<SceneObject>& objects, Scene
   }
   build::BuiltModel built = std::move(builder).build();
   for (const std::int32_t tree : held) scene::holdRigidJoints(built.model, built.initial, tree);
+  for (const auto& [tree, robot] : servoed)
+    scene::servoRigidJoints(built.model, built.initial, tree, robot->servoStiffness,
+                            robot->servoDamping);
   scene.model = std::move(built.model);
   scene.initial = std::move(built.initial);
 }

@@ -336,9 +336,11 @@ SceneObject readSceneObject(DiagnosticSink& sink, const nlohmann::json& entry,
   const auto angularVelocity = reader.vec3("angularVelocity", "rad/s");
   object.linearDamping = reader.numberOr("linearDamping", 0.0, Bound::kNonNegative, "N·s/m");
   object.rigid = reader.boolean("rigid").value_or(false);
-  if (object.rigid && isRobotKind(object.kind))
+  if (object.rigid && isRobotKind(object.kind) && !hasRigidRobot(object.kind))
     sink.error(reader.memberPointer("rigid"),
-               fmt::format("'rigid': {} has joints; a robot is not one rigid body", what));
+               fmt::format("'rigid': {} has joints; a robot is not one rigid body (the arm "
+                           "and the hand can be rigid bodies)",
+                           what));
 
   bool generated = false;
   const std::string& kind = object.kind;

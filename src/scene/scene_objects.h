@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ struct SceneObject : build::ObjectPlacement {
     build::UrdfMultibodyPlacement placement;
     /// holdJoints: servos that hold the start pose, with gravity compensation.
     bool holdJoints = false;
+    /// A built-in robot's jointStiffness (N·m/rad, > 0: every joint's servo holds
+    /// its start coordinate) and jointDamping (N·m·s/rad; unset: 2 √(κ M_ii)).
+    double servoStiffness = 0.0;
+    std::optional<double> servoDamping{};
   };
   std::shared_ptr<const RigidUrdf> rigidUrdf{};
   /// "rigid": true — one free rigid body of its particles (build::placeRigidObject),

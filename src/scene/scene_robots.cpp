@@ -6,6 +6,11 @@
 
 #include <fmt/format.h>
 
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "robophi/build/rigid_robots.h"
 #include "robophi/build/robots.h"
 
 namespace robophi::scene {
@@ -40,6 +45,25 @@ bool readAxes(ObjectReader& r, std::size_t joints, std::vector<Vec3>& axes) {
   return true;
 }
 
+// "rigid": true (docs/robots.md "Rigid bodies"): the robot as rigid bodies, placed by
+// build::placeUrdfMultibody, "particleSize" (m) the spacing of its links' contact
+// particles (unset: about 30 a link); its joints' servos hold the start pose at
+// jointStiffness (N·m/rad) and jointDamping (N·m·s/rad; unset: critical for the
+// joint's own inertia at that stiffness, set at placement).
+void makeRigid(ObjectReader& r, SceneObject& object, build::UrdfMultibody robot,
+               double jointStiffness, std::optional<double> jointDamping,
+               std::optional<double> particleSize) {
+  auto rigid = std::make_shared<SceneObject::RigidUrdf>();
+  rigid->robot = std::move(robot);
+  rigid->placement.particleSize = particleSize.value_or(0.0);
+  rigid->placement.q = neutralConfiguration(rigid->robot.multibody);
+  rigid->servoStiffness = jointStiffness;
+  rigid->servoDamping = jointDamping;
+  for (const std::string& adjustment : rigid->robot.adjustments)
+    r.sink().warning(r.memberPointer("type"), "adjusted: " + adjustment);
+  object.rigidUrdf = std::move(rigid);
+}
+
 bool readArm(ObjectReader& r, SceneObject& object) {
   build::ArmSpec spec;
   const auto base = r.vec3("base", "m", true);
@@ -53,6 +77,8 @@ bool readArm(ObjectReader& r, SceneObject& object) {
   spec.jointStiffness = r.numberOr("jointStiffness", 0.0, Bound::kNonNegative, "N·m/rad");
   spec.jointDamping = r.number("jointDamping", Bound::kNonNegative, "N·m·s/rad");
   spec.structure = readStructure(r);
+  const auto particleSize =
+      object.rigid ? r.number("particleSize", Bound::kPositive, "m") : std::nullopt;
   bool ok = base && mass && (!r.member("particlesPerLink") || perLink);
   spec.links.clear();
   if (links == nullptr) {
@@ -76,6 +102,11 @@ bool readArm(ObjectReader& r, SceneObject& object) {
   spec.mass = *mass;
   spec.particlesPerLink = perLink.value_or(3);
   spec.radius = radius.value_or(0.0);
+  if (object.rigid) {
+    makeRigid(r, object, build::makeRigidArm(spec, object.name), spec.jointStiffness,
+              spec.jointDamping, particleSize);
+    return true;
+  }
   object.geometry = build::makeArm(spec);
   return true;
 }
@@ -125,11 +156,18 @@ bool readHand(ObjectReader& r, SceneObject& object) {
   spec.jointDamping = r.number("jointDamping", Bound::kNonNegative, "N·m·s/rad");
   spec.spread = r.number("spread", Bound::kAny, "rad").value_or(0.0);
   spec.structure = readStructure(r);
+  const auto particleSize =
+      object.rigid ? r.number("particleSize", Bound::kPositive, "m") : std::nullopt;
   if (!center || !palmRadius || !links || !mass) return false;
   spec.center = *center;
   spec.palmRadius = *palmRadius;
   spec.links = {(*links)[0], (*links)[1], (*links)[2]};
   spec.mass = *mass;
+  if (object.rigid) {
+    makeRigid(r, object, build::makeRigidHand(spec, object.name), spec.jointStiffness,
+              spec.jointDamping, particleSize);
+    return true;
+  }
   object.geometry = build::makeHand(spec);
   return true;
 }
@@ -139,6 +177,8 @@ bool readHand(ObjectReader& r, SceneObject& object) {
 bool isRobotKind(const std::string& kind) {
   return kind == "arm" || kind == "vehicle" || kind == "hand";
 }
+
+bool hasRigidRobot(const std::string& kind) { return kind == "arm" || kind == "hand"; }
 
 bool readRobot(ObjectReader& r, SceneObject& object) {
   if (object.kind == "arm") return readArm(r, object);

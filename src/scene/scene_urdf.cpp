@@ -137,6 +137,27 @@ void holdRigidJoints(Model& model, const State& state, std::int32_t treeIndex) {
   }
 }
 
+void servoRigidJoints(Model& model, const State& state, std::int32_t treeIndex, double stiffness,
+                      std::optional<double> damping) {
+  const RigidTree& tree = model.rigidTrees[static_cast<std::size_t>(treeIndex)];
+  const Multibody& mb = tree.multibody;
+  const std::vector<double>& q = state.treePositions[static_cast<std::size_t>(treeIndex)];
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  MultibodyKinematics kin;
+  updateKinematics(mb, q.data(), kin);
+  std::vector<double> M(n * n);
+  massMatrix(mb, kin, M.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t k = tree.jointOfRate[i];
+    if (k < 0) continue;
+    Joint& joint = model.joints[static_cast<std::size_t>(k)];
+    joint.servoStiffness = stiffness;
+    joint.servoDamping = damping.value_or(2.0 * std::sqrt(stiffness * M[i * n + i]));
+    joint.servoTarget =
+        q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)];
+  }
+}
+
 SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
                            const std::string& pointer, const std::string& sceneDirectory) {
   SceneObject object;

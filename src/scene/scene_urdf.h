@@ -3,6 +3,7 @@
 // into build::UrdfSpec → build::makeUrdfRobot.
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "scene/scene_fields.h"
@@ -20,5 +21,11 @@ SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
 /// (ω² M_ii and 2 ω M_ii, ω = 30 rad/s, M the mass matrix there) with gravity
 /// compensation on (docs/robots.md "Rigid bodies").
 void holdRigidJoints(Model& model, const State& state, std::int32_t tree);
+
+/// A built-in rigid robot's servos ("jointStiffness", "jointDamping"): each joint of
+/// rigid tree `tree` held at its coordinate in `state` at `stiffness` (N·m/rad, > 0)
+/// and `damping` (N·m·s/rad; unset: 2 √(κ M_ii), critical for the joint alone).
+void servoRigidJoints(Model& model, const State& state, std::int32_t tree, double stiffness,
+                      std::optional<double> damping);
 
 }  // namespace robophi::scene
