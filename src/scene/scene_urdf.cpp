@@ -116,7 +116,12 @@ std::optional<InertiaFromGeometry> readInertiaFromGeometry(ObjectReader& r) {
 
 }  // namespace
 
-void holdRigidJoints(Model& model, const State& state, std::int32_t treeIndex) {
+namespace {
+
+// Calls set(joint, M_ii, q_i) for each joint of tree `treeIndex`, M(q) its mass
+// matrix at the state's q: a servo holding the joint where it is.
+template <class Set>
+void forEachTreeJoint(Model& model, const State& state, std::int32_t treeIndex, Set set) {
   const RigidTree& tree = model.rigidTrees[static_cast<std::size_t>(treeIndex)];
   const Multibody& mb = tree.multibody;
   const std::vector<double>& q = state.treePositions[static_cast<std::size_t>(treeIndex)];
@@ -125,37 +130,34 @@ void holdRigidJoints(Model& model, const State& state, std::int32_t treeIndex) {
   updateKinematics(mb, q.data(), kin);
   std::vector<double> M(n * n);
   massMatrix(mb, kin, M.data());
-  constexpr double omega = 30.0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::int32_t k = tree.jointOfRate[i];
     if (k < 0) continue;
     Joint& joint = model.joints[static_cast<std::size_t>(k)];
-    joint.servoStiffness = omega * omega * M[i * n + i];
-    joint.servoDamping = 2.0 * omega * M[i * n + i];
-    joint.servoTarget = q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)];
-    joint.compensateGravity = true;
+    set(joint, M[i * n + i],
+        q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)]);
   }
+}
+
+}  // namespace
+
+void holdRigidJoints(Model& model, const State& state, std::int32_t treeIndex) {
+  constexpr double omega = 30.0;
+  forEachTreeJoint(model, state, treeIndex, [](Joint& joint, double inertia, double q) {
+    joint.servoStiffness = omega * omega * inertia;
+    joint.servoDamping = 2.0 * omega * inertia;
+    joint.servoTarget = q;
+    joint.compensateGravity = true;
+  });
 }
 
 void servoRigidJoints(Model& model, const State& state, std::int32_t treeIndex, double stiffness,
                       std::optional<double> damping) {
-  const RigidTree& tree = model.rigidTrees[static_cast<std::size_t>(treeIndex)];
-  const Multibody& mb = tree.multibody;
-  const std::vector<double>& q = state.treePositions[static_cast<std::size_t>(treeIndex)];
-  const auto n = static_cast<std::size_t>(mb.velocityCount);
-  MultibodyKinematics kin;
-  updateKinematics(mb, q.data(), kin);
-  std::vector<double> M(n * n);
-  massMatrix(mb, kin, M.data());
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::int32_t k = tree.jointOfRate[i];
-    if (k < 0) continue;
-    Joint& joint = model.joints[static_cast<std::size_t>(k)];
+  forEachTreeJoint(model, state, treeIndex, [&](Joint& joint, double inertia, double q) {
     joint.servoStiffness = stiffness;
-    joint.servoDamping = damping.value_or(2.0 * std::sqrt(stiffness * M[i * n + i]));
-    joint.servoTarget =
-        q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)];
-  }
+    joint.servoDamping = damping.value_or(2.0 * std::sqrt(stiffness * inertia));
+    joint.servoTarget = q;
+  });
 }
 
 SceneObject readUrdfObject(DiagnosticSink& sink, const nlohmann::json& entry,
