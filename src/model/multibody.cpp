@@ -553,8 +553,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   massMatrix(multibody, kin, ws.mass.data());
   inverseDynamics(multibody, kin, nullptr, gravity,
                   inputs.wrench.empty() ? nullptr : inputs.wrench.data(), ws.tau.data());
-  // The contacts' implicit terms (multibody_contacts.h).
-  std::vector<double> loadJacobians, loadMatrix, loadRhs;
+  // The contacts' implicit terms (multibody_contacts.h), in buffers kept between steps.
+  thread_local std::vector<double> loadJacobians, loadMatrix, loadRhs;
   const bool loaded = !implicitLoads.empty();
   if (loaded)
     assemblePointLoads(multibody, kin, implicitLoads, v, dt, loadJacobians, loadMatrix, loadRhs);
