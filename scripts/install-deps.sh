@@ -47,6 +47,11 @@ install_missing openmpi-bin libopenmpi-dev
 # Bullet, whose Debian package carries a double-precision build.
 install_missing libbullet-dev
 
+# The live view (docs/viewer.md "Live view": robophi run --live, world.view()): its
+# HTTP and WebSocket server is Boost.Beast over Boost.Asio, header-only (optional:
+# without it, robophi builds and --live says that it needs libboost-dev).
+install_missing libboost-dev
+
 # The replay viewer (docs/viewer.md): Chromium runs its browser test, and npm
 # brings three.js and playwright-core into viewer/node_modules. node and npm may
 # already come from elsewhere (e.g. NodeSource); apt installs them only if not.

@@ -16,6 +16,7 @@
 #include "output/results_lock.h"
 #include "robotics/tasks.h"
 #include "run/interrupt.h"
+#include "run/live_view.h"
 #include "run/runner.h"
 #include "run/start_checks.h"
 #include "scene_input.h"
@@ -38,6 +39,10 @@ struct RunArguments {
   int threads = 0;        // of the step; 0: the cores available
   UrdfSceneOptions urdf;  // a bare URDF (docs/robots.md)
   std::string base;
+  // The live view (docs/viewer.md "Live view").
+  bool live = false;
+  int livePort = LiveViewSettings{}.port;
+  std::optional<std::string> liveWait;
 };
 
 // `text` as a positive finite number, or a message on stderr and nullopt.
@@ -185,6 +190,29 @@ int runCommand(const RunArguments& args) {
   options.progress = makeProgress(args.quiet);
   options.tasks = {robotics::makeSceneTasks(*scene)};  // the scene's robotics section
   options.stop = &InterruptGuard::flag();
+  // The live view: a task after the scene's (it sees their edits, and its drag
+  // is booked apart from theirs).
+  std::shared_ptr<LiveView> live;
+  if (args.live) {
+    LiveViewSettings liveSettings;
+    liveSettings.port = args.livePort;
+    if (args.liveWait && *args.liveWait == "0") {
+      liveSettings.waitSeconds = 0.0;
+    } else if (!setFromOption("--live-wait", args.liveWait, "wall seconds to wait for a viewer",
+                              liveSettings.waitSeconds)) {
+      return kExitBadInput;
+    }
+    try {
+      live = std::make_shared<LiveView>(*scene, scene->initial, liveSettings, options.stop);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "robophi run: --live: %s; nothing was run or written\n", e.what());
+      return kExitBadInput;
+    }
+    std::fprintf(stderr, "robophi: live view at %s (waiting up to %g s for a viewer)\n",
+                 live->url().c_str(), liveSettings.waitSeconds);
+    std::fflush(stderr);
+    options.tasks.push_back(StepTask(std::shared_ptr<Task>(live)));
+  }
 
   const StabilityEstimate stability = estimateStability(scene->model, &scene->initial.position);
   if (const std::string problem = adaptiveStepLimitProblem(options.settings, stability);
@@ -211,6 +239,7 @@ int runCommand(const RunArguments& args) {
     std::fprintf(stderr, "robophi run: %s\n", e.what());
     return kExitFailure;
   }
+  if (live) live->finish();
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
   return reportRun(args.scene, options, report);
 }
@@ -338,6 +367,16 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                   "Threads of the step (default 0: the cores available); the results are the "
                   "same for every count")
       ->check(CLI::Range(0, 4096));
+  cmd->add_flag("--live", args->live,
+                "Serve a live view of the run on 127.0.0.1 (docs/viewer.md): pause, speed, "
+                "drag a body with the mouse (its work is external work)");
+  cmd->add_option("--live-port", args->livePort,
+                  "The live view's port on 127.0.0.1 (default 8765; 0: any free port)")
+      ->check(CLI::Range(0, 65535));
+  cmd->add_option("--live-wait", args->liveWait,
+                  "Wall seconds the live run waits for a first viewer before it starts anyway "
+                  "(default 30; 0: no wait)")
+      ->type_name("S");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress display");
   cmd->callback([args, &exitCode] { exitCode = runCommand(*args); });
 }

@@ -20,6 +20,9 @@ struct ReplayOptions {
   double sizeCapBytes = 50e6;
   /// Where to write; empty means `runDir/replay.html`.
   std::string outputPath;
+  /// The live view's page (docs/viewer.md "Live view"): the data object says so
+  /// ("live"), and the page takes its frames from the WebSocket at /ws.
+  bool live = false;
 };
 
 /// Reads the run folder `runDir` (model.json, particles.csv, energy.csv and, when

@@ -373,6 +373,7 @@ bool planPage(const std::string& runDir, const ReplayOptions& options, const Run
   plan.model = modelJson(run);
   if (!world.empty()) plan.model += ",\"world\":" + world;
   plan.model += output::meshFilesJson(world, options.sizeCapBytes);  // the robots' meshes, once
+  if (options.live) plan.model += ",\"live\":{\"socket\":\"/ws\"}";
   plan.particles = static_cast<std::size_t>(run.particleCount);
   if (rows.framePosition.size() != rows.frameTime.size() * 3 * plan.particles) {
     error = fmt::format("{}: {} positions for {} frames of {} particles", runDir,
