@@ -66,6 +66,7 @@ def main() -> int:
     parser.add_argument("--template", required=True)
     parser.add_argument("--js", required=True)
     parser.add_argument("--css", required=True)
+    parser.add_argument("--live-js", required=True, help="the live view's module (viewer/live.js)")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
 
@@ -73,6 +74,9 @@ def main() -> int:
     core = (three / "build/three.core.min.js").read_text(encoding="utf-8")
     module = (three / "build/three.module.min.js").read_text(encoding="utf-8")
     orbit = (three / "examples/jsm/controls/OrbitControls.js").read_text(encoding="utf-8")
+    # The live view's part of the page (docs/viewer.md "Live view"), loaded only
+    # when the data object says "live".
+    live = pathlib.Path(args.live_js).read_text(encoding="utf-8")
     version = __import__("json").loads((three / "package.json").read_text())["version"]
 
     # three.module.min.js imports its core by a relative path, which a data: URL
@@ -99,7 +103,8 @@ def main() -> int:
     import_map = ('{"imports":{'
                   f'"three/core":"{data_url(core)}",'
                   f'"three":"{data_url(module)}",'
-                  f'"three/addons/controls/OrbitControls.js":"{data_url(orbit)}"'
+                  f'"three/addons/controls/OrbitControls.js":"{data_url(orbit)}",'
+                  f'"robophi/live.js":"{data_url(live)}"'
                   + "".join(f',"three/addons/loaders/{name}.js":"{data_url(source)}"'
                             for name, source in loaders.items()) +
                   '}}')

@@ -1519,6 +1519,8 @@ async function setupScene() {
     spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
     frictionDrawn: Boolean(frictionColumns), robotCounts: robotsView.counts, robotPixelBox, resetView,
     shapeCounts: shapesView.counts,
+    // For the live view's drag (viewer/live.js).
+    THREE, scene, camera, controls, canvas: renderer ? renderer.domElement : null,
   };
 }
 
@@ -1528,6 +1530,22 @@ try {
 } catch (error) {
   showViewMessage(`The 3D view could not start (${error.message}). The plots and the time scrubber still work.`);
   console.warn('robophi replay: 3D view unavailable:', error);
+}
+
+// ---------------------------------------------------------------- the live view
+// Served by `robophi run --live` or world.view() (docs/viewer.md "Live view"): the
+// page holds one frame, which viewer/live.js overwrites with each frame that comes.
+let live = null;
+if (data.live) {
+  const { startLive } = await import('robophi/live.js');
+  live = startLive({
+    data, $, particleCount, framePosition, frameTime, radius, fixedFlag, isVirtualParticle, scene3d,
+    showFrame: (t) => {
+      view.time = t;
+      view.frame = 0;
+      for (const listener of listeners) listener(0);
+    },
+  });
 }
 
 // ---------------------------------------------------------------- the loop
@@ -1612,6 +1630,8 @@ window.robophiReplay = {
   },
   /** Whether the page has the run's world description (world.json). */
   hasWorld: () => Boolean(world),
+  /** The live view's hook (viewer/live.js), or null on a replay page. */
+  live: () => live,
   ready: true,
 };
 document.body.dataset.ready = 'true';

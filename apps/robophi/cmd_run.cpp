@@ -230,8 +230,9 @@ int runCommand(const RunArguments& args) {
   }
 
   RunReport report;
+  State finalState;  // (the live view's last frame)
   try {
-    report = runScene(*scene, options);
+    report = runScene(*scene, options, live ? &finalState : nullptr);
   } catch (const output::ResultsFolderError& e) {  // another run holds it, or it changed
     std::fprintf(stderr, "robophi run: --out: %s\n", e.what());
     return kExitBadInput;
@@ -239,7 +240,7 @@ int runCommand(const RunArguments& args) {
     std::fprintf(stderr, "robophi run: %s\n", e.what());
     return kExitFailure;
   }
-  if (live) live->finish();
+  if (live) live->finish(&finalState);
   if (!args.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
   return reportRun(args.scene, options, report);
 }

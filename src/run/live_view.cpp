@@ -178,8 +178,11 @@ void LiveView::handleMessages(const World& world) {
 void LiveView::sendFrame(const World& world) {
   lastFrame_ = Clock::now();
   if (server_->viewers() == 0) return;
-  const State& state = world.state();
-  const EnergyTally energy = world.energy();
+  sendFrame(world.state(), world.energy());
+}
+
+void LiveView::sendFrame(const State& state, const EnergyTally& energy) {
+  lastEnergy_ = energy;
   const double header[kFrameHeaderNumbers] = {state.time,
                                               static_cast<double>(state.stepCount),
                                               energy.kinetic,
@@ -287,7 +290,8 @@ bool LiveView::afterStep(World& world) {
   return !endRequested_;
 }
 
-void LiveView::finish() {
+void LiveView::finish(const State* last) {
+  if (last && server_->viewers() > 0) sendFrame(*last, lastEnergy_);
   server_->sendText(nlohmann::json{{"type", "status"}, {"ended", true}, {"dragWork", dragWork_}}
                         .dump());
   // A moment for the last messages to leave before the server closes.

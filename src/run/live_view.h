@@ -64,8 +64,9 @@ class LiveView : public Task {
   /// After a step: the viewers' commands, the drag, pacing and pauses, a frame
   /// when one is due. Returns false when a viewer asked to end the run.
   bool afterStep(World& world);
-  /// Tells the viewers that the run ended (the page keeps its last frame).
-  void finish();
+  /// Sends the run's last state (`last`, may be null) and tells the viewers that
+  /// the run ended (the page keeps its last frame).
+  void finish(const State* last);
 
   /// Work the drag did on the world so far (J): part of EnergyTally::external.
   double dragWork() const { return dragWork_; }
@@ -74,6 +75,8 @@ class LiveView : public Task {
   using Clock = std::chrono::steady_clock;
   void handleMessages(const World& world);
   void sendFrame(const World& world);
+  /// The frame message of `state` with the energies `energy`.
+  void sendFrame(const State& state, const EnergyTally& energy);
   void sendStatus(const World& world);
   void applyDrag(World& world);
   /// Sleeps in short slices until `until`, serving messages and frames meanwhile.
@@ -96,6 +99,7 @@ class LiveView : public Task {
   Vec3 dragTarget_{};
   double dragWork_ = 0.0;
   std::int64_t drags_ = 0, frames_ = 0;
+  EnergyTally lastEnergy_{};  // of the last frame sent
 };
 
 }  // namespace robophi

@@ -14,3 +14,11 @@ add_test(NAME viewer_robots
                  ${CMAKE_CURRENT_BINARY_DIR}/viewer)
 set_tests_properties(viewer_robots PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 600
                      ENVIRONMENT "ROBOPHI_ROBOTS_DIR=${ROBOPHI_ROBOTS_DIR}")
+
+# The live view (robophi run --live, tests/viewer/run_live_test.sh): frames per
+# second, pause and resume, a drag's work in summary.json, and the state hash of a
+# live run without drag equal to the plain run's. About 15 s.
+add_test(NAME viewer_live
+         COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_live_test.sh $<TARGET_FILE:robophi>
+                 ${CMAKE_CURRENT_BINARY_DIR}/viewer)
+set_tests_properties(viewer_live PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 300)
