@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "py_robophi.h"
+#include "run/live_view.h"
 #include "robophi/joints.h"
 
 namespace robophi::python {
@@ -123,6 +124,7 @@ void PyWorld::step(double dt) {
   }
   reshadow();
   if (status != StepStatus::kOk) throwDiverged();
+  afterStep();
 }
 
 void PyWorld::stepWithoutTunnelling(double dt) {
@@ -135,6 +137,7 @@ void PyWorld::stepWithoutTunnelling(double dt) {
   }
   reshadow();
   if (status != StepStatus::kOk) throwDiverged();
+  afterStep();
 }
 
 double PyWorld::advance(double maxDt) {
@@ -147,7 +150,52 @@ double PyWorld::advance(double maxDt) {
   }
   reshadow();
   if (!result.ok) throw Diverged(result.failure);
+  afterStep();
   return result.dt;
+}
+
+void PyWorld::afterStep() {
+  if (!live_) return;
+  {
+    py::gil_scoped_release release;  // (it may wait: pacing, a pause)
+    live_->afterStep(world_);
+  }
+  reshadow();  // a drag's velocity edit is the world's own, already booked
+}
+
+std::string PyWorld::view(int port, double waitSeconds, double speed) {
+  if (live_) return live_->url();
+  if (port < 0 || port > 65535)
+    throw std::invalid_argument("view: port = " + std::to_string(port) + ": expected 0 to 65535");
+  if (!(waitSeconds >= 0.0) || !std::isfinite(waitSeconds))
+    throw std::invalid_argument("view: wait = " + std::to_string(waitSeconds) +
+                                " s must be a finite number >= 0");
+  if (!(speed >= 0.0) || !std::isfinite(speed))
+    throw std::invalid_argument("view: speed = " + std::to_string(speed) +
+                                ": expected model seconds per wall second >= 0 (0: as fast as "
+                                "possible)");
+  syncViews();
+  Scene scene;
+  scene.name = "python";
+  scene.sourcePath = "<python>";
+  scene.model = world_.model();
+  scene.initial = world_.state();
+  LiveViewSettings settings;
+  settings.port = port;
+  settings.waitSeconds = waitSeconds;
+  settings.speed = speed;
+  live_ = std::make_shared<LiveView>(scene, world_.state(), settings);  // (RuntimeError: not built, port)
+  if (waitSeconds > 0.0) {
+    py::gil_scoped_release release;
+    live_->waitForViewer();
+  }
+  return live_->url();
+}
+
+void PyWorld::closeView() {
+  if (!live_) return;
+  live_->finish(&world_.state());
+  live_.reset();
 }
 
 void PyWorld::setState(const State& state) {
@@ -401,6 +449,16 @@ void bindWorld(py::module_& m) {
             return w.world().state();
           },
           "A copy of the state (a plain value).")
+      .def("view", &PyWorld::view, py::arg("port") = LiveViewSettings{}.port,
+           py::arg("wait") = 0.0, py::arg("speed") = 1.0,
+           "Serves a live view of this world on 127.0.0.1 (docs/viewer.md \"Live view\") and "
+           "returns its address; each step sends a frame (at most 60 per second). While a "
+           "viewer is connected the steps are paced to `speed` model seconds per wall second "
+           "(0: as fast as possible) and the viewer can pause them and drag a particle (its "
+           "work is external work). port 0: any free port; wait: seconds to wait for a first "
+           "viewer. RuntimeError when robophi was built without the live view or the port is "
+           "taken.")
+      .def("close_view", &PyWorld::closeView, "Stops serving the live view.")
       .def("set_state", &PyWorld::setState, py::arg("state"),
            "Puts the world at `state` (a state of this model, e.g. world.state taken earlier).")
       .def("snapshot",

@@ -19,6 +19,10 @@
 #include "robophi/world.h"
 #include "robotics/controller.h"
 
+namespace robophi {
+class LiveView;
+}
+
 // robophi::Vec3 from any sequence of three numbers (list, tuple, numpy array),
 // and to a tuple.
 namespace pybind11::detail {
@@ -143,14 +147,23 @@ class PyWorld {
   /// Throws DivergedError (robophi::python::Diverged) naming the first bad particle.
   [[noreturn]] void throwDiverged() const;
 
+  /// world.view(): serves the live view of this world (docs/viewer.md "Live
+  /// view") and returns its address; the frames follow the steps taken.
+  std::string view(int port, double waitSeconds, double speed);
+  /// Stops serving the live view (nothing when none).
+  void closeView();
+
  private:
   /// Books the views' writes and brings the actuators' commands to the world's time.
   void beforeStep();
+  /// After a step: the live view's frame, pacing, pause and drag (when served).
+  void afterStep();
 
   World world_;
   AdaptiveStepSettings adaptive_;
   std::optional<AdaptiveStepper> stepper_;
   std::unique_ptr<robotics::Controller> controller_;
+  std::shared_ptr<LiveView> live_;
   int liveViews_ = 0;
   bool checkPending_ = false;
   std::vector<Vec3> shadowPosition_, shadowVelocity_;

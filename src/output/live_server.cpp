@@ -56,6 +56,8 @@ struct LiveServer::Impl {
         self->owner->sockets.push_back(self);
         ++self->owner->connectionCount;
         self->owner->viewerCount = static_cast<int>(self->owner->sockets.size());
+        // The first message: the viewer is counted from here on.
+        self->texts.push_back(std::make_shared<const std::string>(R"({"type":"hello"})"));
         self->read();
         self->write();
       });

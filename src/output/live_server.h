@@ -17,7 +17,8 @@ namespace robophi::output {
 /// Whether this build has the live view's server (Boost.Beast was found).
 bool liveServerAvailable();
 
-/// The server. Its thread runs until the destructor.
+/// The server. Its thread runs until the destructor. Each viewer's first message
+/// is the text {"type":"hello"}: from then on it counts in viewers().
 class LiveServer {
  public:
   /// Serves `page` (HTML) at / and a WebSocket at /ws on 127.0.0.1:`port` (0: a

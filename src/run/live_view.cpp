@@ -176,8 +176,8 @@ void LiveView::handleMessages(const World& world) {
 }
 
 void LiveView::sendFrame(const World& world) {
+  if (server_->viewers() == 0) return;  // (a viewer that comes gets the next step's frame)
   lastFrame_ = Clock::now();
-  if (server_->viewers() == 0) return;
   sendFrame(world.state(), world.energy());
 }
 
