@@ -298,7 +298,12 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   double priorWallSeconds = 0.0;
   if (resume) {
     const json& savedTasks = resume->at("tasks");
-    if (savedTasks.size() != options.tasks.size())
+    // A live run's checkpoint has its live view last, with no state (null): it
+    // resumes without it.
+    bool sameTasks = savedTasks.size() >= options.tasks.size();
+    for (std::size_t k = options.tasks.size(); sameTasks && k < savedTasks.size(); ++k)
+      sameTasks = savedTasks[k].is_null();
+    if (!sameTasks)
       throw std::runtime_error("checkpoint: it was written by a run with another set of tasks");
     for (std::size_t k = 0; k < options.tasks.size(); ++k)
       if (options.tasks[k]) options.tasks[k]->restore(savedTasks[k]);
