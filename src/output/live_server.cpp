@@ -8,6 +8,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <utility>
 
@@ -131,7 +132,24 @@ struct LiveServer::Impl {
                          if (!ec) self->answer();
                        });
     }
+    // Only this machine's own pages: the Host must be the server's address (no
+    // DNS rebinding), and a browser's WebSocket must come from the served page
+    // (another site open in the same browser may not drive the run).
+    bool local() const {
+      const std::string port = std::to_string(owner->port);
+      const auto ours = [&](std::string_view value, std::string_view scheme) {
+        for (const char* host : {"127.0.0.1:", "localhost:"}) {
+          if (value == std::string(scheme) + host + port) return true;
+        }
+        return false;
+      };
+      const auto text = [](beast::string_view v) { return std::string_view(v.data(), v.size()); };
+      if (!ours(text(request[http::field::host]), "")) return false;
+      const auto origin = request.find(http::field::origin);
+      return origin == request.end() || ours(text(origin->value()), "http://");
+    }
     void answer() {
+      if (!local()) return;  // (dropped)
       if (websocket::is_upgrade(request)) {
         if (request.target() != "/ws") return;  // (dropped: only /ws is a socket)
         stream.expires_never();
