@@ -43,9 +43,9 @@ export function startLive(ctx) {
     option.textContent = label;
     speedSelect.appendChild(option);
   }
-  speedSelect.value = '1';
-  const speedCopy = speedSelect.cloneNode(true);
+  const speedCopy = speedSelect.cloneNode(true);  // without the replay's listener
   speedSelect.replaceWith(speedCopy);
+  speedCopy.value = '1';  // (a run starts at real time; the status says what it is)
   const readout = $('time-readout');
   const help = $('help');
   if (help) help.textContent = 'ctrl-drag a body: pull it with a spring · drag: orbit · right-drag: pan · wheel: zoom · space: pause';
@@ -87,6 +87,9 @@ export function startLive(ctx) {
       if (message.ended) state.ended = true;
       if (typeof message.paused === 'boolean') { state.paused = message.paused; showPaused(message.paused); }
       if (typeof message.dragWork === 'number') state.dragWork = message.dragWork;
+      if (typeof message.speed === 'number' && [...speedCopy.options].some((o) => Number(o.value) === message.speed)) {
+        speedCopy.value = String(message.speed);
+      }
       showReadout();
       return;
     }
