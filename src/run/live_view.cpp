@@ -135,7 +135,9 @@ void LiveView::anchor(const World& world) {
 }
 
 void LiveView::handleMessages(const World& world) {
-  for (const std::string& text : server_->takeMessages()) {
+  const std::vector<std::string> messages = server_->takeMessages();
+  if (messages.empty()) return;
+  for (const std::string& text : messages) {
     const nlohmann::json message = nlohmann::json::parse(text, nullptr, false);
     if (!message.is_object()) continue;  // (not ours: ignored)
     const std::string type = message.value("type", "");
