@@ -70,6 +70,8 @@ class LiveView : public Task {
 
   /// Work the drag did on the world so far (J): part of EnergyTally::external.
   double dragWork() const { return dragWork_; }
+  /// Whether a viewer holds a particle now.
+  bool dragging() const { return dragParticle_ >= 0; }
 
  private:
   using Clock = std::chrono::steady_clock;
