@@ -689,7 +689,14 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     }
     const Vec3 spring = pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, after);
     const Vec3 damper = pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, change);
-    report.dissipated += 0.5 * dt * dt * dot(after, spring) + dt * dot(after, damper);
+    // The damper's work at v⁺, δ u⁺ᵀ C u⁺, less what the contact stage books by the
+    // trapezoid rule, ½ δ (uᵀ C u + u⁺ᵀ C u⁺), u = J v the point's velocity.
+    const Vec3 before = after - change;
+    report.dissipated +=
+        0.5 * dt * dt * dot(after, spring) +
+        0.5 * dt *
+            (dot(after, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, after)) -
+             dot(before, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, before)));
     if (freeTree) {
       const Vec3 force = -(spring * dt + damper);
       momentumTarget = momentumTarget + SpatialVector{cross(load.point, force), force} * dt;
