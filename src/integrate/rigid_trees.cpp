@@ -90,11 +90,12 @@ void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
 
 // The tree of `side` (a particle of contact c) when its tree's step takes the
 // contact's load implicitly (docs/model.md §7 "Contacts on rigid trees"), else -1:
-// a pressing contact of a particle or the environment on a tree particle whose
-// other side is not of the same tree (a tree's contact with itself would couple
-// two branches: explicit, as facet and rim contacts).
+// a pressing contact of a particle or the environment on a tree particle, or of
+// the environment on a round wheel its body carries (c.rim), whose other side is
+// not of the same tree (a tree's contact with itself would couple two branches:
+// explicit, as facet contacts).
 std::int32_t implicitTreeOf(const Contact& c, const ContactTables& tables, std::int32_t side) {
-  if (side < 0 || c.normalForce <= 0.0 || c.involvesFacets() || c.rim >= 0) return -1;
+  if (side < 0 || c.normalForce <= 0.0 || c.involvesFacets()) return -1;
   const std::int32_t tree = tables.treeOf[static_cast<std::size_t>(side)];
   if (tree < 0) return -1;
   const std::int32_t opposite = side == c.a ? c.other : c.a;
@@ -121,7 +122,20 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
       PointLoadStiffness load;
       load.body = tables.treeBodyOf[i];
       load.normal = c.normal;  // from the other side to a
-      load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
+      if (c.rim >= 0) {
+        // A round wheel's contact: c.arm from its particles' mass centre to the
+        // contact point (rim_contact.cpp), on the ground's surface.
+        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+        Vec3 center;
+        double mass = 0.0;
+        for (std::int32_t k = rim.first; k < rim.first + rim.count; ++k) {
+          center += state.position[static_cast<std::size_t>(k)] * model.mass[k];
+          mass += model.mass[k];
+        }
+        load.point = center / mass + c.arm;
+      } else {
+        load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
+      }
       load.normalStiffness = pair.stiffness;
       load.normalDamping = pair.damping;
       if (c.sliding == 0 && pair.tangentialStiffness > 0.0) {
