@@ -406,19 +406,34 @@ void SensorSet::read(const World& world, double* values) const {
         break;
       }
       case SensorKind::kContact: {
-        Vec3 force, weighted;
+        // The resultant force and its moment about the world origin, and the contact
+        // points' mean weighted by their normal forces.
+        Vec3 force, moment, weighted;
         double normal = 0.0;
         for (const Contact& c : evaluation.contacts) {
           if (c.normalForce <= 0.0 && squaredNorm(c.frictionForce) == 0.0) continue;
           const bool onA = own(c.a), onOther = own(c.other);
           if (onA == onOther) continue;  // not its contact, or one with itself
           const Vec3 f = (c.normal * c.normalForce + c.frictionForce) * (onA ? 1.0 : -1.0);
+          const Vec3 x = contactPoint(model, state, c);
           force += f;
+          moment += cross(x, f);
           normal += c.normalForce;
-          weighted += contactPoint(model, state, c) * c.normalForce;
+          weighted += x * c.normalForce;
+        }
+        // The centre of pressure: where the resultant's line of action (its central
+        // axis, p̄ + F × M_p̄ / |F|²) crosses the plane through the mean contact point p̄
+        // normal to F. Unlike the mean itself it does not depend on how the contact
+        // points happen to sit (two particle lattices): under a box at rest it is the
+        // projection of the box's centre of mass.
+        Vec3 centre;
+        if (normal > 0.0) {
+          const Vec3 mean = weighted / normal;
+          const double f2 = squaredNorm(force);
+          centre = f2 > 0.0 ? mean + cross(force, moment - cross(mean, force)) / f2 : mean;
         }
         const Vec3 f = transposeTimes(X_WS.rotation, force);
-        const Vec3 p = normal > 0.0 ? inverse(X_WS) * (weighted / normal) : Vec3{};
+        const Vec3 p = normal > 0.0 ? inverse(X_WS) * centre : Vec3{};
         const double row[7] = {f.x, f.y, f.z, p.x, p.y, p.z, normal};
         std::copy(row, row + 7, out);
         break;
