@@ -142,3 +142,20 @@ def test_python_computed_torque_moves_and_holds_the_iiwa(tmp_path, robots):
     print(f"computed torque: error {errors[499]:.2e} rad at 0.5 s, at most {max(errors[500:]):.2e} "
           f"rad after, {errors[-1]:.2e} rad at 2 s")
     assert max(errors[500:]) < 1e-4
+
+
+def test_contact_and_imu_on_a_particle_box_at_rest(tmp_path):
+    """A box of particles tied by springs (not rigid): its contact sensor reads m g at its
+    centre's projection, its IMU (its particles' mean motion, fitted frame) g upwards."""
+    box = {"name": "box", "type": "box", "center": [0.1, 0.2, 0.06], "size": [0.1, 0.1, 0.1],
+           "cells": [3, 3, 3], "mass": 0.5}
+    world = robophi.World(_scene(tmp_path, [box]))
+    world.add_sensor("floor", "contact", "box")
+    world.add_sensor("imu", "imu", "box")
+    world.run(2.0, dt=1e-4)
+    fx, fy, fz, px, py, pz, fn = world.sensor("floor")
+    ax, ay, az = world.sensor("imu")[:3]
+    print(f"particle box at rest: fz {fz:.6f} N (m g {0.5 * G:.6f}), centre of pressure "
+          f"({px:.1e}, {py:.1e}) m, IMU {az:.6f} m/s²")
+    assert fz == pytest.approx(0.5 * G, rel=0.005) and abs(px) < 1e-3 and abs(py) < 1e-3
+    assert az == pytest.approx(G, rel=0.005) and abs(ax) < 0.01 and abs(ay) < 0.01
