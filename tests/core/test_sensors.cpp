@@ -329,5 +329,29 @@ TEST(Sensors, AreObserversAndARunWritesThem) {
   fs::remove_all(dir);
 }
 
+// A run stopped at a checkpoint and resumed writes the same sensors.csv, byte for byte,
+// as the run in one go (the CLI: robophi run --stop-after, robophi resume).
+TEST(Sensors, AResumedRunWritesTheSameSensorsCsv) {
+  const std::string file = robotsDir() + "/kuka_iiwa/model.urdf";
+  if (!fs::exists(file)) GTEST_SKIP() << "no " << file << " (set ROBOPHI_ROBOTS_DIR)";
+  const fs::path dir = testing::makeTempFolder("robophi_sensors_resume_");
+  testing::writeText(dir / "scene.json",
+                     armScene(file, robotsDir() + "/kuka_iiwa",
+                              R"([{"name": "ft", "type": "force_torque", "on": "arm.lbr_iiwa_joint_6"},
+                                  {"name": "imu", "type": "imu", "on": "lbr_iiwa_link_5"}])"));
+  const std::string run = std::string(ROBOPHI_BINARY) + " run " + (dir / "scene.json").string() +
+                          " --duration 0.3 --step constant --dt 1e-3 --fps 50 --quiet --out ";
+  ASSERT_EQ(std::system((run + (dir / "whole").string() + " 2>/dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((run + (dir / "parts").string() + " --stop-after 0.1 2>/dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((std::string(ROBOPHI_BINARY) + " resume " + (dir / "parts").string() +
+                         " --quiet 2>/dev/null")
+                            .c_str()),
+            0);
+  const std::string whole = testing::readText(dir / "whole" / "sensors.csv");
+  EXPECT_GT(std::count(whole.begin(), whole.end(), '\n'), 10);
+  EXPECT_EQ(whole, testing::readText(dir / "parts" / "sensors.csv"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace robophi
