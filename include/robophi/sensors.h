@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Sensors (docs/python.md "Sensors", docs/scene-format.md "sensors"): observers that
-/// read a World at its current state — a joint's force and torque, the contact force
-/// and centre of pressure on a link or object, an IMU, a range finder — each in its
-/// own frame. Reading never changes the world: a run's state hash is the same with and
-/// without sensors, and a world without sensors pays nothing for them.
+/// Sensors (docs/python.md "Sensors and vector I/O", docs/scene-format.md "Sensors"):
+/// observers that read a World at its current state — a joint's force and torque, the
+/// contact force and centre of pressure on a link or object, an IMU, a range finder —
+/// each in its own frame. Reading never changes the world: a run's state hash is the
+/// same with and without sensors, and a world without sensors pays nothing for them.
 ///
 /// Frames: a link's sensor sits at X_LS on the link frame L (a rigid tree's frame);
 /// an object's at X_OS on the object's frame O, whose origin is its particles' centre
@@ -94,6 +94,7 @@ class SensorSet {
 
   /// Reads every sensor at the world's current state into `values` (valueCount()).
   /// Brings the world's evaluation up to date (as any accessor does); changes nothing else.
+  /// Uses scratch of its own: one set is not read from two threads at once.
   void read(const World& world, double* values) const;
 
  private:
