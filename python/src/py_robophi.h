@@ -143,6 +143,11 @@ class PyWorld {
   /// Throws DivergedError (robophi::python::Diverged) naming the first bad particle.
   [[noreturn]] void throwDiverged() const;
 
+  /// The sensors (world.add_sensor, a scene's "sensors"; robophi/sensors.h) and the
+  /// state an object sensor's frame is fitted against (the world's first state).
+  SensorSet sensors;
+  State sensorReference;
+
  private:
   /// Books the views' writes and brings the actuators' commands to the world's time.
   void beforeStep();
@@ -185,5 +190,7 @@ void bindRun(py::module_& m);
 void bindUrdf(py::module_& m);
 void bindActuators(py::module_& m);
 void bindMultibody(py::module_& m);
+/// World's sensors and its joints' vector reads and writes (bind_sensors.cpp).
+void bindSensors(py::module_& m);
 
 }  // namespace robophi::python
