@@ -21,5 +21,5 @@ ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 
 # The fuzz targets (fuzz/README.md): a short libFuzzer run of each, their own
 # clang build of the libraries and the targets only (scripts/fuzz.sh for the long run).
-ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" -runs=20000 -max_total_time=120
-ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" urdf -runs=20000 -max_total_time=100
+ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" -runs=20000 -max_total_time=60
+ROBOPHI_FUZZ_JOBS="$jobs" "$root/scripts/fuzz.sh" urdf -runs=20000 -max_total_time=60

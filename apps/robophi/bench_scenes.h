@@ -27,12 +27,13 @@ Scene makeClothScene(int n);
 /// Two rigid lattice cubes of `cellsPerSide`³ particles each (no connectors: a
 /// geometry benchmark), the second rotated 10° about x and pressed onto the
 /// first's +x face by a fifth of a cell; both flagged ObjectInfo::rigid (their
-/// sphere trees move as a whole) unless `rigid` is false.
+/// sphere trees move as a whole) unless `rigid` is false; no pair list kept
+/// (neighbourSkin 0), so that every evaluation searches the hierarchy.
 Scene makeRigidPairScene(int cellsPerSide, bool rigid);
 
 /// RIGID: contact detection cost for two rigid objects in contact from 10³ to
 /// 10⁵ particles per object (node tests, pair tests, processor time per
-/// evaluation), and
+/// evaluation; "moving": with one sliding and turning on the other), and
 /// the log-log slopes of tests and time against n. Returns 0.
 int runRigidScaling(bool json);
 

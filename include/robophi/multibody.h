@@ -173,6 +173,23 @@ void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kine
                      const double* a, const Vec3& gravity, const SpatialVector* externalWrench,
                      double* tau);
 
+/// Inverse dynamics as above, with what it passes from body to body: per body (may be
+/// null each), its spatial acceleration A_b with gravity as the world's acceleration
+/// −g (so that A_b's linear part at a point is that point's acceleration less g: what an
+/// accelerometer fixed there reads), and the spatial force its joint transmits from the
+/// parent to the body and everything below it (about the world origin, in W): the
+/// wrench a force/torque sensor in the joint reads (MuJoCo's cfrc_int).
+void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kinematics,
+                     const double* a, const Vec3& gravity, const SpatialVector* externalWrench,
+                     double* tau, SpatialVector* bodyAcceleration, SpatialVector* jointWrench);
+
+/// Forward dynamics: the accelerations a (velocityCount) that the generalized forces τ
+/// give at (q, v) under gravity with the external wrenches (may be null): M a = τ − c
+/// + Jᵀ f, armature on M's diagonal (MuJoCo's qacc without constraints).
+void forwardDynamics(const Multibody& multibody, const MultibodyKinematics& kinematics,
+                     const double* tau, const Vec3& gravity, const SpatialVector* externalWrench,
+                     double* a);
+
 /// The joint-space mass matrix M(q) (velocityCount², row-major; composite rigid bodies).
 void massMatrix(const Multibody& multibody, const MultibodyKinematics& kinematics, double* M);
 

@@ -31,7 +31,9 @@ struct ContactRecord {
 
 PyWorld::PyWorld(const CompiledModel& model, State initial, Integrator integrator,
                  AdaptiveStepSettings adaptive)
-    : world_(model, std::move(initial), integrator), adaptive_(adaptive) {}
+    : world_(model, std::move(initial), integrator), adaptive_(adaptive) {
+  sensorReference = world_.state();
+}
 
 void PyWorld::viewCreated() {
   if (liveViews_ == 0 && !checkPending_) {
@@ -361,8 +363,11 @@ void bindWorld(py::module_& m) {
           py::arg("model"), py::arg("state") = py::none(), py::arg("integrator") = "symplectic",
           py::arg("adaptive") = py::none())
       .def(py::init([](const PyScene& scene) {
-             return new PyWorld(*scene.model.compiled, scene.scene->initial,
-                                scene.scene->run.integrator, sceneAdaptive(*scene.scene));
+             auto* w = new PyWorld(*scene.model.compiled, scene.scene->initial,
+                                   scene.scene->run.integrator, sceneAdaptive(*scene.scene));
+             for (const SensorSpec& spec : scene.scene->sensors)
+               w->sensors.add(w->world().model(), w->sensorReference, spec);
+             return w;
            }),
            py::arg("scene"),
            "The scene's model at its initial state, with its integrator and "

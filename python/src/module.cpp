@@ -137,4 +137,5 @@ PYBIND11_MODULE(_robophi, m) {
   bindUrdf(m);
   bindActuators(m);
   bindMultibody(m);
+  bindSensors(m);
 }

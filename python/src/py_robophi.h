@@ -153,6 +153,11 @@ class PyWorld {
   /// Stops serving the live view (nothing when none).
   void closeView();
 
+  /// The sensors (world.add_sensor, a scene's "sensors"; robophi/sensors.h) and the
+  /// state an object sensor's frame is fitted against (the world's first state).
+  SensorSet sensors;
+  State sensorReference;
+
  private:
   /// Books the views' writes and brings the actuators' commands to the world's time.
   void beforeStep();
@@ -198,5 +203,7 @@ void bindRun(py::module_& m);
 void bindUrdf(py::module_& m);
 void bindActuators(py::module_& m);
 void bindMultibody(py::module_& m);
+/// World's sensors and its joints' vector reads and writes (bind_sensors.cpp).
+void bindSensors(py::module_& m);
 
 }  // namespace robophi::python

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include "build/checks.h"
@@ -397,6 +398,47 @@ void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>&
   }
 }
 
+// docs/contact.md "Round wheels": a body turned by a revolute or continuous joint
+// whose one <collision> is a cylinder coaxial with that joint meets the environment
+// as the cylinder (RimRing::isCylinder), so that it rolls on its true radius, not on
+// the polygon of its surface particles. Two particles on the cylinder's axis, inside
+// it, are appended to `local` as the ring's hub and axis points; the ring covers the
+// body's particles (their mass centre, equal shares, lies on the axis). Returns no
+// ring for any other body.
+std::optional<RimRing> roundWheelOf(const UrdfMultibody& robot, std::size_t body,
+                                    const std::vector<ShapeSpec>& shapes, std::vector<Vec3>& local,
+                                    std::vector<double>& radius) {
+  if (shapes.size() != 1 || shapes[0].kind != ShapeSpec::Kind::kCylinder || local.empty())
+    return std::nullopt;
+  const bool turning = std::any_of(robot.joints.begin(), robot.joints.end(), [&](const auto& j) {
+    return j.body == static_cast<std::int32_t>(body) && (j.type == "continuous" || j.type == "revolute");
+  });
+  if (!turning) return std::nullopt;
+  const ShapeSpec& cylinder = shapes[0];
+  const Vec3 axis = robot.multibody.bodies[body].axis;  // body frame, through its origin
+  const Vec3 center = cylinder.frame.origin;
+  const Vec3 along = cylinder.frame.rotate({0.0, 0.0, 1.0});
+  // Coaxial: the axes parallel within 1e-3 rad, the cylinder's centre on the joint's
+  // line within 1e-3 of its radius (an eccentric cylinder is a cam, not a wheel).
+  if (norm(cross(along, axis)) > 1e-3 || norm(cross(center, axis)) > 1e-3 * cylinder.radius)
+    return std::nullopt;
+  const double tube = radius.front();
+  const double inside = std::max(0.0, 0.5 * cylinder.length - tube);
+  RimRing wheel;
+  wheel.first = 0;
+  wheel.hub = static_cast<ParticleIndex>(local.size());
+  wheel.axisParticle = wheel.hub + 1;
+  local.push_back(center - along * inside);
+  local.push_back(center + along * std::max(inside, 1e-3 * cylinder.radius));
+  radius.push_back(tube);
+  radius.push_back(tube);
+  wheel.count = static_cast<std::int32_t>(local.size());
+  wheel.sphereRadius = cylinder.radius;
+  wheel.halfLength = 0.5 * cylinder.length;
+  wheel.axialOffset = inside;  // the hub to the cylinder's centre
+  return wheel;
+}
+
 }  // namespace
 
 PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibody& robot,
@@ -476,6 +518,7 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
       }
     }
     if (local.empty()) continue;
+    const std::optional<RimRing> wheel = roundWheelOf(robot, b, shapes[b], local, radius);
     ObjectPlacement object;
     object.name = mb.bodies[b].name;
     object.kind = "link";
@@ -489,6 +532,7 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
       object.geometry.radius.push_back(radius[k]);
       object.geometry.fixed.push_back(true);
     }
+    if (wheel) object.geometry.rims.push_back(*wheel);
     const PlacedObject at = builder.addObject(object);
     placed.objectOfBody[b] = at.object;
     objects.push_back(at.object);

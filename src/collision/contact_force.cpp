@@ -388,9 +388,20 @@ RingMotion ringMotion(const Model& model, const std::vector<Vec3>& p, const std:
 
 // Adds `force` (N) at the contact point, the `moment` (N·m) about the ring's
 // centre, and the radial load `squeeze` (N: S in S ∂R/∂p_k) to the ring's particles.
-void applyRingLoad(const Model& model, const std::vector<Vec3>& p, const RimRing& rim,
-                   const RingMotion& ring, const Vec3& force, const Vec3& moment, double squeeze,
-                   std::vector<Vec3>& f) {
+// A ring whose particles a rigid tree's body carries (a rigid URDF's wheel) takes
+// the load as that body does, with the same force and moment about its centre: the
+// force and the moment at its first particle, which the tree's gather adds to the
+// body's wrench, rather than spread over all its particles (a rigid ring's radius
+// does not change: no radial load).
+void applyRingLoad(const Model& model, const ContactTables& tables, const std::vector<Vec3>& p,
+                   const RimRing& rim, const RingMotion& ring, const Vec3& force,
+                   const Vec3& moment, double squeeze, std::vector<Vec3>& f,
+                   std::vector<Vec3>& torque) {
+  if (tables.treeBodyOf[static_cast<std::size_t>(rim.first)] >= 0) {
+    f[rim.first] += force;
+    torque[rim.first] += moment + cross(ring.center - p[rim.first], force);
+    return;
+  }
   const Vec3 beta = symmetricTimes(ring.inverse, moment);
   const double n = static_cast<double>(rim.count);
   for (std::int32_t k = 0; k < rim.count; ++k) {
@@ -1412,8 +1423,8 @@ void applyDeferred(const StageInput& in, const ContactChunk& chunk, std::vector<
     if (c.involvesFacets()) {
       distributeFacetForce(model, c, normal, f);
     } else if (rim != nullptr) {
-      applyRingLoad(model, p, *rim, *ring, normal, cross(application.armA, normal),
-                    application.squeeze, f);
+      applyRingLoad(model, in.tables, p, *rim, *ring, normal, cross(application.armA, normal),
+                    application.squeeze, f, torque);
     } else {
       f[a] += normal;
       if (other >= 0) f[other] -= normal;
@@ -1422,7 +1433,7 @@ void applyDeferred(const StageInput& in, const ContactChunk& chunk, std::vector<
     // Rolling resistance.
     if (application.rolling) {
       const Vec3& moment = application.rollMoment;
-      if (rim != nullptr) applyRingLoad(model, p, *rim, *ring, Vec3{}, moment, 0.0, f);
+      if (rim != nullptr) applyRingLoad(model, in.tables, p, *rim, *ring, Vec3{}, moment, 0.0, f, torque);
       applyMoment(model, in.tables, p, application.turnA, inverseA, a, moment, f, torque);
       if (other >= 0)
         applyMoment(model, in.tables, p, application.turnB, inverseB, other, moment * -1.0, f,
@@ -1434,7 +1445,8 @@ void applyDeferred(const StageInput& in, const ContactChunk& chunk, std::vector<
     if (application.kind == FrictionApplication::kFacet) {
       distributeFacetForce(model, c, tangential, f);
     } else if (application.kind == FrictionApplication::kRing) {
-      applyRingLoad(model, p, *rim, *ring, tangential, cross(application.armA, tangential), 0.0, f);
+      applyRingLoad(model, in.tables, p, *rim, *ring, tangential,
+                    cross(application.armA, tangential), 0.0, f, torque);
     } else {
       f[a] += tangential;
       if (other >= 0) f[other] -= tangential;

@@ -141,7 +141,7 @@ bool closestOnCircle(const Environment& environment, std::int32_t e, const Ring&
 
 // A cylinder wheel's two edge circles against every environment item (MODEL §3.1
 // with r = 0 on each circle): two contacts, named by the body's first two free
-// particles, so that a wheel on flat ground carries its load at both edges and a
+// particles (movable: free, or a rigid tree's), so that a wheel on flat ground carries its load at both edges and a
 // tilted one the more at the lower (the line contact's moment).
 void cylinderVersusEnvironment(const Model& model, const std::vector<Vec3>& position,
                                std::int32_t r, ContactScratch& cache) {
@@ -149,7 +149,7 @@ void cylinderVersusEnvironment(const Model& model, const std::vector<Vec3>& posi
   const RimRing& wheel = model.rims[static_cast<std::size_t>(r)];
   std::int32_t names[2] = {-1, -1};
   for (std::int32_t k = 0, found = 0; k < wheel.count && found < 2; ++k)
-    if (model.inverseMass[wheel.first + k] != 0.0) names[found++] = wheel.first + k;
+    if (cache.tables->movable[wheel.first + k] != 0) names[found++] = wheel.first + k;
   if (names[1] < 0) return;  // a wheel of fewer than two free particles does not roll
   const Vec3 hub = position[wheel.hub];
   const Vec3 along = position[wheel.axisParticle] - hub;
@@ -243,7 +243,7 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
     const double tube = model.radius[rim.first];
     bool free = false;
     for (std::int32_t k = 0; k < rim.count && !free; ++k) {
-      free = model.inverseMass[rim.first + k] != 0.0;
+      free = cache.tables->movable[rim.first + k] != 0;  // (a rigid tree's particles move)
     }
     if (!free) continue;
     if (rim.isCylinder()) {

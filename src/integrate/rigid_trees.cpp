@@ -90,11 +90,12 @@ void sizeScratch(const Model& model, std::vector<MultibodyWorkspace>& scratch) {
 
 // The tree of `side` (a particle of contact c) when its tree's step takes the
 // contact's load implicitly (docs/model.md §7 "Contacts on rigid trees"), else -1:
-// a pressing contact of a particle or the environment on a tree particle whose
-// other side is not of the same tree (a tree's contact with itself would couple
-// two branches: explicit, as facet and rim contacts).
+// a pressing contact of a particle or the environment on a tree particle, or of
+// the environment on a round wheel its body carries (c.rim), whose other side is
+// not of the same tree (a tree's contact with itself would couple two branches:
+// explicit, as facet contacts).
 std::int32_t implicitTreeOf(const Contact& c, const ContactTables& tables, std::int32_t side) {
-  if (side < 0 || c.normalForce <= 0.0 || c.involvesFacets() || c.rim >= 0) return -1;
+  if (side < 0 || c.normalForce <= 0.0 || c.involvesFacets()) return -1;
   const std::int32_t tree = tables.treeOf[static_cast<std::size_t>(side)];
   if (tree < 0) return -1;
   const std::int32_t opposite = side == c.a ? c.other : c.a;
@@ -121,7 +122,20 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
       PointLoadStiffness load;
       load.body = tables.treeBodyOf[i];
       load.normal = c.normal;  // from the other side to a
-      load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
+      if (c.rim >= 0) {
+        // A round wheel's contact: c.arm from its particles' mass centre to the
+        // contact point (rim_contact.cpp), on the ground's surface.
+        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
+        Vec3 center;
+        double mass = 0.0;
+        for (std::int32_t k = rim.first; k < rim.first + rim.count; ++k) {
+          center += state.position[static_cast<std::size_t>(k)] * model.mass[k];
+          mass += model.mass[k];
+        }
+        load.point = center / mass + c.arm;
+      } else {
+        load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
+      }
       load.normalStiffness = pair.stiffness;
       load.normalDamping = pair.damping;
       if (c.sliding == 0 && pair.tangentialStiffness > 0.0) {
@@ -187,6 +201,55 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables, Evalu
 
 }  // namespace
 
+void treeParticleWrenches(const RigidTree& tree, const State& state, const Evaluation& evaluation,
+                          std::vector<SpatialVector>& wrench) {
+  // About the world origin: the force at the particle, and the torque of a contact
+  // off its centre.
+  wrench.assign(tree.multibody.bodies.size(), SpatialVector{});
+  for (const BodyParticle& bp : tree.particles) {
+    const auto i = static_cast<std::size_t>(bp.particle);
+    const Vec3& f = evaluation.force[i];
+    Vec3 moment = cross(state.position[i], f);
+    if (i < evaluation.torque.size()) moment += evaluation.torque[i];
+    SpatialVector& w = wrench[static_cast<std::size_t>(bp.body)];
+    w.angular += moment;
+    w.linear += f;
+  }
+}
+
+void treeAccelerations(const Model& model, std::size_t treeIndex, const State& state,
+                       const Evaluation& evaluation, MultibodyWorkspace& ws,
+                       std::vector<double>& a) {
+  const RigidTree& tree = model.rigidTrees[treeIndex];
+  const Multibody& mb = tree.multibody;
+  const std::vector<double>& q = state.treePositions[treeIndex];
+  const std::vector<double>& v = state.treeVelocities[treeIndex];
+  composeTreeInputs(model, tree, q, v, ws);
+  const MultibodyInputs& in = ws.inputs;
+  treeParticleWrenches(tree, state, evaluation, ws.inputs.wrench);
+  // Each rate's effort as the step's implicit terms give it at v⁺ = v: the explicit
+  // effort and servo together within their bound, less the joint's damping.
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  std::vector<double> tau(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const MultibodyBody& body = mb.bodies[static_cast<std::size_t>(mb.dofBody[i])];
+    const bool oneDof = velocityCountOf(body.joint) == 1;
+    double effort = in.effort[i];
+    if (oneDof) {
+      effort += -in.servoStiffness[i] * (q[static_cast<std::size_t>(body.qStart)] - in.servoTarget[i]) -
+                in.servoDamping[i] * (v[i] - in.servoTargetRate[i]);
+      const double limit = std::min(body.effortLimit, in.effortLimit[i]);
+      effort = std::clamp(effort, -limit, limit) - body.damping * v[i];
+    }
+    tau[i] = effort;
+  }
+  MultibodyKinematics& kin = ws.kinematics;
+  updateKinematics(mb, q.data(), kin);
+  updateVelocities(mb, v.data(), kin);
+  a.resize(n);
+  forwardDynamics(mb, kin, tau.data(), model.gravity, in.wrench.data(), a.data());
+}
+
 void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyWorkspace>& scratch) {
   sizeScratch(model, scratch);
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
@@ -216,18 +279,7 @@ void stepRigidTrees(const Model& model, const ContactTables& tables, double dt,
     std::vector<double>& q = state.treePositions[t];
     std::vector<double>& v = state.treeVelocities[t];
     composeTreeInputs(model, tree, q, v, ws);
-    // The loads on the tree's particles as wrenches on its bodies (about the world
-    // origin): the force at the particle, and the torque of a contact off its centre.
-    inputs.wrench.assign(mb.bodies.size(), SpatialVector{});
-    for (const BodyParticle& bp : tree.particles) {
-      const auto i = static_cast<std::size_t>(bp.particle);
-      const Vec3& f = evaluation.force[i];
-      Vec3 moment = cross(state.position[i], f);
-      if (i < evaluation.torque.size()) moment += evaluation.torque[i];
-      SpatialVector& w = inputs.wrench[static_cast<std::size_t>(bp.body)];
-      w.angular += moment;
-      w.linear += f;
-    }
+    treeParticleWrenches(tree, state, evaluation, inputs.wrench);
     const MultibodyStepReport report =
         stepMultibody(mb, q, v, inputs, implicitLoads[t], dt, model.gravity, ws);
     state.dissipated += report.dissipated;

@@ -30,6 +30,21 @@ void stepRigidTrees(const Model& model, const ContactTables& tables, double dt,
                     const Evaluation& evaluation, State& state,
                     std::vector<MultibodyWorkspace>& scratch);
 
+/// The loads an evaluation found on the tree's particles as wrenches on its bodies
+/// (spatial forces about the world origin, in W; one per body).
+void treeParticleWrenches(const RigidTree& tree, const State& state, const Evaluation& evaluation,
+                          std::vector<SpatialVector>& wrench);
+
+/// The tree's accelerations a (velocityCount) at `state` under the loads `evaluation`
+/// found on its particles, gravity and its joints' inputs (servos, drives, gravity
+/// compensation, damping) taken explicitly at the state: forward dynamics, for
+/// observers (sensors); the step itself is not changed. Hard stops and joint
+/// friction's stiction are left out. Leaves the tree's kinematics at `state` in
+/// ws.kinematics.
+void treeAccelerations(const Model& model, std::size_t tree, const State& state,
+                       const Evaluation& evaluation, MultibodyWorkspace& ws,
+                       std::vector<double>& a);
+
 /// Adds the trees' terms to an evaluation measured at `state`: their kinetic and
 /// gravitational energy, their servos' potential (jointSpring), and takes back the
 /// driving power booked for their particles as fixed particles (−F·v each): the

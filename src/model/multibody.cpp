@@ -291,6 +291,12 @@ void pointJacobian(const Multibody& multibody, const MultibodyKinematics& kin, s
 
 void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* a,
                      const Vec3& gravity, const SpatialVector* externalWrench, double* tau) {
+  inverseDynamics(multibody, kin, a, gravity, externalWrench, tau, nullptr, nullptr);
+}
+
+void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* a,
+                     const Vec3& gravity, const SpatialVector* externalWrench, double* tau,
+                     SpatialVector* bodyAcceleration, SpatialVector* jointWrench) {
   const std::size_t n = multibody.bodies.size();
   std::vector<SpatialVector> acceleration(n), force(n);
   for (std::size_t b = 0; b < n; ++b) {
@@ -314,6 +320,23 @@ void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin,
       tau[body.vStart + k] = dotMotionForce(kin.motion[body.vStart + k], force[b]);
     if (body.parent >= 0) force[body.parent] = force[body.parent] + force[b];
   }
+  if (bodyAcceleration) std::copy(acceleration.begin(), acceleration.end(), bodyAcceleration);
+  if (jointWrench) std::copy(force.begin(), force.end(), jointWrench);
+}
+
+void forwardDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* tau,
+                     const Vec3& gravity, const SpatialVector* externalWrench, double* a) {
+  const int nv = multibody.velocityCount;
+  const auto n = static_cast<std::size_t>(nv);
+  std::vector<double> M(n * n);
+  massMatrix(multibody, kin, M.data());
+  for (const MultibodyBody& body : multibody.bodies)
+    if (velocityCountOf(body.joint) == 1) M[body.vStart * n + body.vStart] += body.armature;
+  // a = M⁻¹ (τ − c), c the bias with the external wrenches (inverse dynamics at a = 0).
+  inverseDynamics(multibody, kin, nullptr, gravity, externalWrench, a);
+  for (std::size_t i = 0; i < n; ++i) a[i] = tau[i] - a[i];
+  factorTree(M.data(), nv, multibody.dofParent);
+  solveTree(M.data(), nv, multibody.dofParent, a);
 }
 
 void massMatrix(const Multibody& multibody, const MultibodyKinematics& kin, double* M) {
@@ -689,7 +712,14 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     }
     const Vec3 spring = pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, after);
     const Vec3 damper = pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, change);
-    report.dissipated += 0.5 * dt * dt * dot(after, spring) + dt * dot(after, damper);
+    // The damper's work at v⁺, δ u⁺ᵀ C u⁺, less what the contact stage books by the
+    // trapezoid rule, ½ δ (uᵀ C u + u⁺ᵀ C u⁺), u = J v the point's velocity.
+    const Vec3 before = after - change;
+    report.dissipated +=
+        0.5 * dt * dt * dot(after, spring) +
+        0.5 * dt *
+            (dot(after, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, after)) -
+             dot(before, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, before)));
     if (freeTree) {
       const Vec3 force = -(spring * dt + damper);
       momentumTarget = momentumTarget + SpatialVector{cross(load.point, force), force} * dt;

@@ -53,7 +53,8 @@ bool RunWriter::reserveReplay(std::size_t bytes) {
 const std::vector<std::string>& runFileNames() {
   static const std::vector<std::string> names = {
       "summary.json", "model.json",   "energy.csv",  "particles.csv",   "objects.csv",
-      "joints.csv",   "contacts.csv", "replay.html", "checkpoint.json", "world.json"};
+      "joints.csv",   "contacts.csv", "sensors.csv", "replay.html", "checkpoint.json",
+      "world.json"};
   return names;
 }
 
@@ -72,6 +73,7 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
   std::vector<std::string> files = {"energy.csv", "particles.csv", "objects.csv"};
   if (scene.model.contact.enabled) files.push_back("contacts.csv");
   if (!scene.model.joints.empty()) files.push_back("joints.csv");
+  if (!scene.sensors.empty()) files.push_back("sensors.csv");
   return files;
 }
 
@@ -123,6 +125,14 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene, const ReplayOpt
       replay_->joints.columns = output::csvHeaderColumns(line_);
     }
   }
+  if (!scene.sensors.empty()) {
+    sensors_ = open("sensors.csv");
+    line_ = "t";
+    for (const SensorSpec& spec : scene.sensors)
+      for (const char* value : SensorSet::valueNames(spec.kind))
+        fmt::format_to(std::back_inserter(line_), ",{}:{}", spec.name, value);
+    sensors_ << line_ << '\n';
+  }
   start(scene, ownThread);
 }
 
@@ -152,6 +162,7 @@ RunWriter::RunWriter(const std::string& dir, const Scene& scene,
   objects_ = open("objects.csv", true);
   if (scene.model.contact.enabled) contacts_ = open("contacts.csv", true);
   if (!scene.model.joints.empty()) joints_ = open("joints.csv", true);
+  if (!scene.sensors.empty()) sensors_ = open("sensors.csv", true);
   start(scene, ownThread);
 }
 
@@ -166,6 +177,8 @@ RunWriter::~RunWriter() {
 void RunWriter::start(const Scene& scene, bool ownThread) {
   particleCount_ = static_cast<std::size_t>(scene.model.particleCount());
   jointCount_ = scene.model.joints.size();
+  // The sensors as the scene loader resolved them (against its model and initial state).
+  for (const SensorSpec& spec : scene.sensors) sensorSet_.add(scene.model, scene.initial, spec);
   // A second core formats while the run steps; one core formats at each hand-over.
   if (ownThread && std::thread::hardware_concurrency() > 1)
     thread_ = std::thread([this] { writeLoop(); });
@@ -239,6 +252,7 @@ void RunWriter::checkStreams() const {
   checkWritten(objects_, "objects.csv");
   if (contacts_.is_open()) checkWritten(contacts_, "contacts.csv");
   if (joints_.is_open()) checkWritten(joints_, "joints.csv");
+  if (sensors_.is_open()) checkWritten(sensors_, "sensors.csv");
 }
 
 std::map<std::string, std::uintmax_t> RunWriter::progress() {
@@ -255,6 +269,7 @@ std::map<std::string, std::uintmax_t> RunWriter::progress() {
   length("objects.csv", objects_);
   length("contacts.csv", contacts_);
   length("joints.csv", joints_);
+  length("sensors.csv", sensors_);
   return sizes;
 }
 
@@ -326,6 +341,14 @@ void RunWriter::writeFrame(const World& world) {
                                    jointServoEffort(model, state, j) + drive});
     }
   }
+  if (sensors_.is_open()) {
+    // Every sensor at the state (robophi/sensors.h): observers, the state unchanged.
+    taken_.kinds.push_back(RowKind::kSensors);
+    values.push_back(state.time);
+    const std::size_t at = values.size();
+    values.resize(at + sensorSet_.valueCount());
+    sensorSet_.read(world, values.data() + at);
+  }
   if (values.size() >= kBatchValues) handOver();
 }
 
@@ -387,6 +410,10 @@ void RunWriter::writeBatch(const Batch& batch) {
         numbers(1 + 4 * jointCount_);
         joints_ << line_ << '\n';
         if (replay_) gather(replay_->joints, row);
+        break;
+      case RowKind::kSensors:
+        numbers(1 + sensorSet_.valueCount());
+        sensors_ << line_ << '\n';
         break;
     }
   }
@@ -605,6 +632,7 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   closeChecked(objects_, "objects.csv");
   closeChecked(joints_, "joints.csv");
   closeChecked(contacts_, "contacts.csv");
+  closeChecked(sensors_, "sensors.csv");
   files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
   output::writeResultsMarker(dir_, "run", files_);
   world_.write(dir_);

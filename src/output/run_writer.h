@@ -18,6 +18,7 @@
 #include "output/run_report.h"
 #include "output/world_view.h"
 #include "robophi/scene/scene.h"
+#include "robophi/sensors.h"
 
 namespace robophi {
 
@@ -78,7 +79,7 @@ class RunWriter {
 
  private:
   /// A row whose numbers wait in a Batch for the writer thread.
-  enum class RowKind : std::uint8_t { kEnergy, kFrame, kObjects, kContact, kJoints };
+  enum class RowKind : std::uint8_t { kEnergy, kFrame, kObjects, kContact, kJoints, kSensors };
   /// Rows taken on the run's thread: their kinds and their numbers, in order.
   struct Batch {
     std::vector<RowKind> kinds;
@@ -121,6 +122,8 @@ class RunWriter {
   std::ofstream joints_;
   std::ofstream contacts_;
   std::ofstream objects_;
+  std::ofstream sensors_;
+  SensorSet sensorSet_;  // the scene's sensors (sensors.csv)
   output::WorldView world_;  // world.json, for the replay (environment, goals, virtual obstacles)
   std::string line_;         // reused buffer for one CSV row
   std::optional<ReplayRows> replay_;

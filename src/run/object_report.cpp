@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 
+#include "robophi/multibody.h"
+
 namespace robophi {
 
 namespace {
@@ -20,12 +22,35 @@ nlohmann::json tensor(const build::Inertia& i) {
   return {{"xx", i.xx}, {"yy", i.yy}, {"zz", i.zz}, {"xy", i.xy}, {"xz", i.xz}, {"yz", i.yz}};
 }
 
+// A rigid tree body's own mass properties (docs/model.md §7: the URDF's, exactly)
+// in the world at the scene's start: its particles carry no inertia of their own.
+build::MassProperties bodyMassProperties(const Multibody& mb, const MultibodyKinematics& kin,
+                                         std::size_t body) {
+  const BodyMassProperties& mp = mb.bodies[body].mass;
+  const Pose& X_WB = kin.X_WB[body];
+  const Mat3 I = X_WB.rotation * mp.inertia * transpose(X_WB.rotation);
+  build::MassProperties world;
+  world.mass = mp.mass;
+  world.centerOfMass = X_WB * mp.centerOfMass;
+  world.inertia = {I.m[0][0], I.m[1][1], I.m[2][2], I.m[0][1], I.m[0][2], I.m[1][2]};
+  return world;
+}
+
 }  // namespace
 
 SceneReport reportScene(const Scene& scene) {
   SceneReport report;
   report.file = scene.sourcePath;
   const Model& model = scene.model;
+  // The rigid trees' bodies at the start: the body carrying each tree particle.
+  std::vector<MultibodyKinematics> kinematics(model.rigidTrees.size());
+  std::map<ParticleIndex, std::pair<std::size_t, std::size_t>> carrier;  // particle: (tree, body)
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const RigidTree& tree = model.rigidTrees[t];
+    updateKinematics(tree.multibody, scene.initial.treePositions[t].data(), kinematics[t]);
+    for (const BodyParticle& bp : tree.particles)
+      carrier[bp.particle] = {t, static_cast<std::size_t>(bp.body)};
+  }
   std::map<std::string, std::size_t> byName;
   for (std::size_t o = 0; o < model.objects.size(); ++o) {
     const ObjectInfo& info = model.objects[o];
@@ -40,7 +65,13 @@ SceneReport reportScene(const Scene& scene) {
       mass.push_back(model.mass[i]);
       r.fixedParticles += model.isFixed(i) ? 1 : 0;
     }
-    if (!position.empty()) {
+    if (const auto carried = carrier.find(info.firstParticle);
+        info.particleCount > 0 && carried != carrier.end()) {
+      const auto [t, body] = carried->second;
+      r.kind = "rigid body";
+      r.built = bodyMassProperties(model.rigidTrees[t].multibody, kinematics[t], body);
+      r.principalMoments = build::principalMoments(r.built.inertia);
+    } else if (!position.empty()) {
       r.built = build::massProperties(position, mass);
       r.principalMoments = build::principalMoments(r.built.inertia);
     }
@@ -144,6 +175,9 @@ std::string reportText(const SceneReport& report) {
   };
   for (const ObjectReport& r : report.objects) {
     row(r.name, std::to_string(r.particles), r.built, r.principalMoments);
+    if (r.kind == "rigid body")
+      out += "    rigid body: its body's own mass properties (the URDF's, after the adjustments\n"
+             "    listed when it loads); its particles are its collision surface\n";
     if (!r.urdfLink) continue;
     if (r.notional) {
       out += "    notional base: the URDF gives it no mass (values above are robophi's)\n";

@@ -21,6 +21,7 @@
 #include "scene/scene_objects.h"
 #include "scene/scene_robotics.h"
 #include "scene/scene_run.h"
+#include "scene/scene_sensors.h"
 #include "scene/scene_urdf.h"
 
 namespace robophi {
@@ -254,6 +255,8 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
     scene::readControlSection(sink, *section, "/control", scene);
   // Materials, environment, medium, contact settings, pairs (docs/contact.md).
   scene::readContactKeys(r, sceneDirectory, scene.model);
+  if (const auto* list = r.member("sensors"))  // observers (docs/scene-format.md "Sensors")
+    scene::readSensors(sink, *list, "/sensors", scene);
   r.finish();
 }
 

@@ -15,6 +15,7 @@
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
 #include "robotics/tasks.h"
+#include "run/object_report.h"
 #include "run/runner.h"
 #include "test_files.h"
 
@@ -90,6 +91,35 @@ TEST(UrdfDefaults, AMimicJointFollowsItsLeader) {
   ASSERT_EQ(report.status, "ok") << report.failure;
   EXPECT_NEAR(q1, 0.03, 1e-3);
   EXPECT_NEAR(q2, q1, 1e-4);
+}
+
+}  // namespace
+}  // namespace robophi
+
+namespace robophi {
+namespace {
+
+// `robophi info` on a rigid robot shows each body's own mass properties, the URDF's
+// (docs/robots.md "robophi info"), not moments of its surface particles: the iiwa's
+// link 1 (4 kg, centre (0, −0.03, 0.12) from its joint at z = 0.1575, moments 0.02,
+// 0.09, 0.1 kg·m²).
+TEST(UrdfDefaults, InfoShowsARigidLinksOwnMassProperties) {
+  const std::string file = ROBOPHI_ROBOTS_DIR "/kuka_iiwa/model.urdf";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file << " (ROBOPHI_ROBOTS_DIR)";
+  SceneLoadResult loaded = loadUrdfFile(file);
+  ASSERT_TRUE(loaded.ok());
+  const SceneReport report = reportScene(*loaded.scene);
+  const auto link = std::find_if(report.objects.begin(), report.objects.end(),
+                                 [](const ObjectReport& r) { return r.name == "lbr_iiwa.lbr_iiwa_link_1"; });
+  ASSERT_NE(link, report.objects.end());
+  EXPECT_EQ(link->kind, "rigid body");
+  EXPECT_GT(link->particles, 0);
+  EXPECT_DOUBLE_EQ(link->built.mass, 4.0);
+  EXPECT_NEAR(link->built.centerOfMass.x, 0.0, 1e-12);  // (the base at the origin, q = 0)
+  EXPECT_NEAR(link->built.centerOfMass.y, -0.03, 1e-12);
+  EXPECT_NEAR(link->principalMoments[0], 0.02, 1e-12);
+  EXPECT_NEAR(link->principalMoments[1], 0.09, 1e-12);
+  EXPECT_NEAR(link->principalMoments[2], 0.1, 1e-12);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "robophi/build/urdf.h"
 #include "robophi/model.h"
 #include "robophi/state.h"
+#include "robophi/sensors.h"
 #include "robophi/world.h"
 
 namespace robophi {
@@ -86,6 +87,9 @@ struct Scene {
   /// The URDF robots placed ({"type": "urdf"} or a bare URDF, docs/robots.md): what each
   /// file declares, next to what was built (`robophi info`).
   std::vector<std::shared_ptr<const build::UrdfRobot>> urdfRobots;
+  /// The "sensors" (robophi/sensors.h), resolved against the model and the initial
+  /// state: sampled every frame into sensors.csv.
+  std::vector<SensorSpec> sensors;
   /// Every file the load read (absolute): the scene file, URDF files, mesh
   /// files, heightfields (build::InputFileLog). A run's checkpoints record a
   /// digest of each; robophi resume refuses one that changed.
