@@ -41,6 +41,11 @@ enum class BodyJointKind : std::uint8_t {
   kPrismatic,
   /// Six degrees of freedom (a floating base).
   kFree,
+  /// A ball (spherical) joint: three turns about the joint frame's origin. q is the
+  /// unit quaternion (w, x, y, z) of B's rotation in J (MuJoCo's ball qpos), v the
+  /// body's angular velocity relative to the parent in J's axes (rad/s). Passive:
+  /// no servo, limit, damping or armature acts on it.
+  kBall,
 };
 
 /// A body's mass properties in its own frame B.

@@ -62,10 +62,11 @@ def test_an_mjcf_arm_is_a_rigid_robot_and_a_scene():
 
 
 @needs_mujoco
-def test_an_mjcf_ball_joint_is_refused_by_name(tmp_path):
+def test_an_mjcf_ball_joint_with_a_cone_limit_is_refused_by_name(tmp_path):
     path = tmp_path / "ball.xml"
     path.write_text('<mujoco model="b">\n<worldbody>\n<body name="arm">\n'
-                    '<joint name="shoulder_ball" type="ball"/>\n<geom type="sphere" size="0.1"/>\n'
+                    '<joint name="shoulder_ball" type="ball" limited="true" range="0 1"/>\n'
+                    '<geom type="sphere" size="0.1"/>\n'
                     '</body>\n</worldbody>\n</mujoco>\n')
     with pytest.raises(Exception, match="shoulder_ball"):
         robophi.RigidRobot(path)

@@ -123,9 +123,10 @@ class Converter {
 
   void refuseUnrepresentable() const {
     for (int j = 0; j < m_->njnt; ++j) {
-      if (m_->jnt_type[j] == mjJNT_BALL)
+      if (m_->jnt_type[j] == mjJNT_BALL && m_->jnt_limited[j])
         refuse("joint", mjOBJ_JOINT, j,
-               "a ball joint of body '" + nameOf(m_, mjOBJ_BODY, m_->jnt_bodyid[j]) + "'");
+               "a ball joint with a range (a cone limit) of body '" +
+                   nameOf(m_, mjOBJ_BODY, m_->jnt_bodyid[j]) + "'");
       if ((m_->jnt_type[j] == mjJNT_HINGE || m_->jnt_type[j] == mjJNT_SLIDE) &&
           m_->qpos0[m_->jnt_qposadr[j]] != 0.0)
         refuse("joint", mjOBJ_JOINT, j,
@@ -166,8 +167,28 @@ class Converter {
           addJoint(j, parent, "free");
           continue;
         }
-        // Hinge and slide: J at the anchor a, with M's axes; M sits at −a in the body.
+        // Ball, hinge and slide: J at the anchor a, with M's axes; M sits at −a in the body.
         const Vec3 anchor = vec3At(m_->jnt_pos + 3 * j);
+        if (m_->jnt_type[j] == mjJNT_BALL) {
+          // A ball joint turns B by its quaternion about a (MuJoCo's ball qpos). It is
+          // passive here: its damping, armature and friction loss are not represented.
+          parent = newBody(name, parent, BodyJointKind::kBall, X_PM * translation(anchor), jointName,
+                           {1, 0, 0});
+          X_PM = translation(-anchor);
+          X_BM = X_PM;
+          const int dof = m_->jnt_dofadr[j];
+          for (int axis = 0; axis < 3; ++axis)
+            if (m_->dof_damping[dof + axis] != 0.0 || m_->dof_armature[dof + axis] != 0.0 ||
+                m_->dof_frictionloss[dof + axis] != 0.0) {
+              out_.adjustments.push_back("joint '" + jointName +
+                                         "': a ball joint's damping, armature and friction loss "
+                                         "are not represented (it turns freely)");
+              break;
+            }
+          addJoint(j, parent, "ball");
+          between_.back() = k + 1 < jointCount;
+          continue;
+        }
         const Vec3 axis = vec3At(m_->jnt_axis + 3 * j);
         const bool hinge = m_->jnt_type[j] == mjJNT_HINGE;
         parent = newBody(name, parent, hinge ? BodyJointKind::kRevolute : BodyJointKind::kPrismatic,
@@ -368,8 +389,9 @@ class Converter {
       }
       a.joint = nameOf(m_, mjOBJ_JOINT, m_->actuator_trnid[2 * u]);
       const UrdfMultibodyJoint* joint = jointNamed(a.joint);
-      if (!joint || joint->type == "free")
-        refuse("actuator", mjOBJ_ACTUATOR, u, "drives a free joint");
+      if (!joint || joint->type == "free" || joint->type == "ball")
+        refuse("actuator", mjOBJ_ACTUATOR, u,
+               std::string("drives a ") + (joint ? joint->type : std::string("free")) + " joint");
       a.velocityIndex = joint->velocityIndex;
       if (m_->actuator_ctrllimited[u]) {
         a.ctrlLower = m_->actuator_ctrlrange[2 * u];

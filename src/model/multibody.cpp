@@ -83,12 +83,17 @@ int positionCountOf(BodyJointKind kind) {
     case BodyJointKind::kRevolute:
     case BodyJointKind::kPrismatic: return 1;
     case BodyJointKind::kFree: return 7;
+    case BodyJointKind::kBall: return 4;
   }
   return 0;
 }
 
 int velocityCountOf(BodyJointKind kind) {
-  return kind == BodyJointKind::kFree ? 6 : positionCountOf(kind);
+  switch (kind) {
+    case BodyJointKind::kFree: return 6;
+    case BodyJointKind::kBall: return 3;
+    default: return positionCountOf(kind);
+  }
 }
 
 std::int32_t Multibody::frameIndex(const std::string& frameName) const {
@@ -169,6 +174,10 @@ std::vector<double> neutralConfiguration(const Multibody& multibody) {
       q[static_cast<std::size_t>(body.qStart)] = std::clamp(0.0, body.lower, body.upper);
       continue;
     }
+    if (body.joint == BodyJointKind::kBall) {
+      q[static_cast<std::size_t>(body.qStart)] = 1.0;  // no turn: (1, 0, 0, 0)
+      continue;
+    }
     if (body.joint != BodyJointKind::kFree) continue;
     const Quaternion r = quaternionFromMatrix(body.X_PJ.rotation);
     double* x = q.data() + body.qStart;
@@ -209,6 +218,20 @@ void updateKinematics(const Multibody& multibody, const double* q, MultibodyKine
         const Vec3 axis_W = X_WJ.rotation * body.axis;
         kin.X_WB[b] = {X_WJ.rotation, X_WJ.translation + axis_W * qb[0]};
         S[0] = {{}, axis_W};
+        break;
+      }
+      case BodyJointKind::kBall: {
+        // B turned by q about J's origin; its three rates turn about J's axes,
+        // which the parent carries (so the bias below is the revolute joint's).
+        const Pose X_WJ = X_WP * body.X_PJ;
+        kin.X_WB[b] = {X_WJ.rotation * rotationMatrix(normalized({qb[0], qb[1], qb[2], qb[3]})),
+                       X_WJ.translation};
+        for (int k = 0; k < 3; ++k) {
+          Vec3 e{};
+          (k == 0 ? e.x : (k == 1 ? e.y : e.z)) = 1.0;
+          const Vec3 axis_W = X_WJ.rotation * e;
+          S[k] = {axis_W, cross(X_WJ.translation, axis_W)};
+        }
         break;
       }
       case BodyJointKind::kFree: {
@@ -389,6 +412,21 @@ SpatialVector spatialMomentum(const MultibodyKinematics& kin) {
   return total;
 }
 
+namespace {
+
+// The unit quaternion (w, x, y, z) at `wxyz` turned by exp(δ ω) on the left:
+// R⁺ = exp(δ ω) R, ω in the frame R maps into.
+void turnQuaternion(double* wxyz, const double* omega, double dt) {
+  const Quaternion turned = normalized(quaternionFromRotationVector(Vec3{omega[0], omega[1], omega[2]} * dt) *
+                                       Quaternion{wxyz[0], wxyz[1], wxyz[2], wxyz[3]});
+  wxyz[0] = turned.w;
+  wxyz[1] = turned.x;
+  wxyz[2] = turned.y;
+  wxyz[3] = turned.z;
+}
+
+}  // namespace
+
 void integrateConfiguration(const Multibody& multibody, double* q, const double* v, double dt) {
   for (const MultibodyBody& body : multibody.bodies) {
     double* qb = q + body.qStart;
@@ -397,20 +435,13 @@ void integrateConfiguration(const Multibody& multibody, double* q, const double*
       case BodyJointKind::kWeld: break;
       case BodyJointKind::kRevolute:
       case BodyJointKind::kPrismatic: qb[0] += dt * vb[0]; break;
-      case BodyJointKind::kFree: {
+      case BodyJointKind::kBall: turnQuaternion(qb, vb, dt); break;  // ω in J
+      case BodyJointKind::kFree:
         qb[0] += dt * vb[3];
         qb[1] += dt * vb[4];
         qb[2] += dt * vb[5];
-        // World angular velocity: R⁺ = exp(dt ω) R, on the unit quaternions.
-        const Quaternion turned =
-            normalized(quaternionFromRotationVector(Vec3{vb[0], vb[1], vb[2]} * dt) *
-                       Quaternion{qb[3], qb[4], qb[5], qb[6]});
-        qb[3] = turned.w;
-        qb[4] = turned.x;
-        qb[5] = turned.y;
-        qb[6] = turned.z;
+        turnQuaternion(qb + 3, vb, dt);  // the world's angular velocity
         break;
-      }
     }
   }
 }

@@ -77,6 +77,20 @@ void compareWithMujoco(const std::string& file, double& worstPosition, double& w
   for (int c = 0; c < 20; ++c) {
     std::vector<double> q = neutralConfiguration(mb);
     for (const build::UrdfMultibodyJoint& j : robot.joints) {
+      const int mjBall = mj_name2id(m, mjOBJ_JOINT, j.urdfName.c_str());
+      if (j.type == "ball") {  // a random turn: the same unit quaternion (w, x, y, z) on both
+        ASSERT_GE(mjBall, 0) << j.urdfName;
+        double w[4], length = 0.0;
+        for (double& x : w) {
+          x = std::normal_distribution<double>(0.0, 1.0)(random);
+          length += x * x;
+        }
+        for (int k = 0; k < 4; ++k) {
+          q[static_cast<std::size_t>(j.positionIndex + k)] = w[k] / std::sqrt(length);
+          d->qpos[m->jnt_qposadr[mjBall] + k] = w[k] / std::sqrt(length);
+        }
+        continue;
+      }
       const MultibodyBody& body = mb.bodies[static_cast<std::size_t>(j.body)];
       const double lo = std::isfinite(body.lower) ? body.lower : -std::numbers::pi;
       const double hi = std::isfinite(body.upper) ? body.upper : std::numbers::pi;
@@ -123,6 +137,62 @@ TEST(MjcfMultibody, TheArmAndTheHandMatchMujocosForwardKinematics) {
                 position, angle);
     EXPECT_LT(position, 1e-6) << file;
     EXPECT_LT(angle, 1e-6) << file;
+  }
+}
+
+// Ball joints (BodyJointKind::kBall): a chain of two, anchored off their bodies'
+// origins in turned bodies, with a hinge between, matches mj_kinematics at 20
+// random turns; passive and undamped it swings under gravity keeping its energy,
+// and without gravity its angular momentum.
+TEST(MjcfMultibody, BallJointsMatchMujocosForwardKinematicsAndSwingFreely) {
+  double position = 0.0, angle = 0.0;
+  compareWithMujoco("ball_chain.xml", position, angle);
+  std::printf("ball_chain.xml: worst body/site position %.1e m, angle %.1e rad against mj_kinematics\n",
+              position, angle);
+  EXPECT_LT(position, 1e-6);
+  EXPECT_LT(angle, 1e-6);
+  const build::UrdfMultibody robot = loadMjcf("ball_chain.xml");
+  const Multibody& mb = robot.multibody;
+  ASSERT_EQ(mb.positionCount, 4 + 1 + 4);
+  ASSERT_EQ(mb.velocityCount, 3 + 1 + 3);
+  const auto n = static_cast<std::size_t>(mb.velocityCount);
+  const std::int32_t upper = mb.bodyIndex("ball_chain.upper");
+  ASSERT_GE(upper, 0);
+  for (const Vec3 gravity : {Vec3{0.0, 0.0, -9.81}, Vec3{}}) {
+    std::vector<double> q = neutralConfiguration(mb), v(n, 0.0);
+    v[0] = 1.5;  // the shoulder turning about its x and z axes, the wrist about y
+    v[2] = -0.8;
+    v[5] = 2.0;
+    MultibodyInputs inputs;
+    MultibodyWorkspace ws;
+    MultibodyKinematics kin;
+    const auto energyAndMomentum = [&](double& energy, Vec3& momentum) {
+      updateKinematics(mb, q.data(), kin);
+      updateVelocities(mb, v.data(), kin);
+      energy = kineticEnergy(kin) + gravitationalEnergy(kin, gravity);
+      // About the shoulder's centre A (the upper body's origin; the welded root
+      // moves nothing): h_A = h_O − p_A × P.
+      const SpatialVector h = spatialMomentum(kin);
+      momentum = h.angular - cross(kin.X_WB[static_cast<std::size_t>(upper)].translation, h.linear);
+    };
+    double e0 = 0.0, e1 = 0.0;
+    Vec3 h0, h1;
+    energyAndMomentum(e0, h0);
+    for (int s = 0; s < 4000; ++s) stepMultibody(mb, q, v, inputs, 2.5e-4, gravity, ws);
+    energyAndMomentum(e1, h1);
+    for (const std::size_t start : {std::size_t{0}, std::size_t{5}}) {  // unit quaternions
+      double length = 0.0;
+      for (std::size_t k = 0; k < 4; ++k) length += q[start + k] * q[start + k];
+      EXPECT_NEAR(length, 1.0, 1e-12);
+    }
+    std::printf("ball chain, 1 s %s: energy %.6f -> %.6f J, angular momentum z %.6f -> %.6f\n",
+                gravity.z != 0.0 ? "under gravity" : "without gravity", e0, e1, h0.z, h1.z);
+    EXPECT_NEAR(e1, e0, 5e-3 * std::abs(e0) + 1e-3);
+    // Gravity has no moment about the vertical through A; the ball joint passes no torque.
+    EXPECT_NEAR(h1.z, h0.z, 1e-6 + 5e-3 * std::abs(h0.z));
+    if (gravity.z == 0.0) {
+      EXPECT_LT(norm(h1 - h0), 1e-3 * norm(h0));  // no gravity: all of h_A
+    }
   }
 }
 
@@ -269,12 +339,12 @@ TEST(MjcfMultibody, WhatRobophiCannotRepresentIsRefusedNamingTheElement) {
   expectRefused("ball.xml", R"(<mujoco model="b">
   <worldbody>
     <body name="arm">
-      <joint name="shoulder_ball" type="ball"/>
+      <joint name="shoulder_ball" type="ball" limited="true" range="0 1"/>
       <geom type="sphere" size="0.1"/>
     </body>
   </worldbody>
 </mujoco>)",
-                "<joint> 'shoulder_ball': a ball joint of body 'arm'", 4);
+                "<joint> 'shoulder_ball': a ball joint with a range (a cone limit) of body 'arm'", 4);
   expectRefused("ellipsoid.xml", R"(<mujoco model="e">
   <worldbody>
     <body name="arm">
