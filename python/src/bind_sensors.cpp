@@ -8,6 +8,7 @@
 
 #include "py_robophi.h"
 #include "robophi/joints.h"
+#include "robophi/multibody.h"
 #include "robophi/sensors.h"
 
 namespace robophi::python {
@@ -225,7 +226,37 @@ void bindSensors(py::module_& m) {
           py::arg("robot") = py::none(), py::arg("on") = true,
           "Gravity compensation of a robot's joints (those named '<robot>.<joint>'; None: every "
           "robot) on or off, between steps: each joint's motor adds the effort that holds what it "
-          "carries against gravity (MuJoCo's qfrc_bias at rest, gravcomp). Returns the joints set.");
+          "carries against gravity (MuJoCo's qfrc_bias at rest, gravcomp). Returns the joints set.")
+      .def(
+          "link_pose",
+          [](PyWorld& w, const std::string& name) {
+            w.syncViews();
+            const Model& model = w.world().model();
+            const State& state = w.world().state();
+            std::string known;
+            for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+              const Multibody& mb = model.rigidTrees[t].multibody;
+              std::int32_t f = mb.frameIndex(name);
+              if (f < 0) f = mb.frameIndex(mb.name + "." + name);
+              for (const MultibodyFrame& frame : mb.frames) known += (known.empty() ? "" : ", ") + frame.name;
+              if (f < 0) continue;
+              MultibodyKinematics kin;
+              updateKinematics(mb, state.treePositions[t].data(), kin);
+              const Pose X = framePose(mb, kin, f);
+              py::array_t<double> R({py::ssize_t{3}, py::ssize_t{3}});
+              auto r = R.mutable_unchecked<2>();
+              for (py::ssize_t i = 0; i < 3; ++i)
+                for (py::ssize_t k = 0; k < 3; ++k)
+                  r(i, k) = X.rotation.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+              return py::make_tuple(X.translation, R);
+            }
+            throw py::key_error("link_pose: no rigid robot's link or frame named '" + name +
+                                "' (there are: " + known + ")");
+          },
+          py::arg("link"),
+          "X_WL of a rigid robot's link (or any frame of it: a site, a URDF link merged into its "
+          "parent) at the world's current state: (position, 3×3 rotation), MuJoCo's data.xpos and "
+          "data.xmat. By its name, with or without the robot's name in front.");
 }
 
 }  // namespace robophi::python

@@ -159,3 +159,30 @@ def test_contact_and_imu_on_a_particle_box_at_rest(tmp_path):
           f"({px:.1e}, {py:.1e}) m, IMU {az:.6f} m/s²")
     assert fz == pytest.approx(0.5 * G, rel=0.005) and abs(px) < 1e-3 and abs(py) < 1e-3
     assert az == pytest.approx(G, rel=0.005) and abs(ax) < 0.01 and abs(ay) < 0.01
+
+
+@pytest.mark.parametrize("link", ["lbr_iiwa_link_4", "lbr_iiwa_link_7"])
+def test_link_poses_of_a_running_world_equal_forward_kinematics(tmp_path, robots, link):
+    """world.link_pose (data.xpos, data.xmat) while the arm moves equals RigidRobot's forward
+    kinematics at the world's joint reading, relative to the base (the world sets the robot
+    down on the ground), within 0.1 mm and 1e-6 rad."""
+    world = robophi.World(_scene(tmp_path, [_iiwa(robots)]))
+    robot = robophi.RigidRobot(robots / "kuka_iiwa" / "model.urdf")
+    start = world.joint_positions.copy()
+    world.set_joint_targets(start + np.array([0.4, -0.3, 0.5, 0.3, -0.6, 0.5, 1.0]))
+    worst_p, worst_r = 0.0, 0.0
+    for _ in range(6):
+        world.run(0.1, dt=1e-3)
+        q = world.joint_positions
+        p0, R0, p, R, f0, F0, f, F = map(np.asarray, (*world.link_pose("lbr_iiwa_link_0"),
+                                                       *world.link_pose(link),
+                                                       *robot.frame_pose("lbr_iiwa_link_0", q),
+                                                       *robot.frame_pose(link, q)))
+        worst_p = max(worst_p, np.linalg.norm(R0.T @ (p - p0) - F0.T @ (f - f0)))
+        turn = (R0.T @ R).T @ (F0.T @ F)
+        worst_r = max(worst_r, np.arccos(np.clip((np.trace(turn) - 1) / 2, -1, 1)))
+    print(f"{link}: link pose against FK at the joint reading: {worst_p:.1e} m, {worst_r:.1e} rad")
+    assert np.max(np.abs(world.joint_positions - start)) > 0.1  # the arm moved
+    assert worst_p < 1e-4 and worst_r < 1e-6
+    with pytest.raises(KeyError, match="no rigid robot's link"):
+        world.link_pose("nope")
