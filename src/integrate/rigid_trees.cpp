@@ -312,6 +312,12 @@ void addRigidTreeTerms(const Model& model, const ContactTables& tables, const St
       updateVelocities(mb, state.treeVelocities[t].data(), kin);
     }
     evaluation.energy.kinetic += kineticEnergy(kin);
+    // The joints' rotors (MJCF armature): ½ a q̇², inertia the step's matrix carries.
+    const std::vector<double>& rates = state.treeVelocities[t];
+    for (const MultibodyBody& body : mb.bodies)
+      if (body.armature != 0.0 && velocityCountOf(body.joint) == 1)
+        evaluation.energy.kinetic +=
+            0.5 * body.armature * rates[static_cast<std::size_t>(body.vStart)] * rates[static_cast<std::size_t>(body.vStart)];
     evaluation.energy.gravity += gravitationalEnergy(kin, model.gravity);
     // The joints' servos' springs ½ κ (q − q*)².
     double servo = 0.0;

@@ -450,9 +450,13 @@ namespace {
 
 // One row of the step's impulse problem: the rate `dof` is held to `target` with an
 // impulse in [low, high] (a hard stop: one-sided; friction: ±dt F).
+// A saturating servo's row is soft: its impulse λ = δ g (target − v⁺) while within
+// its bounds (g = β + δ κ, the servo's implicit gain), `softness` 1/(δ g); 0 for a
+// hard row.
 struct ImpulseRow {
   std::int32_t dof;
   double target, low, high;
+  double softness = 0.0;
 };
 
 // x = A⁻¹ b for a symmetric positive definite 3×3 A (Cholesky).
@@ -524,8 +528,9 @@ void solveImpulses(const std::vector<ImpulseRow>& rows, int nv, const std::vecto
       const double* column = ws.delassus.data() + r * n;
       const double w = column[rows[r].dof];
       const double old = ws.impulse[r];
-      const double next =
-          std::clamp(old + (rows[r].target - velocity[rows[r].dof]) / w, rows[r].low, rows[r].high);
+      const double soft = rows[r].softness;
+      const double next = std::clamp(old + (rows[r].target - velocity[rows[r].dof] - soft * old) / (w + soft),
+                                     rows[r].low, rows[r].high);
       const double delta = next - old;
       if (delta != 0.0) {
         ws.impulse[r] = next;
@@ -615,14 +620,19 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
 
   // The implicit terms: joint damping b and the servos' κ and β on the diagonal;
   // scratch holds each rate's explicit effort. A servo whose effort at the solution
-  // passes its bound acts explicitly at the bound instead, and the step is solved
-  // again: a servo saturates once, so the rounds end (at most one a rate).
+  // passes its bound leaves the matrix and becomes a soft row of the impulse problem
+  // below (its effort g (v_t − v⁺), g = β + δ κ, within the bound less the explicit
+  // effort), where it holds within its bound or saturates as v⁺ decides: a bounded
+  // servo solved at v⁺, not saturated once from the unbounded solution (which let a
+  // velocity-limited finger pressing on a ball flip between saturated and held at
+  // every step, the energy error steering the step down to microseconds). A servo
+  // leaves the matrix once, so the rounds end.
   ws.scratch.resize(n);
-  ws.servo.resize(2 * n);  // each rate's implicit servo (κ, β), 0 when saturated
-  std::vector<double>& bound = ws.impulse;  // each rate's effort bound, the saturated effort
+  ws.servo.resize(2 * n);  // each rate's servo (κ, β)
+  thread_local std::vector<double> bound;  // each rate's effort bound
   bound.assign(n, 0.0);
-  std::vector<std::int32_t>& saturated = ws.constrained;
-  saturated.assign(n, 0);
+  std::vector<std::int32_t>& asRow = ws.constrained;  // 1: the rate's servo is a row
+  asRow.assign(n, 0);
   for (std::size_t round = 0; round <= n; ++round) {
     ws.massMatrix = ws.mass;
     if (loaded)
@@ -631,7 +641,7 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
       const bool oneDof = velocityCountOf(body.joint) == 1;
       const double qi = oneDof ? q[body.qStart] : 0.0;
-      double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
+      const double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
       const double target = inputAt(inputs.servoTarget, i), targetRate = inputAt(inputs.servoTargetRate, i);
       double effort = inputAt(inputs.effort, i);
       const double damping = oneDof ? body.damping : 0.0;
@@ -639,17 +649,13 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
                                                           ? std::numeric_limits<double>::infinity()
                                                           : inputs.effortLimit[i]);
       bound[i] = limit;
-      if (!oneDof || (kappa == 0.0 && beta == 0.0)) {
-        if (oneDof) effort = std::clamp(effort, -limit, limit);
-      } else if (saturated[i] != 0) {
-        effort = saturated[i] * limit;
-        kappa = beta = 0.0;
-      }
+      if (oneDof && ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0)) effort = std::clamp(effort, -limit, limit);
       ws.servo[2 * i] = kappa;
       ws.servo[2 * i + 1] = beta;
       ws.scratch[i] = effort;
-      ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + beta) + dt * dt * kappa;
-      ws.rhs[i] = dt * (effort - ws.tau[i] - kappa * (qi + dt * v[i] - target) - beta * (v[i] - targetRate) -
+      const double k = asRow[i] != 0 ? 0.0 : kappa, b = asRow[i] != 0 ? 0.0 : beta;
+      ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + b) + dt * dt * k;
+      ws.rhs[i] = dt * (effort - ws.tau[i] - k * (qi + dt * v[i] - target) - b * (v[i] - targetRate) -
                         damping * v[i]);
       if (loaded) ws.rhs[i] += loadRhs[i];
     }
@@ -658,13 +664,13 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     bool changed = false;
     for (std::size_t i = 0; i < n; ++i) {
       const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
-      if (kappa == 0.0 && beta == 0.0) continue;
       const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+      if ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0 || velocityCountOf(body.joint) != 1) continue;
       const double next = v[i] + ws.rhs[i];
       const double effort = ws.scratch[i] - kappa * (q[body.qStart] + dt * next - inputAt(inputs.servoTarget, i)) -
                             beta * (next - inputAt(inputs.servoTargetRate, i));
       if (std::abs(effort) <= bound[i]) continue;
-      saturated[i] = effort > 0.0 ? 1 : -1;
+      asRow[i] = 1;
       changed = true;
     }
     if (!changed) break;
@@ -672,16 +678,28 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   ws.velocityFree.resize(n);
   for (std::size_t i = 0; i < n; ++i) ws.velocityFree[i] = v[i] + ws.rhs[i];
 
-  // Hard stops and joint friction: bounded impulses on v⁺ (projected Gauss–Seidel on
-  // the rows' exact Delassus matrix W = (A⁻¹)_rows).
-  // Rows are added as the impulses of the others push a joint past a stop, until
+  // Hard stops, joint friction and the saturating servos: bounded impulses on v⁺
+  // (projected Gauss–Seidel on the rows' exact Delassus matrix W = (A⁻¹)_rows).
+  // Stop rows are added as the impulses of the others push a joint past a stop, until
   // none does (at most one round a joint).
   std::vector<ImpulseRow> rows;
   ws.impulse.clear();
   std::vector<char> stopped(multibody.bodies.size(), 0);
   for (const MultibodyBody& body : multibody.bodies)
     if (velocityCountOf(body.joint) == 1 && body.friction > 0.0)
-      rows.push_back({body.vStart, 0.0, -dt * body.friction, dt * body.friction});
+      rows.push_back({body.vStart, 0.0, -dt * body.friction, dt * body.friction, 0.0});
+  const std::size_t firstServoRow = rows.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (asRow[i] == 0) continue;
+    const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+    const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
+    const double gain = beta + dt * kappa;  // τ = gain (target − v⁺)
+    const double target = (beta * inputAt(inputs.servoTargetRate, i) -
+                           kappa * (q[body.qStart] - inputAt(inputs.servoTarget, i))) / gain;
+    rows.push_back({static_cast<std::int32_t>(i), target, dt * (-bound[i] - ws.scratch[i]),
+                    dt * (bound[i] - ws.scratch[i]), 1.0 / (dt * gain)});
+  }
+  const std::size_t servoRowsEnd = rows.size();
   std::vector<double>& velocity = ws.column;
   velocity = ws.velocityFree;
   for (std::size_t round = 0; round <= multibody.bodies.size(); ++round) {
@@ -695,8 +713,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       // Held at the stop; a joint already past it (moved there by an edit) comes
       // back a fifth of the way a step, not at once (no energy made in one step).
       const auto back = [&](double gap) { return (gap >= 0.0 ? gap : 0.2 * gap) / dt; };
-      if (predicted > body.upper) rows.push_back({i, back(body.upper - qi), -1e300, 0.0});
-      else if (predicted < body.lower) rows.push_back({i, back(body.lower - qi), 0.0, 1e300});
+      if (predicted > body.upper) rows.push_back({i, back(body.upper - qi), -1e300, 0.0, 0.0});
+      else if (predicted < body.lower) rows.push_back({i, back(body.lower - qi), 0.0, 1e300, 0.0});
       else continue;
       stopped[b] = 1;
     }
@@ -705,8 +723,28 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     solveImpulses(rows, nv, multibody.dofParent, ws, velocity);
   }
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    if (ws.impulse[r] != 0.0) ++report.constrainedJoints;
-    report.dissipated -= ws.impulse[r] * velocity[rows[r].dof];
+    const auto i = static_cast<std::size_t>(rows[r].dof);
+    const double impulse = ws.impulse[r], rate = velocity[i];
+    if (r < firstServoRow || r >= servoRowsEnd) {
+      if (impulse != 0.0) ++report.constrainedJoints;
+      report.dissipated -= impulse * rate;
+      continue;
+    }
+    // A servo row: its impulse's work λ v⁺ against the change of its spring's
+    // ½ κ e² (e = q − q*, e⁺ = e + δ v⁺). Within its bound it is the servo's
+    // (the target rate's work β q̇* δ v⁺ from outside, the rest dissipated, as an
+    // implicit servo's); saturated, its effort is a bounded drive's, from outside,
+    // and so is the spring's change (its effort no longer follows from it).
+    const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
+    const double e = q[multibody.bodies[multibody.dofBody[i]].qStart] - inputAt(inputs.servoTarget, i);
+    const double springChange = 0.5 * kappa * ((e + dt * rate) * (e + dt * rate) - e * e);
+    if (impulse <= rows[r].low || impulse >= rows[r].high) {
+      report.inputWork += impulse * rate + springChange;
+    } else {
+      const double targetWork = dt * beta * inputAt(inputs.servoTargetRate, i) * rate;
+      report.inputWork += targetWork;
+      report.dissipated += targetWork - impulse * rate - springChange;
+    }
   }
   ws.velocityFree = velocity;
 
@@ -763,6 +801,9 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   for (std::size_t i = 0; i < n; ++i) {
     double row = 0.0;
     for (std::size_t k = 0; k < n; ++k) row += ws.mass[i * n + k] * (ws.velocityFree[k] - v[k]);
+    const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
+    if (body.armature != 0.0 && velocityCountOf(body.joint) == 1)  // (the rotor's ½ a Δv²)
+      row += body.armature * (ws.velocityFree[i] - v[i]);
     loss += (ws.velocityFree[i] - v[i]) * row;
   }
   report.dissipated += 0.5 * loss;
@@ -772,7 +813,9 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     report.inputWork += dt * ws.scratch[i] * vi;
     if (velocityCountOf(body.joint) == 1) {
       // The implicit servo's work dt τ v⁺ = −Δ(½ κ e²) − ½ κ dt² v⁺² − β dt v⁺² + β q̇* dt v⁺.
-      const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
+      // (A servo row's work is booked with its impulse, above.)
+      const bool implicitServo = asRow[i] == 0;
+      const double kappa = implicitServo ? ws.servo[2 * i] : 0.0, beta = implicitServo ? ws.servo[2 * i + 1] : 0.0;
       report.dissipated += dt * (body.damping + beta + 0.5 * dt * kappa) * vi * vi;
       if (beta > 0.0) report.inputWork += dt * beta * inputAt(inputs.servoTargetRate, i) * vi;
     }
