@@ -116,6 +116,16 @@ Frame Frame::inverse() const {
   return out;
 }
 
+RoundAbout roundAbout(const ShapeSpec& shape, const Vec3& point, const Vec3& axis) {
+  if (shape.kind != ShapeSpec::Kind::kCylinder && shape.kind != ShapeSpec::Kind::kSphere)
+    return RoundAbout::kNone;
+  // Its centre on the line within 1e-3 of its radius; a cylinder's axis along it.
+  if (norm(cross(shape.frame.origin - point, axis)) > 1e-3 * shape.radius) return RoundAbout::kNone;
+  if (shape.kind == ShapeSpec::Kind::kSphere) return RoundAbout::kSphere;
+  return norm(cross(shape.frame.rotate({0.0, 0.0, 1.0}), axis)) > 1e-3 ? RoundAbout::kNone
+                                                                        : RoundAbout::kCylinder;
+}
+
 Frame Frame::fromXyzRpy(const Vec3& xyz, const Vec3& rpy) {
   // R = Rz(yaw) Ry(pitch) Rx(roll), written out.
   const double cr = std::cos(rpy.x), sr = std::sin(rpy.x);

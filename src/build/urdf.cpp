@@ -277,11 +277,9 @@ void addRoundWheel(const Body& body, const UJoint& joint, int hub, int axisPoint
   const Vec3 c = body.world[static_cast<std::size_t>(hub)];
   const Vec3 n = (body.world[static_cast<std::size_t>(axisPoint)] - c) /
                  norm(body.world[static_cast<std::size_t>(axisPoint)] - c);
-  const Vec3 center = body.frame.apply(cylinder.frame.origin);
-  const Vec3 cylinderAxis = body.frame.rotate(cylinder.frame.rotate({0.0, 0.0, 1.0}));
-  // Coaxial: the axes parallel within 1e-3 rad, the cylinder's centre on the joint's line
-  // within 1e-3 of its radius (an eccentric cylinder is a cam, not a wheel).
-  if (norm(cross(cylinderAxis, n)) > 1e-3 || norm(cross(center - c, n)) > 1e-3 * cylinder.radius) {
+  ShapeSpec placed = cylinder;  // in the world, as the joint's line
+  placed.frame = body.frame.then(cylinder.frame);
+  if (roundAbout(placed, c, n) != RoundAbout::kCylinder) {
     out.notes.push_back("not a round wheel: its cylinder is not coaxial with joint '" + joint.name +
                         "' (it touches as its particles)");
     return;
@@ -293,12 +291,26 @@ void addRoundWheel(const Body& body, const UJoint& joint, int hub, int axisPoint
   wheel.axisParticle = at(axisPoint).local;
   wheel.sphereRadius = cylinder.radius;
   wheel.halfLength = 0.5 * cylinder.length;
-  wheel.axialOffset = dot(center - c, n);
+  wheel.axialOffset = dot(placed.frame.origin - c, n);
   placement.geometry.rims.push_back(wheel);
   out.roundWheel = true;
   out.notes.push_back("round wheel: meets the environment as its cylinder (radius " +
                       check::number(cylinder.radius) + " m, length " +
                       check::number(cylinder.length) + " m) about joint '" + joint.name + "'");
+}
+
+// Whether a continuous joint is a wheel (build::roundAbout): one of its child's
+// shapes round about its line, `hub` and `axisPoint` its axis particles (body-local).
+bool isWheel(const Body& body, const UJoint& joint, int hub, int axisPoint) {
+  if (joint.type != UJoint::Type::kContinuous) return false;
+  const Vec3 c = body.world[static_cast<std::size_t>(hub)];
+  const Vec3 along = body.world[static_cast<std::size_t>(axisPoint)] - c;
+  if (!(norm(along) > 0.0)) return false;
+  return std::any_of(body.spec.shapes.begin(), body.spec.shapes.end(), [&](const ShapeSpec& shape) {
+    ShapeSpec placed = shape;
+    placed.frame = body.frame.then(shape.frame);
+    return roundAbout(placed, c, along / norm(along)) != RoundAbout::kNone;
+  });
 }
 
 }  // namespace
@@ -793,12 +805,16 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     }
     placement.geometry.spacing = g.spacing;
     placement.geometry.rigid = true;
-    for (const std::size_t k : plansOfChild[b])
-      if (const Plan& plan = plans[k]; spec.roundWheels && plan.childPoints.size() >= 2)
-        addRoundWheel(body, d.joints[static_cast<std::size_t>(plan.joint)],
-                      body.built.required[static_cast<std::size_t>(plan.childPoints[0])],
-                      body.built.required[static_cast<std::size_t>(plan.childPoints[1])],
-                      renumber[b], static_cast<int>(b), placement, out);
+    for (const std::size_t k : plansOfChild[b]) {
+      const Plan& plan = plans[k];
+      if (plan.childPoints.size() < 2) continue;
+      const UJoint& joint = d.joints[static_cast<std::size_t>(plan.joint)];
+      const int hub = body.built.required[static_cast<std::size_t>(plan.childPoints[0])];
+      const int axisPoint = body.built.required[static_cast<std::size_t>(plan.childPoints[1])];
+      robot.joints[static_cast<std::size_t>(plan.joint)].wheel = isWheel(body, joint, hub, axisPoint);
+      if (spec.roundWheels)
+        addRoundWheel(body, joint, hub, axisPoint, renumber[b], static_cast<int>(b), placement, out);
+    }
     robot.objects.push_back(std::move(placement));
     if (!carriers.geometry.position.empty()) {
       out.carrierObject = carrierObject;

@@ -330,6 +330,32 @@ Frame frameOf(const Pose& X) {
   return f;
 }
 
+// A <collision> element as a shape in its body's frame; a mesh's vertices are not
+// read here (placeUrdfMultibody reads each file once).
+ShapeSpec shapeOf(const UrdfCollisionShape& c) {
+  ShapeSpec shape;
+  shape.frame = frameOf(c.X_BS);
+  switch (c.kind) {
+    case UrdfCollisionShape::Kind::kBox:
+      shape.kind = ShapeSpec::Kind::kBox;
+      shape.size = c.size;
+      break;
+    case UrdfCollisionShape::Kind::kCylinder:
+      shape.kind = ShapeSpec::Kind::kCylinder;
+      shape.radius = c.size.x;
+      shape.length = c.size.z;
+      break;
+    case UrdfCollisionShape::Kind::kSphere:
+      shape.kind = ShapeSpec::Kind::kSphere;
+      shape.radius = c.size.x;
+      break;
+    case UrdfCollisionShape::Kind::kMesh:
+      shape.kind = ShapeSpec::Kind::kMesh;
+      break;
+  }
+  return shape;
+}
+
 // Particles of radius r whose outer surfaces reach a primitive's surface from
 // inside (their centres r within it), r = min(spacing, half the smallest extent):
 // on a flat face a grid r apart, on a curved one rings r/2 apart along the
@@ -415,13 +441,11 @@ std::optional<RimRing> roundWheelOf(const UrdfMultibody& robot, std::size_t body
   });
   if (!turning) return std::nullopt;
   const ShapeSpec& cylinder = shapes[0];
-  const Vec3 axis = robot.multibody.bodies[body].axis;  // body frame, through its origin
+  // Coaxial with its joint's line (body frame, through its origin).
+  if (roundAbout(cylinder, {}, robot.multibody.bodies[body].axis) != RoundAbout::kCylinder)
+    return std::nullopt;
   const Vec3 center = cylinder.frame.origin;
   const Vec3 along = cylinder.frame.rotate({0.0, 0.0, 1.0});
-  // Coaxial: the axes parallel within 1e-3 rad, the cylinder's centre on the joint's
-  // line within 1e-3 of its radius (an eccentric cylinder is a cam, not a wheel).
-  if (norm(cross(along, axis)) > 1e-3 || norm(cross(center, axis)) > 1e-3 * cylinder.radius)
-    return std::nullopt;
   const double tube = radius.front();
   const double inside = std::max(0.0, 0.5 * cylinder.length - tube);
   RimRing wheel;
@@ -441,6 +465,21 @@ std::optional<RimRing> roundWheelOf(const UrdfMultibody& robot, std::size_t body
 
 }  // namespace
 
+int wheelCount(const UrdfMultibody& robot) {
+  int wheels = 0;
+  for (const UrdfMultibodyJoint& joint : robot.joints) {
+    if (joint.type != "continuous") continue;
+    const Vec3 axis = robot.multibody.bodies[static_cast<std::size_t>(joint.body)].axis;
+    wheels += std::any_of(robot.collisions.begin(), robot.collisions.end(),
+                          [&](const UrdfCollisionShape& c) {
+                            return c.body == joint.body && roundAbout(shapeOf(c), {}, axis) != RoundAbout::kNone;
+                          })
+                  ? 1
+                  : 0;
+  }
+  return wheels;
+}
+
 PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibody& robot,
                                        const UrdfMultibodyPlacement& placement) {
   const Multibody& mb = robot.multibody;
@@ -453,37 +492,19 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
   std::map<std::tuple<std::string, double, double, double>, TriangleMesh> meshes;
   std::vector<std::vector<ShapeSpec>> shapes(mb.bodies.size());
   for (const UrdfCollisionShape& c : robot.collisions) {
-    ShapeSpec shape;
-    shape.frame = frameOf(c.X_BS);
-    switch (c.kind) {
-      case UrdfCollisionShape::Kind::kBox:
-        shape.kind = ShapeSpec::Kind::kBox;
-        shape.size = c.size;
-        break;
-      case UrdfCollisionShape::Kind::kCylinder:
-        shape.kind = ShapeSpec::Kind::kCylinder;
-        shape.radius = c.size.x;
-        shape.length = c.size.z;
-        break;
-      case UrdfCollisionShape::Kind::kSphere:
-        shape.kind = ShapeSpec::Kind::kSphere;
-        shape.radius = c.size.x;
-        break;
-      case UrdfCollisionShape::Kind::kMesh: {
-        shape.kind = ShapeSpec::Kind::kMesh;
-        const auto key = std::make_tuple(c.mesh, c.scale.x, c.scale.y, c.scale.z);
-        auto found = meshes.find(key);
-        if (found == meshes.end()) {
-          try {
-            found = meshes.emplace(key, loadMesh(c.mesh, c.scale)).first;
-          } catch (const std::exception& error) {
-            throw UrdfError(c.mesh, 0, std::string("<collision> mesh of link '") + c.link + "': " + error.what());
-          }
-          ++placed.meshesRead;
+    ShapeSpec shape = shapeOf(c);
+    if (c.kind == UrdfCollisionShape::Kind::kMesh) {
+      const auto key = std::make_tuple(c.mesh, c.scale.x, c.scale.y, c.scale.z);
+      auto found = meshes.find(key);
+      if (found == meshes.end()) {
+        try {
+          found = meshes.emplace(key, loadMesh(c.mesh, c.scale)).first;
+        } catch (const std::exception& error) {
+          throw UrdfError(c.mesh, 0, std::string("<collision> mesh of link '") + c.link + "': " + error.what());
         }
-        shape.mesh = found->second;
-        break;
+        ++placed.meshesRead;
       }
+      shape.mesh = found->second;
     }
     shapes[static_cast<std::size_t>(c.body)].push_back(std::move(shape));
   }

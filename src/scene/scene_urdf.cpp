@@ -315,30 +315,6 @@ bool isUrdfPath(const std::string& path) {
 
 namespace {
 
-// A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
-// bottom at z = 0.
-// The robot's wheels: continuous joints whose body touches by a cylinder along
-// the joint's axis or a sphere, centred on the axis (a continuous knee is no wheel).
-int wheelCount(const build::UrdfMultibody& robot) {
-  int wheels = 0;
-  for (const build::UrdfMultibodyJoint& joint : robot.joints) {
-    if (joint.type != "continuous") continue;
-    const Vec3 axis = robot.multibody.bodies[static_cast<std::size_t>(joint.body)].axis;
-    const bool round = std::any_of(robot.collisions.begin(), robot.collisions.end(), [&](const auto& shape) {
-      using Kind = build::UrdfCollisionShape::Kind;
-      if (shape.body != joint.body || (shape.kind != Kind::kCylinder && shape.kind != Kind::kSphere))
-        return false;
-      // Its centre on the axis (through the body's origin), within a tenth of its radius.
-      const Vec3 c = shape.X_BS.translation;
-      if (norm(c - axis * dot(c, axis)) > 0.1 * shape.size.x) return false;
-      const Vec3 along = shape.X_BS.rotation * Vec3{0.0, 0.0, 1.0};
-      return shape.kind == Kind::kSphere || std::abs(dot(along, axis)) > 0.99;
-    });
-    wheels += round ? 1 : 0;
-  }
-  return wheels;
-}
-
 // A bare rigid URDF's <mimic> joints follow their leaders (q = multiplier q_leader +
 // offset) by a position servo (build::MimicSpec, run by the scene's controller)
 // ω = 300 rad/s on the follower's own inertia: a gripper's second finger closes with
@@ -379,6 +355,8 @@ void coupleMimics(const build::UrdfMultibody& robot, const Model& model, Scene& 
 constexpr double kRigidContactStiffness = 1e6;
 constexpr double kRigidContactDamping = 100.0;
 
+// A bare URDF as rigid bodies on the ground plane: its lowest surface particle's
+// bottom at z = 0.
 SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& options) {
   SceneLoadResult result;
   const auto fail = [&](std::string where, std::string message) {
@@ -395,7 +373,7 @@ SceneLoadResult loadRigidUrdf(const std::string& path, const UrdfSceneOptions& o
     build::UrdfMultibody robot = build::makeUrdfMultibody(spec);
     if (!options.fixedBase) {
       // A wheeled base (two or more wheels: wheelCount) stands free on its wheels.
-      if (wheelCount(robot) >= 2) {
+      if (build::wheelCount(robot) >= 2) {
         spec.fixedBase = false;
         robot = build::makeUrdfMultibody(spec);
       }
@@ -485,11 +463,10 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
     spec.fixedBase = options.fixedBase.value_or(true);
     robot = build::makeUrdfRobot(spec);
     if (!options.fixedBase) {
-      // A wheeled base (two or more continuous joints) stands free on its wheels.
-      int continuous = 0;
-      for (const build::UrdfJoint& j : robot.joints)
-        continuous += j.type == build::UrdfJointType::kContinuous ? 1 : 0;
-      if (continuous >= 2) {
+      // A wheeled base (two or more wheels: UrdfJoint::wheel) stands free on them.
+      int wheels = 0;
+      for (const build::UrdfJoint& j : robot.joints) wheels += j.wheel ? 1 : 0;
+      if (wheels >= 2) {
         spec.fixedBase = false;
         robot = build::makeUrdfRobot(spec);
       }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "robophi/multibody.h"
 #include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
@@ -45,8 +46,11 @@ void centerOf(const Model& model, const State& state, std::int32_t object, Vec3&
 struct ShakeRun {
   double shakeStart = 0.0, restStart = 0.0;
   // The box's largest acceleration (m/s², its mass centre's velocity differenced
-  // over 10 ms) in the shake, and its largest displacement relative to the two
-  // fingers from the shake's start to the end of the run (m).
+  // over 10 ms) in the shake, and its largest displacement relative to the
+  // fingers (its mass centre in the left finger's frame) from the shake's start to
+  // the end of the run (m). (In the world's axes the vector from the fingers to
+  // the box turns with the hand: the shoulder's 0.08 rad swing moves it by about
+  // 1 mm with no slip at all, which this measure once counted as slip.)
   double peakAcceleration = 0.0, slip = 0.0, wall = 0.0, end = 0.0;
   // Its displacement relative to the fingers at the end of the run (m): what stays.
   double finalSlip = 0.0;
@@ -63,15 +67,28 @@ ShakeRun runShake(const std::string& text) {
   const Scene& scene = *result.scene;
   const Model& model = scene.model;
   const std::int32_t box = objectNamed(model, "box");
-  const std::int32_t left = objectNamed(model, "panda.panda_leftfinger");
-  const std::int32_t right = objectNamed(model, "panda.panda_rightfinger");
-  EXPECT_TRUE(box >= 0 && left >= 0 && right >= 0);
-  if (box < 0 || left < 0 || right < 0) return out;
+  EXPECT_GE(box, 0);
+  if (box < 0) return out;
   struct Sample {
     double t;
     Vec3 velocity, relative;
   };
   std::vector<Sample> samples;
+  // X_WF of the left finger (its body on the robot's rigid tree).
+  std::size_t tree = 0;
+  std::int32_t finger = -1;
+  for (std::size_t t = 0; t < model.rigidTrees.size() && finger < 0; ++t) {
+    finger = model.rigidTrees[t].multibody.bodyIndex("panda.panda_leftfinger");
+    tree = t;
+  }
+  EXPECT_GE(finger, 0);
+  if (finger < 0) return out;
+  const Multibody& mb = model.rigidTrees[tree].multibody;
+  MultibodyKinematics kin;
+  const auto fingerPose = [&](const State& s) {
+    updateKinematics(mb, s.treePositions[tree].data(), kin);
+    return kin.X_WB[static_cast<std::size_t>(finger)];
+  };
   RunOptions options;
   options.settings = scene.run;
   options.writeReplay = false;
@@ -79,11 +96,9 @@ ShakeRun runShake(const std::string& text) {
   const robotics::SceneTaskHook hook = robotics::makeSceneTaskHook(scene);
   options.tasks = {hook.task, [&](World& world, std::vector<std::string>&) {
                      const State& s = world.state();
-                     Vec3 b, v, l, r, unused;
+                     Vec3 b, v;
                      centerOf(model, s, box, b, v);
-                     centerOf(model, s, left, l, unused);
-                     centerOf(model, s, right, r, unused);
-                     samples.push_back({s.time, v, b - (l + r) * 0.5});
+                     samples.push_back({s.time, v, inverse(fingerPose(s)) * b});
                      return true;
                    }};
   const auto start = std::chrono::steady_clock::now();
@@ -163,12 +178,12 @@ TEST(UrdfShake, ASmallerBoxToo) {
       "the end); %.1f s wall\n",
       run.peakAcceleration, run.peakAcceleration / 9.81, 1e3 * run.slip, 1e3 * run.finalSlip,
       run.wall);
-  // Measured: 2.4 mm at the peaks of the shake, of which 0.23 mm stays: the grip's
-  // compliance (the pads' friction anchors) swings the smaller box more (its pads'
-  // contacts are fewer); what it keeps is under 2 mm.
+  // Measured in the finger's frame: well under 1 mm (2.4 mm in the world's axes,
+  // most of it the hand turning, not the box slipping). The box turns by up to
+  // 2.4° about the grip axis at the peaks and back.
   EXPECT_GT(run.peakAcceleration, 2.0 * 9.81);
-  EXPECT_LT(run.slip, 3e-3);
-  EXPECT_LT(run.finalSlip, 2e-3);
+  EXPECT_LT(run.slip, 2e-3);
+  EXPECT_LT(run.finalSlip, 1e-3);
 }
 
 }  // namespace

@@ -96,6 +96,14 @@ struct ShapeSpec {
   TriangleMesh mesh{};
 };
 
+/// How a shape sits on a joint's line, the one test of what is a wheel (docs/robots.md
+/// "Wheels"): a cylinder whose axis is the line, or a sphere centred on it, each within
+/// 1e-3 of its radius (and the cylinder's axis within 1e-3 rad); anything else (a box, a
+/// mesh, an eccentric cylinder: a cam) is kNone. `point` on the line and its unit
+/// `axis` are in the frame the shape's frame is given in.
+enum class RoundAbout { kNone, kCylinder, kSphere };
+RoundAbout roundAbout(const ShapeSpec& shape, const Vec3& point, const Vec3& axis);
+
 /// A rigid body of particles whose mass, centre of mass and inertia are the given ones.
 struct RigidBodySpec {
   /// The union is the volume filled; empty: a small cluster of particles that

@@ -135,6 +135,9 @@ struct UrdfJoint {
   double multiplier = 1.0, offset = 0.0;
   /// The position q (rad, m) it is built at.
   double initialPosition = 0.0;
+  /// A wheel: a continuous joint whose child has a <collision> round about its line
+  /// (build::roundAbout). A robot on two or more stands free on them.
+  bool wheel = false;
   /// The model's joint "<object>.<name>" (Model::joints) for a moving joint; empty for fixed.
   std::string modelJoint{};
   /// A moving joint's hold gains (UrdfSpec::servoFrequency): the servo stiffness (N·m/rad

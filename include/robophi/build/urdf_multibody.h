@@ -92,6 +92,11 @@ struct UrdfMultibody {
 /// Reads a URDF as rigid bodies; throws UrdfError (FILE:LINE: the element and value).
 UrdfMultibody makeUrdfMultibody(const UrdfMultibodySpec& spec);
 
+/// Its wheels: continuous joints whose body has a <collision> round about the joint's
+/// line (roundAbout: a coaxial cylinder or a sphere centred on it). A robot on two or
+/// more stands free on them; a continuous knee is no wheel.
+int wheelCount(const UrdfMultibody& robot);
+
 class ModelBuilder;
 
 /// How a rigid URDF robot enters a model: the particles that carry its contact
