@@ -139,7 +139,12 @@ void setUpRigidTree(const Model& model, const std::vector<Vec3>& position, Conta
     const double off = squaredNorm(d - line * dot(d, line));
     if (off > far) far = off, r2 = members[q];
   }
-  if (!(far > 0.0) || r1 == r0) return;  // collinear: stays a refitted tree
+  // Collinear (a row of particles, a thin rod's): stays a refitted tree. The test is
+  // relative: rounding leaves particles on a line some 1e-17 m off it, and a frame
+  // from that offset turns at random from one evaluation to the next (a PR2
+  // gripper's pole of 19 particles in a row: its spheres 16 cm off, a contact
+  // missed until its depth stalled the step).
+  if (r1 == r0 || !(far > 1e-12 * squaredNorm(position[r1] - position[r0]))) return;
   tree.reference[0] = r0;
   tree.reference[1] = r1;
   tree.reference[2] = r2;

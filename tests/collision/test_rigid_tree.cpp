@@ -5,6 +5,7 @@
 // than the particle count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -83,6 +84,52 @@ TEST(RigidTree, FindsTheContactsOfARefittedTree) {
     EXPECT_EQ(a.contacts[k].other, b.contacts[k].other);
   }
   for (std::size_t i = 0; i < a.force.size(); ++i) EXPECT_EQ(a.force[i], b.force[i]);
+}
+
+// A rigid row of particles (a thin rod: every particle on one line) has no frame of
+// three references: its tree is refitted, never moved by a frame taken from the
+// 1e-17 m that rounding leaves off the line (which turned at random: a PR2
+// gripper's pole missed its ground contact until the step stalled). Tumbled and
+// lowered onto a plane, it finds the contacts a refitted tree finds.
+TEST(RigidTree, ARowOfParticlesFindsItsContactsAsItTurns) {
+  const auto row = [](bool rigid, State& state) {
+    Model model;
+    model.gravity = {};
+    state = State{};
+    const std::int32_t object = model.addObject("rod", "link");
+    model.objects[static_cast<std::size_t>(object)].rigid = rigid;
+    for (int k = 0; k < 19; ++k) {
+      model.addParticle(0.01, 0.01, false, object);
+      // On a turned line, as a robot's placement puts them: rounding leaves them
+      // some 1e-17 m off it.
+      state.position.push_back(moved({0.01 + 0.01 * k, 0.0, 0.0}, Vec3{0.6, 0.0, 0.8}, 0.7, {0.0, 0.0, 0.0267}));
+    }
+    state.velocity.assign(state.position.size(), Vec3{});
+    model.environment.planes.push_back(GroundPlane{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0});
+    return model;
+  };
+  State state;
+  Model rigidModel = row(true, state);
+  Model refitModel = row(false, state);
+  test::Evaluator rigid(rigidModel), refit(refitModel);
+  rigid(state);
+  refit(state);
+  std::size_t touching = 0;
+  for (int turn = 1; turn <= 40; ++turn) {
+    // Turned about a tilted axis and lowered until its lower end dips into the plane.
+    State later = state;
+    const Vec3 axis = Vec3{0.3, 1.0, 0.2} / std::sqrt(1.13);
+    for (Vec3& p : later.position) p = moved(p, axis, 0.05 * turn, {0.1, 0.0, 0.1});
+    double lowest = 1e300;
+    for (const Vec3& p : later.position) lowest = std::min(lowest, p.z);
+    for (Vec3& p : later.position) p.z += 0.0095 - lowest;  // 0.5 mm into the plane
+    const Evaluation& a = rigid(later);
+    const Evaluation& b = refit(later);
+    ASSERT_EQ(a.contacts.size(), b.contacts.size()) << "turn " << turn;
+    for (std::size_t k = 0; k < a.contacts.size(); ++k) EXPECT_EQ(a.contacts[k].a, b.contacts[k].a);
+    touching += a.contacts.size();
+  }
+  EXPECT_GE(touching, 40u);
 }
 
 TEST(RigidTree, DetectionCostGrowsLinearlyAtMost) {

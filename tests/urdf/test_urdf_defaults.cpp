@@ -53,6 +53,32 @@ TEST(UrdfDefaults, EverySharedRobotRunsAsPublishedWithTheDefaults) {
   }
 }
 
+// Every shared robot on a free base (`--base free`): it falls to the ground and
+// lies or stands there, 2 s to exit 0. (The PR2 gripper stalled at 0.94 s: its
+// pole's particles lie on a line, and its contact tree turned with a frame made
+// of rounding; test_rigid_tree.cpp.)
+TEST(UrdfDefaults, EverySharedRobotRunsOnAFreeBase) {
+  if (!std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"))
+    GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  for (const std::string& file : testing::sharedRobotUrdfs(kRobots)) {
+    if (!std::filesystem::exists(file)) continue;
+    UrdfSceneOptions free;
+    free.fixedBase = false;
+    SceneLoadResult loaded = loadUrdfFile(file, free);
+    for (const Diagnostic& d : loaded.errors) ADD_FAILURE() << d.format();
+    if (!loaded.ok()) continue;
+    RunOptions options;
+    options.settings = loaded.scene->run;
+    options.settings.duration = 2.0;
+    options.writeReplay = false;
+    options.threads = 1;
+    const RunReport report = runScene(*loaded.scene, options);
+    EXPECT_EQ(report.status, "ok") << file << ": " << report.failure;
+    std::printf("%s on a free base: %s, %lld steps\n", file.c_str(), report.status.c_str(),
+                static_cast<long long>(report.steps));
+  }
+}
+
 // The Panda's <mimic> finger follows the first as a bare URDF: finger 1's servo
 // target moved from 0 to 0.03 m, finger 2 follows within 0.1 mm.
 TEST(UrdfDefaults, AMimicJointFollowsItsLeader) {
