@@ -29,19 +29,84 @@ bool tryBuild(DiagnosticSink& sink, const std::string& at, Build&& run) {
   }
 }
 
+// A point of a rigid robot's link named where a particle may be: "robot.link" (its
+// origin) or {"link": "robot.link", "point": [x, y, z]} (m, in the link's frame).
+// Adds the particle the link carries there (build::addLinkPoint).
+std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohmann::json& ref,
+                                              const std::string& at, Scene& scene) {
+  build::LinkPointSpec spec;
+  if (ref.is_string()) {
+    spec.link = ref.get<std::string>();
+    // A point the section's "points" named already: its particle.
+    for (const ObjectInfo& object : scene.model.objects)
+      if (object.name == spec.link && object.kind == "virtual" && object.particleCount == 1 &&
+          scene.model.isCarried(object.firstParticle))
+        return object.firstParticle;
+  } else {
+    ObjectReader r(sink, ref, at, "link point");
+    if (!r.valid()) return std::nullopt;
+    const auto link = r.string("link", true);
+    const auto point = r.vec3("point", "m");
+    r.finish();
+    if (!link) return std::nullopt;
+    spec.link = *link;
+    spec.p_LP = point.value_or(Vec3{});
+  }
+  std::optional<ParticleIndex> particle;
+  tryBuild(sink, at, [&] {
+    const std::string name = fmt::format("{}.point{}", spec.link, scene.model.objects.size());
+    particle = build::addLinkPoint(scene.model, scene.initial, spec, name);
+  });
+  return particle;
+}
+
+// A particle reference ("object:index") or a link point (resolveLinkPoint).
+std::optional<ParticleIndex> resolvePoint(DiagnosticSink& sink, const nlohmann::json& ref,
+                                          const std::string& at, const ParticleLookup& lookup,
+                                          Scene& scene) {
+  const bool link = ref.is_object() ||
+                    (ref.is_string() && ref.get<std::string>().find(':') == std::string::npos);
+  return link ? resolveLinkPoint(sink, ref, at, scene) : resolveParticle(sink, ref, at, lookup);
+}
+
+// "points": [{"name", "link", "point"}]: named points of links, for goals and paths
+// to name and for the output to follow (particles.csv).
+void readLinkPoint(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
+                   Scene& scene) {
+  ObjectReader r(sink, entry, at, fmt::format("point {}", at));
+  if (!r.valid()) return;
+  build::LinkPointSpec spec;
+  const auto name = r.string("name", true);
+  const auto link = r.string("link", true);
+  spec.p_LP = r.vec3("point", "m").value_or(Vec3{});
+  r.finish();
+  if (!name || !link) return;
+  for (const ObjectInfo& object : scene.model.objects)
+    if (object.name == *name) {
+      sink.error(r.memberPointer("name"),
+                 fmt::format("the name '{}' is given to an object of the model already", *name));
+      return;
+    }
+  spec.link = *link;
+  tryBuild(sink, at, [&] { build::addLinkPoint(scene.model, scene.initial, spec, *name); });
+}
+
 std::vector<ParticleIndex> readRefs(ObjectReader& r, const char* key, const ParticleLookup& lookup,
-                                    bool& ok) {
+                                    Scene& scene, bool& ok) {
   std::vector<ParticleIndex> out;
   const nlohmann::json* list = r.member(key);
   if (list == nullptr || !list->is_array() || list->empty()) {
     r.sink().error(r.memberPointer(key),
-                   fmt::format("'{}': expected a non-empty array of \"object:index\"", key));
+                   fmt::format("'{}': expected a non-empty array of \"object:index\" or "
+                               "link points (\"robot.link\", {{\"link\", \"point\"}})",
+                               key));
     ok = false;
     return out;
   }
   for (std::size_t i = 0; i < list->size(); ++i) {
-    const auto p = resolveParticle(r.sink(), (*list)[i],
-                                   fmt::format("{}/{}", r.memberPointer(key), i), lookup);
+    const auto p =
+        resolvePoint(r.sink(), (*list)[i], fmt::format("{}/{}", r.memberPointer(key), i), lookup,
+                     scene);
     ok = ok && p.has_value();
     out.push_back(p.value_or(0));
   }
@@ -94,7 +159,7 @@ void readGoal(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   bool ok = true;
   build::AttractorGoalSpec spec;
   spec.name = r.string("name", true).value_or("goal");
-  spec.particles = readRefs(r, "particles", lookup, ok);
+  spec.particles = readRefs(r, "particles", lookup, scene, ok);
   const auto stiffness = r.number("stiffness", Bound::kPositive, "N/m", true);
   spec.damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·s/m");
   const auto translation = r.vec3("translation", "m");
@@ -165,7 +230,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   r.finish();
   if (ref == nullptr) r.missing("particle", "a particle reference");
   if (!type || ref == nullptr || !stiffness) return;
-  const auto p = resolveParticle(sink, *ref, r.memberPointer("particle"), lookup);
+  const auto p = resolvePoint(sink, *ref, r.memberPointer("particle"), lookup, scene);
   if (!p) return;
   const std::string name = fmt::format("path{}", index);
   if (*type == "line") {
@@ -297,7 +362,7 @@ void readGrasp(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
   const nlohmann::json* close = r.member("close");
   bool ok = true;
   std::vector<ParticleIndex> tips;
-  if (r.member("tips") != nullptr) tips = readRefs(r, "tips", lookup, ok);
+  if (r.member("tips") != nullptr) tips = readRefs(r, "tips", lookup, scene, ok);
   const double tipStiffness = r.numberOr("tipStiffness", 0.0, Bound::kNonNegative, "N/m");
   const double tipDamping = r.numberOr("tipDamping", 0.0, Bound::kNonNegative, "N·s/m");
   r.finish();
@@ -359,7 +424,12 @@ void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,
   const auto* paths = r.member("paths");
   const auto* limits = r.member("limits");
   const auto* grasps = r.member("grasps");
+  const auto* points = r.member("points");
   r.finish();
+  forEach(sink, points, pointer + "/points",
+          [&](const nlohmann::json& e, const std::string& at, std::size_t) {
+            readLinkPoint(sink, e, at, scene);
+          });
   // The order fixes the numbering of environment items and virtual objects.
   forEach(sink, obstacles, pointer + "/obstacles",
           [&](const nlohmann::json& e, const std::string& at, std::size_t) {
