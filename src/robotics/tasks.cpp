@@ -29,14 +29,31 @@ GoalStatus goalStatus(const World& world, const GoalSpec& goal) {
 
 namespace {
 
-// Whether any particle of `object` touches something outside it (another
+// The robot a particle belongs to: its rigid tree when a tree carries it (every
+// link, and a goal's point on a link: docs/robotics.md "Links in goals"), else its
+// object.
+struct RobotOf {
+  const Model& model;
+  std::int32_t tree = -1, object = -1;
+  RobotOf(const Model& m, ParticleIndex i) : model(m) {
+    if (m.isCarried(i))
+      tree = m.carriedBy[static_cast<std::size_t>(i)];
+    else
+      object = m.objectOf[static_cast<std::size_t>(i)];
+  }
+  bool has(std::int32_t j) const {
+    if (j < 0) return false;
+    return tree >= 0 ? model.isCarried(j) && model.carriedBy[static_cast<std::size_t>(j)] == tree
+                     : model.objectOf[static_cast<std::size_t>(j)] == object;
+  }
+};
+
+// Whether any particle of the robot touches something outside it (another
 // object or the environment): a robot blocked by an obstacle.
-bool touchesOutside(const World& world, std::int32_t object) {
-  const Model& model = world.model();
+bool touchesOutside(const World& world, const RobotOf& robot) {
   for (const Contact& c : world.contacts()) {
-    const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == object;
-    const bool otherIn =
-        !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == object;
+    const bool aIn = robot.has(c.a);
+    const bool otherIn = !c.withEnvironment() && robot.has(c.other);
     if (aIn != otherIn) return true;
   }
   return false;
@@ -61,7 +78,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
         norm(s.position[goal.particles[worst]] - s.position[goal.targets[worst]]))
       worst = k;
   const ParticleIndex i = goal.particles[worst];
-  const std::int32_t robot = world.model().objectOf[static_cast<std::size_t>(i)];
+  const RobotOf robot(world.model(), i);
   const bool touching = touchesOutside(world, robot);
   std::optional<std::string> event;
   if (pushing_) {
@@ -110,11 +127,9 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
     sideways = sideways / norm(sideways);
     // The contacts' push on the robot, across the pull: go the way it points.
     Vec3 contactPush;
-    const Model& model = world.model();
     for (const Contact& c : world.contacts()) {
-      const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == robot;
-      const bool otherIn =
-          !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == robot;
+      const bool aIn = robot.has(c.a);
+      const bool otherIn = !c.withEnvironment() && robot.has(c.other);
       if (aIn && !otherIn) contactPush += c.normal * c.normalForce;
       if (otherIn && !aIn) contactPush -= c.normal * c.normalForce;
     }
@@ -124,7 +139,25 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
   push = norm(push) > 1e-9 ? push / norm(push) : *side_;
   const Model& model = world.model();
-  const double r = model.radius[i];
+  const auto isVirtual = [&](ParticleIndex j) {
+    return model.objects[static_cast<std::size_t>(model.objectOf[static_cast<std::size_t>(j)])].kind ==
+           "virtual";
+  };
+  // The pushed particle: the stuck one, or for a point a link carries (which
+  // touches nothing) the robot's particle nearest to it (ties: the lower index).
+  ParticleIndex pushed = i;
+  if (isVirtual(i)) {
+    double nearest = 1e300;
+    for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
+      if (!robot.has(j) || isVirtual(j)) continue;
+      const double d = norm(s.position[j] - s.position[i]);
+      if (d < nearest) {
+        nearest = d;
+        pushed = j;
+      }
+    }
+  }
+  const double r = model.radius[pushed];
   const double radius = spec_.obstacleRadius;
   // The elastic energy (J) a sphere at `c` would add, ½ κ_c d² over every
   // particle it overlaps (virtual ones touch nothing), with κ_c the stiffest
@@ -136,7 +169,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   const auto overlapEnergy = [&](const Vec3& c) {
     double energy = 0.0;
     for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
-      if (model.isFixed(j)) continue;
+      if (!model.moves(j) || isVirtual(j)) continue;
       const double d = norm(s.position[j] - c) - radius - model.radius[j];
       if (d < 0.0) energy += 0.5 * stiffness * d * d;
     }
@@ -149,7 +182,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   // It then overlaps the stuck particle by half the smaller radius, halved
   // until the work it injects is within maxWork.
   const auto centreFor = [&](const Vec3& direction, double o) {
-    return s.position[i] - direction * (radius + r - o);
+    return s.position[pushed] - direction * (radius + r - o);
   };
   const double bound = spec_.maxWork > 0.0 ? spec_.maxWork : 1e300;
   std::optional<Vec3> direction;
