@@ -143,22 +143,29 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
     return model.objects[static_cast<std::size_t>(model.objectOf[static_cast<std::size_t>(j)])].kind ==
            "virtual";
   };
-  // The pushed particle: the stuck one, or for a point a link carries (which
-  // touches nothing) the robot's particle nearest to it (ties: the lower index).
-  ParticleIndex pushed = i;
-  if (isVirtual(i)) {
-    double nearest = 1e300;
+  const double radius = spec_.obstacleRadius;
+  // The pushed particle for a push along d: the stuck one, or for a point a link
+  // carries (it touches nothing) the robot's rearmost particle along d within two
+  // obstacle radii of it (the nearest if none; ties: the lower index), so that the
+  // sphere behind it meets the link's back and not its flank.
+  const auto pushedFor = [&](const Vec3& d) {
+    if (!isVirtual(i)) return i;
+    ParticleIndex pushed = i, nearest = i;
+    double rearmost = 1e300, closest = 1e300;
     for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
       if (!robot.has(j) || isVirtual(j)) continue;
-      const double d = norm(s.position[j] - s.position[i]);
-      if (d < nearest) {
-        nearest = d;
+      const double distance = norm(s.position[j] - s.position[i]);
+      if (distance < closest) {
+        closest = distance;
+        nearest = j;
+      }
+      if (distance <= 2.0 * radius && dot(s.position[j], d) < rearmost) {
+        rearmost = dot(s.position[j], d);
         pushed = j;
       }
     }
-  }
-  const double r = model.radius[pushed];
-  const double radius = spec_.obstacleRadius;
+    return rearmost < 1e300 ? pushed : nearest;
+  };
   // The elastic energy (J) a sphere at `c` would add, ½ κ_c d² over every
   // particle it overlaps (virtual ones touch nothing), with κ_c the stiffest
   // material's: an upper bound of the work the World will book.
@@ -182,7 +189,8 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   // It then overlaps the stuck particle by half the smaller radius, halved
   // until the work it injects is within maxWork.
   const auto centreFor = [&](const Vec3& direction, double o) {
-    return s.position[pushed] - direction * (radius + r - o);
+    const ParticleIndex pushed = pushedFor(direction);
+    return s.position[pushed] - direction * (radius + model.radius[pushed] - o);
   };
   const double bound = spec_.maxWork > 0.0 ? spec_.maxWork : 1e300;
   std::optional<Vec3> direction;
@@ -200,7 +208,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   }
   if (!direction) return event;  // no free place this time; the next interval tries again
   if (dot(*direction, *side_) < 0.0) side_ = *side_ * -1.0;
-  double overlap = 0.5 * std::min(radius, r);
+  double overlap = 0.5 * std::min(radius, model.radius[pushedFor(*direction)]);
   for (int k = 0; k < 30 && overlapEnergy(centreFor(*direction, overlap)) > bound; ++k)
     overlap *= 0.5;
   SphereObstacle sphere;

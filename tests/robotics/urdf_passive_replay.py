@@ -28,6 +28,12 @@ CASES = {
     "iiwa_other": ("iiwa_passive_box.json", "iiwa_replay.json",
                    {"box": [0.45, 0.0, 0.21], "size": [0.2, 0.08, 0.42], "target": [0.55, 0.35, 0.55]}),
     "panda": ("panda_passive_box.json", "panda_replay.json", {}),
+    # μ 0.1 on the robot (0.22 with the box): stuck against the box's face, a friction
+    # local minimum (MODEL §5.2) that virtual obstacles push it out of.
+    "iiwa_escape": ("iiwa_passive_box.json", "iiwa_replay.json",
+                    {"friction": 0.1, "duration": 12.0,
+                     "escape": {"speedThreshold": 0.01, "window": 0.3, "obstacleRadius": 0.05,
+                                "maxObstacles": 300, "maxWork": 0.5, "pushInterval": 0.05}}),
 }
 
 
@@ -103,6 +109,11 @@ def check(binary, source, name, keep):
     if "box" in change:
         obstacle["center"], obstacle["size"] = change["box"], change["size"]
         scene["robotics"]["goals"][0]["targets"] = [change["target"]]
+    if "friction" in change:
+        scene["materials"][0]["staticFriction"] = change["friction"]
+        scene["materials"][0]["kineticFriction"] = change["friction"]
+        scene["robotics"]["goals"][0]["escape"] = change["escape"]
+        scene["run"]["duration"] = change["duration"]
     robot = scene["objects"][0]["name"]
     for o in scene["objects"]:  # the robots folder: from the environment, not the scene's
         for key in ("file",):
