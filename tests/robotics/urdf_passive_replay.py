@@ -10,7 +10,7 @@ centre distance less radius, at every frame), and the replay's tool within
 5 mm and 1° of the passive run's at the end.
 
 usage: urdf_passive_replay.py ROBOPHI_BINARY SOURCE_DIR [--case NAME] [--keep DIR]
-Skips (exit 77) when ROBOPHI_ROBOTS_DIR is not set.
+Skips (exit 77) when ROBOPHI_ROBOTS_DIR does not name the robots' folder.
 """
 import argparse
 import csv
@@ -160,8 +160,9 @@ def main():
     parser.add_argument("--case", action="append", choices=sorted(CASES))
     parser.add_argument("--keep")
     args = parser.parse_args()
-    if not os.environ.get("ROBOPHI_ROBOTS_DIR"):
-        print("skipped: ROBOPHI_ROBOTS_DIR is not set (the URDF robots' folder)")
+    robots = os.environ.get("ROBOPHI_ROBOTS_DIR", "")
+    if not os.path.isdir(os.path.join(robots, "kuka_iiwa")):
+        print(f"skipped: no robots' folder at ROBOPHI_ROBOTS_DIR='{robots}' (kuka_iiwa, franka_panda)")
         return 77
     results = [check(args.binary, args.source, name,
                      os.path.join(args.keep, name) if args.keep else None)
