@@ -29,46 +29,6 @@ bool tryBuild(DiagnosticSink& sink, const std::string& at, Build&& run) {
   }
 }
 
-// A point of a rigid robot's link named where a particle may be: "robot.link" (its
-// origin) or {"link": "robot.link", "point": [x, y, z]} (m, in the link's frame).
-// Adds the particle the link carries there (build::addLinkPoint).
-std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohmann::json& ref,
-                                              const std::string& at, Scene& scene) {
-  build::LinkPointSpec spec;
-  if (ref.is_string()) {
-    spec.link = ref.get<std::string>();
-    // A point the section's "points" named already: its particle.
-    for (const ObjectInfo& object : scene.model.objects)
-      if (object.name == spec.link && object.kind == "virtual" && object.particleCount == 1 &&
-          scene.model.isCarried(object.firstParticle))
-        return object.firstParticle;
-  } else {
-    ObjectReader r(sink, ref, at, "link point");
-    if (!r.valid()) return std::nullopt;
-    const auto link = r.string("link", true);
-    const auto point = r.vec3("point", "m");
-    r.finish();
-    if (!link) return std::nullopt;
-    spec.link = *link;
-    spec.p_LP = point.value_or(Vec3{});
-  }
-  std::optional<ParticleIndex> particle;
-  tryBuild(sink, at, [&] {
-    const std::string name = fmt::format("{}.point{}", spec.link, scene.model.objects.size());
-    particle = build::addLinkPoint(scene.model, scene.initial, spec, name);
-  });
-  return particle;
-}
-
-// A particle reference ("object:index") or a link point (resolveLinkPoint).
-std::optional<ParticleIndex> resolvePoint(DiagnosticSink& sink, const nlohmann::json& ref,
-                                          const std::string& at, const ParticleLookup& lookup,
-                                          Scene& scene) {
-  const bool link = ref.is_object() ||
-                    (ref.is_string() && ref.get<std::string>().find(':') == std::string::npos);
-  return link ? resolveLinkPoint(sink, ref, at, scene) : resolveParticle(sink, ref, at, lookup);
-}
-
 // "points": [{"name", "link", "point"}]: named points of links, for goals and paths
 // to name and for the output to follow (particles.csv).
 void readLinkPoint(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
@@ -92,7 +52,7 @@ void readLinkPoint(DiagnosticSink& sink, const nlohmann::json& entry, const std:
 }
 
 std::vector<ParticleIndex> readRefs(ObjectReader& r, const char* key, const ParticleLookup& lookup,
-                                    Scene& scene, bool& ok) {
+                                    bool& ok) {
   std::vector<ParticleIndex> out;
   const nlohmann::json* list = r.member(key);
   if (list == nullptr || !list->is_array() || list->empty()) {
@@ -104,9 +64,8 @@ std::vector<ParticleIndex> readRefs(ObjectReader& r, const char* key, const Part
     return out;
   }
   for (std::size_t i = 0; i < list->size(); ++i) {
-    const auto p =
-        resolvePoint(r.sink(), (*list)[i], fmt::format("{}/{}", r.memberPointer(key), i), lookup,
-                     scene);
+    const auto p = resolveParticle(r.sink(), (*list)[i],
+                                   fmt::format("{}/{}", r.memberPointer(key), i), lookup);
     ok = ok && p.has_value();
     out.push_back(p.value_or(0));
   }
@@ -159,7 +118,7 @@ void readGoal(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   bool ok = true;
   build::AttractorGoalSpec spec;
   spec.name = r.string("name", true).value_or("goal");
-  spec.particles = readRefs(r, "particles", lookup, scene, ok);
+  spec.particles = readRefs(r, "particles", lookup, ok);
   const auto stiffness = r.number("stiffness", Bound::kPositive, "N/m", true);
   spec.damping = r.numberOr("damping", 0.0, Bound::kNonNegative, "N·s/m");
   const auto translation = r.vec3("translation", "m");
@@ -230,7 +189,7 @@ void readPath(DiagnosticSink& sink, const nlohmann::json& entry, const std::stri
   r.finish();
   if (ref == nullptr) r.missing("particle", "a particle reference");
   if (!type || ref == nullptr || !stiffness) return;
-  const auto p = resolvePoint(sink, *ref, r.memberPointer("particle"), lookup, scene);
+  const auto p = resolveParticle(sink, *ref, r.memberPointer("particle"), lookup);
   if (!p) return;
   const std::string name = fmt::format("path{}", index);
   if (*type == "line") {
@@ -362,7 +321,7 @@ void readGrasp(DiagnosticSink& sink, const nlohmann::json& entry, const std::str
   const nlohmann::json* close = r.member("close");
   bool ok = true;
   std::vector<ParticleIndex> tips;
-  if (r.member("tips") != nullptr) tips = readRefs(r, "tips", lookup, scene, ok);
+  if (r.member("tips") != nullptr) tips = readRefs(r, "tips", lookup, ok);
   const double tipStiffness = r.numberOr("tipStiffness", 0.0, Bound::kNonNegative, "N/m");
   const double tipDamping = r.numberOr("tipDamping", 0.0, Bound::kNonNegative, "N·s/m");
   r.finish();
@@ -394,6 +353,35 @@ void forEach(DiagnosticSink& sink, const nlohmann::json* list, const std::string
 }
 
 }  // namespace
+
+// docs/robotics.md "Links in goals" (scene_robotics.h).
+std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohmann::json& ref,
+                                              const std::string& at, Scene& scene) {
+  build::LinkPointSpec spec;
+  if (ref.is_string()) {
+    spec.link = ref.get<std::string>();
+    // A point the section's "points" named already: its particle.
+    for (const ObjectInfo& object : scene.model.objects)
+      if (object.name == spec.link && object.kind == "virtual" && object.particleCount == 1 &&
+          scene.model.isCarried(object.firstParticle))
+        return object.firstParticle;
+  } else {
+    ObjectReader r(sink, ref, at, "link point");
+    if (!r.valid()) return std::nullopt;
+    const auto link = r.string("link", true);
+    const auto point = r.vec3("point", "m");
+    r.finish();
+    if (!link) return std::nullopt;
+    spec.link = *link;
+    spec.p_LP = point.value_or(Vec3{});
+  }
+  std::optional<ParticleIndex> particle;
+  tryBuild(sink, at, [&] {
+    const std::string name = fmt::format("{}.point{}", spec.link, scene.model.objects.size());
+    particle = build::addLinkPoint(scene.model, scene.initial, spec, name);
+  });
+  return particle;
+}
 
 std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
                                        const std::string& name, const std::string& at) {

@@ -20,7 +20,8 @@ namespace {
 // A passive rigid planar arm (links 0.5, 0.4 m along +x from [0, 0, 1], joints
 // about z), no gravity, its tool (the end of link l2) attracted to `target`.
 std::string passiveArmScene(const std::string& tool, const std::string& target) {
-  return R"({"robophi": 1, "run": {"duration": 4.0, "dt": 1e-3, "integrator": "symplectic"},
+  return R"({"robophi": 1, "run": {"duration": 4.0, "dt": 1e-3, "integrator": "symplectic",
+                                   "adaptive": {"maxStep": 2e-3}},
     "gravity": [0, 0, 0],
     "objects": [{"name": "arm", "type": "arm", "rigid": true, "base": [0, 0, 1],
                  "links": [0.5, 0.4], "mass": 2, "jointStiffness": 0, "jointDamping": 0.5}],
@@ -97,6 +98,39 @@ TEST(LinkGoal, AnUnknownLinkIsReportedWhereItIsNamed) {
   EXPECT_NE(message.find("no rigid robot has a link or frame named 'arm.l9'"), std::string::npos)
       << message;
   EXPECT_NE(message.find("arm.l2"), std::string::npos) << message;  // the links it has
+}
+
+// A scene's LS connector may end on a link point: a passive arm tied by it to a
+// fixed particle brings the point there (5 cm beyond the link's end, so that the
+// link does not touch the particle).
+TEST(LinkGoal, AConnectorOnALinkPointPullsTheLink) {
+  // (maxStep: the stability estimate does not see an LS whose ends are fixed or
+  // carried, docs/robotics.md "Links in goals", Open.)
+  const std::string text = R"({"robophi": 1, "run": {"duration": 6.0, "dt": 1e-3,
+      "integrator": "symplectic", "adaptive": {"maxStep": 2e-3}}, "gravity": [0, 0, 0],
+    "objects": [{"name": "arm", "type": "arm", "rigid": true, "base": [0, 0, 1],
+                 "links": [0.5, 0.4], "mass": 2, "jointStiffness": 0, "jointDamping": 0.5},
+                {"name": "anchor", "type": "particles",
+                 "particles": [{"position": [0.6, 0.4, 1], "mass": 1, "radius": 0.01, "fixed": true}]}],
+    "connectors": [{"type": "LS", "particles": [{"link": "arm.l2", "point": [0, 0, 0.45]}, "anchor:0"],
+                    "stiffness": 50, "damping": 5, "restLength": 1e-9}]})";
+  const SceneLoadResult loaded = loadSceneText(text, "link_connector.json");
+  for (const auto& e : loaded.errors) ADD_FAILURE() << e.format();
+  ASSERT_TRUE(loaded.ok());
+  const State final = runToEnd(*loaded.scene);
+  const Model& model = loaded.scene->model;
+  const LinearSpring& tie = model.linearSprings.back();
+  ASSERT_TRUE(model.isCarried(tie.a));
+  EXPECT_LT(norm(loaded.scene->initial.position[tie.a] - Vec3{0.95, 0, 1}), 1e-12);
+  EXPECT_LT(norm(final.position[tie.a] - Vec3{0.6, 0.4, 1}), 2e-3);
+  // A colon-less name that is no link of the scene's rigid robots is reported as one.
+  std::string bad = text;
+  bad.replace(bad.find(R"({"link": "arm.l2", "point": [0, 0, 0.45]})"), 41, R"("arm.l7")");
+  const SceneLoadResult refused = loadSceneText(bad, "bad_connector.json");
+  ASSERT_FALSE(refused.ok());
+  const std::string message = refused.errors.at(0).format();
+  EXPECT_NE(message.find("/connectors/0/particles/0"), std::string::npos) << message;
+  EXPECT_NE(message.find("'arm.l7'"), std::string::npos) << message;
 }
 
 // The arm's joints follow a written trajectory by position servos and end on its
