@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "robophi/multibody.h"
+
 namespace robophi::build {
 
 namespace {
@@ -137,6 +139,50 @@ GoalSpec addGoal(Model& model, State& state, const AttractorGoalSpec& spec) {
   }
   closeVirtualObject(model, object);
   return goal;
+}
+
+ParticleIndex addLinkPoint(Model& model, State& state, const LinkPointSpec& spec,
+                           const std::string& name) {
+  constexpr const char* kFunction = "addLinkPoint";
+  requireFinite(kFunction, "spec.p_LP", spec.p_LP);
+  require(state.treePositions.size() == model.rigidTrees.size(), kFunction,
+          "the state has no coordinates for the model's rigid trees");
+  // The link: a body of a tree, or a named frame fixed to one (X_BL).
+  for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
+    const Multibody& mb = model.rigidTrees[t].multibody;
+    std::int32_t body = mb.bodyIndex(spec.link);
+    Pose X_BL{};
+    if (body < 0) {
+      const std::int32_t frame = mb.frameIndex(spec.link);
+      if (frame < 0) continue;
+      body = mb.frames[static_cast<std::size_t>(frame)].body;
+      X_BL = mb.frames[static_cast<std::size_t>(frame)].X_BF;
+    }
+    const Vec3 p_BP = X_BL * spec.p_LP;
+    MultibodyKinematics kin;
+    updateKinematics(mb, state.treePositions[t].data(), kin);
+    updateVelocities(mb, state.treeVelocities[t].data(), kin);
+    const std::int32_t object = openVirtualObject(model, name);
+    const Vec3 p_WP = kin.X_WB[static_cast<std::size_t>(body)] * p_BP;
+    const ParticleIndex i = addVirtual(model, state, object, p_WP);
+    state.velocity[static_cast<std::size_t>(i)] = pointVelocity(kin, body, p_WP);
+    closeVirtualObject(model, object);
+    // Carried by the tree (docs/model.md §7): its step sets it and takes its loads.
+    model.carriedBy.resize(static_cast<std::size_t>(model.particleCount()), -1);
+    model.carriedBy[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(t);
+    model.rigidTrees[t].particles.push_back({i, body, p_BP});
+    return i;
+  }
+  std::vector<std::string> names;
+  for (const RigidTree& tree : model.rigidTrees)
+    for (const MultibodyBody& b : tree.multibody.bodies) names.push_back(b.name);
+  std::string known;
+  for (std::size_t k = 0; k < names.size() && k < 12; ++k) known += (k ? ", " : "") + names[k];
+  require(false, kFunction,
+          "no rigid robot has a link or frame named '" + spec.link + "'" +
+              (names.empty() ? std::string(" (the scene has no rigid robot)")
+                             : " (links: " + known + (names.size() > 12 ? ", ..." : "") + ")"));
+  return kNoParticle;
 }
 
 void addLinePath(Model& model, State& state, const LinePathSpec& spec) {

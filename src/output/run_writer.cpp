@@ -54,7 +54,7 @@ const std::vector<std::string>& runFileNames() {
   static const std::vector<std::string> names = {
       "summary.json", "model.json",   "energy.csv",  "particles.csv",   "objects.csv",
       "joints.csv",   "contacts.csv", "sensors.csv", "replay.html", "checkpoint.json",
-      "world.json"};
+      "world.json",   "trajectory.json"};
   return names;
 }
 
@@ -75,6 +75,43 @@ std::vector<std::string> seriesFiles(const Scene& scene) {
   if (!scene.model.joints.empty()) files.push_back("joints.csv");
   if (!scene.sensors.empty()) files.push_back("sensors.csv");
   return files;
+}
+
+// trajectory.json (docs/output-format.md): joints.csv's positions and rates as a
+// joint trajectory a robot can replay (the scene's control "replay" reads it back).
+nlohmann::json jointTrajectoryJson(const Scene& scene, const std::string& jointsCsv) {
+  output::CsvTable table;
+  std::string error;
+  if (!output::readCsvTable(jointsCsv, {"t"}, table, error)) throw output::WriteError(error);
+  nlohmann::json names = nlohmann::json::array();
+  std::vector<std::size_t> qColumn, rateColumn;
+  for (const Joint& joint : scene.model.joints) {
+    names.push_back(joint.name);
+    qColumn.push_back(table.columnIndex(joint.name + ":q"));
+    rateColumn.push_back(table.columnIndex(joint.name + ":rate"));
+    if (qColumn.back() == table.columns.size() || rateColumn.back() == table.columns.size())
+      throw output::WriteError(
+          fmt::format("{}: no columns {}:q and {}:rate", jointsCsv, joint.name, joint.name));
+  }
+  nlohmann::json time = nlohmann::json::array(), position = nlohmann::json::array(),
+                 velocity = nlohmann::json::array();
+  for (std::size_t row = 0; row < table.rowCount; ++row) {
+    time.push_back(table.at(row, 0));
+    nlohmann::json q = nlohmann::json::array(), rate = nlohmann::json::array();
+    for (std::size_t j = 0; j < qColumn.size(); ++j) {
+      q.push_back(table.at(row, qColumn[j]));
+      rate.push_back(table.at(row, rateColumn[j]));
+    }
+    position.push_back(std::move(q));
+    velocity.push_back(std::move(rate));
+  }
+  return {{"format", "robophi joint trajectory"},
+          {"version", 1},
+          {"units", {{"time", "s"}, {"position", "rad or m"}, {"velocity", "rad/s or m/s"}}},
+          {"joints", names},
+          {"time", time},
+          {"position", position},
+          {"velocity", velocity}};
 }
 
 }  // namespace
@@ -634,12 +671,19 @@ void RunWriter::finish(const Scene& scene, const RunSettings& settings, const Ru
   closeChecked(contacts_, "contacts.csv");
   closeChecked(sensors_, "sensors.csv");
   files_.insert(files_.end(), {"model.json", "world.json", "summary.json"});
+  if (!scene.model.joints.empty()) files_.push_back("trajectory.json");
   output::writeResultsMarker(dir_, "run", files_);
   world_.write(dir_);
   {
     auto out = open("model.json");
     out << modelJson(scene) << '\n';
     closeChecked(out, "model.json");
+  }
+  if (!scene.model.joints.empty()) {
+    const std::string joints = (std::filesystem::path(dir_) / "joints.csv").string();
+    auto trajectory = open("trajectory.json");
+    trajectory << jointTrajectoryJson(scene, joints).dump() << '\n';
+    closeChecked(trajectory, "trajectory.json");
   }
   auto out = open("summary.json");
   out << summaryJson(scene, settings, report) << '\n';

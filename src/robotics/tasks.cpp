@@ -29,14 +29,31 @@ GoalStatus goalStatus(const World& world, const GoalSpec& goal) {
 
 namespace {
 
-// Whether any particle of `object` touches something outside it (another
+// The robot a particle belongs to: its rigid tree when a tree carries it (every
+// link, and a goal's point on a link: docs/robotics.md "Links in goals"), else its
+// object.
+struct RobotOf {
+  const Model& model;
+  std::int32_t tree = -1, object = -1;
+  RobotOf(const Model& m, ParticleIndex i) : model(m) {
+    if (m.isCarried(i))
+      tree = m.carriedBy[static_cast<std::size_t>(i)];
+    else
+      object = m.objectOf[static_cast<std::size_t>(i)];
+  }
+  bool has(std::int32_t j) const {
+    if (j < 0) return false;
+    return tree >= 0 ? model.isCarried(j) && model.carriedBy[static_cast<std::size_t>(j)] == tree
+                     : model.objectOf[static_cast<std::size_t>(j)] == object;
+  }
+};
+
+// Whether any particle of the robot touches something outside it (another
 // object or the environment): a robot blocked by an obstacle.
-bool touchesOutside(const World& world, std::int32_t object) {
-  const Model& model = world.model();
+bool touchesOutside(const World& world, const RobotOf& robot) {
   for (const Contact& c : world.contacts()) {
-    const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == object;
-    const bool otherIn =
-        !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == object;
+    const bool aIn = robot.has(c.a);
+    const bool otherIn = !c.withEnvironment() && robot.has(c.other);
     if (aIn != otherIn) return true;
   }
   return false;
@@ -61,7 +78,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
         norm(s.position[goal.particles[worst]] - s.position[goal.targets[worst]]))
       worst = k;
   const ParticleIndex i = goal.particles[worst];
-  const std::int32_t robot = world.model().objectOf[static_cast<std::size_t>(i)];
+  const RobotOf robot(world.model(), i);
   const bool touching = touchesOutside(world, robot);
   std::optional<std::string> event;
   if (pushing_) {
@@ -110,11 +127,9 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
     sideways = sideways / norm(sideways);
     // The contacts' push on the robot, across the pull: go the way it points.
     Vec3 contactPush;
-    const Model& model = world.model();
     for (const Contact& c : world.contacts()) {
-      const bool aIn = model.objectOf[static_cast<std::size_t>(c.a)] == robot;
-      const bool otherIn =
-          !c.withEnvironment() && model.objectOf[static_cast<std::size_t>(c.other)] == robot;
+      const bool aIn = robot.has(c.a);
+      const bool otherIn = !c.withEnvironment() && robot.has(c.other);
       if (aIn && !otherIn) contactPush += c.normal * c.normalForce;
       if (otherIn && !aIn) contactPush -= c.normal * c.normalForce;
     }
@@ -124,8 +139,33 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
   push = norm(push) > 1e-9 ? push / norm(push) : *side_;
   const Model& model = world.model();
-  const double r = model.radius[i];
+  const auto isVirtual = [&](ParticleIndex j) {
+    return model.objects[static_cast<std::size_t>(model.objectOf[static_cast<std::size_t>(j)])].kind ==
+           "virtual";
+  };
   const double radius = spec_.obstacleRadius;
+  // The pushed particle for a push along d: the stuck one, or for a point a link
+  // carries (it touches nothing) the robot's rearmost particle along d within two
+  // obstacle radii of it (the nearest if none; ties: the lower index), so that the
+  // sphere behind it meets the link's back and not its flank.
+  const auto pushedFor = [&](const Vec3& d) {
+    if (!isVirtual(i)) return i;
+    ParticleIndex pushed = i, nearest = i;
+    double rearmost = 1e300, closest = 1e300;
+    for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
+      if (!robot.has(j) || isVirtual(j)) continue;
+      const double distance = norm(s.position[j] - s.position[i]);
+      if (distance < closest) {
+        closest = distance;
+        nearest = j;
+      }
+      if (distance <= 2.0 * radius && dot(s.position[j], d) < rearmost) {
+        rearmost = dot(s.position[j], d);
+        pushed = j;
+      }
+    }
+    return rearmost < 1e300 ? pushed : nearest;
+  };
   // The elastic energy (J) a sphere at `c` would add, ½ κ_c d² over every
   // particle it overlaps (virtual ones touch nothing), with κ_c the stiffest
   // material's: an upper bound of the work the World will book.
@@ -136,7 +176,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   const auto overlapEnergy = [&](const Vec3& c) {
     double energy = 0.0;
     for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
-      if (model.isFixed(j)) continue;
+      if (!model.moves(j) || isVirtual(j)) continue;
       const double d = norm(s.position[j] - c) - radius - model.radius[j];
       if (d < 0.0) energy += 0.5 * stiffness * d * d;
     }
@@ -149,7 +189,8 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   // It then overlaps the stuck particle by half the smaller radius, halved
   // until the work it injects is within maxWork.
   const auto centreFor = [&](const Vec3& direction, double o) {
-    return s.position[i] - direction * (radius + r - o);
+    const ParticleIndex pushed = pushedFor(direction);
+    return s.position[pushed] - direction * (radius + model.radius[pushed] - o);
   };
   const double bound = spec_.maxWork > 0.0 ? spec_.maxWork : 1e300;
   std::optional<Vec3> direction;
@@ -167,7 +208,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   }
   if (!direction) return event;  // no free place this time; the next interval tries again
   if (dot(*direction, *side_) < 0.0) side_ = *side_ * -1.0;
-  double overlap = 0.5 * std::min(radius, r);
+  double overlap = 0.5 * std::min(radius, model.radius[pushedFor(*direction)]);
   for (int k = 0; k < 30 && overlapEnergy(centreFor(*direction, overlap)) > bound; ++k)
     overlap *= 0.5;
   SphereObstacle sphere;

@@ -221,8 +221,12 @@ json modelEditsToJson(const Model& m) {
   for (const ContactPairOverride& p : c.pairOverrides)
     pairs.push_back({p.objectA, p.objectB, exactNumber(p.stiffness), exactNumber(p.damping),
                      exactNumber(p.staticFriction), exactNumber(p.kineticFriction)});
-  json drives = json::array();
+  json drives = json::array(), servos = json::array();
   for (const Joint& jt : m.joints) {
+    // A rigid tree's joint servo and gravity compensation (World::setJointServo,
+    // setGravityCompensation: a passive joint's servo is off).
+    servos.push_back({exactNumber(jt.servoStiffness), exactNumber(jt.servoDamping),
+                      exactNumber(jt.servoTarget), jt.compensateGravity});
     const JointDrive& d = jt.drive;
     drives.push_back({exactNumber(d.effort), exactNumber(d.rateGain), exactNumber(d.targetRate),
                       exactNumber(d.effortLimit), exactNumber(d.velocityLimit),
@@ -233,6 +237,7 @@ json modelEditsToJson(const Model& m) {
           {"torsion_springs", torsion},
           {"joint_springs", joint},
           {"joint_drives", drives},
+          {"joint_servos", servos},
           {"inverse_mass", exactNumbers(m.inverseMass)},
           {"gravity", exactVec3(m.gravity)},
           {"materials", materials},
@@ -294,6 +299,18 @@ void applyModelEdits(const json& j, Model& m) {
           numberFromJson(d.at(2), "target rate"),    numberFromJson(d.at(3), "effort limit"),
           numberFromJson(d.at(4), "velocity limit"), numberFromJson(d.at(5), "joint damping"),
           numberFromJson(d.at(6), "joint friction"), numberFromJson(d.at(7), "friction velocity")};
+    }
+  }
+  // (Checkpoints written before the servos were saved: the scene's stand.)
+  if (const auto servos = j.find("joint_servos"); servos != j.end()) {
+    if (servos->size() != m.joints.size())
+      throw std::runtime_error("the checkpoint's model has other joints than the scene");
+    for (std::size_t k = 0; k < servos->size(); ++k) {
+      const json& v = (*servos)[k];
+      m.joints[k].servoStiffness = numberFromJson(v.at(0), "servo stiffness");
+      m.joints[k].servoDamping = numberFromJson(v.at(1), "servo damping");
+      m.joints[k].servoTarget = numberFromJson(v.at(2), "servo target");
+      m.joints[k].compensateGravity = v.at(3).get<bool>();
     }
   }
   m.inverseMass = numbersFromJson(inverseMass, "inverse mass");

@@ -5,7 +5,10 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "robophi/build/control.h"
+#include "robophi/build/input_files.h"
 #include "scene/scene_robotics.h"
 
 namespace robophi::scene {
@@ -432,6 +435,100 @@ void readMounts(DiagnosticSink& sink, const nlohmann::json& list, const std::str
   }
 }
 
+// The joint trajectory file (trajectory.json, docs/output-format.md): its joints'
+// names, times and positions, checked; the problems reported at `at`, naming the file.
+struct ReplayFile {
+  std::vector<std::string> joints;
+  std::vector<double> times;
+  std::vector<std::vector<double>> positions;  // (times) one value per joint
+};
+std::optional<ReplayFile> readReplayFile(DiagnosticSink& sink, const std::string& path,
+                                         const std::string& at) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(build::readInputFile(path));
+  } catch (const build::InputFileError& e) {
+    sink.error(at, fmt::format("cannot read the joint trajectory: {}", e.what()));
+    return std::nullopt;
+  } catch (const nlohmann::json::exception& e) {
+    sink.error(at, fmt::format("{}: not a JSON joint trajectory: {}", path, e.what()));
+    return std::nullopt;
+  }
+  const auto bad = [&](const std::string& what) {
+    sink.error(at, fmt::format("{}: {}", path, what));
+    return std::optional<ReplayFile>{};
+  };
+  if (!doc.is_object() || !doc.contains("joints") || !doc.contains("time") ||
+      !doc.contains("position"))
+    return bad("expected an object with \"joints\", \"time\" and \"position\" (a run's "
+               "trajectory.json)");
+  ReplayFile file;
+  const nlohmann::json &joints = doc["joints"], &times = doc["time"], &rows = doc["position"];
+  if (!joints.is_array() || !times.is_array() || !rows.is_array() || times.empty() ||
+      rows.size() != times.size())
+    return bad(fmt::format("'joints', 'time' and 'position' must be arrays, 'position' one row "
+                           "per time ({} times, {} rows)",
+                           times.is_array() ? times.size() : 0, rows.is_array() ? rows.size() : 0));
+  for (const auto& name : joints) {
+    if (!name.is_string()) return bad(fmt::format("joints: expected names, got {}", name.dump()));
+    file.joints.push_back(name.get<std::string>());
+  }
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const nlohmann::json& row = rows[k];
+    if (!times[k].is_number() || !row.is_array() || row.size() != file.joints.size())
+      return bad(fmt::format("sample {}: expected a time and {} positions", k, file.joints.size()));
+    const double t = times[k].get<double>();
+    if (!std::isfinite(t) || (!file.times.empty() && !(t > file.times.back())))
+      return bad(fmt::format("time[{}] = {} s must be finite and after the previous one", k, t));
+    std::vector<double> q;
+    for (const auto& value : row) {
+      if (!value.is_number() || !std::isfinite(value.get<double>()))
+        return bad(fmt::format("position[{}]: expected finite numbers, got {}", k, row.dump()));
+      q.push_back(value.get<double>());
+    }
+    file.times.push_back(t);
+    file.positions.push_back(std::move(q));
+  }
+  return file;
+}
+
+// "replay": {"file", "kp", "kd", "interpolation", "joints"}: each joint of the file
+// (or those listed) a position servo following its positions in time.
+void readReplay(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
+                Scene& scene) {
+  ObjectReader r(sink, entry, at, "'replay'");
+  if (!r.valid()) return;
+  const auto fileName = r.string("file", true);
+  const auto kp = r.number("kp", Bound::kPositive, "N·m/rad or N/m", true);
+  const double kd = r.numberOr("kd", 0.0, Bound::kNonNegative, "N·m·s/rad or N·s/m");
+  const build::Interpolation interpolation = readInterpolation(r);
+  r.finish();
+  if (!fileName || !kp) return;
+  std::filesystem::path path(*fileName);
+  if (path.is_relative())
+    path = std::filesystem::path(scene.sourcePath).parent_path() / path;
+  const auto file = readReplayFile(sink, path.string(), r.memberPointer("file"));
+  if (!file) return;
+  for (std::size_t j = 0; j < file->joints.size(); ++j) {
+    const auto joint = findNamedJoint(sink, scene.model, file->joints[j], r.memberPointer("file"));
+    if (!joint) continue;
+    ActuatorSpec a;
+    a.joint = *joint;
+    a.mode = JointMode::kPosition;
+    a.kp = *kp;
+    a.kd = kd;
+    a.target.kind = Trajectory::Kind::kKeyframes;
+    a.target.interpolation = interpolation;
+    a.target.times = file->times;
+    for (const auto& q : file->positions) a.target.values.push_back(q[j]);
+    if (const std::string problem = build::checkActuator(a, scene.model); !problem.empty()) {
+      sink.error(at, problem);
+      continue;
+    }
+    scene.robotics.control.actuators.push_back(std::move(a));
+  }
+}
+
 }  // namespace
 
 void readControlSection(DiagnosticSink& sink, const nlohmann::json& section,
@@ -443,11 +540,13 @@ void readControlSection(DiagnosticSink& sink, const nlohmann::json& section,
   const nlohmann::json* bases = r.member("bases");
   const nlohmann::json* sequence = r.member("sequence");
   const nlohmann::json* mounts = r.member("mounts");
+  const nlohmann::json* replay = r.member("replay");
   r.finish();
   // Mounts first: they free the base particles that a base motion would otherwise move.
   if (mounts != nullptr) readMounts(sink, *mounts, pointer + "/mounts", scene);
   ControlSpec& control = scene.robotics.control;
   if (joints != nullptr) control.actuators = readJoints(sink, *joints, pointer + "/joints", scene);
+  if (replay != nullptr) readReplay(sink, *replay, pointer + "/replay", scene);
   if (mimic != nullptr) readMimics(sink, *mimic, pointer + "/mimic", scene);
   if (bases != nullptr) control.bases = readBases(sink, *bases, pointer + "/bases", scene);
   if (sequence != nullptr) {

@@ -301,6 +301,10 @@ std::optional<ParticleIndex> resolveParticle(DiagnosticSink& sink, const nlohman
   };
   if (lookup.local != nullptr && ref.is_number_integer())
     return inRange(*lookup.local, ref.get<std::int64_t>(), ref.dump());
+  // A point of a rigid robot's link (docs/robotics.md "Links in goals").
+  if (lookup.linkPoint && (ref.is_object() || (ref.is_string() &&
+                                               ref.get<std::string>().find(':') == std::string::npos)))
+    return lookup.linkPoint(sink, ref, pointer);
   if (!ref.is_string()) {
     sink.error(pointer, fmt::format("expected a particle reference \"object:index\"{}, got {}",
                                     lookup.local ? " or a local index" : "", describeJson(ref)));

@@ -3,6 +3,7 @@
 // ("object:index"), explicit connectors (LS, TS, JS) and named joints
 // (revolute, prismatic). Runs after every object is placed in the model.
 
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -24,10 +25,16 @@ struct ParticleLookup {
   const std::vector<Vec3>* position = nullptr;
   /// Inside a "particles" object: plain integers are indices into it.
   const scene::SceneObject* local = nullptr;
+  /// With rigid robots: resolves a point of a link, "robot.link" (no ':') or
+  /// {"link", "point"}, adding the particle the link carries there
+  /// (scene_robotics.h resolveLinkPoint); unset: such references are errors.
+  std::function<std::optional<ParticleIndex>(DiagnosticSink&, const nlohmann::json&,
+                                             const std::string&)>
+      linkPoint{};
 };
 
-/// Resolves "object:index" (negative counts from the end), or a plain integer
-/// when `lookup.local` is set. Reports bad references; returns nullopt for them
+/// Resolves "object:index" (negative counts from the end), a plain integer
+/// when `lookup.local` is set, or a link point through `lookup.linkPoint`. Reports bad references; returns nullopt for them
 /// and, silently, for references into an object that failed to load.
 std::optional<ParticleIndex> resolveParticle(DiagnosticSink& sink, const nlohmann::json& ref,
                                              const std::string& pointer,

@@ -233,6 +233,11 @@ void readScene(DiagnosticSink& sink, const nlohmann::json& root, const std::stri
   placeObjects(sink, objects, scene);
 
   scene::ParticleLookup lookup{&objects, &byName, &scene.initial.position, nullptr};
+  // Points of rigid robots' links stand where particles do (docs/robotics.md "Links in goals").
+  if (!scene.model.rigidTrees.empty())
+    lookup.linkPoint = [&scene](DiagnosticSink& s, const nlohmann::json& ref, const std::string& at) {
+      return scene::resolveLinkPoint(s, ref, at, scene);
+    };
   // Connectors inside "particles" objects use local indices.
   // (objects[i] was read from the entry objects[i].)
   for (std::size_t i = 0; i < objects.size(); ++i) {

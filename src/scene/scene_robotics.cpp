@@ -29,13 +29,37 @@ bool tryBuild(DiagnosticSink& sink, const std::string& at, Build&& run) {
   }
 }
 
+// "points": [{"name", "link", "point"}]: named points of links, for goals and paths
+// to name and for the output to follow (particles.csv).
+void readLinkPoint(DiagnosticSink& sink, const nlohmann::json& entry, const std::string& at,
+                   Scene& scene) {
+  ObjectReader r(sink, entry, at, fmt::format("point {}", at));
+  if (!r.valid()) return;
+  build::LinkPointSpec spec;
+  const auto name = r.string("name", true);
+  const auto link = r.string("link", true);
+  spec.p_LP = r.vec3("point", "m").value_or(Vec3{});
+  r.finish();
+  if (!name || !link) return;
+  for (const ObjectInfo& object : scene.model.objects)
+    if (object.name == *name) {
+      sink.error(r.memberPointer("name"),
+                 fmt::format("the name '{}' is given to an object of the model already", *name));
+      return;
+    }
+  spec.link = *link;
+  tryBuild(sink, at, [&] { build::addLinkPoint(scene.model, scene.initial, spec, *name); });
+}
+
 std::vector<ParticleIndex> readRefs(ObjectReader& r, const char* key, const ParticleLookup& lookup,
                                     bool& ok) {
   std::vector<ParticleIndex> out;
   const nlohmann::json* list = r.member(key);
   if (list == nullptr || !list->is_array() || list->empty()) {
     r.sink().error(r.memberPointer(key),
-                   fmt::format("'{}': expected a non-empty array of \"object:index\"", key));
+                   fmt::format("'{}': expected a non-empty array of \"object:index\" or "
+                               "link points (\"robot.link\", {{\"link\", \"point\"}})",
+                               key));
     ok = false;
     return out;
   }
@@ -330,6 +354,35 @@ void forEach(DiagnosticSink& sink, const nlohmann::json* list, const std::string
 
 }  // namespace
 
+// docs/robotics.md "Links in goals" (scene_robotics.h).
+std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohmann::json& ref,
+                                              const std::string& at, Scene& scene) {
+  build::LinkPointSpec spec;
+  if (ref.is_string()) {
+    spec.link = ref.get<std::string>();
+    // A point the section's "points" named already: its particle.
+    for (const ObjectInfo& object : scene.model.objects)
+      if (object.name == spec.link && object.kind == "virtual" && object.particleCount == 1 &&
+          scene.model.isCarried(object.firstParticle))
+        return object.firstParticle;
+  } else {
+    ObjectReader r(sink, ref, at, "link point");
+    if (!r.valid()) return std::nullopt;
+    const auto link = r.string("link", true);
+    const auto point = r.vec3("point", "m");
+    r.finish();
+    if (!link) return std::nullopt;
+    spec.link = *link;
+    spec.p_LP = point.value_or(Vec3{});
+  }
+  std::optional<ParticleIndex> particle;
+  tryBuild(sink, at, [&] {
+    const std::string name = fmt::format("{}.point{}", spec.link, scene.model.objects.size());
+    particle = build::addLinkPoint(scene.model, scene.initial, spec, name);
+  });
+  return particle;
+}
+
 std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
                                        const std::string& name, const std::string& at) {
   std::vector<std::string> names;
@@ -359,7 +412,12 @@ void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,
   const auto* paths = r.member("paths");
   const auto* limits = r.member("limits");
   const auto* grasps = r.member("grasps");
+  const auto* points = r.member("points");
   r.finish();
+  forEach(sink, points, pointer + "/points",
+          [&](const nlohmann::json& e, const std::string& at, std::size_t) {
+            readLinkPoint(sink, e, at, scene);
+          });
   // The order fixes the numbering of environment items and virtual objects.
   forEach(sink, obstacles, pointer + "/obstacles",
           [&](const nlohmann::json& e, const std::string& at, std::size_t) {

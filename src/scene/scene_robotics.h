@@ -23,6 +23,14 @@ std::optional<std::int32_t> findObject(DiagnosticSink& sink, const Scene& scene,
 std::optional<std::size_t> findNamedJoint(DiagnosticSink& sink, const Model& model,
                                           const std::string& name, const std::string& at);
 
+/// A point of a rigid robot's link where a particle reference stands (docs/robotics.md
+/// "Links in goals"): "robot.link" (its origin), a name from the section's "points",
+/// or {"link": "robot.link", "point": [x, y, z]} (m, in the link's frame). Adds the
+/// particle the link carries there (build::addLinkPoint) and returns it; reports
+/// an unknown link at `at`.
+std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohmann::json& ref,
+                                              const std::string& at, Scene& scene);
+
 /// Reads the section at `pointer`; particle references resolve through `lookup`.
 void readRoboticsSection(DiagnosticSink& sink, const nlohmann::json& section,
                          const std::string& pointer, const ParticleLookup& lookup, Scene& scene);

@@ -60,6 +60,24 @@ struct AttractorGoalSpec {
 /// `speed` > 0) and one attractor LS per particle. Returns the goal's task spec.
 GoalSpec addGoal(Model& model, State& state, const AttractorGoalSpec& spec);
 
+/// A point fixed to a link of a rigid robot (a tree's body or named frame, e.g.
+/// "iiwa.iiwa_link_7"), to be named in a goal or path like a particle.
+struct LinkPointSpec {
+  /// The body or frame name (Multibody::bodies[].name or frames[].name).
+  std::string link;
+  /// The point in the link's frame (m).
+  Vec3 p_LP{};
+};
+
+/// Adds a particle carried by the link at the point and returns its index: the one
+/// particle of a new "virtual" object `name` (it touches nothing and has no weight),
+/// which the tree's step moves with the link and whose loads (an attractor's pull)
+/// it gathers into the link's wrench (docs/model.md §7), so that a goal pulls the
+/// link itself. Throws std::invalid_argument when no rigid tree has that link or
+/// the point is not finite.
+ParticleIndex addLinkPoint(Model& model, State& state, const LinkPointSpec& spec,
+                           const std::string& name);
+
 /// A line path (MODEL §5.1): a TS at 180° centred on the particle, its ends two
 /// fixed virtual particles at `from` and `to`, keeps the particle on the segment.
 struct LinePathSpec {
