@@ -1515,9 +1515,26 @@ async function setupScene() {
     const height = (y1 - y0 + 1) / copy.height;
     return { width, height, area: width * height, lit: lit / (copy.width * copy.height) };
   }
+  // After "reset view", the 3D view drawn into a canvas `width` pixels wide (the
+  // browser's smoothing averages the pixels away), as a PNG data: URL.
+  function viewImage(width) {
+    if (!renderer) return null;
+    resetView();
+    render();
+    const canvas = renderer.domElement;
+    const copy = document.createElement('canvas');
+    copy.width = Math.max(1, Math.round(width));
+    copy.height = Math.max(1, Math.round(width * canvas.height / Math.max(canvas.width, 1)));
+    const context = copy.getContext('2d');
+    context.imageSmoothingEnabled = true;
+    context.imageSmoothingQuality = 'high';
+    context.drawImage(canvas, 0, 0, copy.width, copy.height);
+    return copy.toDataURL('image/png');
+  }
   return {
     spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
     frictionDrawn: Boolean(frictionColumns), robotCounts: robotsView.counts, robotPixelBox, resetView,
+    viewImage,
     shapeCounts: shapesView.counts,
     // For the live view's drag (viewer/live.js).
     THREE, scene, camera, controls, canvas: renderer ? renderer.domElement : null,
@@ -1628,6 +1645,9 @@ window.robophiReplay = {
     scene3d.resetView();
     return scene3d.robotPixelBox();
   },
+  /** After "reset view": the 3D view scaled to `width` pixels wide, a PNG data: URL
+   * (null without WebGL); the reference images' test (tests/viewer/reference.test.mjs). */
+  viewImage: (width) => (scene3d ? scene3d.viewImage(width) : null),
   /** Whether the page has the run's world description (world.json). */
   hasWorld: () => Boolean(world),
   /** The live view's hook (viewer/live.js), or null on a replay page. */

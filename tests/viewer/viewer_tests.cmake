@@ -22,3 +22,12 @@ add_test(NAME viewer_live
          COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_live_test.sh $<TARGET_FILE:robophi>
                  ${CMAKE_CURRENT_BINARY_DIR}/viewer)
 set_tests_properties(viewer_live PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 300)
+
+# The Panda pick, the Husky drive, the iiwa and the UR5 at t = 0 and at a later
+# time against the reference images tests/viewer/reference/*.png, with a tolerance
+# (tests/viewer/run_reference_test.sh; ROBOPHI_RECORD_REFERENCE=1 re-records).
+add_test(NAME viewer_reference
+         COMMAND bash ${PROJECT_SOURCE_DIR}/tests/viewer/run_reference_test.sh $<TARGET_FILE:robophi>
+                 ${CMAKE_CURRENT_BINARY_DIR}/viewer)
+set_tests_properties(viewer_reference PROPERTIES LABELS viewer SKIP_RETURN_CODE 77 TIMEOUT 600
+                     ENVIRONMENT "ROBOPHI_ROBOTS_DIR=${ROBOPHI_ROBOTS_DIR}")
