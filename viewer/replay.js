@@ -207,23 +207,27 @@ function showTime(t) {
 // ---------------------------------------------------------------- plots
 // A time-series plot drawn on a <canvas>: the curves are drawn once per size into
 // an offscreen canvas; each redraw copies it and adds the time marker and legend.
+// Appends a series' entry (its line's colour and dash, its label) to a plot's
+// legend; returns the element that shows its value.
+function addLegendEntry(legend, s) {
+  const item = document.createElement('span');
+  item.className = 'legend-item';
+  const key = document.createElement('span');
+  key.className = 'legend-key';
+  key.style.borderTopColor = s.colour;
+  if (s.dash) key.style.borderTopStyle = 'dashed';
+  const value = document.createElement('span');
+  value.className = 'legend-value';
+  item.append(key, `${s.label} `, value);
+  legend.appendChild(item);
+  return value;
+}
+
 class Plot {
   constructor(canvas, legend, series, options = {}) {
     this.canvas = canvas;
     this.legend = legend;  // an element beside the caption: one entry per series with its value
-    this.legendValues = series.map((s) => {
-      const item = document.createElement('span');
-      item.className = 'legend-item';
-      const key = document.createElement('span');
-      key.className = 'legend-key';
-      key.style.borderTopColor = s.colour;
-      if (s.dash) key.style.borderTopStyle = 'dashed';
-      const value = document.createElement('span');
-      value.className = 'legend-value';
-      item.append(key, `${s.label} `, value);
-      legend.appendChild(item);
-      return value;
-    });
+    this.legendValues = series.map((s) => addLegendEntry(legend, s));
     this.series = series;  // [{name, label, colour, t, v, unit}]
     this.options = options;
     this.cache = null;
@@ -658,6 +662,9 @@ const meshFiles = data.meshFiles || [];
 // Particles drawn as their link's shapes (their spheres are the optional particle layer).
 const carriesVisual = new Uint8Array(particleCount);
 for (const c of robotCarriers) for (const i of c.particles) if (i >= 0 && i < particleCount) carriesVisual[i] = 1;
+// Fixed particles a rigid tree's body moves: the live view may drag them (the tree struck there).
+const treeCarried = new Uint8Array(particleCount);
+for (const c of robotCarriers) if (c.rigidTree) for (const i of c.particles) if (i >= 0 && i < particleCount) treeCarried[i] = 1;
 
 if (robotVisuals.length === 0) {
   $('show-particles').parentElement.hidden = true;
@@ -759,6 +766,9 @@ async function buildRobots(THREE) {
     const file = meshFiles[index];
     let object = null;
     if (file && file.data) {
+      if (file.decimatedFrom) {
+        console.info(`robophi replay: mesh ${index} decimated from ${file.decimatedFrom} to ${file.triangles} triangles (the page's budget per mesh)`);
+      }
       const binary = atob(file.data);
       const bytes = new Uint8Array(binary.length);
       for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
@@ -1556,7 +1566,8 @@ let live = null;
 if (data.live) {
   const { startLive } = await import('robophi/live.js');
   live = startLive({
-    data, $, particleCount, framePosition, frameTime, radius, fixedFlag, isVirtualParticle, scene3d,
+    data, $, particleCount, framePosition, frameTime, radius, fixedFlag, treeCarried, isVirtualParticle, scene3d,
+    ticks: Plot.ticks, formatNumber, addLegendEntry,
     showFrame: (t) => {
       view.time = t;
       view.frame = 0;
