@@ -7,8 +7,10 @@
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
+#include <vector>
 
 #include "core/text.h"
+#include "integrate/rigid_trees.h"
 #include "robophi/joints.h"
 #include "robophi/world.h"
 
@@ -54,6 +56,31 @@ void requireMaterial(const char* function, const Material& m) {
   requireNonNegative(function, "material.kineticFriction", m.kineticFriction);
 }
 
+// x = A⁻¹ b for a symmetric positive definite n × n A (row-major; Cholesky, A
+// overwritten by its factor, b by x).
+void solveSymmetric(std::vector<double>& A, std::vector<double>& b) {
+  const std::size_t n = b.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    double d = A[j * n + j];
+    for (std::size_t k = 0; k < j; ++k) d -= A[j * n + k] * A[j * n + k];
+    const double l = std::sqrt(std::max(d, 1e-300));
+    A[j * n + j] = l;
+    for (std::size_t i = j + 1; i < n; ++i) {
+      double sum = A[i * n + j];
+      for (std::size_t k = 0; k < j; ++k) sum -= A[i * n + k] * A[j * n + k];
+      A[i * n + j] = sum / l;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) b[i] -= A[i * n + k] * b[k];
+    b[i] /= A[i * n + i];
+  }
+  for (std::size_t i = n; i-- > 0;) {
+    for (std::size_t k = i + 1; k < n; ++k) b[i] -= A[k * n + i] * b[k];
+    b[i] /= A[i * n + i];
+  }
+}
+
 }  // namespace
 
 void World::edited() {
@@ -84,6 +111,50 @@ void World::setVelocity(ParticleIndex particle, const Vec3& velocity) {
   if (v.x == velocity.x && v.y == velocity.y && v.z == velocity.z) return;
   edited();
   v = velocity;
+}
+
+void World::applyImpulse(ParticleIndex particle, const Vec3& impulse) {
+  const Model& m = model();
+  requireIndex("World::applyImpulse", "particle", particle,
+               static_cast<std::size_t>(m.particleCount()));
+  requireFinite("World::applyImpulse", "impulse", impulse);
+  if (impulse.x == 0.0 && impulse.y == 0.0 && impulse.z == 0.0) return;
+  const auto i = static_cast<std::size_t>(particle);
+  if (!m.isFixed(particle)) {
+    edited();
+    current_.state_.velocity[i] += m.inverseMass[i] * impulse;
+    return;
+  }
+  if (!m.isCarried(particle)) return;
+  // docs/model.md §7: the tree struck at the particle's point P of body b,
+  // M Δv = Jᵀ p with M the joint-space mass matrix (armature on its diagonal, as
+  // the step has it) and J the translational Jacobian of P.
+  const auto t = static_cast<std::size_t>(m.carriedBy[i]);
+  const RigidTree& tree = m.rigidTrees[t];
+  const auto carrier = std::find_if(tree.particles.begin(), tree.particles.end(),
+                                    [particle](const BodyParticle& b) { return b.particle == particle; });
+  if (carrier == tree.particles.end()) return;
+  const Multibody& multibody = tree.multibody;
+  const auto n = static_cast<std::size_t>(multibody.velocityCount);
+  if (n == 0) return;
+  State& state = current_.state_;
+  MultibodyKinematics kinematics;
+  updateKinematics(multibody, state.treePositions[t].data(), kinematics);
+  const Vec3 p_WP = kinematics.X_WB[static_cast<std::size_t>(carrier->body)] * carrier->p_BP;
+  std::vector<double> J(3 * n), M(n * n), dv(n, 0.0);
+  pointJacobian(multibody, kinematics, carrier->body, p_WP, J.data(), nullptr);
+  massMatrix(multibody, kinematics, M.data());
+  for (const MultibodyBody& body : multibody.bodies)
+    if (velocityCountOf(body.joint) == 1)
+      M[static_cast<std::size_t>(body.vStart) * (n + 1)] += body.armature;
+  for (std::size_t k = 0; k < n; ++k)
+    dv[k] = J[k] * impulse.x + J[n + k] * impulse.y + J[2 * n + k] * impulse.z;
+  solveSymmetric(M, dv);
+  edited();
+  std::vector<double>& v = state.treeVelocities[t];
+  for (std::size_t k = 0; k < n; ++k) v[k] += dv[k];
+  // The carried particles' velocities follow the tree's new rates.
+  placeTreeParticles(m, state, treeWorkspaces_);
 }
 
 void World::setJointTarget(std::size_t joint, double target) {

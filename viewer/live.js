@@ -14,7 +14,7 @@
 const kHeaderNumbers = 8;
 
 export function startLive(ctx) {
-  const { data, $, particleCount, framePosition, frameTime, radius, fixedFlag, isVirtualParticle, scene3d } = ctx;
+  const { data, $, particleCount, framePosition, frameTime, radius, fixedFlag, treeCarried, isVirtualParticle, scene3d } = ctx;
   const state = {
     connected: false, ended: false, frames: 0, frameWall: [], time: frameTime[0], step: 0,
     kinetic: 0, potential: 0, dissipated: 0, external: 0, dragWork: 0, status: null, paused: false,
@@ -24,7 +24,6 @@ export function startLive(ctx) {
   // ------------------------------------------------------------ the controls
   // The replay's footer becomes the live one: pause/resume, speed, a readout.
   for (const id of ['step-back', 'step-forward', 'scrub', 'loop-label']) $(id).hidden = true;
-  $('plots').hidden = true;
   const oldPlay = $('play');
   const pauseButton = oldPlay.cloneNode(true);  // without the replay's listeners
   oldPlay.replaceWith(pauseButton);
@@ -51,6 +50,116 @@ export function startLive(ctx) {
   if (help) help.textContent = 'ctrl-drag a body: pull it with a spring · drag: orbit · right-drag: pan · wheel: zoom · space: pause';
   $('run-info').textContent = `live · ${particleCount} particles`;
   document.title = `robophi live: ${data.name || 'run'}`;
+
+  // ------------------------------------------------------------ the energy plot
+  // The replay's energy figure fed by the frames as they come: the energy account
+  // and the drag's work over the last kPlotWindow model seconds (at most
+  // kPlotPoints frames kept), redrawn once per animation frame. The replay's other
+  // figures (dt, joints) have no live data and are hidden.
+  const kPlotWindow = 20;  // s of model time shown
+  const kPlotPoints = 4000;  // frames kept, the oldest dropped
+  const liveSeries = [
+    { name: 'kinetic', label: 'kinetic', colour: '#e15759', of: (s) => s.kinetic },
+    { name: 'potential', label: 'potential', colour: '#4e79a7', of: (s) => s.potential },
+    { name: 'dissipated', label: 'dissipated', colour: '#f28e2b', of: (s) => s.dissipated },
+    { name: 'external', label: 'external work', colour: '#76b7b2', of: (s) => s.external },
+    { name: 'drag', label: 'drag work', colour: '#59a14f', of: (s) => s.dragWork },
+    { name: 'total', label: 'total (E + dissipated − external)', colour: '#1f2933', dash: [6, 3],
+      of: (s) => s.kinetic + s.potential + s.dissipated - s.external },
+  ];
+  const plotTimes = [];
+  const plotValues = liveSeries.map(() => []);
+  for (const id of ['fig-dt', 'fig-joints']) if ($(id)) $(id).hidden = true;
+  const replayCanvas = $('plot-energy');
+  const plotCanvas = replayCanvas.cloneNode(false);  // without the replay's plot on it
+  replayCanvas.replaceWith(plotCanvas);
+  const legend = plotCanvas.parentElement.querySelector('.legend');
+  legend.innerHTML = '';
+  const legendValues = liveSeries.map((series) => ctx.addLegendEntry(legend, series));
+  let plotQueued = false;
+  function recordPlot() {
+    if (plotTimes.length > 0 && state.time < plotTimes[plotTimes.length - 1]) {
+      plotTimes.length = 0;
+      for (const values of plotValues) values.length = 0;
+    }
+    plotTimes.push(state.time);
+    liveSeries.forEach((series, k) => plotValues[k].push(series.of(state)));
+    if (plotTimes.length > kPlotPoints) {
+      plotTimes.shift();
+      for (const values of plotValues) values.shift();
+    }
+    if (!plotQueued) {
+      plotQueued = true;
+      requestAnimationFrame(drawPlot);
+    }
+  }
+  function drawPlot() {
+    plotQueued = false;
+    const ratio = window.devicePixelRatio || 1;
+    const w = plotCanvas.clientWidth;
+    const h = plotCanvas.clientHeight;
+    if (plotCanvas.width !== Math.round(w * ratio) || plotCanvas.height !== Math.round(h * ratio)) {
+      plotCanvas.width = Math.max(1, Math.round(w * ratio));
+      plotCanvas.height = Math.max(1, Math.round(h * ratio));
+    }
+    const g = plotCanvas.getContext('2d');
+    g.setTransform(ratio, 0, 0, ratio, 0, 0);
+    g.clearRect(0, 0, w, h);
+    const n = plotTimes.length;
+    if (n === 0 || w < 80 || h < 40) return;
+    const tHi = plotTimes[n - 1];
+    const tLo = Math.max(plotTimes[0], tHi - kPlotWindow);
+    let first = 0;
+    while (first < n - 1 && plotTimes[first] < tLo) ++first;
+    let lo = 0;
+    let hi = 0;
+    for (const values of plotValues) {
+      for (let i = first; i < n; ++i) if (Number.isFinite(values[i])) { lo = Math.min(lo, values[i]); hi = Math.max(hi, values[i]); }
+    }
+    const pad = hi - lo > 0 ? 0.06 * (hi - lo) : 1;
+    lo -= pad;
+    hi += pad;
+    const m = { left: 58, right: 10, top: 8, bottom: 22 };
+    const span = tHi - tLo || 1;
+    const xOf = (t) => m.left + (t - tLo) / span * (w - m.left - m.right);
+    const yOf = (v) => m.top + (hi - v) / (hi - lo) * (h - m.top - m.bottom);
+    g.font = '11px system-ui, sans-serif';
+    g.lineWidth = 1;
+    g.strokeStyle = '#e6eaef';
+    g.fillStyle = '#667085';
+    g.textAlign = 'right';
+    g.textBaseline = 'middle';
+    for (const v of ctx.ticks(lo, hi, Math.max(2, Math.floor((h - m.top - m.bottom) / 34)))) {
+      const y = Math.round(yOf(v)) + 0.5;
+      g.beginPath(); g.moveTo(m.left, y); g.lineTo(w - m.right, y); g.stroke();
+      g.fillText(ctx.formatNumber(v, 4), m.left - 5, y);
+    }
+    g.textAlign = 'center';
+    g.textBaseline = 'top';
+    for (const t of ctx.ticks(tLo, tLo + span, Math.max(2, Math.floor((w - m.left - m.right) / 70)))) {
+      const x = Math.round(xOf(t)) + 0.5;
+      g.beginPath(); g.moveTo(x, m.top); g.lineTo(x, h - m.bottom); g.stroke();
+      g.fillText(ctx.formatNumber(t, 3), x, h - m.bottom + 4);
+    }
+    g.strokeStyle = '#98a2b3';
+    g.strokeRect(m.left + 0.5, m.top + 0.5, w - m.left - m.right - 1, h - m.top - m.bottom - 1);
+    g.textAlign = 'right';
+    g.fillText('t (s)', m.left - 5, h - m.bottom + 4);
+    g.lineWidth = 1.6;
+    g.lineJoin = 'round';
+    liveSeries.forEach((series, k) => {
+      g.strokeStyle = series.colour;
+      g.setLineDash(series.dash || []);
+      g.beginPath();
+      for (let i = first; i < n; ++i) {
+        if (i === first) g.moveTo(xOf(plotTimes[i]), yOf(plotValues[k][i]));
+        else g.lineTo(xOf(plotTimes[i]), yOf(plotValues[k][i]));
+      }
+      g.stroke();
+      legendValues[k].textContent = `${ctx.formatNumber(plotValues[k][n - 1])} J`;
+    });
+    g.setLineDash([]);
+  }
 
   // ------------------------------------------------------------ the socket
   const socket = new WebSocket(`ws://${window.location.host}${data.live.socket}`);
@@ -105,6 +214,7 @@ export function startLive(ctx) {
     state.frameWall.push(now);
     while (state.frameWall.length > 0 && now - state.frameWall[0] > 5000) state.frameWall.shift();
     ctx.showFrame(state.time);
+    recordPlot();
     updateDragLine();
     showReadout();
   });
@@ -117,9 +227,10 @@ export function startLive(ctx) {
   }, true);
 
   // ------------------------------------------------------------ the drag
-  // Ctrl + left button on a particle (not fixed, not virtual) holds it; the mouse
-  // point is where the ray under the cursor meets the plane through the particle
-  // facing the camera; the server pulls the particle to it with a spring.
+  // Ctrl + left button on a particle (not fixed, or carried by a rigid tree's body;
+  // not virtual) holds it; the mouse point is where the ray under the cursor meets
+  // the plane through the particle facing the camera; the server pulls the particle
+  // to it with a spring (a rigid tree: struck at that point, World::applyImpulse).
   let drag = null;  // {particle, plane, target}
   let dragLine = null;
   const THREE = scene3d && scene3d.THREE;
@@ -152,7 +263,7 @@ export function startLive(ctx) {
     let best = -1;
     let bestDistance = Infinity;
     for (let i = 0; i < particleCount; ++i) {
-      if (fixedFlag[i] || isVirtualParticle(i)) continue;
+      if ((fixedFlag[i] && !treeCarried[i]) || isVirtualParticle(i)) continue;
       v.set(...positionOf(i)).project(camera);
       if (v.z < -1 || v.z > 1) continue;
       const x = rect.left + (v.x + 1) / 2 * rect.width;
@@ -244,6 +355,12 @@ export function startLive(ctx) {
       return [rect.left + (v.x + 1) / 2 * rect.width, rect.top + (1 - v.y) / 2 * rect.height];
     },
     pick,
+    /** The live energy plot: {points, series (names), last: the last value of each (J)}. */
+    plot: () => ({
+      points: plotTimes.length,
+      series: liveSeries.map((series) => series.name),
+      last: Object.fromEntries(liveSeries.map((series, k) => [series.name, plotValues[k][plotValues[k].length - 1]])),
+    }),
     pause, resume, setSpeed, dragTo, release,
     stop: () => send({ type: 'stop' }),
   };

@@ -207,23 +207,27 @@ function showTime(t) {
 // ---------------------------------------------------------------- plots
 // A time-series plot drawn on a <canvas>: the curves are drawn once per size into
 // an offscreen canvas; each redraw copies it and adds the time marker and legend.
+// Appends a series' entry (its line's colour and dash, its label) to a plot's
+// legend; returns the element that shows its value.
+function addLegendEntry(legend, s) {
+  const item = document.createElement('span');
+  item.className = 'legend-item';
+  const key = document.createElement('span');
+  key.className = 'legend-key';
+  key.style.borderTopColor = s.colour;
+  if (s.dash) key.style.borderTopStyle = 'dashed';
+  const value = document.createElement('span');
+  value.className = 'legend-value';
+  item.append(key, `${s.label} `, value);
+  legend.appendChild(item);
+  return value;
+}
+
 class Plot {
   constructor(canvas, legend, series, options = {}) {
     this.canvas = canvas;
     this.legend = legend;  // an element beside the caption: one entry per series with its value
-    this.legendValues = series.map((s) => {
-      const item = document.createElement('span');
-      item.className = 'legend-item';
-      const key = document.createElement('span');
-      key.className = 'legend-key';
-      key.style.borderTopColor = s.colour;
-      if (s.dash) key.style.borderTopStyle = 'dashed';
-      const value = document.createElement('span');
-      value.className = 'legend-value';
-      item.append(key, `${s.label} `, value);
-      legend.appendChild(item);
-      return value;
-    });
+    this.legendValues = series.map((s) => addLegendEntry(legend, s));
     this.series = series;  // [{name, label, colour, t, v, unit}]
     this.options = options;
     this.cache = null;
@@ -658,6 +662,9 @@ const meshFiles = data.meshFiles || [];
 // Particles drawn as their link's shapes (their spheres are the optional particle layer).
 const carriesVisual = new Uint8Array(particleCount);
 for (const c of robotCarriers) for (const i of c.particles) if (i >= 0 && i < particleCount) carriesVisual[i] = 1;
+// Fixed particles a rigid tree's body moves: the live view may drag them (the tree struck there).
+const treeCarried = new Uint8Array(particleCount);
+for (const c of robotCarriers) if (c.rigidTree) for (const i of c.particles) if (i >= 0 && i < particleCount) treeCarried[i] = 1;
 
 if (robotVisuals.length === 0) {
   $('show-particles').parentElement.hidden = true;
@@ -759,6 +766,9 @@ async function buildRobots(THREE) {
     const file = meshFiles[index];
     let object = null;
     if (file && file.data) {
+      if (file.decimatedFrom) {
+        console.info(`robophi replay: mesh ${index} decimated from ${file.decimatedFrom} to ${file.triangles} triangles (the page's budget per mesh)`);
+      }
       const binary = atob(file.data);
       const bytes = new Uint8Array(binary.length);
       for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
@@ -1515,9 +1525,26 @@ async function setupScene() {
     const height = (y1 - y0 + 1) / copy.height;
     return { width, height, area: width * height, lit: lit / (copy.width * copy.height) };
   }
+  // After "reset view", the 3D view drawn into a canvas `width` pixels wide (the
+  // browser's smoothing averages the pixels away), as a PNG data: URL.
+  function viewImage(width) {
+    if (!renderer) return null;
+    resetView();
+    render();
+    const canvas = renderer.domElement;
+    const copy = document.createElement('canvas');
+    copy.width = Math.max(1, Math.round(width));
+    copy.height = Math.max(1, Math.round(width * canvas.height / Math.max(canvas.width, 1)));
+    const context = copy.getContext('2d');
+    context.imageSmoothingEnabled = true;
+    context.imageSmoothingQuality = 'high';
+    context.drawImage(canvas, 0, 0, copy.width, copy.height);
+    return copy.toDataURL('image/png');
+  }
   return {
     spheres, update, render, setView, webgl: Boolean(renderer), counts, shown, strainScale,
     frictionDrawn: Boolean(frictionColumns), robotCounts: robotsView.counts, robotPixelBox, resetView,
+    viewImage,
     shapeCounts: shapesView.counts,
     // For the live view's drag (viewer/live.js).
     THREE, scene, camera, controls, canvas: renderer ? renderer.domElement : null,
@@ -1539,7 +1566,8 @@ let live = null;
 if (data.live) {
   const { startLive } = await import('robophi/live.js');
   live = startLive({
-    data, $, particleCount, framePosition, frameTime, radius, fixedFlag, isVirtualParticle, scene3d,
+    data, $, particleCount, framePosition, frameTime, radius, fixedFlag, treeCarried, isVirtualParticle, scene3d,
+    ticks: Plot.ticks, formatNumber, addLegendEntry,
     showFrame: (t) => {
       view.time = t;
       view.frame = 0;
@@ -1628,6 +1656,9 @@ window.robophiReplay = {
     scene3d.resetView();
     return scene3d.robotPixelBox();
   },
+  /** After "reset view": the 3D view scaled to `width` pixels wide, a PNG data: URL
+   * (null without WebGL); the reference images' test (tests/viewer/reference.test.mjs). */
+  viewImage: (width) => (scene3d ? scene3d.viewImage(width) : null),
   /** Whether the page has the run's world description (world.json). */
   hasWorld: () => Boolean(world),
   /** The live view's hook (viewer/live.js), or null on a replay page. */

@@ -86,6 +86,13 @@ class World {
   // (std::out_of_range), values must be finite (std::invalid_argument).
   void setPosition(ParticleIndex particle, const Vec3& position);
   void setVelocity(ParticleIndex particle, const Vec3& velocity);
+  /// An impulse p (N·s, in W) at a particle: a free particle's velocity changes by
+  /// p/m; a particle carried by a rigid tree's body (Model::isCarried) changes the
+  /// tree's rates v by M⁻¹ Jᵀ p (M the tree's mass matrix, J the Jacobian of the
+  /// point where the particle sits), the tree struck there; a fixed particle that
+  /// nothing carries: no change. The kinetic energy it adds is booked as external
+  /// work, as for setVelocity.
+  void applyImpulse(ParticleIndex particle, const Vec3& impulse);
 
   // ---- Edits of the model (between steps).
   /// Joint servo (MODEL §1): the target (rad, wrapped into [0, 2π), for a

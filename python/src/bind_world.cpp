@@ -266,8 +266,8 @@ py::array writableView(py::object self, bool velocities) {
 
 Vec3 toVec3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-// A method that edits one particle of the state (World::setPosition, setVelocity):
-// writes through the views first, the copy they are compared with after.
+// A method that edits one particle of the state (World::setPosition, setVelocity,
+// applyImpulse): writes through the views first, the copy they are compared with after.
 template <void (World::*Edit)(ParticleIndex, const Vec3&)>
 auto particleEdit() {
   return [](PyWorld& w, ParticleIndex i, const Vec3& value) {
@@ -568,6 +568,10 @@ void bindWorld(py::module_& m) {
            py::arg("position"), "p (m)")
       .def("set_velocity", particleEdit<&World::setVelocity>(), py::arg("particle"),
            py::arg("velocity"), "v (m/s)")
+      .def("apply_impulse", particleEdit<&World::applyImpulse>(), py::arg("particle"),
+           py::arg("impulse"),
+           "An impulse p (N·s) at the particle: v += p/m, or, for a particle a rigid tree "
+           "carries, the tree's rates += M⁻¹ Jᵀ p (World::applyImpulse)")
       .def(
           "set_gravity",
           [](PyWorld& w, const std::array<double, 3>& g) {

@@ -142,3 +142,14 @@ def test_contacts_are_a_structured_array(scenes):
     expected = -1e6 * c["depth"][0] - 28.3 * world.velocities[0, 2]
     assert c["normal_force"][0] == pytest.approx(max(expected, 0.0), rel=1e-9)
     assert world.forces[0, 2] == pytest.approx(c["normal_force"][0] - 0.2 * 9.81, rel=1e-9)
+
+
+def test_apply_impulse_changes_a_free_particle_by_p_over_m_and_books_its_work():
+    model, state = single_ball(z=1.0, gravity=(0.0, 0.0, 0.0), mass=2.0)
+    world = robophi.World(model, state)
+    world.step(1e-3)
+    world.book_external_work()
+    world.apply_impulse(0, (1.0, 2.0, -3.0))
+    assert world.velocities[0].tolist() == pytest.approx([0.5, 1.0, -1.5], rel=1e-15)
+    # ½ m |Δv|² from rest: ½ 2 (0.25 + 1 + 2.25) = 3.5 J, external work.
+    assert world.book_external_work() == pytest.approx(3.5, rel=1e-12)

@@ -5,15 +5,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "output/base64.h"
+#include "output/mesh_decimation.h"
 
 namespace robophi::output {
 
-std::string meshFilesJson(const std::string& world, double capBytes, std::size_t budgetBytes) {
+std::string meshFilesJson(const std::string& world, double capBytes, std::size_t budgetBytes,
+                          std::size_t triangleBudget) {
   if (world.empty()) return {};
   nlohmann::json parsed;
   try {
@@ -38,15 +41,26 @@ std::string meshFilesJson(const std::string& world, double capBytes, std::size_t
     const std::string path = mesh.value("path", std::string{});
     nlohmann::json entry = {{"format", mesh.value("format", std::string{})}};
     std::error_code ec;
-    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    std::uintmax_t size = std::filesystem::file_size(path, ec);
     std::string note;
     std::string bytes;
+    // A large OBJ or STL goes in decimated to the triangle budget (its size is the
+    // decimated bytes').
+    DecimatedFile decimated;
+    if (!ec) decimated = decimatedMeshFile(path, entry["format"].get<std::string>(), triangleBudget);
+    if (!decimated.bytes.empty()) {
+      size = decimated.bytes.size();
+      entry["triangles"] = decimated.trianglesAfter;
+      entry["decimatedFrom"] = decimated.trianglesBefore;
+    }
     if (ec) {
       note = "not found: " + path;
     } else if (used + size > budget) {
       note = fmt::format(
           "left out: the page's mesh budget ({:.1f} MB of files) is spent; {} has {} bytes",
           static_cast<double>(budget) / 1e6, path, size);
+    } else if (!decimated.bytes.empty()) {
+      bytes = std::move(decimated.bytes);
     } else {
       std::ifstream in(path, std::ios::binary);
       bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

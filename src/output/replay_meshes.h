@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <string>
 
+#include "output/mesh_decimation.h"
+
 namespace robophi::output {
 
 /// The most bytes of mesh files a page embeds (before base64): files past it are
@@ -15,8 +17,11 @@ inline constexpr std::size_t kMeshBudgetBytes = std::size_t{32} << 20;
 /// robots.meshes (the JSON text `world`), {"format", "bytes", "data"} with the
 /// file's bytes in base64, or "data": null and a "note" (not found, not read,
 /// over the budget: at most `budgetBytes` of files, and a third of `capBytes`
-/// in base64). Empty when the world has no meshes.
+/// in base64). An OBJ or STL of more than `triangleBudget` triangles goes in
+/// decimated (output/mesh_decimation.h), with "triangles" and "decimatedFrom"
+/// (its triangle counts). Empty when the world has no meshes.
 std::string meshFilesJson(const std::string& world, double capBytes,
-                          std::size_t budgetBytes = kMeshBudgetBytes);
+                          std::size_t budgetBytes = kMeshBudgetBytes,
+                          std::size_t triangleBudget = kMeshTriangleBudget);
 
 }  // namespace robophi::output

@@ -74,6 +74,9 @@ Json visualsJson(const Scene& scene) {
       }
       found = carrierOf.emplace(key, carriers.size()).first;
       carriers.push_back({{"particles", particles}, {"rest", rest}});
+      // (A rigid tree's body: its particles are fixed ones the tree moves, which the
+      // live view's drag strikes through the tree, World::applyImpulse.)
+      if (v.body < 0 && v.tree >= 0) carriers.back()["rigidTree"] = true;
     }
     Json item = {{"robot", v.robot}, {"link", v.link}, {"kind", kindName(v.kind)},
                  {"carrier", found->second}};

@@ -164,7 +164,7 @@ void LiveView::handleMessages(const World& world) {
                          (*target)[2].get<double>()};
         const auto index = static_cast<std::int64_t>(particle);
         if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z) &&
-            world.model().inverseMass[static_cast<std::size_t>(index)] > 0.0) {
+            world.model().moves(static_cast<ParticleIndex>(index))) {
           if (dragParticle_ != index) ++drags_;
           dragParticle_ = index;
           dragTarget_ = point;
@@ -227,10 +227,12 @@ void LiveView::applyDrag(World& world) {
   // MODEL §5's attraction: a spring of rest length ~0 from the particle to the
   // mouse point, its stiffness and damping set on the dragged object's mass M
   // (k = M ω², c = 2 ζ sqrt(k M)), capped for the particle's own mass m at this
-  // step (k δ²/m ≤ 0.2, c δ/m ≤ 0.5) so that the kick stays stable.
-  const double m = model.mass[i];
+  // step (k δ²/m ≤ 0.2, c δ/m ≤ 0.5) so that the kick stays stable. A particle
+  // a rigid tree carries stands for its link: m is the link's (object's) mass.
   const auto o = static_cast<std::size_t>(model.objectOf[i]);
-  const double objectMass = o < objectMass_.size() ? std::max(objectMass_[o], m) : m;
+  const double ownMass = model.mass[i];
+  const double objectMass = o < objectMass_.size() ? std::max(objectMass_[o], ownMass) : ownMass;
+  const double m = model.isCarried(static_cast<ParticleIndex>(i)) ? objectMass : ownMass;
   const double omega = 2.0 * std::numbers::pi * settings_.dragFrequency;
   const double k = std::min(objectMass * omega * omega, 0.2 * m / (dt * dt));
   const double c =
@@ -238,10 +240,11 @@ void LiveView::applyDrag(World& world) {
   const Vec3 x = state.position[i];
   const Vec3 v = state.velocity[i];
   const Vec3 force = k * (dragTarget_ - x) - c * v;
-  // The spring's impulse over the step as a velocity edit: World books the
-  // kinetic energy it adds as external work (EnergyTally::external).
+  // The spring's impulse over the step, at the particle (a rigid tree struck
+  // there: World::applyImpulse): World books the kinetic energy it adds as
+  // external work (EnergyTally::external).
   world.bookExternalWork();  // (the work of the tasks before this one)
-  world.setVelocity(static_cast<ParticleIndex>(i), v + (dt / m) * force);
+  world.applyImpulse(static_cast<ParticleIndex>(i), dt * force);
   dragWork_ += world.bookExternalWork();
 }
 

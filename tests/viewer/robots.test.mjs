@@ -11,15 +11,11 @@
 // (t = 0 and the last frame) go to OUT_DIR/<run folder name>-t0.png, -end.png.
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import { createRequire } from 'node:module';
-import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath, pathToFileURL } from 'node:url';
+import { pathToFileURL } from 'node:url';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const require = createRequire(path.join(here, '..', '..', 'viewer', 'package.json'));
-const { chromium } = require('playwright-core');
+import { launchChromium } from './chromium.mjs';
 
 const [outDir, ...runArgs] = process.argv.slice(2);
 const runs = runArgs.map((a) => (a.endsWith(':q') ? { dir: a.slice(0, -2), q: true } : { dir: a, q: false }));
@@ -27,15 +23,7 @@ let context;
 
 before(async () => {
   fs.mkdirSync(outDir, { recursive: true });
-  const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'robophi-chromium-'));
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: process.env.ROBOPHI_CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    viewport: { width: 1400, height: 820 },
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-      '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-  });
+  context = await launchChromium(1400, 820);
 });
 after(async () => { if (context) await context.close(); });
 
