@@ -7,6 +7,8 @@
 #   scripts/fuzz.sh                  the scene loader, the long run: 1 000 000 executions
 #   scripts/fuzz.sh -runs=20000      a short run (scripts/check.sh)
 #   scripts/fuzz.sh urdf -max_total_time=1500    the URDF importer
+#   ROBOPHI_FUZZ_SANITIZERS= ROBOPHI_FUZZ_BUILD=build-fuzz-fast scripts/fuzz.sh urdf
+#                                    coverage only, no ASan/UBSan: the million-run builds
 #
 # Extra arguments go to libFuzzer. New inputs that reach new code are kept in
 # build-fuzz/corpus (build-fuzz/corpus-urdf) (not in the repository); a crash,
@@ -21,7 +23,8 @@ build="${ROBOPHI_FUZZ_BUILD:-$root/build-fuzz}"
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROBOPHI_FUZZ=ON -DROBOPHI_BUILD_APP=OFF \
-    -DROBOPHI_BUILD_TESTS=OFF -DROBOPHI_CHECK_LAYERS=OFF >/dev/null
+    -DROBOPHI_BUILD_TESTS=OFF -DROBOPHI_CHECK_LAYERS=OFF \
+    -DROBOPHI_FUZZ_SANITIZERS="${ROBOPHI_FUZZ_SANITIZERS-address,undefined}" >/dev/null
 fi
 target=scene
 if [ "${1:-}" = scene ] || [ "${1:-}" = urdf ]; then

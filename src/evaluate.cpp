@@ -87,6 +87,10 @@ void evaluateForces(const CompiledModel& compiled, const State& state, Workspace
   const std::vector<Vec3>& velocity = state.velocity;
   out.force.resize(position.size());
   out.torque.resize(position.size());
+  // At the state's own velocities until a Verlet step measures its kick (World::step).
+  out.dissipativeKick = 0.0;
+  out.drivingKick = 0.0;
+  out.kickStep = 0.0;
   EnergyTally& e = out.energy;
   bool timed = false;
   const bool beside = contactsBesideConnectors(model, state, threads) &&

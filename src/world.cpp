@@ -14,6 +14,24 @@
 
 namespace robophi {
 
+namespace {
+
+// Velocity Verlet (docs/model.md §2.4): the kick power of `evaluation`, just evaluated
+// at the state (Evaluation::dissipativeKick, drivingKick); `kickStep` the step whose
+// kick follows (0: none, evaluated at the state's velocities).
+void measureKickPower(const Model& model, const State& state, Workspace& workspace,
+                      Evaluation& evaluation, double kickStep) {
+  const PowerKick kick = verletKickPower(
+      model, workspace.forceScratch().bodyMotion, state.position, state.velocity,
+      evaluation.force, 1.0, evaluation.jointMotorEffort, evaluation.jointLossEffort,
+      workspace.forceScratch().linkPreload);
+  evaluation.dissipativeKick = kick.dissipative;
+  evaluation.drivingKick = kick.driving;
+  evaluation.kickStep = kickStep;
+}
+
+}  // namespace
+
 World::World(Model model, State initial, Integrator integrator)
     : World(CompiledModel(std::move(model)), std::move(initial), integrator) {}
 
@@ -63,6 +81,9 @@ void World::evaluateCurrent() const {
   State& state = current_.state_;
   Evaluation& evaluation = current_.evaluation_;
   evaluateForces(model_, state, workspace_, evaluation);
+  // At the state's own velocities: the next step's first half-kick still moves them.
+  if (integrator_ == Integrator::kVelocityVerlet)
+    measureKickPower(model_.model(), state, workspace_, evaluation, 0.0);
   measureKinetic(model_, state, workspace_, evaluation);
   if (!model_.model().rigidTrees.empty())
     addRigidTreeTerms(model_.model(), model_.contactTables(), state, evaluation, treeWorkspaces_);
@@ -132,6 +153,9 @@ StepStatus World::step(double dt) {
   Evaluation& evaluation = current_.evaluation_;
   const double powerAtStart = evaluation.dissipativePower;
   const double drivingAtStart = evaluation.drivingPower;
+  const double dissipativeKickAtStart = evaluation.dissipativeKick;
+  const double drivingKickAtStart = evaluation.drivingKick;
+  const double kickStepAtStart = evaluation.kickStep;
   // The contacts found at t become the friction history the step starts from
   // (MODEL §3.3); the evaluation at t + δ reads it.
   // Rolling (MODEL §3.3): the anchors turn with the contact points over the step.
@@ -171,11 +195,14 @@ StepStatus World::step(double dt) {
         evaluateForces(model_, state, workspace_, evaluation);
       }
       break;
-    case Integrator::kVelocityVerlet:
+    case Integrator::kVelocityVerlet: {
       integrateVerletDrift(model, spinInertia, threads, dt, evaluation, state);
       evaluateForces(model_, state, workspace_, evaluation);
+      // What a kick changes in the power of the forces just evaluated at u.
+      measureKickPower(model, state, workspace_, evaluation, dt);
       integrateVerletKick(model, spinInertia, threads, dt, evaluation, state);
       break;
+    }
   }
 
   // 4. Energy account: kinetic at t + δ; the anchors' released energy, the
@@ -185,8 +212,27 @@ StepStatus World::step(double dt) {
     addRigidTreeTerms(model, model_.contactTables(), state, evaluation, treeWorkspaces_, true);
   state.dissipated += evaluation.releasedAnchorEnergy;
   current_.bookedRelease_ = evaluation.releasedAnchorEnergy;
-  state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;
-  state.external += 0.5 * (drivingAtStart + evaluation.drivingPower) * dt;
+  if (integrator_ == Integrator::kVelocityVerlet) {
+    // docs/model.md §2.4: each force's work as the kicks integrate it. A force F
+    // evaluated at velocities u acts in a half-kick u → v = u + δ_k/2 F/m (δ_k the
+    // step that evaluated it, 0 for an evaluation at the state) and in the next
+    // step's first half-kick v → v + δ/2 F/m; each half-kick's work is δ/2 F·(its
+    // velocities' mean). K = Σ F_term·F/m per term (W/s) gives its power at each:
+    // P(u + s F/m) = P_u + s K, exactly (the rates are linear in the velocities).
+    const double startV = powerAtStart + 0.5 * kickStepAtStart * dissipativeKickAtStart;
+    const double endU = evaluation.dissipativePower;
+    const double endV = endU + 0.5 * dt * evaluation.dissipativeKick;
+    state.dissipated -= 0.25 * dt *
+                        ((2.0 * startV + 0.5 * dt * dissipativeKickAtStart) + (endU + endV));
+    // The driving power is measured at the state's velocities v.
+    const double drivingEndU = evaluation.drivingPower - 0.5 * dt * evaluation.drivingKick;
+    state.external += 0.25 * dt *
+                      ((2.0 * drivingAtStart + 0.5 * dt * drivingKickAtStart) +
+                       (drivingEndU + evaluation.drivingPower));
+  } else {
+    state.dissipated -= 0.5 * (powerAtStart + evaluation.dissipativePower) * dt;
+    state.external += 0.5 * (drivingAtStart + evaluation.drivingPower) * dt;
+  }
   state.time += dt;
   ++state.stepCount;
 

@@ -32,6 +32,14 @@ struct Evaluation {
   /// kinematically (a fixed particle keeps its velocity), -Σ F_i·v_i over them,
   /// and by the joints' motors (MODEL §1.6), Σ τ_j q̇_j.
   double drivingPower = 0.0;
+  /// Velocity Verlet kicks the velocities the forces were evaluated at by δ/2 F/m
+  /// (docs/model.md §2.4): K = Σ F_term·F/m (W/s) of the dissipative forces and of
+  /// the driving ones, so that a term's power after a kick of s·F/m is P + s K (the
+  /// joints that act through their bodies, the body servos' dampers, the rigid bodies'
+  /// dampers and preloads; 0 for the others and for the other integrators); `kickStep`
+  /// the step (s) whose second half-kick followed this evaluation, 0 when it was
+  /// taken at the state's own velocities.
+  double dissipativeKick = 0.0, drivingKick = 0.0, kickStep = 0.0;
   /// Per joint (Model::joints): the effort (N·m or N, positive increases q) of its
   /// motor after the limits, and of its losses (damping and friction), at the
   /// state (MODEL §1.6); 0 for a joint without a drive.

@@ -198,7 +198,18 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   // 200 000 corners is refused here instead of hanging the triangulator.
   const aiScene* scene = importer.ReadFile(path, 0);
   if (scene == nullptr) {
-    const std::string reason = importer.GetErrorString();
+    // assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>'):
+    // bytes past ASCII as \xNN, so the message stays valid UTF-8 for the JSON it reaches.
+    std::string reason;
+    for (const char c : std::string(importer.GetErrorString())) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte < 0x80) {
+        reason += c;
+      } else {
+        static constexpr char kHex[] = "0123456789abcdef";
+        reason += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xF]};
+      }
+    }
     meshError(path, !files->refused.empty()
                         ? "cannot be read: " + files->refused
                         : "cannot be read (" +

@@ -572,7 +572,7 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
 
   // Fill the bodies (makeRigidBody: mass, centre and inertia fitted), their
   // particles held to the budget as they are made (at most one link past it).
-  std::size_t particles = 0;
+  std::size_t particles = 0, connectors = 0;
   for (Body& body : bodies) {
     const urdf::Link& link = d.links[static_cast<std::size_t>(body.link)];
     try {
@@ -588,6 +588,16 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
                           " particles, more than the budget of " +
                           std::to_string(kMaxParticlesPerObject) +
                           " (docs/scene-format.md#limits): give a larger particleSize");
+    // The connectors too (a bare URDF's model is built from them: the scene
+    // loader's budget of a scene, checked here before anything is placed).
+    connectors += body.built.object.linearSprings.size() + body.built.object.torsionSprings.size() +
+                  body.built.object.jointSprings.size();
+    if (connectors > static_cast<std::size_t>(kMaxConnectorsPerObject))
+      throw UrdfError(file, link.line,
+                      "link '" + link.name + "' brings the robot to " + std::to_string(connectors) +
+                          " connectors, more than the budget of " +
+                          std::to_string(kMaxConnectorsPerObject) +
+                          " (docs/scene-format.md#limits): give fewer links or particles");
     for (const Vec3& p : body.built.object.position) body.world.push_back(body.frame.apply(p));
     const auto& springs = body.built.object.linearSprings;
     if (!springs.empty()) {

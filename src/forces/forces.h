@@ -229,5 +229,27 @@ double bodyServoEffort(const Model& model, const Joint& joint, const std::vector
 double jointMotorPower(const Model& model, const std::vector<RigidMotion>& motion,
                        const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
                        const std::vector<double>& motor);
+/// The kick power of velocity Verlet (docs/model.md §2.4): K = Σ_term F_term·δv for the
+/// kick δv_i = F_i/m_i · halfStep (World::step passes 1: W/s), at fixed positions, where
+/// the rates are linear in the velocities (q̇(v + δv) = q̇(v) + q̇(δv)). `driving`: the
+/// motors' (gravity compensation included); `dissipative`: the losses' and the body
+/// servos' dampers' (−β q̇ at `velocity`). `motion`: every body's rigid motion at
+/// (position, velocity); `motor`, `loss`: accumulateJointDrives'.
+struct PowerKick {
+  double driving = 0.0, dissipative = 0.0;  // W
+};
+PowerKick verletKickPower(const Model& model, const std::vector<RigidMotion>& motion,
+                          const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                          const std::vector<Vec3>& force, double halfStep,
+                          const std::vector<double>& motor, const std::vector<double>& loss,
+                          const std::vector<std::array<Vec3, 2>>& preload);
+/// The same for accumulateRigidBodies' dampers (shape matching, body links) and the
+/// links' weight preloads: their forces at (motion, velocity) times the velocities
+/// `kick` (whose bodies' rigid motion is `kickMotion`).
+PowerKick rigidBodyPowerKick(const Model& model, const std::vector<RigidMotion>& motion,
+                             const std::vector<RigidMotion>& kickMotion,
+                             const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                             const std::vector<Vec3>& kick,
+                             const std::vector<std::array<Vec3, 2>>& preload);
 
 }  // namespace robophi

@@ -228,6 +228,58 @@ double bodyLinkPreloadPower(const Model& model, const std::vector<RigidMotion>& 
   return power;
 }
 
+PowerKick rigidBodyPowerKick(const Model& model, const std::vector<RigidMotion>& motion,
+                             const std::vector<RigidMotion>& kickMotion,
+                             const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                             const std::vector<Vec3>& kick,
+                             const std::vector<std::array<Vec3, 2>>& preload) {
+  // accumulateRigidBodies' dampers, each force (at `velocity`) times the rate the
+  // kick adds: the shape matching's −c m_i slip_i, the links' −c u and −c_a turnRate.
+  PowerKick out;
+  if (model.bodies.empty() || motion.size() != model.bodies.size() ||
+      kickMotion.size() != model.bodies.size())
+    return out;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const RigidGroup& body = model.bodies[b];
+    const RigidMotion& m = motion[b];
+    const RigidMotion& dm = kickMotion[b];
+    if (!m.valid || body.frequency == 0.0) continue;
+    const double c = 2.0 * body.dampingRatio * body.frequency;
+    for (const ParticleIndex i : body.particles) {
+      const Vec3 slip = velocity[i] - m.velocityAt(position[i]);
+      const Vec3 kickSlip = kick[i] - dm.velocityAt(position[i]);
+      out.dissipative -= model.mass[i] * c * dot(slip, kickSlip);
+    }
+  }
+  for (std::size_t k = 0; k < model.bodyLinks.size(); ++k) {
+    const BodyLink& link = model.bodyLinks[k];
+    const auto ci = static_cast<std::size_t>(link.child);
+    const auto pi = static_cast<std::size_t>(link.parent);
+    if (!motion[ci].valid || !motion[pi].valid) continue;
+    const BodyLinkFrame f = bodyLinkFrame(link, motion[ci], motion[pi]);
+    Vec3 u = motion[ci].velocityAt(f.childPoint) - motion[pi].velocityAt(f.childPoint);
+    Vec3 du = kickMotion[ci].velocityAt(f.childPoint) - kickMotion[pi].velocityAt(f.childPoint);
+    if (link.kind == BodyLinkKind::kPrismatic) {
+      u = u - f.parentAxis * dot(f.parentAxis, u);
+      du = du - f.parentAxis * dot(f.parentAxis, du);
+    }
+    const Vec3 spin = motion[ci].spin - motion[pi].spin;
+    const Vec3 kickSpin = kickMotion[ci].spin - kickMotion[pi].spin;
+    Vec3 turnRate = spin - f.parentAxis * dot(f.parentAxis, spin);
+    Vec3 kickTurnRate = kickSpin - f.parentAxis * dot(f.parentAxis, kickSpin);
+    if (link.kind != BodyLinkKind::kRevolute) {
+      turnRate = spin;
+      kickTurnRate = kickSpin;
+    }
+    out.dissipative -=
+        link.damping * dot(u, du) + link.angularDamping * dot(turnRate, kickTurnRate);
+  }
+  // The weight preloads are driving work (MODEL §1.7).
+  if (preload.size() == model.bodyLinks.size() && !preload.empty())
+    out.driving += bodyLinkPreloadPower(model, kickMotion, preload);
+  return out;
+}
+
 ForceTally accumulateRigidBodies(const Model& model, const std::vector<RigidMotion>& motion,
                                  const std::vector<Vec3>& position,
                                  const std::vector<Vec3>& velocity, std::vector<Vec3>& force,

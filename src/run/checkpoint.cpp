@@ -145,6 +145,9 @@ json evaluationToJson(const Evaluation& e) {
             {"external", exactNumber(t.external)}}},
           {"dissipative_power", exactNumber(e.dissipativePower)},
           {"driving_power", exactNumber(e.drivingPower)},
+          {"dissipative_kick", exactNumber(e.dissipativeKick)},
+          {"driving_kick", exactNumber(e.drivingKick)},
+          {"kick_step", exactNumber(e.kickStep)},
           {"joint_motor_effort", exactNumbers(e.jointMotorEffort)},
           {"joint_loss_effort", exactNumbers(e.jointLossEffort)},
           {"released_anchor_energy", exactNumber(e.releasedAnchorEnergy)},
@@ -176,6 +179,12 @@ Evaluation evaluationFromJson(const json& j) {
   e.energy.external = number(t, "external");
   e.dissipativePower = number(j, "dissipative_power");
   e.drivingPower = number(j, "driving_power");
+  // (A checkpoint from before the kick's booking: none.)
+  if (j.contains("kick_step")) {
+    e.dissipativeKick = number(j, "dissipative_kick");
+    e.drivingKick = number(j, "driving_kick");
+    e.kickStep = number(j, "kick_step");
+  }
   if (j.contains("joint_motor_effort")) {
     e.jointMotorEffort = numbersFromJson(j.at("joint_motor_effort"), "joint_motor_effort");
     e.jointLossEffort = numbersFromJson(j.at("joint_loss_effort"), "joint_loss_effort");

@@ -13,6 +13,7 @@
 
 #include "robophi/build/input_files.h"
 #include "robophi/build/model_builder.h"
+#include "robophi/build/objects.h"
 #include "robophi/build/spec_error.h"
 #include "robophi/build/urdf.h"
 #include "robophi/build/urdf_multibody.h"
@@ -476,6 +477,22 @@ SceneLoadResult loadUrdfFile(const std::string& path, const UrdfSceneOptions& op
   } catch (const build::SpecError& e) {
     return fail(path, e.what());
   }
+  // The scene's size budget (docs/scene-format.md#limits), as the scene loader holds a
+  // {"type": "urdf"} object to it: refused before anything is built.
+  std::size_t particles = 0, connectors = robot.linearSprings.size() + robot.torsionSprings.size() +
+                                          robot.jointSprings.size();
+  for (const build::ObjectPlacement& object : robot.objects) {
+    particles += object.geometry.size();
+    connectors += object.geometry.linearSprings.size() + object.geometry.torsionSprings.size() +
+                  object.geometry.jointSprings.size();
+  }
+  if (particles > static_cast<std::size_t>(build::kMaxParticlesPerObject) ||
+      connectors > static_cast<std::size_t>(build::kMaxConnectorsPerObject))
+    return fail(path, fmt::format("the robot makes {} particles and {} connectors, more than the "
+                                  "budget of a scene, {} particles and {} connectors "
+                                  "(docs/scene-format.md#limits)",
+                                  particles, connectors, build::kMaxParticlesPerObject,
+                                  build::kMaxConnectorsPerObject));
   // On the ground: the lowest particle's bottom at z = 0 (carriers touch nothing).
   double lowest = std::numeric_limits<double>::infinity();
   for (const build::ObjectPlacement& object : robot.objects)

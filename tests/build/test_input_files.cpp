@@ -167,5 +167,23 @@ TEST_F(InputFiles, AColladaIndexListThatIsNotNumbersIsRefusedBeforeAssimpReadsIt
                                   "is not a digit (byte 120)");
 }
 
+// A fuzz finding: assimp's reason for a COLLADA file it cannot read quotes the file's
+// bytes ("Unexpected sub element <in\x90\x93t>"), so the message was not valid UTF-8
+// (the command line printed it, exit 2; dumped as JSON, as the fuzz target checks every
+// message, nlohmann threw). Bytes past ASCII are now written \xNN.
+TEST_F(InputFiles, AMeshReadersReasonIsKeptValidUtf8) {
+  const fs::path dae = dir_ / "bytes.dae";
+  testing::writeText(dae,
+                     "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/"
+                     "COLLADASchema\" version=\"1.4.1\">\n<library_geometries><geometry "
+                     "id=\"t\"><mesh>\n<vertices id=\"v\"><in\x90\x93t semantic=\"POSITION\" "
+                     "source=\"#p\"/></vertices>\n</mesh></geometry></library_geometries>\n"
+                     "</COLLADA>\n");
+  const std::string message = meshMessage(dae);
+  EXPECT_NE(message.find("cannot be read ("), std::string::npos) << message;
+  EXPECT_NE(message.find("<in\\x90\\x93t>"), std::string::npos) << message;
+  for (const char c : message) EXPECT_LT(static_cast<unsigned char>(c), 0x80) << message;
+}
+
 }  // namespace
 }  // namespace robophi::build

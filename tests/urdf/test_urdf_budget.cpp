@@ -99,5 +99,15 @@ TEST_F(UrdfBudget, LinksTimesParticlesPerLinkPastTheParticleBudgetAreRefused) {
       << text;
 }
 
+// Within the link and particle budgets but past the connectors' (a scene's, which the
+// scene loader holds a {"type": "urdf"} object to): a bare URDF (robophi run ROBOT.urdf
+// --particles) is refused as its links are filled, naming the file and the link,
+// before a model is built (it was built: 2 000 links of 100 particles, 1.4 million LS).
+TEST_F(UrdfBudget, LinksPastTheConnectorBudgetAreRefusedBeforeTheModelIsBuilt) {
+  const std::string text = refusal(2000, "revolute", 100);
+  EXPECT_NE(text.find("chain.urdf:"), std::string::npos) << text;
+  EXPECT_NE(text.find("connectors, more than the budget of 1000000"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace robophi
