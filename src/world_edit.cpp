@@ -56,30 +56,6 @@ void requireMaterial(const char* function, const Material& m) {
   requireNonNegative(function, "material.kineticFriction", m.kineticFriction);
 }
 
-// x = A⁻¹ b for a symmetric positive definite n × n A (row-major; Cholesky, A
-// overwritten by its factor, b by x).
-void solveSymmetric(std::vector<double>& A, std::vector<double>& b) {
-  const std::size_t n = b.size();
-  for (std::size_t j = 0; j < n; ++j) {
-    double d = A[j * n + j];
-    for (std::size_t k = 0; k < j; ++k) d -= A[j * n + k] * A[j * n + k];
-    const double l = std::sqrt(std::max(d, 1e-300));
-    A[j * n + j] = l;
-    for (std::size_t i = j + 1; i < n; ++i) {
-      double sum = A[i * n + j];
-      for (std::size_t k = 0; k < j; ++k) sum -= A[i * n + k] * A[j * n + k];
-      A[i * n + j] = sum / l;
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < i; ++k) b[i] -= A[i * n + k] * b[k];
-    b[i] /= A[i * n + i];
-  }
-  for (std::size_t i = n; i-- > 0;) {
-    for (std::size_t k = i + 1; k < n; ++k) b[i] -= A[k * n + i] * b[k];
-    b[i] /= A[i * n + i];
-  }
-}
 
 }  // namespace
 
@@ -141,15 +117,11 @@ void World::applyImpulse(ParticleIndex particle, const Vec3& impulse) {
   MultibodyKinematics kinematics;
   updateKinematics(multibody, state.treePositions[t].data(), kinematics);
   const Vec3 p_WP = kinematics.X_WB[static_cast<std::size_t>(carrier->body)] * carrier->p_BP;
-  std::vector<double> J(3 * n), M(n * n), dv(n, 0.0);
+  std::vector<double> J(3 * n), dv(n, 0.0);
   pointJacobian(multibody, kinematics, carrier->body, p_WP, J.data(), nullptr);
-  massMatrix(multibody, kinematics, M.data());
-  for (const MultibodyBody& body : multibody.bodies)
-    if (velocityCountOf(body.joint) == 1)
-      M[static_cast<std::size_t>(body.vStart) * (n + 1)] += body.armature;
   for (std::size_t k = 0; k < n; ++k)
     dv[k] = J[k] * impulse.x + J[n + k] * impulse.y + J[2 * n + k] * impulse.z;
-  solveSymmetric(M, dv);
+  solveMassMatrix(multibody, kinematics, dv.data());
   edited();
   std::vector<double>& v = state.treeVelocities[t];
   for (std::size_t k = 0; k < n; ++k) v[k] += dv[k];

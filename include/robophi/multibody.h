@@ -198,6 +198,10 @@ void forwardDynamics(const Multibody& multibody, const MultibodyKinematics& kine
 /// The joint-space mass matrix M(q) (velocityCount², row-major; composite rigid bodies).
 void massMatrix(const Multibody& multibody, const MultibodyKinematics& kinematics, double* M);
 
+/// x ← (M(q) + A)⁻¹ x (velocityCount), A the joints' armature on the diagonal: the
+/// rates an impulse Jᵀ p gives, or forwardDynamics' solve (the tree's sparse factor).
+void solveMassMatrix(const Multibody& multibody, const MultibodyKinematics& kinematics, double* x);
+
 /// ½ vᵀ M v (J), from the bodies' velocities (after updateVelocities).
 double kineticEnergy(const MultibodyKinematics& kinematics);
 /// −Σ m g·c (J): the bodies' gravitational energy.

@@ -347,19 +347,24 @@ void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin,
   if (jointWrench) std::copy(force.begin(), force.end(), jointWrench);
 }
 
-void forwardDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* tau,
-                     const Vec3& gravity, const SpatialVector* externalWrench, double* a) {
+void solveMassMatrix(const Multibody& multibody, const MultibodyKinematics& kin, double* x) {
   const int nv = multibody.velocityCount;
   const auto n = static_cast<std::size_t>(nv);
   std::vector<double> M(n * n);
   massMatrix(multibody, kin, M.data());
   for (const MultibodyBody& body : multibody.bodies)
     if (velocityCountOf(body.joint) == 1) M[body.vStart * n + body.vStart] += body.armature;
-  // a = M⁻¹ (τ − c), c the bias with the external wrenches (inverse dynamics at a = 0).
+  factorTree(M.data(), nv, multibody.dofParent);
+  solveTree(M.data(), nv, multibody.dofParent, x);
+}
+
+void forwardDynamics(const Multibody& multibody, const MultibodyKinematics& kin, const double* tau,
+                     const Vec3& gravity, const SpatialVector* externalWrench, double* a) {
+  const auto n = static_cast<std::size_t>(multibody.velocityCount);
+  // a = (M + A)⁻¹ (τ − c), c the bias with the external wrenches (inverse dynamics at a = 0).
   inverseDynamics(multibody, kin, nullptr, gravity, externalWrench, a);
   for (std::size_t i = 0; i < n; ++i) a[i] = tau[i] - a[i];
-  factorTree(M.data(), nv, multibody.dofParent);
-  solveTree(M.data(), nv, multibody.dofParent, a);
+  solveMassMatrix(multibody, kin, a);
 }
 
 void massMatrix(const Multibody& multibody, const MultibodyKinematics& kin, double* M) {
