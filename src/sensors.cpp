@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "collision/rim_contact.h"
 #include "integrate/rigid_trees.h"
 #include "robophi/kinematics.h"
 
@@ -59,8 +60,9 @@ Vec3 vertexPosition(const Model& model, const State& state, std::int32_t vertex)
   return x;
 }
 
-// Where a contact touches: a vertex, a point of a triangle, or midway through the
-// overlap of a's sphere with the other side.
+// Where a contact acts (docs/contact.md "Where a contact acts"): a vertex, a point
+// of a triangle, a round body's surface point, a's own surface against the
+// environment, or midway through the overlap of two particles' spheres.
 Vec3 contactPoint(const Model& model, const State& state, const Contact& c) {
   if (c.vertex >= 0) return vertexPosition(model, state, c.vertex);
   if (c.facet >= 0) {
@@ -69,7 +71,10 @@ Vec3 contactPoint(const Model& model, const State& state, const Contact& c) {
            vertexPosition(model, state, t.vertex[1]) * c.facetWeights.y +
            vertexPosition(model, state, t.vertex[2]) * c.facetWeights.z;
   }
+  if (c.rim >= 0)
+    return rimCenter(model, model.rims[static_cast<std::size_t>(c.rim)], state.position) + c.arm;
   const auto a = static_cast<std::size_t>(c.a);
+  if (c.other < 0) return state.position[a] - c.normal * model.radius[a];
   return state.position[a] - c.normal * (model.radius[a] + 0.5 * c.depth);
 }
 

@@ -1187,13 +1187,13 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       if (round.isSphere()) {
         smallerRadius = round.sphereRadius;
       } else {
-        squeezeRate = (dot(c.normal, c.arm) + model.radius[a] + c.depth) / ring.radius;
+        squeezeRate = (dot(c.normal, c.arm) + model.radius[a]) / ring.radius;
       }
       ++stats.environmentContacts;
     } else {
       t.relative = p[a];
       relativeVelocity = v[a];
-      t.armA = c.normal * -(model.radius[a] + c.depth);  // the point on the surface
+      t.armA = c.normal * -model.radius[a];  // the point on a's own surface
       t.armB = Vec3{};
       ++stats.environmentContacts;
     }

@@ -87,8 +87,8 @@ __attribute__((target("avx2"))) void runLanes(PairLaneBatch& b, std::size_t coun
     const V3 n = select3(environment, load3(b.foundx + l, b.foundy + l, b.foundz + l), pairNormal);
     const D ra = load(b.ra + l), rb = load(b.rb + l);
     const D depth = select(environment, load(b.foundDepth + l), sub(distance, add(ra, rb)));
-    const V3 armA = scale3(
-        n, select(environment, negate(add(ra, depth)), negate(add(ra, mul(half, depth)))));
+    const V3 armA =
+        scale3(n, select(environment, negate(ra), negate(add(ra, mul(half, depth)))));
     const V3 armB = select3(environment, none, scale3(n, add(rb, mul(half, depth))));
     const D armLengthA = _mm256_sqrt_pd(dot3(armA, armA));
     const D armLengthB = _mm256_sqrt_pd(dot3(armB, armB));

@@ -6,7 +6,7 @@
 // Cylinder wheels (an imported robot's): the two edge circles of the cylinder
 // about the axis its hub and axis particles give, each as a ring of tube 0.
 // Round balls: the sphere of the ball's radius R about its particles' mass
-// centre, d = distance(item, centre) - R, the contact point -n (R + d) from it.
+// centre, d = distance(item, centre) - R, the contact point -n R from it.
 // On a heightfield the distance is to the tangent plane at the contact point
 // (a fixed point from the tangent plane below the centre), as a ring's.
 #include "collision/rim_contact.h"
@@ -18,6 +18,16 @@
 
 namespace robophi {
 
+Vec3 rimCenter(const Model& model, const RimRing& rim, const std::vector<Vec3>& position) {
+  Vec3 center;
+  double mass = 0.0;
+  for (std::int32_t k = rim.first; k < rim.first + rim.count; ++k) {
+    center += position[static_cast<std::size_t>(k)] * model.mass[k];
+    mass += model.mass[k];
+  }
+  return center / mass;
+}
+
 namespace {
 
 struct Ring {
@@ -25,20 +35,9 @@ struct Ring {
   double radius = 0.0;
 };
 
-// The mass centre of the round body's particles (contact_force.cpp RingMotion).
-Vec3 massCenter(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
-  Vec3 center;
-  double mass = 0.0;
-  for (std::int32_t k = 0; k < rim.count; ++k) {
-    center += p[rim.first + k] * model.mass[rim.first + k];
-    mass += model.mass[rim.first + k];
-  }
-  return center / mass;
-}
-
 Ring ringAt(const Model& model, const RimRing& rim, const std::vector<Vec3>& p) {
   Ring ring;
-  ring.center = massCenter(model, rim, p);
+  ring.center = rimCenter(model, rim, p);
   Vec3 normal;
   double radius = 0.0;
   for (std::int32_t k = 0; k < rim.count; ++k) {
@@ -162,7 +161,7 @@ void cylinderVersusEnvironment(const Model& model, const std::vector<Vec3>& posi
   const Vec3 first = position[wheel.first] - middle;
   const Vec3 inPlane = first - ring.axis * dot(first, ring.axis);
   ring.start = norm(inPlane) > 0.0 ? inPlane / norm(inPlane) : Vec3{1.0, 0.0, 0.0};
-  const Vec3 center = massCenter(model, wheel, position);  // the contact stage's centre
+  const Vec3 center = rimCenter(model, wheel, position);  // the contact stage's centre
   const double reach = std::hypot(wheel.sphereRadius, wheel.halfLength);
   for (std::int32_t e = 0; e < environment.itemCount(); ++e) {
     if (environmentFarFrom(environment, e, middle, reach, cache.tables->environmentTops[e]))
@@ -179,7 +178,7 @@ void cylinderVersusEnvironment(const Model& model, const std::vector<Vec3>& posi
       c.depth = depth;
       c.normal = normal;
       c.rim = r;
-      c.arm = point - normal * depth - center;  // the contact point on the item's surface
+      c.arm = point - center;  // the contact point on the wheel's own edge
       cache.treeContacts.push_back(c);
     }
   }
@@ -191,7 +190,7 @@ void ballVersusEnvironment(const Model& model, const std::vector<Vec3>& position
   const Environment& environment = model.environment;
   const RimRing& ball = model.rims[static_cast<std::size_t>(r)];
   const double radius = ball.sphereRadius;
-  const Vec3 center = massCenter(model, ball, position);
+  const Vec3 center = rimCenter(model, ball, position);
   for (std::int32_t e = 0; e < environment.itemCount(); ++e) {
     if (environmentFarFrom(environment, e, center, radius, cache.tables->environmentTops[e])) {
       continue;
@@ -227,7 +226,7 @@ void ballVersusEnvironment(const Model& model, const std::vector<Vec3>& position
     c.depth = depth;
     c.normal = normal;
     c.rim = r;
-    c.arm = normal * -(radius + depth);
+    c.arm = normal * -radius;  // on the ball's own surface
     cache.treeContacts.push_back(c);
   }
 }
@@ -274,7 +273,7 @@ void rimsVersusEnvironment(const Model& model, const std::vector<Vec3>& position
       c.depth = depth;
       c.normal = normal;
       c.rim = static_cast<std::int32_t>(r);
-      c.arm = point - normal * (tube + depth) - ring.center;
+      c.arm = point - normal * tube - ring.center;  // on the torus's own surface
       cache.treeContacts.push_back(c);
     }
   }

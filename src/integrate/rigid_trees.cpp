@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collision/rim_contact.h"
 #include "forces/forces.h"
 #include "model/multibody_contacts.h"
 #include "robophi/stability.h"
@@ -124,15 +125,9 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
       load.normal = c.normal;  // from the other side to a
       if (c.rim >= 0) {
         // A round wheel's contact: c.arm from its particles' mass centre to the
-        // contact point (rim_contact.cpp), on the ground's surface.
-        const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
-        Vec3 center;
-        double mass = 0.0;
-        for (std::int32_t k = rim.first; k < rim.first + rim.count; ++k) {
-          center += state.position[static_cast<std::size_t>(k)] * model.mass[k];
-          mass += model.mass[k];
-        }
-        load.point = center / mass + c.arm;
+        // contact point on its own surface (rim_contact.cpp).
+        load.point =
+            rimCenter(model, model.rims[static_cast<std::size_t>(c.rim)], state.position) + c.arm;
       } else {
         load.point = state.position[i] + c.normal * (side == c.a ? -model.radius[i] : model.radius[i]);
       }

@@ -58,6 +58,29 @@ double measuredAcceleration(World& world) {
   return test::comVelocity(world).x - v1;
 }
 
+// The centre's travel per turn of the body: the angle the line from its centre
+// to particle `far` has turned about +y (forward as it rolls towards +x), over
+// two turns.
+template <typename Centre>
+double travelPerTurn(World& world, ParticleIndex far, Centre centre) {
+  const auto angle = [&] {
+    const Vec3 r = world.state().position[far] - centre();
+    return std::atan2(r.x, r.z);
+  };
+  double turned = 0.0, previous = angle();
+  const double start = centre().x;
+  while (turned < 4.0 * M_PI) {
+    test::advance(world, 1e-3, kStep);
+    double now = angle(), change = now - previous;
+    if (change > M_PI) change -= 2.0 * M_PI;
+    if (change < -M_PI) change += 2.0 * M_PI;
+    turned += change;
+    previous = now;
+    if (world.state().time > 10.0) return 0.0;  // (it stopped turning)
+  }
+  return (centre().x - start) / (turned / (2.0 * M_PI));
+}
+
 std::string wheel(int rim, const char* extra = "") {
   char text[512];
   std::snprintf(text, sizeof text,
@@ -86,22 +109,8 @@ TEST(TrueRolling, WheelCoversItsCircumferencePerTurn) {
   for (const int rim : {12, 32}) {
     World world = test::sceneWorld(rollingScene(wheel(rim), kSlope));
     const ParticleIndex hub = 2 * rim, spoke = 0;
-    const auto angle = [&] {
-      const Vec3 r = world.state().position[spoke] - world.state().position[hub];
-      return std::atan2(r.x, r.z);  // about +y, turning forward as it rolls towards +x
-    };
-    double turned = 0.0, previous = angle();
-    const double start = world.state().position[hub].x;
-    while (turned < 4.0 * M_PI) {
-      test::advance(world, 1e-3, kStep);
-      double now = angle(), change = now - previous;
-      if (change > M_PI) change -= 2.0 * M_PI;
-      if (change < -M_PI) change += 2.0 * M_PI;
-      turned += change;
-      previous = now;
-      ASSERT_LT(world.state().time, 10.0);
-    }
-    const double perTurn = (world.state().position[hub].x - start) / (turned / (2.0 * M_PI));
+    const double perTurn =
+        travelPerTurn(world, spoke, [&] { return world.state().position[hub]; });
     std::printf("wheel of %d: %.5f m per turn, 2 pi R = %.5f (%+.3f%%)\n", rim, perTurn,
                 2.0 * M_PI * 0.1, 100.0 * (perTurn / (2.0 * M_PI * 0.1) - 1.0));
     EXPECT_NEAR(perTurn / (2.0 * M_PI * 0.1), 1.0, 0.01) << rim;
@@ -179,29 +188,13 @@ TEST(TrueRolling, GeneratedBallRollsDownTheSlopeAtTheClosedForm) {
   }
 }
 
-// The centre's travel against the angle a particle far from it has turned (it
-// rolls on its centre's height R + d, d = -m g cos α / κ_c = -0.19% of R).
+// The centre's travel against the angle a particle far from it has turned.
 TEST(TrueRolling, GeneratedBallCoversItsCircumferencePerTurn) {
   for (const int cells : {5, 7}) {
     World world = test::sceneWorld(ballScene(latticeBall(cells), kSlope));
     const ParticleIndex far = 0;  // the lattice's first point, off the centre
-    const auto angle = [&] {
-      const Vec3 r = world.state().position[far] - test::centerOfMass(world);
-      return std::atan2(r.x, r.z);  // about +y, turning forward as it rolls towards +x
-    };
-    double turned = 0.0, previous = angle();
-    const double start = test::centerOfMass(world).x;
-    while (turned < 4.0 * M_PI) {
-      test::advance(world, 1e-3, kStep);
-      double now = angle(), change = now - previous;
-      if (change > M_PI) change -= 2.0 * M_PI;
-      if (change < -M_PI) change += 2.0 * M_PI;
-      turned += change;
-      previous = now;
-      ASSERT_LT(world.state().time, 10.0);
-    }
     const double circumference = 2.0 * M_PI * kBallRadius;
-    const double perTurn = (test::centerOfMass(world).x - start) / (turned / (2.0 * M_PI));
+    const double perTurn = travelPerTurn(world, far, [&] { return test::centerOfMass(world); });
     std::printf("ball of %d cells: %.5f m per turn, 2 pi R = %.5f (%+.3f%%)\n", cells, perTurn,
                 circumference, 100.0 * (perTurn / circumference - 1.0));
     EXPECT_NEAR(perTurn / circumference, 1.0, 0.01) << cells;
@@ -372,6 +365,39 @@ TEST(TrueRolling, GeneratedBallRollsDownABoxRamp) {
   std::printf("ball of 5 cells down a box ramp: a = %.5f m/s^2, expected %.5f (%+.2f%%)\n", a,
               expected, 100.0 * (a / expected - 1.0));
   EXPECT_NEAR(a / expected, 1.0, 0.02);
+}
+
+// Where a contact acts (docs/contact.md): against the ground, on the body's own
+// surface, so a round body rolls at v = ωR whatever its overlap d = -m g / κ_c.
+// At κ_c 2e4 N/m the 1 kg ball sinks 0.5 mm, 1 % of R: with the contact point on
+// the ground's surface it covered 2π(R + d) per turn, 1 % short.
+TEST(TrueRolling, ARoundBodyRollsOnItsOwnRadius) {
+  for (const double stiffness : {2e4, 2e6}) {
+    const auto scene = [&](const std::string& object) {
+      std::string text = rollingScene(object, 0.0);
+      const std::string from = R"("contactStiffness": 2e5)";
+      text.replace(text.find(from), from.size(),
+                   "\"contactStiffness\": " + std::to_string(stiffness));
+      return text;
+    };
+    World ball = test::sceneWorld(scene(latticeBall(
+        5, kBallRadius, R"(, "velocity": [1, 0, 0], "angularVelocity": [0, 20, 0])")));
+    const double ballTurn =
+        travelPerTurn(ball, 0, [&] { return test::centerOfMass(ball); }) / (2.0 * M_PI * kBallRadius);
+    World ring = test::sceneWorld(
+        scene(wheel(12, R"(, "velocity": [1, 0, 0], "angularVelocity": [0, 10, 0])")));
+    const ParticleIndex hub = 24;
+    const double ringTurn =
+        travelPerTurn(ring, 0, [&] { return ring.state().position[hub]; }) / (2.0 * M_PI * 0.1);
+    double deepest = 0.0;
+    for (const Contact& c : ring.contacts()) deepest = std::min(deepest, c.depth);
+    std::printf(
+        "kappa_c %.0e N/m: ball of 5 cells %.6f x 2 pi R per turn, wheel of 12 %.6f (its "
+        "overlap %.3g m, %.3f %% of R)\n",
+        stiffness, ballTurn, ringTurn, -deepest, -100.0 * deepest / 0.1);
+    EXPECT_NEAR(ballTurn, 1.0, 2e-4) << stiffness;
+    EXPECT_NEAR(ringTurn, 1.0, 2e-4) << stiffness;
+  }
 }
 
 }  // namespace
