@@ -1,6 +1,7 @@
 #pragma once
 // Small file helpers shared by the tests.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -67,6 +68,18 @@ inline std::string boxStl(double a, double b, double c) {
     text += "endloop\nendfacet\n";
   }
   return text + "endsolid box\n";
+}
+
+/// An OBJ of one planar polygon of `corners` corners (a circle): past
+/// kMaxMeshFaceIndices, the shape of a fuzz finding that hung the triangulator.
+inline std::string polygonObj(int corners) {
+  std::string text;
+  for (int k = 0; k < corners; ++k)
+    text += "v " + std::to_string(std::cos(6.283185307 * k / corners)) + " " +
+            std::to_string(std::sin(6.283185307 * k / corners)) + " 0\n";
+  text += "f";
+  for (int k = 1; k <= corners; ++k) text += " " + std::to_string(k);
+  return text + "\n";
 }
 
 }  // namespace robophi::testing

@@ -90,7 +90,7 @@ def main() -> int:
     # The loaders of the robots' meshes (docs/viewer.md "Robots as they look"); a
     # loader's relative import of another loader goes through the import map too.
     loaders = {}
-    for name in ("STLLoader", "OBJLoader", "ColladaLoader", "TGALoader"):
+    for name in ("STLLoader", "OBJLoader", "MTLLoader", "ColladaLoader", "TGALoader"):
         source = (three / f"examples/jsm/loaders/{name}.js").read_text(encoding="utf-8")
         for other in ("TGALoader",):
             for quote in ('"', "'"):

@@ -756,7 +756,8 @@ function carrierMotions() {
 async function buildRobots(THREE) {
   const group = new THREE.Group();
   group.name = 'robots';
-  const counts = { visuals: robotVisuals.length, drawn: 0, meshes: 0, shapes: 0, missing: 0 };
+  // (meshTriangles: each parsed mesh file's triangles, by its index in meshFiles.)
+  const counts = { visuals: robotVisuals.length, drawn: 0, meshes: 0, shapes: 0, missing: 0, meshTriangles: {} };
   const holders = [];
   if (robotVisuals.length === 0) return { group, holders, counts, motions: [] };
   const motions = carrierMotions();
@@ -782,7 +783,16 @@ async function buildRobots(THREE) {
             metalness: 0.1 }));
         } else if (file.format === 'obj') {
           const { OBJLoader } = await import('three/addons/loaders/OBJLoader.js');
-          object = new OBJLoader().parse(text());
+          const loader = new OBJLoader();
+          if (file.mtl) {
+            // Its materials' colours (its .mtl as robophi read it; or a mesh robophi
+            // wrote back, decimated or a DAE converted: those of its file).
+            const { MTLLoader } = await import('three/addons/loaders/MTLLoader.js');
+            const materials = new MTLLoader().parse(file.mtl, '');
+            materials.preload();
+            loader.setMaterials(materials);
+          }
+          object = loader.parse(text());
         } else if (file.format === 'dae') {
           const { ColladaLoader } = await import('three/addons/loaders/ColladaLoader.js');
           const collada = new ColladaLoader().parse(text(), '');
@@ -799,6 +809,13 @@ async function buildRobots(THREE) {
       }
     } else if (file && file.note) {
       console.warn(`robophi replay: mesh ${file.note}`);
+    }
+    if (object) {
+      let triangles = 0;
+      object.traverse((o) => {
+        if (o.isMesh) triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+      });
+      counts.meshTriangles[index] = triangles;
     }
     parsed.set(index, object);
     return object;
@@ -1645,7 +1662,8 @@ window.robophiReplay = {
   setView: (target, distance, elevation) => {
     if (scene3d) { scene3d.setView(target, distance, elevation); scene3d.render(); }
   },
-  /** The robots' visuals: {visuals, drawn, meshes, shapes, missing} (docs/viewer.md). */
+  /** The robots' visuals: {visuals, drawn, meshes, shapes, missing, meshTriangles: {meshFile index:
+   * triangles parsed}} (docs/viewer.md). */
   robotCounts: () => (scene3d ? { ...scene3d.robotCounts } : {}),
   /** The objects' shapes drawn: {rims, surfaceTriangles}. */
   shapeCounts: () => (scene3d ? { ...scene3d.shapeCounts } : {}),

@@ -1,4 +1,5 @@
-// Mesh files → TriangleMesh through assimp (private to the build layer).
+// Mesh files → TriangleMesh (loadMesh) and ShadedMesh (loadShadedMesh, for the
+// replay page) through assimp, both by one checked road (readCheckedScene).
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/MemoryIOWrapper.h>
@@ -10,6 +11,7 @@
 #include <array>
 #include <assimp/Importer.hpp>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -20,6 +22,7 @@
 #include "build/checks.h"
 #include "robophi/build/input_files.h"
 #include "robophi/build/rigid_body.h"
+#include "robophi/build/shaded_mesh.h"
 
 namespace robophi::build {
 
@@ -31,18 +34,27 @@ namespace {
 
 // Appends the meshes of the node tree (vertices through each node's accumulated
 // transform), walked with a stack of its own (a deep tree is no deep recursion).
-void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out) {
+// With `shaded`, also each vertex's normal (turned by the inverse transpose) and
+// each triangle's material.
+void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out, ShadedMesh* shaded) {
   std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, aiMatrix4x4{}}};
   while (!stack.empty()) {
     const auto [node, parent] = stack.back();
     stack.pop_back();
     const aiMatrix4x4 transform = parent * node->mTransformation;
+    aiMatrix3x3 normalTurn(transform);
+    normalTurn.Inverse().Transpose();
     for (unsigned m = 0; m < node->mNumMeshes; ++m) {
       const aiMesh& mesh = *scene.mMeshes[node->mMeshes[m]];
       const auto base = static_cast<std::int32_t>(out.vertices.size());
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
         const aiVector3D p = transform * mesh.mVertices[v];
         out.vertices.push_back({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+        if (shaded == nullptr) continue;
+        aiVector3D n = mesh.HasNormals() ? normalTurn * mesh.mNormals[v] : aiVector3D(0, 0, 0);
+        const ai_real length = n.Length();
+        n = length > 0 && std::isfinite(length) ? n / length : aiVector3D(0, 0, 0);
+        shaded->normals.push_back({n.x, n.y, n.z});
       }
       for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
         const aiFace& face = mesh.mFaces[f];
@@ -50,6 +62,8 @@ void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out) {
         out.triangles.push_back({base + static_cast<std::int32_t>(face.mIndices[0]),
                                  base + static_cast<std::int32_t>(face.mIndices[1]),
                                  base + static_cast<std::int32_t>(face.mIndices[2])});
+        if (shaded != nullptr)
+          shaded->materialOf.push_back(std::min(mesh.mMaterialIndex, scene.mNumMaterials));
       }
     }
     for (unsigned c = node->mNumChildren; c-- > 0;)
@@ -171,14 +185,11 @@ std::string colladaIndexProblem(const std::string& path, const std::string& text
   return {};
 }
 
-}  // namespace
-
-TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
-  check::finite("loadMesh", "scale", scale, "");
-  if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0)
-    meshError(path, "the scale (" + std::to_string(scale.x) + ", " + std::to_string(scale.y) +
-                        ", " + std::to_string(scale.z) +
-                        ") has a zero factor: the mesh would have no volume");
+// The mesh file `path` read into `importer` through readInputFile (`fileBytes`,
+// when given, gets the file as read) and checked against the budgets before and
+// after the triangulation: the scene, or a throw of meshError.
+const aiScene& readCheckedScene(const std::string& path, Assimp::Importer& importer,
+                                std::string* fileBytes) {
   std::string bytes;
   try {
     bytes = readInputFile(path);  // a regular file within the budget, recorded
@@ -187,7 +198,7 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   }
   if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
     meshError(path, problem);
-  Assimp::Importer importer;
+  if (fileBytes != nullptr) *fileBytes = bytes;
   auto* files = new InputFileSystem(path, std::move(bytes));  // the importer owns it
   importer.SetIOHandler(files);
   // ROS meshes are Z-up whatever a COLLADA file's <up_axis> says (as rviz reads them).
@@ -227,8 +238,11 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
     meshError(path, "cannot be triangulated (" + std::string(importer.GetErrorString()) + ")");
   if (const std::string problem = meshBudgetProblem(*scene, true); !problem.empty())
     meshError(path, problem + " (docs/scene-format.md#limits)");
-  TriangleMesh mesh;
-  if (scene->mRootNode != nullptr) collect(*scene, scale, mesh);
+  return *scene;
+}
+
+// A mesh as collected: some triangles, finite vertices, some area. Throws meshError.
+void checkGeometry(const std::string& path, const TriangleMesh& mesh) {
   if (mesh.triangles.empty()) meshError(path, "has no triangles");
   for (const Vec3& v : mesh.vertices) {
     if (!isFinite(v)) meshError(path, "has a vertex that is not a finite number");
@@ -242,11 +256,54 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   if (std::none_of(mesh.triangles.begin(), mesh.triangles.end(),
                    [&](const auto& t) { return area(t) > 0.0; }))
     meshError(path, "has no triangle of non-zero area: no geometry to fill");
+}
+
+}  // namespace
+
+TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
+  check::finite("loadMesh", "scale", scale, "");
+  if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0)
+    meshError(path, "the scale (" + std::to_string(scale.x) + ", " + std::to_string(scale.y) +
+                        ", " + std::to_string(scale.z) +
+                        ") has a zero factor: the mesh would have no volume");
+  Assimp::Importer importer;
+  const aiScene& scene = readCheckedScene(path, importer, nullptr);
+  TriangleMesh mesh;
+  if (scene.mRootNode != nullptr) collect(scene, scale, mesh, nullptr);
+  checkGeometry(path, mesh);
   // A mirroring scale (an odd number of negative factors) turns the winding inside out.
   if (scale.x * scale.y * scale.z < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   }
   return mesh;
+}
+
+ShadedMesh loadShadedMesh(const std::string& path) {
+  ShadedMesh out;
+  Assimp::Importer importer;
+  const aiScene& scene = readCheckedScene(path, importer, &out.bytes);
+  if (scene.mRootNode != nullptr) collect(scene, {1, 1, 1}, out.mesh, &out);
+  checkGeometry(path, out.mesh);
+  for (unsigned k = 0; k < scene.mNumMaterials; ++k) {
+    const aiMaterial& material = *scene.mMaterials[k];
+    MeshMaterial m;
+    m.name = material.GetName().C_Str();
+    aiColor4D diffuse;
+    if (material.Get(AI_MATKEY_COLOR_DIFFUSE, diffuse) == AI_SUCCESS) {
+      m.hasColor = true;
+      m.rgba = {diffuse.r, diffuse.g, diffuse.b, diffuse.a};
+      ai_real opacity = 1;
+      if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) m.rgba[3] = opacity;
+      for (double& c : m.rgba) c = std::isfinite(c) ? std::clamp(c, 0.0, 1.0) : 1.0;
+    }
+    out.materials.push_back(std::move(m));
+  }
+  // (A mesh naming no material of the file: one of the reader's own.)
+  if (out.materials.empty() ||
+      std::find(out.materialOf.begin(), out.materialOf.end(), scene.mNumMaterials) !=
+          out.materialOf.end())
+    out.materials.push_back({"default", {0.7, 0.7, 0.7, 1.0}, false});
+  return out;
 }
 
 }  // namespace robophi::build

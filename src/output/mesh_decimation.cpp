@@ -1,38 +1,56 @@
 // Decimation of the robots' visual meshes: see output/mesh_decimation.h.
 #include "output/mesh_decimation.h"
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
 #include <algorithm>
-#include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <map>
-#include <set>
+#include <unordered_map>
+#include <unordered_set>
 
 #include <fmt/format.h>
+
+#include "robophi/build/shaded_mesh.h"
 
 namespace robophi::output {
 
 namespace {
 
-using Cell = std::array<std::int64_t, 3>;
+using Cell = std::array<std::int64_t, 4>;  // a vertex's group, then its grid cell
 using Triangle = std::array<std::int32_t, 3>;
 
-// The vertices clustered on a grid of side `cell` from `origin`, and the triangles
-// left with three distinct clusters (a set of corners kept once, the first).
-ClusteredMesh clusterOnGrid(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles,
-                            const Vec3& origin, double cell) {
+// A hash of a few integers (a group's grid cell, a triangle's sorted corners):
+// lookups only; what is kept and its order follow the input's, never the table's.
+struct IntsHash {
+  template <typename T, std::size_t N>
+  std::size_t operator()(const std::array<T, N>& a) const {
+    std::uint64_t h = 0x9E3779B97F4A7C15ULL;
+    for (const T value : a) {
+      h ^= static_cast<std::uint64_t>(value) + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
+      h *= 0xC2B2AE3D27D4EB4FULL;
+    }
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+// The vertices clustered on a grid of side `cell` from `origin`, each group's
+// (`groupOf`, per vertex; empty: one group) apart, and the triangles left with
+// three distinct clusters (a set of corners kept once, the first).
+ClusteredMesh clusterOnGrid(const std::vector<Vec3>& vertices, const std::vector<std::uint32_t>& groupOf,
+                            const std::vector<Triangle>& triangles, const Vec3& origin, double cell) {
   ClusteredMesh out;
   out.cell = cell;
   out.clusterOf.resize(vertices.size());
-  std::map<Cell, std::int32_t> clusterOfCell;
+  std::unordered_map<Cell, std::int32_t, IntsHash> clusterOfCell;
+  clusterOfCell.reserve(vertices.size());
   std::vector<Vec3> sum;
   std::vector<double> count;
   for (std::size_t v = 0; v < vertices.size(); ++v) {
     const Vec3 d = (vertices[v] - origin) / cell;
-    const Cell key{static_cast<std::int64_t>(std::floor(d.x)), static_cast<std::int64_t>(std::floor(d.y)),
+    const Cell key{groupOf.empty() ? 0 : static_cast<std::int64_t>(groupOf[v]),
+                   static_cast<std::int64_t>(std::floor(d.x)), static_cast<std::int64_t>(std::floor(d.y)),
                    static_cast<std::int64_t>(std::floor(d.z))};
     const auto [at, added] = clusterOfCell.emplace(key, static_cast<std::int32_t>(sum.size()));
     if (added) {
@@ -45,7 +63,8 @@ ClusteredMesh clusterOnGrid(const std::vector<Vec3>& vertices, const std::vector
   }
   out.positions.resize(sum.size());
   for (std::size_t c = 0; c < sum.size(); ++c) out.positions[c] = sum[c] / count[c];
-  std::set<Triangle> seen;
+  std::unordered_set<Triangle, IntsHash> seen;
+  seen.reserve(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     Triangle corners{};
     for (int k = 0; k < 3; ++k)
@@ -59,86 +78,74 @@ ClusteredMesh clusterOnGrid(const std::vector<Vec3>& vertices, const std::vector
   return out;
 }
 
-// A mesh file as read by assimp: vertices (through its nodes' transforms), their
-// normals, triangles, and each triangle's material name.
-struct ReadMesh {
-  std::vector<Vec3> vertices, normals;
-  std::vector<Triangle> triangles;
-  std::vector<std::size_t> groupOf;  // (triangleCount) index into groups
-  std::vector<std::string> groups;   // material names
-};
-
-bool readMesh(const std::string& path, ReadMesh& out) {
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
-  if (scene == nullptr || scene->mRootNode == nullptr) return false;
-  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene->mRootNode, aiMatrix4x4{}}};
-  while (!stack.empty()) {
-    const auto [node, parent] = stack.back();
-    stack.pop_back();
-    const aiMatrix4x4 transform = parent * node->mTransformation;
-    const aiMatrix3x3 turn(transform);
-    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
-      const aiMesh& mesh = *scene->mMeshes[node->mMeshes[m]];
-      const auto base = static_cast<std::int32_t>(out.vertices.size());
-      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-        const aiVector3D p = transform * mesh.mVertices[v];
-        out.vertices.push_back({p.x, p.y, p.z});
-        aiVector3D n = mesh.HasNormals() ? turn * mesh.mNormals[v] : aiVector3D(0, 0, 0);
-        if (n.Length() > 0) n.Normalize();
-        out.normals.push_back({n.x, n.y, n.z});
-      }
-      std::string material = "default";
-      if (mesh.mMaterialIndex < scene->mNumMaterials)
-        material = scene->mMaterials[mesh.mMaterialIndex]->GetName().C_Str();
-      const auto group = static_cast<std::size_t>(
-          std::find(out.groups.begin(), out.groups.end(), material) - out.groups.begin());
-      if (group == out.groups.size()) out.groups.push_back(material);
-      for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
-        const aiFace& face = mesh.mFaces[f];
-        if (face.mNumIndices != 3) continue;
-        out.triangles.push_back({base + static_cast<std::int32_t>(face.mIndices[0]),
-                                 base + static_cast<std::int32_t>(face.mIndices[1]),
-                                 base + static_cast<std::int32_t>(face.mIndices[2])});
-        out.groupOf.push_back(group);
-      }
-    }
-    for (unsigned c = node->mNumChildren; c-- > 0;) stack.emplace_back(node->mChildren[c], transform);
-  }
-  return !out.triangles.empty();
+// A material's name as an OBJ and MTL name: its index (names may repeat) and its
+// own name with anything but [A-Za-z0-9_.-] as '_'.
+std::string materialName(const build::ShadedMesh& mesh, std::size_t k) {
+  std::string name = "m" + std::to_string(k);
+  if (!mesh.materials[k].name.empty()) name += '_';
+  for (const char c : mesh.materials[k].name)
+    name += std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.' || c == '-' ? c : '_';
+  return name;
 }
 
 // An OBJ: the clusters as `v`, the kept corners' own normals as `vn` (so that a
-// sharp edge stays sharp), the triangles in their groups (`usemtl`).
-std::string objText(const ReadMesh& mesh, const ClusteredMesh& clustered) {
-  std::string out = fmt::format("# decimated for the replay page: {} of {} triangles (vertex clustering, cell {:.6g})\n",
-                                clustered.keptTriangles.size(), mesh.triangles.size(), clustered.cell);
+// sharp edge stays sharp; those equal to two decimals once), the triangles in their materials'
+// groups (`usemtl`). Without normals in the file, none: the page computes them.
+std::string objText(const build::ShadedMesh& mesh, const ClusteredMesh& clustered) {
+  const bool withNormals = std::none_of(mesh.normals.begin(), mesh.normals.end(),
+                                        [](const Vec3& n) { return n.x == 0 && n.y == 0 && n.z == 0; });
+  std::string out = fmt::format(
+      "# written for the replay page: {} of {} triangles (vertex clustering, cell {:.6g})\n",
+      clustered.keptTriangles.size(), mesh.mesh.triangles.size(), clustered.cell);
   for (const Vec3& p : clustered.positions) out += fmt::format("v {:.6g} {:.6g} {:.6g}\n", p.x, p.y, p.z);
-  std::map<std::int32_t, std::size_t> normalOf;  // input vertex -> vn index (1-based)
+  std::map<std::string, std::size_t> normalIndex;  // "x y z" -> vn index (1-based)
   std::string faces;
-  std::size_t group = mesh.groups.size();
+  std::size_t group = mesh.materials.size();
   for (const std::size_t t : clustered.keptTriangles) {
-    if (mesh.groupOf[t] != group) {
-      group = mesh.groupOf[t];
-      faces += "usemtl " + mesh.groups[group] + "\n";
+    if (mesh.materialOf[t] != group) {
+      group = mesh.materialOf[t];
+      faces += "usemtl " + materialName(mesh, group) + "\n";
     }
     faces += 'f';
-    for (const std::int32_t v : mesh.triangles[t]) {
-      const auto [at, added] = normalOf.emplace(v, normalOf.size() + 1);
-      if (added) {
-        const Vec3& n = mesh.normals[static_cast<std::size_t>(v)];
-        out += fmt::format("vn {:.4g} {:.4g} {:.4g}\n", n.x, n.y, n.z);
+    for (const std::int32_t v : mesh.mesh.triangles[t]) {
+      const std::int32_t cluster = clustered.clusterOf[static_cast<std::size_t>(v)] + 1;
+      if (!withNormals) {
+        faces += fmt::format(" {}", cluster);
+        continue;
       }
-      faces += fmt::format(" {}//{}", clustered.clusterOf[static_cast<std::size_t>(v)] + 1, at->second);
+      const Vec3& n = mesh.normals[static_cast<std::size_t>(v)];
+      // Two decimals (within 0.4 degrees): near-equal normals written once.
+      std::string text = fmt::format("{:.2f} {:.2f} {:.2f}", n.x, n.y, n.z);
+      for (std::size_t at = text.find("-0.00"); at != std::string::npos; at = text.find("-0.00"))
+        text.erase(at, 1);
+      const auto [at, added] = normalIndex.emplace(text, normalIndex.size() + 1);
+      if (added) out += "vn " + text + "\n";
+      faces += fmt::format(" {}//{}", cluster, at->second);
     }
     faces += '\n';
   }
   return out + faces;
 }
 
+// The MTL of the materials: each one's diffuse colour (Kd) and opacity (d), by
+// objText's names, or (`ownNames`, an OBJ as it is) by the file's own (one line).
+std::string mtlText(const build::ShadedMesh& mesh, bool ownNames) {
+  std::string out = "# the materials of a mesh for the replay page\n";
+  for (std::size_t k = 0; k < mesh.materials.size(); ++k) {
+    const build::MeshMaterial& m = mesh.materials[k];
+    if (ownNames && m.name.find_first_of("\r\n") != std::string::npos) continue;
+    out += "newmtl " + (ownNames ? m.name : materialName(mesh, k)) + "\n";
+    if (!m.hasColor) continue;
+    out += fmt::format("Kd {:.4g} {:.4g} {:.4g}\n", m.rgba[0], m.rgba[1], m.rgba[2]);
+    // An opacity of 0 is taken as 1: Meshlab's "Tr 1" means opaque, and assimp
+    // reads it as transparent (a visual never meant to be unseen).
+    if (m.rgba[3] > 0.0 && m.rgba[3] < 1.0) out += fmt::format("d {:.4g}\n", m.rgba[3]);
+  }
+  return out;
+}
+
 // A binary STL of the kept triangles (facet normals from the clustered corners).
-std::string binaryStl(const ReadMesh& mesh, const ClusteredMesh& clustered) {
+std::string binaryStl(const build::ShadedMesh& mesh, const ClusteredMesh& clustered) {
   std::string out(80, ' ');
   const std::string title = "robophi: decimated for the replay page";
   out.replace(0, title.size(), title);
@@ -148,7 +155,7 @@ std::string binaryStl(const ReadMesh& mesh, const ClusteredMesh& clustered) {
     std::array<Vec3, 3> p{};
     for (std::size_t k = 0; k < 3; ++k)
       p[k] = clustered.positions[static_cast<std::size_t>(
-          clustered.clusterOf[static_cast<std::size_t>(mesh.triangles[t][k])])];
+          clustered.clusterOf[static_cast<std::size_t>(mesh.mesh.triangles[t][k])])];
     Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
     const double length = norm(n);
     if (length > 0) n = n / length;
@@ -168,7 +175,7 @@ std::string binaryStl(const ReadMesh& mesh, const ClusteredMesh& clustered) {
 }  // namespace
 
 ClusteredMesh clusterToBudget(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles,
-                              std::size_t budget) {
+                              std::size_t budget, const std::vector<std::uint32_t>& groupOf) {
   if (vertices.empty()) return {};
   Vec3 lower = vertices[0], upper = vertices[0];
   for (const Vec3& v : vertices) {
@@ -186,10 +193,10 @@ ClusteredMesh clusterToBudget(const std::vector<Vec3>& vertices, const std::vect
   // box one cell wide: nothing left) and fine over it.
   double fine = 0.0;
   double coarse = 2.0 * norm(upper - lower) + 1e-300;
-  ClusteredMesh best = clusterOnGrid(vertices, triangles, lower, coarse);
+  ClusteredMesh best = clusterOnGrid(vertices, groupOf, triangles, lower, coarse);
   for (int halving = 0; halving < 24; ++halving) {
     const double cell = 0.5 * (fine + coarse);
-    ClusteredMesh trial = clusterOnGrid(vertices, triangles, lower, cell);
+    ClusteredMesh trial = clusterOnGrid(vertices, groupOf, triangles, lower, cell);
     if (trial.keptTriangles.size() <= budget) {
       coarse = cell;
       best = std::move(trial);
@@ -200,16 +207,43 @@ ClusteredMesh clusterToBudget(const std::vector<Vec3>& vertices, const std::vect
   return best;
 }
 
-DecimatedFile decimatedMeshFile(const std::string& path, const std::string& format, std::size_t budget) {
-  DecimatedFile out;
-  if (format != "obj" && format != "stl") return out;
-  ReadMesh mesh;
-  if (!readMesh(path, mesh)) return out;
-  out.trianglesBefore = out.trianglesAfter = mesh.triangles.size();
-  if (mesh.triangles.size() <= budget) return out;
-  const ClusteredMesh clustered = clusterToBudget(mesh.vertices, mesh.triangles, budget);
+PageMesh pageMesh(const std::string& path, const std::string& format, std::size_t budget) {
+  PageMesh out;
+  out.format = format;
+  build::ShadedMesh mesh;
+  try {
+    mesh = build::loadShadedMesh(path);
+  } catch (const std::exception& e) {
+    // loadShadedMesh's "mesh '<path>': <problem>", less its first word.
+    out.problem = e.what();
+    if (out.problem.starts_with("mesh ")) out.problem.erase(0, 5);
+    return out;
+  }
+  out.trianglesBefore = out.trianglesAfter = mesh.mesh.triangles.size();
+  const bool pageLoads = format == "stl" || format == "obj" || format == "dae";
+  if (pageLoads && mesh.mesh.triangles.size() <= budget) {
+    out.bytes = std::move(mesh.bytes);
+    // An OBJ's colours as its .mtl gives them (assimp read it), as a decimated one's.
+    if (format == "obj") out.materials = mtlText(mesh, true);
+    return out;
+  }
+  // Each material's vertices clustered apart: a thin dark ring on a white shell
+  // stays a ring (clustered together, the shell showed through it in speckles).
+  std::vector<std::uint32_t> materialOfVertex(mesh.mesh.vertices.size(), 0);
+  for (std::size_t t = 0; t < mesh.mesh.triangles.size(); ++t)
+    for (const std::int32_t v : mesh.mesh.triangles[t])
+      materialOfVertex[static_cast<std::size_t>(v)] = mesh.materialOf[t];
+  const ClusteredMesh clustered =
+      clusterToBudget(mesh.mesh.vertices, mesh.mesh.triangles, budget, materialOfVertex);
   out.trianglesAfter = clustered.keptTriangles.size();
-  out.bytes = format == "obj" ? objText(mesh, clustered) : binaryStl(mesh, clustered);
+  out.rewritten = true;
+  if (format == "stl") {
+    out.bytes = binaryStl(mesh, clustered);
+  } else {
+    out.format = "obj";
+    out.bytes = objText(mesh, clustered);
+    out.materials = mtlText(mesh, false);
+  }
   return out;
 }
 

@@ -23,6 +23,9 @@ struct ReplayOptions {
   /// The live view's page (docs/viewer.md "Live view"): the data object says so
   /// ("live"), and the page takes its frames from the WebSocket at /ws.
   bool live = false;
+  /// Where the page's warnings go (a visual mesh not drawn: not found, not a
+  /// regular file, past a budget), or nowhere.
+  std::vector<std::string>* warnings = nullptr;
 };
 
 /// Reads the run folder `runDir` (model.json, particles.csv, energy.csv and, when

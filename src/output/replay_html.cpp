@@ -372,7 +372,9 @@ bool planPage(const std::string& runDir, const ReplayOptions& options, const Run
   if (!readWorldView(fs::path(runDir), world, error)) return false;
   plan.model = modelJson(run);
   if (!world.empty()) plan.model += ",\"world\":" + world;
-  plan.model += output::meshFilesJson(world, options.sizeCapBytes);  // the robots' meshes, once
+  // The robots' meshes, once.
+  plan.model += output::meshFilesJson(world, options.sizeCapBytes, output::kMeshBudgetBytes,
+                                      output::kMeshTriangleBudget, options.warnings);
   if (options.live) plan.model += ",\"live\":{\"socket\":\"/ws\"}";
   plan.particles = static_cast<std::size_t>(run.particleCount);
   if (rows.framePosition.size() != rows.frameTime.size() * 3 * plan.particles) {

@@ -2,9 +2,6 @@
 #include "output/replay_meshes.h"
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <utility>
 
 #include <fmt/format.h>
@@ -16,7 +13,7 @@
 namespace robophi::output {
 
 std::string meshFilesJson(const std::string& world, double capBytes, std::size_t budgetBytes,
-                          std::size_t triangleBudget) {
+                          std::size_t triangleBudget, std::vector<std::string>* warnings) {
   if (world.empty()) return {};
   nlohmann::json parsed;
   try {
@@ -39,36 +36,29 @@ std::string meshFilesJson(const std::string& world, double capBytes, std::size_t
     if (!first) out += ',';
     first = false;
     const std::string path = mesh.value("path", std::string{});
-    nlohmann::json entry = {{"format", mesh.value("format", std::string{})}};
-    std::error_code ec;
-    std::uintmax_t size = std::filesystem::file_size(path, ec);
+    // Read by the checked reader (output/mesh_decimation.h): the file as it is, or
+    // written back under the triangle budget; a problem leaves it out, a warning.
+    PageMesh file = pageMesh(path, mesh.value("format", std::string{}), triangleBudget);
+    nlohmann::json entry = {{"format", file.format}};
+    if (file.rewritten) {
+      entry["triangles"] = file.trianglesAfter;
+      entry["decimatedFrom"] = file.trianglesBefore;
+    }
     std::string note;
     std::string bytes;
-    // A large OBJ or STL goes in decimated to the triangle budget (its size is the
-    // decimated bytes').
-    DecimatedFile decimated;
-    if (!ec) decimated = decimatedMeshFile(path, entry["format"].get<std::string>(), triangleBudget);
-    if (!decimated.bytes.empty()) {
-      size = decimated.bytes.size();
-      entry["triangles"] = decimated.trianglesAfter;
-      entry["decimatedFrom"] = decimated.trianglesBefore;
-    }
-    if (ec) {
-      note = "not found: " + path;
+    const std::size_t size = file.bytes.size() + file.materials.size();
+    if (!file.problem.empty()) {
+      note = "not drawn: " + file.problem;
     } else if (used + size > budget) {
       note = fmt::format(
           "left out: the page's mesh budget ({:.1f} MB of files) is spent; {} has {} bytes",
           static_cast<double>(budget) / 1e6, path, size);
-    } else if (!decimated.bytes.empty()) {
-      bytes = std::move(decimated.bytes);
     } else {
-      std::ifstream in(path, std::ios::binary);
-      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-      if (!in.good() && !in.eof()) {
-        note = "cannot be read: " + path;
-        bytes.clear();
-      }
+      bytes = std::move(file.bytes);
+      used += file.materials.size();
+      if (!file.materials.empty()) entry["mtl"] = file.materials;
     }
+    if (!note.empty() && warnings != nullptr) warnings->push_back("replay.html: visual mesh " + note);
     entry["bytes"] = bytes.size();
     if (!note.empty()) entry["note"] = note;
     std::string text = entry.dump();

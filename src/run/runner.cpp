@@ -347,8 +347,11 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
 
   std::optional<RunWriter> writer;
   // The replay page's options: the page written as the run goes and the page
-  // ended (or written whole) after it take the same.
-  const ReplayOptions replayOptions;
+  // ended (or written whole) after it take the same; the page's warnings (a visual
+  // mesh not drawn) are the run's.
+  std::vector<std::string> replayWarnings;
+  ReplayOptions replayOptions;
+  replayOptions.warnings = &replayWarnings;
   if (staging) {
     if (resume) {
       // The series so far, copied beside the folder and cut back to the checkpoint.
@@ -699,6 +702,7 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
                : writeReplayHtml(staging->path(), replayOptions, replayError))) {
       report.warnings.push_back("replay.html not written: " + replayError);
     }
+    report.warnings.insert(report.warnings.end(), replayWarnings.begin(), replayWarnings.end());
     page.reset();  // (a page not ended is removed)
     output::removeFromResultsMarker(staging->path(), kReplayPagePartial);
     try {

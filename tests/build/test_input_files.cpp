@@ -45,17 +45,6 @@ class InputFiles : public ::testing::Test {
     }
     return "read";
   }
-  // An OBJ of one planar polygon of `corners` corners (a circle).
-  static std::string polygonObj(int corners) {
-    std::string text;
-    for (int k = 0; k < corners; ++k)
-      text += "v " + std::to_string(std::cos(6.283185307 * k / corners)) + " " +
-              std::to_string(std::sin(6.283185307 * k / corners)) + " 0\n";
-    text += "f";
-    for (int k = 1; k <= corners; ++k) text += " " + std::to_string(k);
-    return text + "\n";
-  }
-
   fs::path dir_;
 };
 
@@ -105,13 +94,13 @@ TEST_F(InputFiles, AMeshsOwnFilesGoTheSameRoad) {
 // of 200 000 corners is refused with the file, the face and its count.
 TEST_F(InputFiles, AFaceOfTwoHundredThousandCornersIsRefusedBeforeTheTriangulator) {
   const fs::path huge = dir_ / "huge_face.obj";
-  testing::writeText(huge, polygonObj(200000));
+  testing::writeText(huge, testing::polygonObj(200000));
   EXPECT_EQ(meshMessage(huge), "mesh '" + huge.string() +
                                    "': face 0 of mesh 0 has 200000 vertex indices, more than the "
                                    "budget of 1000 a face (docs/scene-format.md#limits)");
   // At the budget a face is triangulated (a flat polygon: no volume, but triangles).
   const fs::path atBudget = dir_ / "budget_face.obj";
-  testing::writeText(atBudget, polygonObj(static_cast<int>(kMaxMeshFaceIndices)));
+  testing::writeText(atBudget, testing::polygonObj(static_cast<int>(kMaxMeshFaceIndices)));
   EXPECT_EQ(loadMesh(atBudget.string()).triangles.size(), kMaxMeshFaceIndices - 2);
 }
 

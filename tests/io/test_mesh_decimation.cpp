@@ -1,7 +1,8 @@
 // The replay page's mesh decimation (output/mesh_decimation.h): a fine sphere of
 // 39 600 triangles brought under the 10 000-triangle budget keeps its bounding box
 // within 2% of its size; an OBJ (its two material groups) and an STL written back
-// decimated; a mesh under the budget is embedded as it is.
+// decimated (the OBJ with an MTL of its materials); a mesh under the budget is
+// embedded as it is.
 
 #include <gtest/gtest.h>
 
@@ -87,6 +88,22 @@ TEST(MeshDecimation, BringsAFineSphereUnderTheBudgetKeepingItsBox) {
               std::sqrt(3.0) * clustered.cell);
 }
 
+// Two groups (materials) meeting along the equator: no cluster takes vertices of both.
+TEST(MeshDecimation, ClustersEachGroupApart) {
+  const Sphere sphere = uvSphere(0.1, 200, 100);
+  std::vector<std::uint32_t> groupOf(sphere.vertices.size());
+  for (std::size_t v = 0; v < groupOf.size(); ++v) groupOf[v] = sphere.vertices[v].z > 0.5 ? 1 : 0;
+  const output::ClusteredMesh clustered =
+      output::clusterToBudget(sphere.vertices, sphere.triangles, output::kMeshTriangleBudget, groupOf);
+  EXPECT_LE(clustered.keptTriangles.size(), output::kMeshTriangleBudget);
+  std::vector<int> groupOfCluster(clustered.positions.size(), -1);
+  for (std::size_t v = 0; v < groupOf.size(); ++v) {
+    int& group = groupOfCluster[static_cast<std::size_t>(clustered.clusterOf[v])];
+    if (group < 0) group = static_cast<int>(groupOf[v]);
+    ASSERT_EQ(group, static_cast<int>(groupOf[v])) << "vertex " << v;
+  }
+}
+
 TEST(MeshDecimation, LeavesAMeshUnderTheBudgetAsItIs) {
   const Sphere sphere = uvSphere(0.1, 40, 20);
   const output::ClusteredMesh clustered = output::clusterToBudget(sphere.vertices, sphere.triangles, 10'000);
@@ -137,7 +154,10 @@ TEST(MeshDecimation, WritesObjAndStlFilesBackDecimatedAndThePageSaysSo) {
     std::ofstream stl(dir / "sphere.stl", std::ios::binary);
     stl << binaryStlOf(sphere);
   }
-  const output::DecimatedFile obj = output::decimatedMeshFile((dir / "sphere.obj").string(), "obj");
+  const output::PageMesh obj = output::pageMesh((dir / "sphere.obj").string(), "obj");
+  EXPECT_EQ(obj.problem, "");
+  EXPECT_TRUE(obj.rewritten);
+  EXPECT_EQ(obj.format, "obj");
   EXPECT_EQ(obj.trianglesBefore, 39'600u);
   EXPECT_LE(obj.trianglesAfter, output::kMeshTriangleBudget);
   std::size_t faces = 0, groups = 0;
@@ -149,9 +169,15 @@ TEST(MeshDecimation, WritesObjAndStlFilesBackDecimatedAndThePageSaysSo) {
   EXPECT_EQ(faces, obj.trianglesAfter);
   EXPECT_EQ(groups, 2u);
   EXPECT_LT(obj.bytes.size(), fs::file_size(dir / "sphere.obj") / 2);
+  // Its materials in an MTL, by the names its groups use (assimp's default first).
+  EXPECT_NE(obj.materials.find("newmtl m1_upper\n"), std::string::npos) << obj.materials;
+  EXPECT_NE(obj.bytes.find("usemtl m1_upper\n"), std::string::npos);
+  EXPECT_NE(obj.bytes.find("usemtl m2_lower\n"), std::string::npos);
 
-  const output::DecimatedFile stl = output::decimatedMeshFile((dir / "sphere.stl").string(), "stl");
+  const output::PageMesh stl = output::pageMesh((dir / "sphere.stl").string(), "stl");
+  EXPECT_EQ(stl.format, "stl");
   EXPECT_EQ(stl.trianglesBefore, 39'600u);
+  EXPECT_TRUE(stl.materials.empty());
   ASSERT_EQ(stl.bytes.size(), 84 + 50 * stl.trianglesAfter);
   std::uint32_t count = 0;
   std::memcpy(&count, stl.bytes.data() + 80, 4);
@@ -167,12 +193,16 @@ TEST(MeshDecimation, WritesObjAndStlFilesBackDecimatedAndThePageSaysSo) {
   EXPECT_EQ(files[0]["decimatedFrom"], 39'600);
   EXPECT_EQ(files[0]["triangles"], obj.trianglesAfter);
   EXPECT_EQ(files[0]["bytes"], obj.bytes.size());
+  EXPECT_EQ(files[0]["mtl"], obj.materials);
 
   // Under the budget: nothing decimated, the file as it is.
   const Sphere small = uvSphere(0.1, 40, 20);
   testing::writeText(dir / "small.obj", objOf(small));
-  const output::DecimatedFile same = output::decimatedMeshFile((dir / "small.obj").string(), "obj");
-  EXPECT_TRUE(same.bytes.empty());
+  const output::PageMesh same = output::pageMesh((dir / "small.obj").string(), "obj");
+  EXPECT_FALSE(same.rewritten);
+  EXPECT_EQ(same.bytes, testing::readText(dir / "small.obj"));
+  // Its materials by their own names (the page's OBJLoader takes them so).
+  EXPECT_NE(same.materials.find("newmtl upper\n"), std::string::npos) << same.materials;
   EXPECT_EQ(same.trianglesBefore, small.triangles.size());
   fs::remove_all(dir);
 }

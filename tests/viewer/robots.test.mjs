@@ -2,7 +2,8 @@
 // in headless Chromium: each run folder's page loads with no console error, draws
 // its URDF visuals (meshes), and after "reset view" the robot's own pixels span
 // a screen box of at least 20% of the view's area (or 60% of its height or width,
-// for a robot of another shape than the view's), at t = 0 and at the last frame.
+// for a robot of another shape than the view's), at t = 0 and at the last frame;
+// every mesh file it parsed has at most 10 000 triangles (the page's budget).
 //
 //   node tests/viewer/robots.test.mjs OUT_DIR RUN_DIR[:q] ...
 //
@@ -41,6 +42,10 @@ for (const run of runs) {
     console.log(`# ${name}: ${JSON.stringify(counts)}`);
     assert.ok(counts.drawn > 0, `${name}: no visual drawn`);
     assert.ok(counts.meshes > 0, `${name}: no mesh drawn`);
+    // Every mesh file as the page parsed it is within the triangle budget (docs/viewer.md).
+    for (const [index, triangles] of Object.entries(counts.meshTriangles)) {
+      assert.ok(triangles > 0 && triangles <= 10000, `${name}: mesh ${index} has ${triangles} triangles`);
+    }
     const times = await page.evaluate(() => window.robophiReplay.frameTimes());
     for (const [label, t] of [['t0', times[0]], ['end', times[times.length - 1]]]) {
       await page.evaluate((at) => window.robophiReplay.seek(at), t);
