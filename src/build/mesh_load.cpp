@@ -12,6 +12,8 @@
 #include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -62,13 +64,23 @@ void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out) {
 // or a folder waited on, and is recorded with the load's inputs. The mesh file
 // itself is read once, before assimp starts, and served from memory. The first
 // refusal is kept for the message (assimp's own would say only "unable to open").
+struct OtherFile {
+  std::string path;
+  bool found = false;  // Exists said so, or Open read it
+  bool opened = false;
+  std::string bytes;  // what Open read
+};
+
 class InputFileSystem : public Assimp::DefaultIOSystem {
  public:
   InputFileSystem(std::string path, std::string bytes)
       : path_(std::move(path)), bytes_(std::move(bytes)) {}
   bool Exists(const char* file) const override {
+    if (file == path_) return true;
     std::error_code error;
-    return file == path_ || std::filesystem::exists(file, error);  // any kind: Open says why not
+    const bool exists = std::filesystem::exists(file, error);  // any kind: Open says why not
+    asked.push_back({file, exists, false, {}});
+    return exists;
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     if (std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr) return nullptr;
@@ -76,17 +88,22 @@ class InputFileSystem : public Assimp::DefaultIOSystem {
       return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes_.data()),
                                         bytes_.size());
     try {
-      const std::string bytes = readInputFile(file);
+      std::string bytes = readInputFile(file);
       auto* copy = new std::uint8_t[bytes.size()];
       std::memcpy(copy, bytes.data(), bytes.size());
-      return new Assimp::MemoryIOStream(copy, bytes.size(), /*own=*/true);
+      auto* stream = new Assimp::MemoryIOStream(copy, bytes.size(), /*own=*/true);
+      asked.push_back({file, true, true, std::move(bytes)});
+      return stream;
     } catch (const InputFileError& e) {
       if (refused.empty()) refused = e.what();
+      asked.push_back({file, false, true, {}});
       return nullptr;
     }
   }
   /// The first file Open refused, and why ("<path>: <problem>").
   std::string refused;
+  /// The other files assimp asked about or read, in order (what a kept mesh depends on).
+  mutable std::vector<OtherFile> asked;
 
  private:
   const std::string path_, bytes_;
@@ -171,6 +188,95 @@ std::string colladaIndexProblem(const std::string& path, const std::string& text
   return {};
 }
 
+// Meshes read, kept for the next load of the same file (a robot's links share
+// files; the rigid importer places a robot twice; a sweep, the Python bindings
+// and the fuzz targets load the same robots again): keyed by the path, the
+// scale's bits and the file's bytes, and valid while every other file assimp
+// asked about answers as it did (the same bytes, or still absent). A kept mesh
+// is the one the load would give. Bounded in bytes, least recently used first.
+class MeshFileMemo {
+ public:
+  // The mesh kept for this load, or null; reads the other files again (so the
+  // load's inputs are recorded as a load records them).
+  std::shared_ptr<const TriangleMesh> find(const std::string& path, const Vec3& scale,
+                                           const std::string& bytes) {
+    std::shared_ptr<const Entry> entry;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      for (auto& [used, kept] : entries_) {
+        if (kept->path != path || std::memcmp(&kept->scale, &scale, sizeof(Vec3)) != 0 ||
+            kept->bytes != bytes)
+          continue;
+        used = ++clock_;
+        entry = kept;
+        break;
+      }
+    }
+    if (entry == nullptr) return nullptr;
+    for (const OtherFile& other : entry->others) {
+      if (!other.opened) {
+        std::error_code error;
+        if (std::filesystem::exists(other.path, error) != other.found) return nullptr;
+        continue;
+      }
+      try {
+        const std::string now = readInputFile(other.path);
+        if (!other.found || now != other.bytes) return nullptr;
+      } catch (const InputFileError&) {
+        if (other.found) return nullptr;
+      }
+    }
+    return entry->mesh;
+  }
+
+  void keep(const std::string& path, const Vec3& scale, std::string bytes,
+            std::vector<OtherFile> others, const TriangleMesh& mesh) {
+    auto entry = std::make_shared<Entry>();
+    entry->path = path;
+    entry->scale = scale;
+    entry->bytes = std::move(bytes);
+    entry->others = std::move(others);
+    entry->mesh = std::make_shared<const TriangleMesh>(mesh);
+    std::size_t size = sizeof(Entry) + entry->path.size() + entry->bytes.size() +
+                       mesh.vertices.size() * sizeof(Vec3) +
+                       mesh.triangles.size() * sizeof(mesh.triangles[0]);
+    for (const OtherFile& other : entry->others) size += other.path.size() + other.bytes.size();
+    entry->size = size;
+    if (size > kBudgetBytes / 4) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    while (!entries_.empty() && bytes_ + size > kBudgetBytes) {
+      const auto oldest =
+          std::min_element(entries_.begin(), entries_.end(),
+                           [](const auto& a, const auto& b) { return a.first < b.first; });
+      bytes_ -= oldest->second->size;
+      entries_.erase(oldest);
+    }
+    entries_.emplace_back(++clock_, std::move(entry));
+    bytes_ += size;
+  }
+
+ private:
+  static constexpr std::size_t kBudgetBytes = 64u << 20;
+  struct Entry {
+    std::string path;
+    Vec3 scale{};
+    std::string bytes;
+    std::vector<OtherFile> others;
+    std::shared_ptr<const TriangleMesh> mesh;
+    std::size_t size = 0;
+  };
+  std::mutex mutex_;
+  // (last use, entry)
+  std::vector<std::pair<std::uint64_t, std::shared_ptr<const Entry>>> entries_;
+  std::size_t bytes_ = 0;
+  std::uint64_t clock_ = 0;
+};
+
+MeshFileMemo& meshFileMemo() {
+  static MeshFileMemo memo;
+  return memo;
+}
+
 }  // namespace
 
 TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
@@ -185,10 +291,11 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   } catch (const InputFileError& e) {
     meshError(path, e.problem());
   }
+  if (const auto kept = meshFileMemo().find(path, scale, bytes)) return *kept;
   if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
     meshError(path, problem);
   Assimp::Importer importer;
-  auto* files = new InputFileSystem(path, std::move(bytes));  // the importer owns it
+  auto* files = new InputFileSystem(path, bytes);  // the importer owns it
   importer.SetIOHandler(files);
   // ROS meshes are Z-up whatever a COLLADA file's <up_axis> says (as rviz reads them).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -246,6 +353,7 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   if (scale.x * scale.y * scale.z < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   }
+  meshFileMemo().keep(path, scale, std::move(bytes), std::move(files->asked), mesh);
   return mesh;
 }
 
