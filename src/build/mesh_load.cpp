@@ -277,6 +277,23 @@ MeshFileMemo& meshFileMemo() {
   return memo;
 }
 
+// assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>', an
+// STL's primitive type 'ts\xa8e', fuzz findings): bytes past ASCII as \xNN, so the
+// message stays valid UTF-8 for the JSON it reaches.
+std::string assimpReason(const Assimp::Importer& importer) {
+  std::string reason;
+  for (const char c : std::string(importer.GetErrorString())) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x80) {
+      reason += c;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      reason += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xF]};
+    }
+  }
+  return reason;
+}
+
 }  // namespace
 
 TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
@@ -305,18 +322,7 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   // 200 000 corners is refused here instead of hanging the triangulator.
   const aiScene* scene = importer.ReadFile(path, 0);
   if (scene == nullptr) {
-    // assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>'):
-    // bytes past ASCII as \xNN, so the message stays valid UTF-8 for the JSON it reaches.
-    std::string reason;
-    for (const char c : std::string(importer.GetErrorString())) {
-      const auto byte = static_cast<unsigned char>(c);
-      if (byte < 0x80) {
-        reason += c;
-      } else {
-        static constexpr char kHex[] = "0123456789abcdef";
-        reason += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xF]};
-      }
-    }
+    const std::string reason = assimpReason(importer);
     meshError(path, !files->refused.empty()
                         ? "cannot be read: " + files->refused
                         : "cannot be read (" +
@@ -330,8 +336,7 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
     meshError(path, problem + " (docs/scene-format.md#limits)");
   scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                        aiProcess_SortByPType);
-  if (scene == nullptr)
-    meshError(path, "cannot be triangulated (" + std::string(importer.GetErrorString()) + ")");
+  if (scene == nullptr) meshError(path, "cannot be triangulated (" + assimpReason(importer) + ")");
   if (const std::string problem = meshBudgetProblem(*scene, true); !problem.empty())
     meshError(path, problem + " (docs/scene-format.md#limits)");
   TriangleMesh mesh;

@@ -185,5 +185,21 @@ TEST_F(InputFiles, AMeshReadersReasonIsKeptValidUtf8) {
   for (const char c : message) EXPECT_LT(static_cast<unsigned char>(c), 0x80) << message;
 }
 
+// The triangulation's reason too (a fuzz finding: an STL whose bytes past ASCII
+// reached the message when assimp's post-processing failed).
+TEST_F(InputFiles, AMeshTriangulationsReasonIsKeptValidUtf8) {
+  const std::string input = testing::readText(fs::path(ROBOPHI_SOURCE_DIR) / "fuzz" / "urdf_seeds" /
+                                              "stl_triangulation_reason_not_utf8.urdf");
+  const std::string marker = "<!-- robophi-fuzz-mesh stl -->\n";
+  const std::size_t at = input.find(marker);
+  ASSERT_NE(at, std::string::npos);
+  const fs::path stl = dir_ / "fuzz_mesh.stl";
+  testing::writeText(stl, input.substr(at + marker.size()));
+  const std::string message = meshMessage(stl);
+  EXPECT_NE(message.find("cannot be triangulated ("), std::string::npos) << message;
+  EXPECT_NE(message.find("\\xa8"), std::string::npos) << message;
+  for (const char c : message) EXPECT_LT(static_cast<unsigned char>(c), 0x80) << message;
+}
+
 }  // namespace
 }  // namespace robophi::build
