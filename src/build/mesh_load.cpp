@@ -277,6 +277,33 @@ MeshFileMemo& meshFileMemo() {
   return memo;
 }
 
+// assimp 5.2's COLLADA reader reads an array element's count attribute without
+// checking that it is there: a <float_array> without one is a null read (a crash,
+// a fuzz finding: 'couft="12"'). Such an element is refused before assimp reads
+// the file. A problem in words, or "".
+std::string colladaArrayProblem(const std::string& path, const std::string& text) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".dae") return {};
+  for (const char* tag : {"<float_array", "<int_array", "<Name_array", "<IDREF_array",
+                          "<bool_array", "<SIDREF_array", "<token_array"}) {
+    for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1)) {
+      const std::size_t end = std::min(text.find('>', at), text.size());
+      const std::string element = text.substr(at, end - at);
+      bool counted = false;  // a ' count=' attribute (not "count" inside a value)
+      for (std::size_t k = element.find("count="); k != std::string::npos && !counted;
+           k = element.find("count=", k + 1))
+        counted = k > 0 && std::isspace(static_cast<unsigned char>(element[k - 1]));
+      if (counted) continue;
+      return "a COLLADA " + std::string(tag) + "> at line " +
+             std::to_string(1 + std::count(text.begin(),
+                                           text.begin() + static_cast<std::ptrdiff_t>(at), '\n')) +
+             " has no count attribute";
+    }
+  }
+  return {};
+}
+
 // assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>', an
 // STL's primitive type 'ts\xa8e', fuzz findings): bytes past ASCII as \xNN, so the
 // message stays valid UTF-8 for the JSON it reaches.
@@ -310,6 +337,8 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   }
   if (const auto kept = meshFileMemo().find(path, scale, bytes)) return *kept;
   if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
+    meshError(path, problem);
+  if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
     meshError(path, problem);
   Assimp::Importer importer;
   auto* files = new InputFileSystem(path, bytes);  // the importer owns it
