@@ -7,7 +7,9 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "robophi/contact.h"
@@ -86,6 +88,10 @@ struct ObjectInfo {
   /// The object is stiff enough to be treated as rigid by the contact search: its
   /// sphere tree moves as a whole (ContactSettings::rigidTreeMargin), no refit.
   bool rigid = false;
+  /// Objects of one group (>= 0) never touch each other (a robot's links:
+  /// build::ModelBuilder::excludeContactWithin): one id per object, where pairs
+  /// would grow with the square of the links; -1: no group.
+  std::int32_t contactGroup = -1;
 };
 
 /// A point of an object's outer surface embedded in its particles (MODEL §3.8):
@@ -193,6 +199,34 @@ struct JointDrive {
   double friction = 0.0, frictionVelocity = 0.01;
 };
 
+/// Bodies (indices into Model::bodies) in an order the sums over them keep: a run
+/// of a buffer that lists may share. An imported chain's weight and subtree lists
+/// (BodyLink::weightBodies, Joint::subtreeBodies: a link's body and every body
+/// below it) are the suffixes of one run, so they take memory linear in its links
+/// where a list of its own each took their square (build::placeUrdfRobot). Read as
+/// a range; a vector assigned to it is a list of its own. The buffer never changes.
+class BodyList {
+ public:
+  BodyList() = default;
+  BodyList(std::vector<std::int32_t> bodies)  // NOLINT: a list of its own, implicitly
+      : run_(std::make_shared<const std::vector<std::int32_t>>(std::move(bodies))),
+        count_(run_->size()) {}
+  /// [first, first + count) of `run`.
+  BodyList(std::shared_ptr<const std::vector<std::int32_t>> run, std::size_t first,
+           std::size_t count)
+      : run_(std::move(run)), first_(first), count_(count) {}
+  const std::int32_t* begin() const { return count_ == 0 ? nullptr : run_->data() + first_; }
+  const std::int32_t* end() const { return begin() + count_; }
+  std::size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  std::int32_t operator[](std::size_t k) const { return begin()[k]; }
+  void clear() { *this = BodyList(); }
+
+ private:
+  std::shared_ptr<const std::vector<std::int32_t>> run_;
+  std::size_t first_ = 0, count_ = 0;
+};
+
 /// A named joint whose value is read at every step (joints.csv).
 struct Joint {
   std::string name;
@@ -231,7 +265,7 @@ struct Joint {
   /// every body below it — and whether its motor adds the effort that holds them
   /// against gravity (MODEL §1.7: −n·Σ (p̄_b − s) × M_b g, or −n·Σ M_b g; booked as
   /// the motor's work): gravity compensation, World::setGravityCompensation.
-  std::vector<std::int32_t> subtreeBodies{};
+  BodyList subtreeBodies{};
   bool compensateGravity = false;
   /// A joint of a rigid tree (docs/model.md §7): the tree (index into
   /// Model::rigidTrees) and the body (index into its Multibody::bodies) whose joint
@@ -294,7 +328,7 @@ struct BodyLink {
   /// the static wrench that holds them against gravity, less its part along the free
   /// direction (a joint's gravity compensation), so that its springs hold a static
   /// robot with no gap; its power is booked as driving work.
-  std::vector<std::int32_t> weightBodies{};
+  BodyList weightBodies{};
 };
 
 /// A particle that carries a rigid body's contact surface (docs/model.md §7): a
@@ -362,7 +396,8 @@ struct Model {
   /// How contacts are found and computed (docs/contact.md).
   ContactSettings contact;
   /// Object pairs {a, b}, a < b, whose particles never touch each other (a
-  /// robot's links: build::ModelBuilder::excludeContact), sorted ascending.
+  /// robot's jointed links: build::ModelBuilder::excludeContact), sorted ascending;
+  /// besides the objects of one ObjectInfo::contactGroup.
   std::vector<std::array<std::int32_t, 2>> noContactPairs;
 
   /// (particleCount, or empty: none) the rigid tree (index into rigidTrees) that

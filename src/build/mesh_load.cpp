@@ -14,6 +14,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -76,13 +78,23 @@ void collect(const aiScene& scene, const Vec3& scale, TriangleMesh& out, ShadedM
 // or a folder waited on, and is recorded with the load's inputs. The mesh file
 // itself is read once, before assimp starts, and served from memory. The first
 // refusal is kept for the message (assimp's own would say only "unable to open").
+struct OtherFile {
+  std::string path;
+  bool found = false;  // Exists said so, or Open read it
+  bool opened = false;
+  std::string bytes;  // what Open read
+};
+
 class InputFileSystem : public Assimp::DefaultIOSystem {
  public:
   InputFileSystem(std::string path, std::string bytes)
       : path_(std::move(path)), bytes_(std::move(bytes)) {}
   bool Exists(const char* file) const override {
+    if (file == path_) return true;
     std::error_code error;
-    return file == path_ || std::filesystem::exists(file, error);  // any kind: Open says why not
+    const bool exists = std::filesystem::exists(file, error);  // any kind: Open says why not
+    asked.push_back({file, exists, false, {}});
+    return exists;
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     if (std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr) return nullptr;
@@ -90,17 +102,22 @@ class InputFileSystem : public Assimp::DefaultIOSystem {
       return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes_.data()),
                                         bytes_.size());
     try {
-      const std::string bytes = readInputFile(file);
+      std::string bytes = readInputFile(file);
       auto* copy = new std::uint8_t[bytes.size()];
       std::memcpy(copy, bytes.data(), bytes.size());
-      return new Assimp::MemoryIOStream(copy, bytes.size(), /*own=*/true);
+      auto* stream = new Assimp::MemoryIOStream(copy, bytes.size(), /*own=*/true);
+      asked.push_back({file, true, true, std::move(bytes)});
+      return stream;
     } catch (const InputFileError& e) {
       if (refused.empty()) refused = e.what();
+      asked.push_back({file, false, true, {}});
       return nullptr;
     }
   }
   /// The first file Open refused, and why ("<path>: <problem>").
   std::string refused;
+  /// The other files assimp asked about or read, in order (what a kept mesh depends on).
+  mutable std::vector<OtherFile> asked;
 
  private:
   const std::string path_, bytes_;
@@ -185,21 +202,160 @@ std::string colladaIndexProblem(const std::string& path, const std::string& text
   return {};
 }
 
-// The mesh file `path` read into `importer` through readInputFile (`fileBytes`,
-// when given, gets the file as read) and checked against the budgets before and
-// after the triangulation: the scene, or a throw of meshError.
-const aiScene& readCheckedScene(const std::string& path, Assimp::Importer& importer,
-                                std::string* fileBytes) {
-  std::string bytes;
+// Meshes read, kept for the next load of the same file (a robot's links share
+// files; the rigid importer places a robot twice; a sweep, the Python bindings
+// and the fuzz targets load the same robots again): keyed by the path, the
+// scale's bits and the file's bytes, and valid while every other file assimp
+// asked about answers as it did (the same bytes, or still absent). A kept mesh
+// is the one the load would give. Bounded in bytes, least recently used first.
+class MeshFileMemo {
+ public:
+  // The mesh kept for this load, or null; reads the other files again (so the
+  // load's inputs are recorded as a load records them).
+  std::shared_ptr<const TriangleMesh> find(const std::string& path, const Vec3& scale,
+                                           const std::string& bytes) {
+    std::shared_ptr<const Entry> entry;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      for (auto& [used, kept] : entries_) {
+        if (kept->path != path || std::memcmp(&kept->scale, &scale, sizeof(Vec3)) != 0 ||
+            kept->bytes != bytes)
+          continue;
+        used = ++clock_;
+        entry = kept;
+        break;
+      }
+    }
+    if (entry == nullptr) return nullptr;
+    for (const OtherFile& other : entry->others) {
+      if (!other.opened) {
+        std::error_code error;
+        if (std::filesystem::exists(other.path, error) != other.found) return nullptr;
+        continue;
+      }
+      try {
+        const std::string now = readInputFile(other.path);
+        if (!other.found || now != other.bytes) return nullptr;
+      } catch (const InputFileError&) {
+        if (other.found) return nullptr;
+      }
+    }
+    return entry->mesh;
+  }
+
+  void keep(const std::string& path, const Vec3& scale, std::string bytes,
+            std::vector<OtherFile> others, const TriangleMesh& mesh) {
+    auto entry = std::make_shared<Entry>();
+    entry->path = path;
+    entry->scale = scale;
+    entry->bytes = std::move(bytes);
+    entry->others = std::move(others);
+    entry->mesh = std::make_shared<const TriangleMesh>(mesh);
+    std::size_t size = sizeof(Entry) + entry->path.size() + entry->bytes.size() +
+                       mesh.vertices.size() * sizeof(Vec3) +
+                       mesh.triangles.size() * sizeof(mesh.triangles[0]);
+    for (const OtherFile& other : entry->others) size += other.path.size() + other.bytes.size();
+    entry->size = size;
+    if (size > kBudgetBytes / 4) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    while (!entries_.empty() && bytes_ + size > kBudgetBytes) {
+      const auto oldest =
+          std::min_element(entries_.begin(), entries_.end(),
+                           [](const auto& a, const auto& b) { return a.first < b.first; });
+      bytes_ -= oldest->second->size;
+      entries_.erase(oldest);
+    }
+    entries_.emplace_back(++clock_, std::move(entry));
+    bytes_ += size;
+  }
+
+ private:
+  static constexpr std::size_t kBudgetBytes = 64u << 20;
+  struct Entry {
+    std::string path;
+    Vec3 scale{};
+    std::string bytes;
+    std::vector<OtherFile> others;
+    std::shared_ptr<const TriangleMesh> mesh;
+    std::size_t size = 0;
+  };
+  std::mutex mutex_;
+  // (last use, entry)
+  std::vector<std::pair<std::uint64_t, std::shared_ptr<const Entry>>> entries_;
+  std::size_t bytes_ = 0;
+  std::uint64_t clock_ = 0;
+};
+
+MeshFileMemo& meshFileMemo() {
+  static MeshFileMemo memo;
+  return memo;
+}
+
+// assimp 5.2's COLLADA reader reads an array element's count attribute without
+// checking that it is there: a <float_array> without one is a null read (a crash,
+// a fuzz finding: 'couft="12"'). Such an element is refused before assimp reads
+// the file. A problem in words, or "".
+std::string colladaArrayProblem(const std::string& path, const std::string& text) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".dae") return {};
+  for (const char* tag : {"<float_array", "<int_array", "<Name_array", "<IDREF_array",
+                          "<bool_array", "<SIDREF_array", "<token_array"}) {
+    for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1)) {
+      const std::size_t end = std::min(text.find('>', at), text.size());
+      const std::string element = text.substr(at, end - at);
+      bool counted = false;  // a ' count=' attribute (not "count" inside a value)
+      for (std::size_t k = element.find("count="); k != std::string::npos && !counted;
+           k = element.find("count=", k + 1))
+        counted = k > 0 && std::isspace(static_cast<unsigned char>(element[k - 1]));
+      if (counted) continue;
+      return "a COLLADA " + std::string(tag) + "> at line " +
+             std::to_string(1 + std::count(text.begin(),
+                                           text.begin() + static_cast<std::ptrdiff_t>(at), '\n')) +
+             " has no count attribute";
+    }
+  }
+  return {};
+}
+
+// assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>', an
+// STL's primitive type 'ts\xa8e', fuzz findings): bytes past ASCII as \xNN, so the
+// message stays valid UTF-8 for the JSON it reaches.
+std::string assimpReason(const Assimp::Importer& importer) {
+  std::string reason;
+  for (const char c : std::string(importer.GetErrorString())) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x80) {
+      reason += c;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      reason += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xF]};
+    }
+  }
+  return reason;
+}
+
+// A mesh file's bytes through readInputFile (a regular file within the budget,
+// recorded), or a throw of meshError.
+std::string readMeshBytes(const std::string& path) {
   try {
-    bytes = readInputFile(path);  // a regular file within the budget, recorded
+    return readInputFile(path);
   } catch (const InputFileError& e) {
     meshError(path, e.problem());
   }
+}
+
+// The mesh file `path`, whose bytes are `bytes`, read into `importer` (its file
+// system, which the importer owns and which lists the other files assimp asked
+// about, into `files`) and checked against the budgets before and after the
+// triangulation: the scene, or a throw of meshError.
+const aiScene& readCheckedScene(const std::string& path, const std::string& bytes,
+                                Assimp::Importer& importer, InputFileSystem*& files) {
   if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
     meshError(path, problem);
-  if (fileBytes != nullptr) *fileBytes = bytes;
-  auto* files = new InputFileSystem(path, std::move(bytes));  // the importer owns it
+  if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
+    meshError(path, problem);
+  files = new InputFileSystem(path, bytes);  // the importer owns it
   importer.SetIOHandler(files);
   // ROS meshes are Z-up whatever a COLLADA file's <up_axis> says (as rviz reads them).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -209,18 +365,7 @@ const aiScene& readCheckedScene(const std::string& path, Assimp::Importer& impor
   // 200 000 corners is refused here instead of hanging the triangulator.
   const aiScene* scene = importer.ReadFile(path, 0);
   if (scene == nullptr) {
-    // assimp's reason may quote the file's bytes (a COLLADA element '<in\x90\x93t>'):
-    // bytes past ASCII as \xNN, so the message stays valid UTF-8 for the JSON it reaches.
-    std::string reason;
-    for (const char c : std::string(importer.GetErrorString())) {
-      const auto byte = static_cast<unsigned char>(c);
-      if (byte < 0x80) {
-        reason += c;
-      } else {
-        static constexpr char kHex[] = "0123456789abcdef";
-        reason += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xF]};
-      }
-    }
+    const std::string reason = assimpReason(importer);
     meshError(path, !files->refused.empty()
                         ? "cannot be read: " + files->refused
                         : "cannot be read (" +
@@ -234,8 +379,7 @@ const aiScene& readCheckedScene(const std::string& path, Assimp::Importer& impor
     meshError(path, problem + " (docs/scene-format.md#limits)");
   scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                        aiProcess_SortByPType);
-  if (scene == nullptr)
-    meshError(path, "cannot be triangulated (" + std::string(importer.GetErrorString()) + ")");
+  if (scene == nullptr) meshError(path, "cannot be triangulated (" + assimpReason(importer) + ")");
   if (const std::string problem = meshBudgetProblem(*scene, true); !problem.empty())
     meshError(path, problem + " (docs/scene-format.md#limits)");
   return *scene;
@@ -266,8 +410,11 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
     meshError(path, "the scale (" + std::to_string(scale.x) + ", " + std::to_string(scale.y) +
                         ", " + std::to_string(scale.z) +
                         ") has a zero factor: the mesh would have no volume");
+  std::string bytes = readMeshBytes(path);
+  if (const auto kept = meshFileMemo().find(path, scale, bytes)) return *kept;
   Assimp::Importer importer;
-  const aiScene& scene = readCheckedScene(path, importer, nullptr);
+  InputFileSystem* files = nullptr;
+  const aiScene& scene = readCheckedScene(path, bytes, importer, files);
   TriangleMesh mesh;
   if (scene.mRootNode != nullptr) collect(scene, scale, mesh, nullptr);
   checkGeometry(path, mesh);
@@ -275,13 +422,16 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
   if (scale.x * scale.y * scale.z < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   }
+  meshFileMemo().keep(path, scale, std::move(bytes), std::move(files->asked), mesh);
   return mesh;
 }
 
 ShadedMesh loadShadedMesh(const std::string& path) {
   ShadedMesh out;
+  out.bytes = readMeshBytes(path);
   Assimp::Importer importer;
-  const aiScene& scene = readCheckedScene(path, importer, &out.bytes);
+  InputFileSystem* files = nullptr;
+  const aiScene& scene = readCheckedScene(path, out.bytes, importer, files);
   if (scene.mRootNode != nullptr) collect(scene, {1, 1, 1}, out.mesh, &out);
   checkGeometry(path, out.mesh);
   for (unsigned k = 0; k < scene.mNumMaterials; ++k) {

@@ -504,6 +504,29 @@ void ModelBuilder::excludeContact(std::int32_t objectA, std::int32_t objectB) {
   if (at == pairs.end() || *at != pair) pairs.insert(at, pair);
 }
 
+void ModelBuilder::excludeContactWithin(const std::vector<std::int32_t>& objects) {
+  const auto count = static_cast<std::int32_t>(model_.objects.size());
+  std::int32_t group = 0;
+  bool grouped = false;
+  for (const std::int32_t o : objects) {
+    if (o < 0 || o >= count)
+      check::fail("excludeContactWithin", "objects",
+                  "object " + std::to_string(o) + " is not a placed object (" +
+                      std::to_string(count) + " placed)");
+    grouped = grouped || model_.objects[static_cast<std::size_t>(o)].contactGroup >= 0;
+  }
+  if (grouped) {
+    // (An object has one group: pairs, as few objects as a hand-made call lists.)
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      for (std::size_t j = i + 1; j < objects.size(); ++j)
+        if (objects[i] != objects[j]) excludeContact(objects[i], objects[j]);
+    return;
+  }
+  for (const ObjectInfo& info : model_.objects) group = std::max(group, info.contactGroup + 1);
+  for (const std::int32_t o : objects)
+    model_.objects[static_cast<std::size_t>(o)].contactGroup = group;
+}
+
 std::int32_t ModelBuilder::addRigidTree(RigidTree tree, std::vector<double> q, std::vector<double> v) {
   const std::string what = "rigid tree '" + tree.multibody.name + "'";
   try {

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include "build/checks.h"
+#include "build/mesh_memo.h"
 
 namespace robophi::build::detail {
 
@@ -259,6 +262,43 @@ VoxelGrid meshGrid(const TriangleMesh& mesh, const Vec3& lo, const Vec3& hi, std
   return grid;
 }
 
+// A mesh's lattice in its own frame (fillShape): the cells inside, and a
+// particle on each thin surface cell.
+template <class Stretch>
+MeshLattice meshLattice(const TriangleMesh& mesh, const Vec3& lo, const Vec3& hi,
+                        std::array<int, 3> n, const Stretch& stretched) {
+  MeshLattice out;
+  const VoxelGrid grid = meshGrid(mesh, lo, hi, n, out.report);
+  for (int i = 0; i < n[0]; ++i) {
+    for (int j = 0; j < n[1]; ++j) {
+      for (int k = 0; k < n[2]; ++k) {
+        const std::size_t c = grid.index(i, j, k);
+        if (grid.inside[c]) {
+          out.local.push_back(stretched(grid.centre(i, j, k)));
+          continue;
+        }
+        if (!grid.surface[c]) continue;
+        // A thin part: surface here and no inside cell next to it gets a
+        // particle on the surface, so that parts narrower than a cell are kept.
+        bool nearInside = false;
+        for (int di = -1; di <= 1 && !nearInside; ++di) {
+          for (int dj = -1; dj <= 1 && !nearInside; ++dj) {
+            for (int dk = -1; dk <= 1 && !nearInside; ++dk) {
+              const int a = i + di, b = j + dj, cc = k + dk;
+              if (a < 0 || b < 0 || cc < 0 || a >= n[0] || b >= n[1] || cc >= n[2]) continue;
+              nearInside = grid.inside[grid.index(a, b, cc)] != 0;
+            }
+          }
+        }
+        if (nearInside) continue;
+        out.local.push_back(grid.surfacePoint[c]);
+        ++out.report.thinParticles;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int openEdges(const TriangleMesh& mesh) {
@@ -401,34 +441,17 @@ ShapeLattice fillShape(const ShapeSpec& shape, double spacing) {
     }
     return out;
   }
-  const VoxelGrid grid = meshGrid(shape.mesh, lo, hi, n, out.report);
-  for (int i = 0; i < n[0]; ++i) {
-    for (int j = 0; j < n[1]; ++j) {
-      for (int k = 0; k < n[2]; ++k) {
-        const std::size_t c = grid.index(i, j, k);
-        if (grid.inside[c]) {
-          out.position.push_back(shape.frame.apply(stretched(grid.centre(i, j, k))));
-          continue;
-        }
-        if (!grid.surface[c]) continue;
-        // A thin part: surface here and no inside cell next to it gets a
-        // particle on the surface, so that parts narrower than a cell are kept.
-        bool nearInside = false;
-        for (int di = -1; di <= 1 && !nearInside; ++di) {
-          for (int dj = -1; dj <= 1 && !nearInside; ++dj) {
-            for (int dk = -1; dk <= 1 && !nearInside; ++dk) {
-              const int a = i + di, b = j + dj, cc = k + dk;
-              if (a < 0 || b < 0 || cc < 0 || a >= n[0] || b >= n[1] || cc >= n[2]) continue;
-              nearInside = grid.inside[grid.index(a, b, cc)] != 0;
-            }
-          }
-        }
-        if (nearInside) continue;
-        out.position.push_back(shape.frame.apply(grid.surfacePoint[c]));
-        ++out.report.thinParticles;
-      }
-    }
+  // A mesh's lattice before its frame, worked out once per mesh and spacing.
+  const std::uint64_t digest = meshDigest(shape.mesh);
+  MeshWorkMemo& memo = MeshWorkMemo::shared();
+  std::shared_ptr<const MeshLattice> lattice = memo.lattice(shape.mesh, digest, spacing);
+  if (lattice == nullptr) {
+    lattice = std::make_shared<const MeshLattice>(meshLattice(shape.mesh, lo, hi, n, stretched));
+    memo.keepLattice(shape.mesh, digest, spacing, lattice);
   }
+  out.report = lattice->report;
+  out.position.reserve(lattice->local.size());
+  for (const Vec3& p : lattice->local) out.position.push_back(shape.frame.apply(p));
   return out;
 }
 
@@ -443,18 +466,28 @@ double shapeVolume(const ShapeSpec& shape) {
     case ShapeSpec::Kind::kMesh:
       break;
   }
+  // Worked out once per mesh (build/mesh_memo.h).
+  const std::uint64_t digest = meshDigest(shape.mesh);
+  MeshWorkMemo& memo = MeshWorkMemo::shared();
+  if (const std::optional<double> kept = memo.volume(shape.mesh, digest)) return *kept;
+  const double volume = meshVolume(shape.mesh);
+  memo.keepVolume(shape.mesh, digest, volume);
+  return volume;
+}
+
+double meshVolume(const TriangleMesh& mesh) {
   double signedVolume = 0.0;
-  for (const auto& tri : shape.mesh.triangles) {
-    const Vec3& a = shape.mesh.vertices[static_cast<std::size_t>(tri[0])];
-    const Vec3& b = shape.mesh.vertices[static_cast<std::size_t>(tri[1])];
-    const Vec3& c = shape.mesh.vertices[static_cast<std::size_t>(tri[2])];
+  for (const auto& tri : mesh.triangles) {
+    const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+    const Vec3& b = mesh.vertices[static_cast<std::size_t>(tri[1])];
+    const Vec3& c = mesh.vertices[static_cast<std::size_t>(tri[2])];
     signedVolume += dot(a, cross(b, c)) / 6.0;
   }
-  if (openEdges(shape.mesh) == 0 && signedVolume != 0.0) return std::abs(signedVolume);
+  if (openEdges(mesh) == 0 && signedVolume != 0.0) return std::abs(signedVolume);
   Vec3 lo, hi;
-  meshBounds(shape.mesh, lo, hi);
+  meshBounds(mesh, lo, hi);
   MeshReport report;
-  const VoxelGrid grid = meshGrid(shape.mesh, lo, hi, {48, 48, 48}, report);
+  const VoxelGrid grid = meshGrid(mesh, lo, hi, {48, 48, 48}, report);
   const double cellVolume = grid.cell.x * grid.cell.y * grid.cell.z;
   double volume = 0.0;
   for (std::size_t c = 0; c < grid.inside.size(); ++c) {

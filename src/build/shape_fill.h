@@ -60,6 +60,8 @@ ShapeLattice fillShape(const ShapeSpec& shape, double spacing);
 void shapeBounds(const ShapeSpec& shape, Vec3& lo, Vec3& hi);
 /// Volume of a shape (m³): exact for primitives and closed meshes, voxel count otherwise.
 double shapeVolume(const ShapeSpec& shape);
+/// Volume of a mesh (m³), as shapeVolume gives it (which keeps it per mesh).
+double meshVolume(const TriangleMesh& mesh);
 /// A first lattice spacing (m) for about `count` particles in the union:
 /// the volume per particle, or the area per particle for a sheet.
 double spacingFor(const std::vector<ShapeSpec>& shapes, int count);

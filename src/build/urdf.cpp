@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <set>
 #include <stdexcept>
@@ -456,11 +457,22 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
       static_cast<std::size_t>(std::count_if(order.begin(), order.end(), [&](int l) {
         return attached[static_cast<std::size_t>(l)] == l;
       }));
-  if (bodyCount > static_cast<std::size_t>(kMaxUrdfBodies))
-    throw UrdfError(file, 0,
+  if (bodyCount > static_cast<std::size_t>(kMaxUrdfBodies)) {
+    // Named at the first link past it (its line).
+    std::size_t seen = 0;
+    int past = order.front();
+    for (const int l : order)
+      if (attached[static_cast<std::size_t>(l)] == l && ++seen == kMaxUrdfBodies + 1u) {
+        past = l;
+        break;
+      }
+    const urdf::Link& first = d.links[static_cast<std::size_t>(past)];
+    throw UrdfError(file, first.line,
                     std::to_string(bodyCount) + " links carry particles, more than the budget of " +
                         std::to_string(kMaxUrdfBodies) +
-                        " links of a robot (docs/scene-format.md#limits)");
+                        " links of a robot (docs/scene-format.md#limits): link '" + first.name +
+                        "' is the first past it");
+  }
   if (spec.particleSize == 0.0 &&
       static_cast<double>(bodyCount) * spec.particlesPerLink > kMaxParticlesPerObject)
     throw UrdfError(file, 0,
@@ -859,8 +871,7 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     if (each.object < 0)
       each.object = robot.links[static_cast<std::size_t>(each.attachedTo)].object;
   if (!spec.selfCollision) {
-    for (int a = 0; a < objectCount; ++a)
-      for (int b = a + 1; b < objectCount; ++b) robot.noContact.push_back({a, b});
+    robot.noContactWithin = objectCount;
   } else {
     std::set<std::array<int, 2>> pairs;
     for (const Plan& plan : plans)
@@ -879,6 +890,63 @@ void translateUrdfRobot(UrdfRobot& robot, const Vec3& offset) {
     link.declaredWorld.centerOfMass = link.declaredWorld.centerOfMass + offset;
   }
 }
+
+namespace {
+
+// Each link's bodies at and below it (its own and every link's below it), in
+// the order of a breadth-first walk of its subtree by the children lists, as
+// lists that share runs: where a link's children but the last are leaves, its
+// walk is [it, those leaves] + the last child's walk, so the last child's list is
+// a suffix of its own. A run is written from each link that is not such a last
+// child: a chain is one run, whose suffixes are all its lists (memory and time
+// linear in its links; a list each was their square).
+std::vector<BodyList> sharedBodiesBelow(const std::vector<std::vector<int>>& childLinks,
+                                        const std::vector<std::int32_t>& bodyOf) {
+  const std::size_t links = childLinks.size();
+  const auto leaf = [&](int l) { return childLinks[static_cast<std::size_t>(l)].empty(); };
+  // Its walk extends its last child's: the children but the last are leaves.
+  const auto extends = [&](std::size_t l) {
+    const std::vector<int>& children = childLinks[l];
+    return !children.empty() && std::all_of(children.begin(), children.end() - 1, leaf);
+  };
+  std::vector<char> continued(links, 0);  // the last child of a link whose walk extends it
+  for (std::size_t l = 0; l < links; ++l)
+    if (extends(l)) continued[static_cast<std::size_t>(childLinks[l].back())] = 1;
+  std::vector<BodyList> out(links);
+  for (std::size_t top = 0; top < links; ++top) {
+    if (continued[top]) continue;
+    auto run = std::make_shared<std::vector<std::int32_t>>();
+    std::vector<std::pair<std::size_t, std::size_t>> starts;  // (link, first in run)
+    const auto emit = [&](std::size_t l) {
+      if (bodyOf[l] >= 0) run->push_back(bodyOf[l]);
+    };
+    std::size_t l = top;
+    for (;;) {
+      starts.emplace_back(l, run->size());
+      emit(l);
+      if (!extends(l)) {
+        // The rest of its walk, breadth first.
+        std::vector<int> queue(childLinks[l].begin(), childLinks[l].end());
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+          const auto at = static_cast<std::size_t>(queue[q]);
+          emit(at);
+          queue.insert(queue.end(), childLinks[at].begin(), childLinks[at].end());
+        }
+        break;
+      }
+      const std::vector<int>& children = childLinks[l];
+      for (std::size_t c = 0; c + 1 < children.size(); ++c)
+        emit(static_cast<std::size_t>(children[c]));
+      l = static_cast<std::size_t>(children.back());
+    }
+    const std::shared_ptr<const std::vector<std::int32_t>> shared = std::move(run);
+    for (const auto& [link, first] : starts)
+      out[link] = BodyList(shared, first, shared->size() - first);
+  }
+  return out;
+}
+
+}  // namespace
 
 PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
   PlacedUrdfRobot placed;
@@ -940,11 +1008,12 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     }
     return out;
   };
+  const std::vector<BodyList> below = sharedBodiesBelow(childLinks, placed.body);
   std::vector<std::int32_t> bodyLinkOf;
   for (const UrdfBodyLink& link : robot.bodyLinks) {
     BodyLink gains = link.gains;
     // MODEL §1.7: held joints' links carry their weight bodies (the weight preload).
-    if (robot.compensateGravity) gains.weightBodies = bodiesBelow({link.child});
+    if (robot.compensateGravity) gains.weightBodies = below[static_cast<std::size_t>(link.child)];
     bodyLinkOf.push_back(builder.addBodyLink(
         link.kind, placed.body[static_cast<std::size_t>(link.child)],
         placed.body[static_cast<std::size_t>(link.parent)], link.point, link.axis, gains));
@@ -975,7 +1044,9 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     model.drive = j.drive;
     if (j.bodyLink >= 0) model.bodyLink = bodyLinkOf[static_cast<std::size_t>(j.bodyLink)];
     // The bodies it carries: its child link's and every link's below it.
-    model.subtreeBodies = bodiesBelow(urdfJointsOf[k]);
+    model.subtreeBodies = urdfJointsOf[k].size() == 1
+                              ? below[static_cast<std::size_t>(urdfJointsOf[k][0])]
+                              : BodyList(bodiesBelow(urdfJointsOf[k]));
     model.compensateGravity = robot.compensateGravity;
     modelJointOf.push_back(builder.addJoint(model));
   }
@@ -983,6 +1054,12 @@ PlacedUrdfRobot placeUrdfRobot(ModelBuilder& builder, const UrdfRobot& robot) {
     const auto found = modelJointIndex.find(j.modelJoint);
     placed.modelJoint.push_back(
         j.modelJoint.empty() || found == modelJointIndex.end() ? -1 : modelJointOf[found->second]);
+  }
+  if (robot.noContactWithin > 1) {
+    std::vector<std::int32_t> links;
+    for (int o = 0; o < robot.noContactWithin; ++o)
+      links.push_back(placed.objects[static_cast<std::size_t>(o)].object);
+    builder.excludeContactWithin(links);
   }
   for (const auto& [a, b] : robot.noContact)
     builder.excludeContact(placed.objects[static_cast<std::size_t>(a)].object,

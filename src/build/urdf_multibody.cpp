@@ -20,6 +20,7 @@
 #include "robophi/build/model_builder.h"
 #include "robophi/build/rigid_body.h"
 #include "robophi/build/spec_error.h"
+#include "robophi/build/urdf.h"
 
 namespace robophi::build {
 
@@ -218,6 +219,14 @@ UrdfMultibody makeUrdfMultibody(const urdf::Description& d, const UrdfMultibodyS
       X_BL[c] = X_PJ;
       continue;
     }
+    // The size budget (docs/scene-format.md#limits), as the particle importer's:
+    // refused at the joint that passes it, before the tree is built.
+    if (mb.bodies.size() > static_cast<std::size_t>(kMaxUrdfBodies))
+      throw UrdfError(d.file, j.line,
+                      "joint '" + j.name + "' makes link '" + d.links[c].name + "' moving body " +
+                          std::to_string(mb.bodies.size()) + ", more than the budget of " +
+                          std::to_string(kMaxUrdfBodies) +
+                          " moving links of a robot (docs/scene-format.md#limits)");
     MultibodyBody body;
     body.name = prefix + "." + d.links[c].name;
     body.parent = linkBody[p];
@@ -362,9 +371,23 @@ ShapeSpec shapeOf(const UrdfCollisionShape& c) {
 // curve, so that the surface they make departs from the shape by at most
 // r (1 − cos(asin(1/4))) ≈ 0.03 r (a wheel rolls on its true radius). Points in
 // the body frame.
-void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>& local,
-                      std::vector<double>& radius) {
+// The surface particles of a primitive shape (a box, a cylinder, a sphere) of
+// body `body`, refused past the budget of an object before they are made.
+void surfaceParticles(const ShapeSpec& shape, double spacing, const std::string& body,
+                      std::vector<Vec3>& local, std::vector<double>& radius) {
   std::vector<Vec3> points;  // in the shape's frame
+  // The budget (docs/scene-format.md#limits), counted before the points are made:
+  // a disc of 803 m radius and 0.2 m thickness is 4e8 particles of 0.1 m (a fuzz
+  // finding: 14 GB, then a hang).
+  const auto budget = [&](double count, double particleRadius) {
+    if (count <= static_cast<double>(kMaxParticlesPerObject)) return;
+    throw SpecError("UrdfMultibodyPlacement", "particleSize",
+                    "the collision shape of body '" + body + "' would make about " +
+                        check::number(std::round(count)) + " surface particles of radius " +
+                        check::number(particleRadius) + " m, more than the budget of " +
+                        std::to_string(kMaxParticlesPerObject) +
+                        " particles of an object (docs/scene-format.md#limits)");
+  };
   const auto steps = [](double length, double step) {
     return std::max(1, static_cast<int>(std::ceil(length / step - 1e-9)) + 1);
   };
@@ -377,6 +400,8 @@ void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>&
       const Vec3 h = shape.size * 0.5;
       r = std::min({spacing, h.x, h.y, h.z});
       const Vec3 in{h.x - r, h.y - r, h.z - r};
+      const double cx = 2 * in.x / r + 2, cy = 2 * in.y / r + 2, cz = 2 * in.z / r + 2;
+      budget(2.0 * (cx * cy + cy * cz + cz * cx), r);
       const int nx = steps(2 * in.x, r), ny = steps(2 * in.y, r), nz = steps(2 * in.z, r);
       for (int i = 0; i < nx; ++i)
         for (int j = 0; j < ny; ++j)
@@ -388,6 +413,12 @@ void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>&
     case ShapeSpec::Kind::kCylinder: {
       r = std::min({spacing, shape.radius, 0.5 * shape.length});
       const double rim = shape.radius - r, halfLength = 0.5 * shape.length - r;
+      // The side's rings, and the two ends' discs (rings r apart, 4π m points the m-th).
+      const double perRing = std::max(6.0, 4.0 * std::numbers::pi * rim / r + 1.0);
+      const double discs = rim / r + 1.0;
+      budget((2 * halfLength / r + 2) * perRing +
+                 2.0 * (2.0 * std::numbers::pi * discs * discs + 6.0 * discs),
+             r);
       const int rings = steps(2 * halfLength, r);
       for (int k = 0; k < rings; ++k) {
         const double z = along(halfLength, k, rings);
@@ -406,6 +437,7 @@ void surfaceParticles(const ShapeSpec& shape, double spacing, std::vector<Vec3>&
     case ShapeSpec::Kind::kSphere: {
       r = std::min(spacing, shape.radius);
       const double inner = shape.radius - r;
+      budget(4 * std::numbers::pi * inner * inner / (0.25 * r * r), r);
       const int count = inner < 1e-9 ? 1 : std::max(12, static_cast<int>(std::ceil(4 * std::numbers::pi * inner * inner / (0.25 * r * r))));
       // A Fibonacci sphere: evenly spread directions.
       for (int c = 0; c < count; ++c) {
@@ -528,7 +560,7 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
     std::vector<double> radius;
     for (const ShapeSpec& shape : shapes[b]) {
       if (shape.kind != ShapeSpec::Kind::kMesh) {
-        surfaceParticles(shape, spacing, local, radius);
+        surfaceParticles(shape, spacing, mb.bodies[b].name, local, radius);
         continue;
       }
       const detail::ShapeLattice lattice = detail::fillShape(shape, spacing);
@@ -561,15 +593,19 @@ PlacedUrdfMultibody placeUrdfMultibody(ModelBuilder& builder, const UrdfMultibod
       tree.particles.push_back({at.firstParticle + static_cast<ParticleIndex>(k), static_cast<std::int32_t>(b),
                                 local[k]});
   }
-  // Contacts between the robot's own bodies: none, or none across a joint.
-  for (std::size_t i = 0; i < mb.bodies.size(); ++i)
-    for (std::size_t j = i + 1; j < mb.bodies.size(); ++j) {
-      const std::int32_t a = placed.objectOfBody[i], b = placed.objectOfBody[j];
-      if (a < 0 || b < 0) continue;
-      const bool jointed = mb.bodies[j].parent == static_cast<std::int32_t>(i) ||
-                           mb.bodies[i].parent == static_cast<std::int32_t>(j);
-      if (!placement.selfCollision || jointed) builder.excludeContact(a, b);
+  // Contacts between the robot's own bodies: none (one contact group: linear in
+  // the bodies, where every pair was their square), or none across a joint.
+  if (!placement.selfCollision) {
+    if (objects.size() > 1) builder.excludeContactWithin(objects);
+  } else {
+    for (std::size_t j = 0; j < mb.bodies.size(); ++j) {
+      const std::int32_t parent = mb.bodies[j].parent;
+      if (parent < 0) continue;
+      const std::int32_t a = placed.objectOfBody[static_cast<std::size_t>(parent)],
+                         b = placed.objectOfBody[j];
+      if (a >= 0 && b >= 0) builder.excludeContact(a, b);
     }
+  }
   placed.tree = builder.addRigidTree(std::move(tree), q, placement.v);
   placeUrdfMultibodyVisuals(builder, robot, placed.tree, kin);
   return placed;

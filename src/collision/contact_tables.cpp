@@ -321,6 +321,9 @@ ContactTables compileContactTables(const Model& model) {
   ContactTables tables;
   ContactTables* cache = &tables;
   tables.noContactPairs = model.noContactPairs;
+  if (std::any_of(model.objects.begin(), model.objects.end(),
+                  [](const ObjectInfo& o) { return o.contactGroup >= 0; }))
+    for (const ObjectInfo& o : model.objects) tables.objectContactGroup.push_back(o.contactGroup);
   {
     const ContactSettings& settings = model.contact;
     // Material-pair table (docs/contact.md: series κ_c and μ_c, geometric-mean friction).

@@ -139,6 +139,8 @@ struct ContactTables {
   std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
   /// Model::noContactPairs: object pairs {a < b} that never touch (sorted).
   std::vector<std::array<std::int32_t, 2>> noContactPairs;
+  /// ObjectInfo::contactGroup per object (-1: none), or empty when no object has one.
+  std::vector<std::int32_t> objectContactGroup;
   /// ContactSettings::pairOverrides with objectA <= objectB (or objectB = -1), sorted.
   std::vector<ContactPairOverride> overrides;
 };
@@ -445,8 +447,13 @@ inline const PairParameters& pairParameters(const Model& model, const ContactTab
   return overriddenPairParameters(model, tables, a, other, table, overrideOut);
 }
 
-/// Whether objects a and b (tree objects) never touch (Model::noContactPairs).
+/// Whether objects a and b (tree objects) never touch (one ObjectInfo::contactGroup,
+/// or Model::noContactPairs).
 inline bool objectsExcluded(const ContactTables& tables, std::int32_t a, std::int32_t b) {
+  if (!tables.objectContactGroup.empty()) {
+    const std::int32_t group = tables.objectContactGroup[static_cast<std::size_t>(a)];
+    if (group >= 0 && group == tables.objectContactGroup[static_cast<std::size_t>(b)]) return true;
+  }
   if (tables.noContactPairs.empty()) return false;
   const std::array<std::int32_t, 2> key{std::min(a, b), std::max(a, b)};
   return std::binary_search(tables.noContactPairs.begin(), tables.noContactPairs.end(), key);

@@ -151,6 +151,11 @@ std::string checkModel(const Model& model) {
         return detail::text("rigid tree {} '{}': rate {} names joint {}, not its own", t, mb.name, i, k);
     }
   }
+  for (std::size_t k = 0; k < model.objects.size(); ++k) {
+    if (model.objects[k].contactGroup < -1)
+      return detail::text("objects {} '{}': contactGroup {} must be >= 0, or -1 for none", k,
+                          model.objects[k].name, model.objects[k].contactGroup);
+  }
   for (std::size_t k = 0; k < model.noContactPairs.size(); ++k) {
     const auto& [a, b] = model.noContactPairs[k];
     const auto objectCount = static_cast<std::int32_t>(model.objects.size());

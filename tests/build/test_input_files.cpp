@@ -174,5 +174,34 @@ TEST_F(InputFiles, AMeshReadersReasonIsKeptValidUtf8) {
   for (const char c : message) EXPECT_LT(static_cast<unsigned char>(c), 0x80) << message;
 }
 
+// A COLLADA array without its count attribute crashed assimp 5.2 (a null read, a
+// fuzz finding): refused before assimp reads the file, naming the element's line.
+TEST_F(InputFiles, AColladaArrayWithoutItsCountIsRefusedBeforeAssimpReadsIt) {
+  const fs::path dae = dir_ / "nocount.dae";
+  testing::writeText(dae,
+                     "<?xml version=\"1.0\"?>\n<COLLADA version=\"1.4.1\">\n<library_geometries>"
+                     "<geometry id=\"t\"><mesh><source id=\"p\">\n<float_array id=\"a\" "
+                     "couft=\"3\">0 0 0</float_array></source></mesh></geometry>"
+                     "</library_geometries>\n</COLLADA>\n");
+  EXPECT_EQ(meshMessage(dae), "mesh '" + dae.string() +
+                                  "': a COLLADA <float_array> at line 4 has no count attribute");
+}
+
+// The triangulation's reason too (a fuzz finding: an STL whose bytes past ASCII
+// reached the message when assimp's post-processing failed).
+TEST_F(InputFiles, AMeshTriangulationsReasonIsKeptValidUtf8) {
+  const std::string input = testing::readText(fs::path(ROBOPHI_SOURCE_DIR) / "fuzz" / "urdf_seeds" /
+                                              "stl_triangulation_reason_not_utf8.urdf");
+  const std::string marker = "<!-- robophi-fuzz-mesh stl -->\n";
+  const std::size_t at = input.find(marker);
+  ASSERT_NE(at, std::string::npos);
+  const fs::path stl = dir_ / "fuzz_mesh.stl";
+  testing::writeText(stl, input.substr(at + marker.size()));
+  const std::string message = meshMessage(stl);
+  EXPECT_NE(message.find("cannot be triangulated ("), std::string::npos) << message;
+  EXPECT_NE(message.find("\\xa8"), std::string::npos) << message;
+  for (const char c : message) EXPECT_LT(static_cast<unsigned char>(c), 0x80) << message;
+}
+
 }  // namespace
 }  // namespace robophi::build

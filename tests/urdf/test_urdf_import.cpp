@@ -169,10 +169,12 @@ TEST(UrdfImport, FramesNotionalBaseAndLimits) {
   EXPECT_TRUE(mimic->hasMimic);
   EXPECT_EQ(mimic->mimicJoint, "panda_finger_joint1");
   EXPECT_DOUBLE_EQ(mimic->multiplier, 1.0);
-  // No two links of a robot touch (selfCollision off): every object pair excluded.
-  std::size_t n = 0;  // links (their carriers, kind "virtual", touch nothing anyway)
+  // No two links of a robot touch (selfCollision off): its link objects are one
+  // contact group (noContactWithin), not every pair listed.
+  int n = 0;  // links (their carriers, kind "virtual", touch nothing anyway)
   for (const auto& object : panda.objects) n += object.kind == "link" ? 1 : 0;
-  EXPECT_EQ(panda.noContact.size(), n * (n - 1) / 2);
+  EXPECT_EQ(panda.noContactWithin, n);
+  EXPECT_TRUE(panda.noContact.empty());
 }
 
 TEST(UrdfImport, InitialPositionsAreTheJointPositionsAsBuilt) {

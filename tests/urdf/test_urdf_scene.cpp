@@ -67,7 +67,13 @@ TEST(UrdfScene, AUrdfObjectLoadsPlacedAndNamed) {
   const ObjectInfo& pole = scene.model.objects[0];
   for (ParticleIndex i = pole.firstParticle; i < pole.firstParticle + pole.particleCount; ++i)
     EXPECT_TRUE(scene.model.isFixed(i));
-  EXPECT_EQ(scene.model.noContactPairs.size(), 10u);
+  // Its five links in one contact group (not their ten pairs); the cube in none.
+  EXPECT_TRUE(scene.model.noContactPairs.empty());
+  for (std::size_t o = 0; o < 5; ++o) {
+    EXPECT_GE(scene.model.objects[o].contactGroup, 0);
+    EXPECT_EQ(scene.model.objects[o].contactGroup, pole.contactGroup);
+  }
+  EXPECT_EQ(scene.model.objects.back().contactGroup, -1);
 }
 
 TEST(UrdfScene, UrdfErrorsNameTheUrdfLineAndTheScenePlace) {

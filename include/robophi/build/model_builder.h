@@ -107,6 +107,10 @@ class ModelBuilder {
   std::int32_t addJoint(const Joint& joint);
   /// Placed objects a and b (distinct) never touch each other (Model::noContactPairs).
   void excludeContact(std::int32_t objectA, std::int32_t objectB);
+  /// Placed objects (distinct) none of which touches another (a robot's links):
+  /// one new ObjectInfo::contactGroup, in memory linear in their count; objects
+  /// already in a group get pairs instead (Model::noContactPairs).
+  void excludeContactWithin(const std::vector<std::int32_t>& objects);
   /// Adds a rigid body (MODEL §1.7) of placed particles, its rest shape their present
   /// offsets from their mass centre; shape matching at `frequency` (rad/s, >= 0; 0:
   /// none) with damping ratio `dampingRatio` (>= 0). Returns its index in Model::bodies.

@@ -214,6 +214,9 @@ struct UrdfRobot {
   bool compensateGravity = false;
   /// Object pairs (indices into objects) that do not touch each other.
   std::vector<std::array<int, 2>> noContact{};
+  /// Objects [0, noContactWithin) (its links') touch none of each other (no
+  /// selfCollision): one contact group, not every pair (ModelBuilder::excludeContactWithin).
+  int noContactWithin = 0;
   /// One a kind of element robophi ignores (<gazebo>, <transmission>, <visual>, ...).
   std::vector<UrdfWarning> warnings{};
   /// The mass given to a notional base (kg).
