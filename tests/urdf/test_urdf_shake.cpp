@@ -16,11 +16,12 @@
 #include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 std::int32_t objectNamed(const Model& model, const std::string& name) {
   for (std::size_t o = 0; o < model.objects.size(); ++o)
