@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the scene loader (fuzz/fuzz_scene.cpp) or the URDF importer with
 # meshes (fuzz/fuzz_urdf.cpp; fuzz/README.md) with libFuzzer: builds the target
-# with Debian's clang into build-fuzz/ (only the libraries and the target:
-# coverage, ASan, UBSan), then runs it on its seed corpus.
+# with Debian's clang into build-fuzz/ (only the libraries, a unity build, and
+# the target: coverage, ASan, UBSan), then runs it on its seed corpus.
 #
 #   scripts/fuzz.sh                  the scene loader, the long run: 1 000 000 executions
 #   scripts/fuzz.sh -runs=20000      a short run (scripts/check.sh)
@@ -22,8 +22,8 @@ build="${ROBOPHI_FUZZ_BUILD:-$root/build-fuzz}"
 
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROBOPHI_FUZZ=ON -DROBOPHI_BUILD_APP=OFF \
-    -DROBOPHI_BUILD_TESTS=OFF -DROBOPHI_CHECK_LAYERS=OFF \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_UNITY_BUILD=ON -DROBOPHI_FUZZ=ON \
+    -DROBOPHI_BUILD_APP=OFF -DROBOPHI_BUILD_TESTS=OFF -DROBOPHI_CHECK_LAYERS=OFF \
     -DROBOPHI_FUZZ_SANITIZERS="${ROBOPHI_FUZZ_SANITIZERS-address,undefined}" >/dev/null
 fi
 target=scene

@@ -11,6 +11,9 @@
 
 namespace robophi::testing {
 
+/// The shared robot descriptions (ROBOPHI_ROBOTS_DIR, tests/CMakeLists.txt).
+inline const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+
 /// The whole content of a text file ("" if it cannot be read).
 inline std::string readText(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -399,7 +399,7 @@ void setLinearDamping(GeneratedObject& box) {
     s.damping = 0.2 * std::sqrt(s.stiffness * minMass / 2.0);
 }
 
-constexpr const char* kSpec = "calibrateLattice";
+constexpr const char* kLatticeSpec = "calibrateLattice";
 
 // "a×b×c".
 std::string cellText(const std::array<int, 3>& cells) {
@@ -410,9 +410,10 @@ void calibrateBeam(GeneratedObject& box, const std::array<int, 3>& cells, double
                    double E, double G, double k1, double k2) {
   BeamLattice beam;
   if (!describeBeam(box, cells, a, axis, beam))
-    check::fail(kSpec, "youngModulus", "'youngModulus': the particles are not a full box lattice");
+    check::fail(kLatticeSpec, "youngModulus",
+                "'youngModulus': the particles are not a full box lattice");
   if (beam.count[1] < 2 || beam.count[2] < 2)
-    check::fail(kSpec, "cells",
+    check::fail(kLatticeSpec, "cells",
                 "'youngModulus' on a bar needs at least 2 cells across it, got [" +
                     std::to_string(cells[0]) + ", " + std::to_string(cells[1]) + ", " +
                     std::to_string(cells[2]) +
@@ -423,7 +424,7 @@ void calibrateBeam(GeneratedObject& box, const std::array<int, 3>& cells, double
   const double bendUnit = E * a * a * a / 12.0;
   const BeamStatics statics(box, beam, base, bendUnit);
   if (statics.work() > kMaxWork || statics.memory() > kMaxBand)
-    check::fail(kSpec, "cells",
+    check::fail(kLatticeSpec, "cells",
                 "'youngModulus': a " + cellText(cells) +
                     " bar is too large to calibrate (the cost grows as its length times the cube "
                     "of its section, " +
@@ -479,7 +480,7 @@ void calibrateBeam(GeneratedObject& box, const std::array<int, 3>& cells, double
     char reached[160];
     std::snprintf(reached, sizeof reached, "traction %.3f, flexion %.3f and %.3f, torsion %.3f",
                   ratio[0], ratio[1], ratio[2], ratio[3]);
-    check::fail(kSpec, "youngModulus",
+    check::fail(kLatticeSpec, "youngModulus",
                 "cannot calibrate the " + cellText(cells) + " bar to E = " + check::number(E) +
                     " Pa, G = " + check::number(G) + " Pa: its lattice reaches " + reached +
                     " of E·A/L, 3·E·I/L³, G·J/L" +
@@ -504,20 +505,20 @@ void calibrateBeam(GeneratedObject& box, const std::array<int, 3>& cells, double
 
 void calibrateLattice(GeneratedObject& box, const BoxSpec& spec, double youngModulus,
                       std::optional<double> shearModulus) {
-  check::positive(kSpec, "youngModulus", youngModulus, "Pa");
-  if (shearModulus) check::positive(kSpec, "shearModulus", *shearModulus, "Pa");
+  check::positive(kLatticeSpec, "youngModulus", youngModulus, "Pa");
+  if (shearModulus) check::positive(kLatticeSpec, "shearModulus", *shearModulus, "Pa");
   const Vec3& size = spec.size;
   const std::array<int, 3>& cells = spec.cells;
-  for (int c : cells) check::atLeast(kSpec, "cells", c, 1);
+  for (int c : cells) check::atLeast(kLatticeSpec, "cells", c, 1);
   if (box.size() != static_cast<std::size_t>(cells[0]) * cells[1] * cells[2] ||
       box.linearSprings.empty())
-    check::fail(kSpec, "youngModulus",
+    check::fail(kLatticeSpec, "youngModulus",
                 "'youngModulus': the particles are not a full box lattice of " + cellText(cells) +
                     " cells");
   const double a = size.x / cells[0];
   if (!(a > 0.0) || std::abs(size.y / cells[1] - a) > 1e-9 * a ||
       std::abs(size.z / cells[2] - a) > 1e-9 * a)
-    check::fail(kSpec, "youngModulus",
+    check::fail(kLatticeSpec, "youngModulus",
                 "'youngModulus' needs cubic cells (size / cells equal in x, y and z)");
   const double E = youngModulus;
   const double G = shearModulus.value_or(0.4 * E);
@@ -527,7 +528,7 @@ void calibrateLattice(GeneratedObject& box, const BoxSpec& spec, double youngMod
   const double b = 5.0 * k2 - E * a, c = 4.0 * k2 * k2 - 3.0 * E * a * k2;
   const double k1 = 0.5 * (-b + std::sqrt(b * b - 4.0 * c));
   if (!(k1 > 0.0))
-    check::fail(kSpec, "shearModulus",
+    check::fail(kLatticeSpec, "shearModulus",
                 "'shearModulus' " + check::number(G) + " Pa is too large for 'youngModulus' " +
                     check::number(E) + " Pa: a cubic lattice of central springs needs G < 0.75 E");
   // A slender box is a beam along its longest side.

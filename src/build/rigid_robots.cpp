@@ -13,7 +13,7 @@ namespace robophi::build {
 
 namespace {
 
-Vec3 unit(const Vec3& v) { return v / norm(v); }
+Vec3 unitVector(const Vec3& v) { return v / norm(v); }
 
 // URDF's rpy (R = Rz(yaw) Ry(pitch) Rx(roll)) of a rotation matrix.
 Vec3 rollPitchYawOf(const Mat3& R) {
@@ -25,7 +25,7 @@ Vec3 rollPitchYawOf(const Mat3& R) {
 
 // A frame whose z axis is `z` (unit) and whose y axis is `y` made normal to it.
 Mat3 frameFromZY(const Vec3& z, const Vec3& y) {
-  const Vec3 yy = unit(y - z * dot(y, z));
+  const Vec3 yy = unitVector(y - z * dot(y, z));
   const Vec3 x = cross(yy, z);
   Mat3 R;
   for (int r = 0; r < 3; ++r) {
@@ -81,7 +81,7 @@ void appendChain(urdf::Description& d, int parent, const Vec3& base, const Mat3&
     } else {
       joint.origin.xyz = {0.0, 0.0, links[k - 1]};
     }
-    joint.axis = unit(transpose(R) * axes[k]);
+    joint.axis = unitVector(transpose(R) * axes[k]);
     joint.damping = damping;
     joint.parent = d.links[static_cast<std::size_t>(previous)].name;
     joint.parentIndex = previous;
@@ -160,8 +160,8 @@ UrdfMultibody makeRigidArm(const ArmSpec& spec, const std::string& name) {
     axes.assign(n, spec.axes.empty() ? Vec3{0, 0, 1} : spec.axes[0]);
   else
     axes = spec.axes;
-  for (Vec3& axis : axes) axis = unit(axis);
-  const Vec3 direction = unit(spec.direction);
+  for (Vec3& axis : axes) axis = unitVector(axis);
+  const Vec3 direction = unitVector(spec.direction);
   const double total = std::accumulate(spec.links.begin(), spec.links.end(), 0.0);
   double minSpacing = spec.links[0] / spec.particlesPerLink;
   for (double l : spec.links) minSpacing = std::min(minSpacing, l / spec.particlesPerLink);

@@ -23,7 +23,7 @@ namespace robophi::build {
 
 namespace {
 
-constexpr const char* kSpec = "UrdfSpec";
+constexpr const char* kUrdfSpec = "UrdfSpec";
 using urdf::Description;
 using UJoint = urdf::Joint;
 
@@ -317,12 +317,13 @@ bool isWheel(const Body& body, const UJoint& joint, int hub, int axisPoint) {
 }  // namespace
 
 UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
-  if (spec.path.empty()) check::fail(kSpec, "file", "'file' (the URDF's path) must not be empty");
-  check::nonNegative(kSpec, "particleSize", spec.particleSize, "m");
-  check::atLeast(kSpec, "particlesPerLink", spec.particlesPerLink, 1);
-  check::positive(kSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
-  check::nonNegative(kSpec, "servoFrequency", spec.servoFrequency, "rad/s");
-  check::finite(kSpec, "position", spec.placement.origin, "m");
+  if (spec.path.empty())
+    check::fail(kUrdfSpec, "file", "'file' (the URDF's path) must not be empty");
+  check::nonNegative(kUrdfSpec, "particleSize", spec.particleSize, "m");
+  check::atLeast(kUrdfSpec, "particlesPerLink", spec.particlesPerLink, 1);
+  check::positive(kUrdfSpec, "naturalFrequency", spec.naturalFrequency, "rad/s");
+  check::nonNegative(kUrdfSpec, "servoFrequency", spec.servoFrequency, "rad/s");
+  check::finite(kUrdfSpec, "position", spec.placement.origin, "m");
   const double servoFrequency =
       spec.servoFrequency > 0.0 ? spec.servoFrequency : 0.3 * spec.naturalFrequency;
   const Description d = urdf::readUrdf(spec.path, spec.packagePaths);
@@ -342,12 +343,12 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     std::size_t k = 0;
     while (k < d.joints.size() && d.joints[k].name != name) ++k;
     if (k == d.joints.size() || d.joints[k].type == UJoint::Type::kFixed)
-      check::fail(kSpec, "initialPositions",
+      check::fail(kUrdfSpec, "initialPositions",
                   "'initialPositions': '" + name + "' is not a moving joint of " + file);
-    check::finite(kSpec, "initialPositions", value, "rad or m");
+    check::finite(kUrdfSpec, "initialPositions", value, "rad or m");
     const UJoint& j = d.joints[k];
     if (j.type != UJoint::Type::kContinuous && (value < j.lower || value > j.upper))
-      check::fail(kSpec, "initialPositions",
+      check::fail(kUrdfSpec, "initialPositions",
                   "'initialPositions': '" + name + "' = " + check::number(value) +
                       " is outside its limits [" + check::number(j.lower) + ", " +
                       check::number(j.upper) + "]");

@@ -163,7 +163,7 @@ BodyMassProperties linkMass(const urdf::Description& d, const urdf::Link& link,
   return p;
 }
 
-UrdfCollisionShape::Kind kindOf(urdf::Geometry::Kind kind) {
+UrdfCollisionShape::Kind collisionKindOf(urdf::Geometry::Kind kind) {
   switch (kind) {
     case urdf::Geometry::Kind::kBox: return UrdfCollisionShape::Kind::kBox;
     case urdf::Geometry::Kind::kCylinder: return UrdfCollisionShape::Kind::kCylinder;
@@ -276,7 +276,7 @@ UrdfMultibody makeUrdfMultibody(const urdf::Description& d, const UrdfMultibodyS
     }
     for (const urdf::Collision& c : link.collisions) {
       UrdfCollisionShape shape;
-      shape.kind = kindOf(c.geometry.kind);
+      shape.kind = collisionKindOf(c.geometry.kind);
       shape.body = linkBody[l];
       shape.link = link.name;
       shape.X_BS = X_BL[l] * poseOf(c.origin);

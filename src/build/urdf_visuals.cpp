@@ -8,7 +8,7 @@ namespace robophi::build {
 
 namespace {
 
-VisualShape::Kind kindOf(urdf::Geometry::Kind kind) {
+VisualShape::Kind visualKindOf(urdf::Geometry::Kind kind) {
   switch (kind) {
     case urdf::Geometry::Kind::kBox:
       return VisualShape::Kind::kBox;
@@ -45,7 +45,7 @@ std::vector<UrdfVisual> urdfVisuals(const urdf::Description& d, const std::strin
       UrdfVisual visual;
       visual.link = static_cast<int>(l);
       VisualShape& s = visual.shape;
-      s.kind = kindOf(v.geometry.kind);
+      s.kind = visualKindOf(v.geometry.kind);
       s.robot = prefix;
       s.link = prefix + "." + link.name;
       s.size = v.geometry.size;

@@ -203,6 +203,12 @@ constexpr std::size_t kPieceFrames = 64;
 // The most a piece's element adds to its base64 (tags, the longest name, padding).
 constexpr std::size_t kPieceBytes = kPieceOpen.size() + 16 + 2 + kPieceClose.size() + 4;
 
+}  // namespace
+
+// A named namespace, not the anonymous one: ReplayPageStream::Pieces (replay.h)
+// holds one, and a unity build would see that as a subobject of internal linkage.
+namespace replay_series {
+
 // The series as pieces, in the page's order (docs/viewer.md, "The page's data"):
 // piece k holds kept frames k·K to (k+1)·K - 1 (K = kPieceFrames) and the
 // kept rows of each table (energy, joints, contacts) from where piece k - 1
@@ -265,6 +271,12 @@ class SeriesPieces {
   double cut_ = 0.0;                                    // the time that ended the last piece
   bool done_ = false, outOfOrder_ = false;
 };
+
+}  // namespace replay_series
+
+namespace {
+
+using replay_series::SeriesPieces;
 
 // How many rows keptIndices keeps.
 std::size_t keptCount(std::size_t count, std::size_t stride) {

@@ -39,7 +39,7 @@ using testing::writeText;
 
 const std::string kScenes = ROBOPHI_SOURCE_DIR "/scenes/";
 
-struct Outcome {
+struct RunOutcome {
   int exitCode = -1;
   std::string errors;  // what it wrote to stderr
 };
@@ -53,7 +53,7 @@ class RunCommandTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(root_); }
 
   // `robophi run <args>`, to its end.
-  Outcome run(const std::string& args) const {
+  RunOutcome run(const std::string& args) const {
     const fs::path errors = root_ / "stderr.txt";
     const std::string command =
         std::string(ROBOPHI_BINARY) + " run " + args + " > /dev/null 2> " + errors.string();
@@ -109,7 +109,7 @@ class RunCommandTest : public ::testing::Test {
   // after `delay`; with `keepSignalling` the same signal again every 5 ms until
   // it ends: late signals, while it writes its results. (The same signal: a
   // pending SIGINT would be delivered before a first SIGTERM.)
-  Outcome interruptLongRun(std::chrono::milliseconds delay, int signal, bool keepSignalling) {
+  RunOutcome interruptLongRun(std::chrono::milliseconds delay, int signal, bool keepSignalling) {
     const fs::path errors = root_ / "stderr.txt";
     const pid_t pid =
         spawn({kScenes + "hand_grasp.json", "--duration", "500", "--quiet", "--out", out_.string()},
@@ -146,7 +146,8 @@ class RunCommandTest : public ::testing::Test {
 TEST_F(RunCommandTest, AFolderWithAForeignFileIsRefusedWithExit2AndKept) {
   fs::create_directories(out_);
   writeText(out_ / "notes.txt", "mine");
-  const Outcome o = run(kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string());
+  const RunOutcome o =
+      run(kScenes + "pendulum.json --quiet --duration 0.05 --out " + out_.string());
   EXPECT_EQ(o.exitCode, 2) << o.errors;
   EXPECT_NE(o.errors.find(out_.string()), std::string::npos) << o.errors;
   EXPECT_NE(o.errors.find("notes.txt"), std::string::npos) << o.errors;
@@ -162,7 +163,7 @@ TEST_F(RunCommandTest, ForceWritesBesideForeignFilesAndAPreviousResultIsReplaced
   ASSERT_EQ(run(args + " --duration 0.05").exitCode, 0);  // a previous result: replaced
   writeText(out_ / "notes.txt", "mine");
   EXPECT_EQ(run(args + " --duration 0.05").exitCode, 2);
-  const Outcome forced = run(args + " --force --duration 0.02");
+  const RunOutcome forced = run(args + " --force --duration 0.02");
   EXPECT_EQ(forced.exitCode, 0) << forced.errors;
   EXPECT_EQ(readText(out_ / "notes.txt"), "mine");
   EXPECT_DOUBLE_EQ(summary()["duration_s"].get<double>(), 0.02);
@@ -170,14 +171,14 @@ TEST_F(RunCommandTest, ForceWritesBesideForeignFilesAndAPreviousResultIsReplaced
   fs::remove_all(out_);
   fs::create_directories(out_);
   writeText(out_ / "energy.csv", "mine");
-  const Outcome clash = run(args + " --force --duration 0.02");
+  const RunOutcome clash = run(args + " --force --duration 0.02");
   EXPECT_EQ(clash.exitCode, 2);
   EXPECT_NE(clash.errors.find("energy.csv"), std::string::npos) << clash.errors;
   EXPECT_EQ(readText(out_ / "energy.csv"), "mine");
 }
 
 TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) {
-  const Outcome o = interruptLongRun(std::chrono::seconds(1), SIGINT, /*keepSignalling=*/false);
+  const RunOutcome o = interruptLongRun(std::chrono::seconds(1), SIGINT, /*keepSignalling=*/false);
   EXPECT_EQ(o.exitCode, 130) << o.errors;
   EXPECT_NE(o.errors.find("interrupted by SIGINT"), std::string::npos) << o.errors;
   expectWholeInterruptedFolder();
@@ -187,7 +188,7 @@ TEST_F(RunCommandTest, SigintAfterOneSecondLeavesAWholeFolderMarkedInterrupted) 
 }
 
 TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) {
-  const Outcome o =
+  const RunOutcome o =
       interruptLongRun(std::chrono::milliseconds(500), SIGTERM, /*keepSignalling=*/true);
   EXPECT_EQ(o.exitCode, 143) << o.errors;
   EXPECT_NE(o.errors.find("interrupted by SIGTERM"), std::string::npos) << o.errors;
@@ -195,10 +196,10 @@ TEST_F(RunCommandTest, SigtermAndMoreSignalsWhileWritingStillLeaveAWholeFolder) 
 }
 
 TEST_F(RunCommandTest, TheAdaptiveStepsOptionsAreUsedAndRecorded) {
-  const Outcome o = run(kScenes +
-                        "pendulum.json --quiet --duration 0.2 --tolerance 1e-7 "
-                        "--min-step 1e-9 --max-step 2e-4 --max-penetration 0.05 --out " +
-                        out_.string());
+  const RunOutcome o = run(kScenes +
+                           "pendulum.json --quiet --duration 0.2 --tolerance 1e-7 "
+                           "--min-step 1e-9 --max-step 2e-4 --max-penetration 0.05 --out " +
+                           out_.string());
   ASSERT_EQ(o.exitCode, 0) << o.errors;
   const nlohmann::json adaptive = summary()["adaptive"];
   EXPECT_EQ(adaptive["energy_tolerance"].get<double>(), 1e-7);
@@ -213,13 +214,13 @@ TEST_F(RunCommandTest, BadNumbersAreBadInputWithAClearMessage) {
   for (const std::string bad :
        {"--tolerance abc", "--tolerance 0", "--min-step -1e-9", "--max-step inf",
         "--max-penetration nan", "--dt 1e-3x", "--duration=-1"}) {
-    const Outcome o = run(base + " " + bad);
+    const RunOutcome o = run(base + " " + bad);
     EXPECT_EQ(o.exitCode, 2) << bad << ": " << o.errors;
     const std::string option = bad.substr(0, bad.find_first_of(" ="));
     EXPECT_NE(o.errors.find(option), std::string::npos) << bad << ": " << o.errors;
     EXPECT_NE(o.errors.find("expected a positive number"), std::string::npos) << o.errors;
   }
-  const Outcome crossed = run(base + " --min-step 1e-2 --max-step 1e-3");
+  const RunOutcome crossed = run(base + " --min-step 1e-2 --max-step 1e-3");
   EXPECT_EQ(crossed.exitCode, 2);
   EXPECT_NE(crossed.errors.find("--min-step"), std::string::npos) << crossed.errors;
   EXPECT_EQ(run(base + " --no-such-option").exitCode, 2);  // not CLI11's own 109
@@ -282,8 +283,9 @@ TEST_F(RunCommandTest, TheReadmesAdaptiveDefaultsAreThoseOfHelp) {
 TEST_F(RunCommandTest, DtChangesTheStepNotTheStiffness) {
   std::vector<double> omega;
   for (const char* dt : {"1e-4", "2e-5"}) {
-    const Outcome o = run(kScenes + "default.json --quiet --step constant --duration 0.001 --dt " +
-                          dt + " --out " + out_.string());
+    const RunOutcome o =
+        run(kScenes + "default.json --quiet --step constant --duration 0.001 --dt " + dt +
+            " --out " + out_.string());
     ASSERT_EQ(o.exitCode, 0) << o.errors;
     EXPECT_EQ(summary()["dt_s"].get<double>(), std::stod(dt));
     omega.push_back(summary()["omega_max_rad_s"].get<double>());
@@ -299,7 +301,7 @@ TEST_F(RunCommandTest, TheRunsReplayPageIsThePageExportMakesFromItsFiles) {
   for (const char* scene : {"hand_grasp.json --duration 5", "wheel_cube_ramp.json --duration 0.5",
                             "arm_obstacle.json --duration 0.5", "pendulum.json --duration 0.3"}) {
     fs::remove_all(out_);
-    const Outcome o = run(kScenes + scene + " --quiet --out " + out_.string());
+    const RunOutcome o = run(kScenes + scene + " --quiet --out " + out_.string());
     // (5: the arm's goal is not reached this soon; the page is written all the same.)
     ASSERT_TRUE(o.exitCode == 0 || o.exitCode == 5) << scene << ": " << o.errors;
     const fs::path exported = root_ / "exported.html";
@@ -412,7 +414,7 @@ TEST_F(RunCommandTest, ARunOrAnExportOfALockedFolderIsRefused) {
   {
     const output::ResultsFolderLock lock(out_);
     const std::string holder = "pid " + std::to_string(getpid());
-    const Outcome refused = run(args);
+    const RunOutcome refused = run(args);
     EXPECT_EQ(refused.exitCode, 2);
     EXPECT_NE(refused.errors.find(holder), std::string::npos) << refused.errors;
     const int status = std::system((exportHtml + (root_ / "export.txt").string()).c_str());
@@ -477,7 +479,7 @@ TEST_F(RunCommandTest, AFullDiskIsExit1NamingTheFileAndTheEarlierResultStays) {
   } unmount{disk};
   const fs::path out = disk / "out";
   const std::string args = kScenes + "pendulum.json --quiet --out " + out.string();
-  const Outcome first = run(args + " --duration 0.05");
+  const RunOutcome first = run(args + " --duration 0.05");
   ASSERT_EQ(first.exitCode, 0) << first.errors;
   std::map<std::string, std::string> earlier;
   for (const fs::directory_entry& entry : fs::directory_iterator(out))
@@ -489,7 +491,7 @@ TEST_F(RunCommandTest, AFullDiskIsExit1NamingTheFileAndTheEarlierResultStays) {
   ASSERT_GT(available, std::size_t{65536});
   writeText(disk / "filler", std::string(available - 32768, 'x'));
 
-  const Outcome full = run(args + " --duration 5");
+  const RunOutcome full = run(args + " --duration 5");
   EXPECT_EQ(full.exitCode, 1) << full.errors;
   const fs::path staging = disk / ".out.partial";
   EXPECT_NE(full.errors.find("cannot write"), std::string::npos) << full.errors;

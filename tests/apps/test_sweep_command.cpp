@@ -31,7 +31,7 @@ int runCommand(const std::string& command, const fs::path& log) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::vector<std::string> lines(const std::string& text) {
+std::vector<std::string> splitLines(const std::string& text) {
   std::vector<std::string> out;
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);) out.push_back(line);
@@ -53,7 +53,7 @@ TEST(SweepCommand, EveryCombinationAndSeedIsOneRowTheSameOnOneOrTwoThreads) {
       << readText(log);
   const std::string one = readText(root / "one" / "sweep.csv");
   EXPECT_EQ(one, readText(root / "two" / "sweep.csv"));
-  const auto rows = lines(one);
+  const auto rows = splitLines(one);
   ASSERT_EQ(rows.size(), 5u) << one;  // the header and 2 x 2 runs
   EXPECT_EQ(rows[0].rfind("run,/robotics/goals/0/stiffness,seed,status,", 0), 0u) << rows[0];
 
@@ -103,7 +103,7 @@ TEST(SweepCommand, TheTableSaysWhereEachObjectEnded) {
     EXPECT_EQ(run.at("end/ball/y").get<double>(), 0.0);
     EXPECT_LT(run.at("end/ball/speed").get<double>(), 1e-4);
   }
-  const std::string header = lines(readText(root / "sweep" / "sweep.csv")).at(0);
+  const std::string header = splitLines(readText(root / "sweep" / "sweep.csv")).at(0);
   EXPECT_NE(header.find(",end/ball/speed,end/ball/x,end/ball/y,end/ball/z"), std::string::npos)
       << header;
   // --end names the objects (none: no such columns); a name the scene lacks is

@@ -15,7 +15,7 @@
 namespace robophi::build {
 namespace {
 
-void expectNear(const Vec3& a, const Vec3& b, double tolerance) {
+void expectPointNear(const Vec3& a, const Vec3& b, double tolerance) {
   EXPECT_NEAR(a.x, b.x, tolerance);
   EXPECT_NEAR(a.y, b.y, tolerance);
   EXPECT_NEAR(a.z, b.z, tolerance);
@@ -27,7 +27,7 @@ void expectFitted(const RigidBody& body, const MassProperties& want, double floo
   EXPECT_TRUE(body.fitted);
   const MassProperties got = massProperties(body.object.position, body.object.mass);
   EXPECT_NEAR(got.mass, want.mass, 1e-9 * want.mass);
-  expectNear(got.centerOfMass, want.centerOfMass, 1e-6);
+  expectPointNear(got.centerOfMass, want.centerOfMass, 1e-6);
   const auto a = principalMoments(got.inertia), b = principalMoments(want.inertia);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 0.01 * b[k]) << "moment " << k;
   const double trace = want.inertia.xx + want.inertia.yy + want.inertia.zz;
@@ -39,7 +39,7 @@ void expectFitted(const RigidBody& body, const MassProperties& want, double floo
 }
 
 // Rank of the LS rigidity matrix: 3n − 6 means the LS alone hold the body rigid.
-int rigidityRank(const GeneratedObject& o) {
+int rigidRank(const GeneratedObject& o) {
   Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(o.linearSprings.size()),
                                                static_cast<Eigen::Index>(3 * o.size()));
   for (std::size_t r = 0; r < o.linearSprings.size(); ++r) {
@@ -58,7 +58,7 @@ int rigidityRank(const GeneratedObject& o) {
 // Rigid (the rank, for up to 300 particles: a dense QR) and at rest.
 void expectRigid(const GeneratedObject& o) {
   if (o.size() <= 300) {
-    EXPECT_EQ(rigidityRank(o), 3 * static_cast<int>(o.size()) - 6);
+    EXPECT_EQ(rigidRank(o), 3 * static_cast<int>(o.size()) - 6);
   }
   for (const auto& s : o.linearSprings) {
     EXPECT_NEAR(s.restLength, norm(o.position[s.a] - o.position[s.b]), 1e-12);
@@ -80,12 +80,12 @@ TEST(Frame, XyzRpyIsRzRyRxAndComposes) {
   const Frame byAxes = Frame::fromAxisAngle({0, 0, 1}, rpy.z)
                            .then(Frame::fromAxisAngle({0, 1, 0}, rpy.y))
                            .then(Frame::fromAxisAngle({1, 0, 0}, rpy.x));
-  for (int j = 0; j < 3; ++j) expectNear(f.axes[j], byAxes.axes[j], 1e-15);
+  for (int j = 0; j < 3; ++j) expectPointNear(f.axes[j], byAxes.axes[j], 1e-15);
   const Vec3 p{0.5, -0.25, 2.0};
-  expectNear(f.apply(p), Vec3{1, 2, 3} + byAxes.rotate(p), 1e-15);
-  expectNear(f.inverse().apply(f.apply(p)), p, 1e-14);
+  expectPointNear(f.apply(p), Vec3{1, 2, 3} + byAxes.rotate(p), 1e-15);
+  expectPointNear(f.inverse().apply(f.apply(p)), p, 1e-14);
   const Frame g = Frame::fromXyzRpy({-1, 0, 0.5}, {0.1, 0.2, 0.3});
-  expectNear(f.then(g).apply(p), f.apply(g.apply(p)), 1e-14);
+  expectPointNear(f.then(g).apply(p), f.apply(g.apply(p)), 1e-14);
   // A right-handed orthonormal frame.
   EXPECT_NEAR(dot(cross(f.axes[0], f.axes[1]), f.axes[2]), 1.0, 1e-15);
 }
@@ -94,7 +94,7 @@ TEST(MassProperties, PointsAndPrincipalMoments) {
   // Two 1 kg points at ±1 on x: I = diag(0, 2, 2) about the centre.
   const MassProperties p = massProperties({{-1, 0, 0}, {1, 0, 0}}, {1.0, 1.0});
   EXPECT_DOUBLE_EQ(p.mass, 2.0);
-  expectNear(p.centerOfMass, {0, 0, 0}, 0.0);
+  expectPointNear(p.centerOfMass, {0, 0, 0}, 0.0);
   EXPECT_DOUBLE_EQ(p.inertia.xx, 0.0);
   EXPECT_DOUBLE_EQ(p.inertia.yy, 2.0);
   const auto m = principalMoments({1.0, 2.0, 3.0, 0.5, 0.0, 0.0});
@@ -107,7 +107,7 @@ TEST(UniformMassProperties, PrimitivesExactUnionSampled) {
   ShapeSpec b = box({0.2, 0.4, 0.6});
   b.frame = Frame::fromXyzRpy({0.1, 0, 0}, {0, 0, std::numbers::pi / 2});
   const MassProperties p = uniformMassProperties({b}, 6.0);
-  expectNear(p.centerOfMass, {0.1, 0, 0}, 1e-15);
+  expectPointNear(p.centerOfMass, {0.1, 0, 0}, 1e-15);
   // Turned 90° about z: the body's x is the box's y.
   EXPECT_NEAR(p.inertia.xx, 6.0 * (0.2 * 0.2 + 0.36) / 12.0, 1e-12);
   EXPECT_NEAR(p.inertia.yy, 6.0 * (0.16 + 0.36) / 12.0, 1e-12);
@@ -116,7 +116,7 @@ TEST(UniformMassProperties, PrimitivesExactUnionSampled) {
   left.frame.origin = {-0.05, 0, 0};
   right.frame.origin = {0.05, 0, 0};
   const MassProperties u = uniformMassProperties({left, right}, 1.0);
-  expectNear(u.centerOfMass, {0, 0, 0}, 1e-12);
+  expectPointNear(u.centerOfMass, {0, 0, 0}, 1e-12);
   EXPECT_NEAR(u.inertia.xx, 0.08 / 12.0, 1e-9);
   EXPECT_NEAR(u.inertia.zz, 0.08 / 12.0, 1e-9);
 }
@@ -193,7 +193,7 @@ TEST(RigidBody, CarriersWithinALimitReachWhatTheyCan) {
   }));
   const MassProperties got = massProperties(body.object.position, body.object.mass);
   EXPECT_NEAR(got.mass, spec.mass, 1e-9 * spec.mass);
-  expectNear(got.centerOfMass, spec.centerOfMass, 1e-6);
+  expectPointNear(got.centerOfMass, spec.centerOfMass, 1e-6);
   for (const int c : body.carriers) {
     EXPECT_LE(norm(body.object.position[static_cast<std::size_t>(c)] - spec.centerOfMass),
               0.5 + 1e-12);
@@ -230,8 +230,8 @@ TEST(RigidBody, RequiredPointsAreParticlesTiedInThreeDimensions) {
   const RigidBody body = makeRigidBody(spec);
   ASSERT_EQ(body.required.size(), 3u);
   for (std::size_t k = 0; k < 3; ++k) {
-    expectNear(body.object.position[static_cast<std::size_t>(body.required[k])],
-               spec.requiredPoints[k], 0.0);
+    expectPointNear(body.object.position[static_cast<std::size_t>(body.required[k])],
+                    spec.requiredPoints[k], 0.0);
     int links = 0;
     for (const auto& s : body.object.linearSprings) {
       links += s.a == body.required[k] || s.b == body.required[k];
@@ -287,7 +287,7 @@ TEST(RigidBodyMesh, ClosedMeshesHaveTheirSolidsProperties) {
   TriangleMesh boxMesh;
   addBoxMesh(boxMesh, {-0.1, -0.05, 0}, {0.1, 0.05, 0.4});
   const MassProperties b = uniformMassProperties({meshShape(boxMesh)}, 3.0);
-  expectNear(b.centerOfMass, {0, 0, 0.2}, 1e-15);
+  expectPointNear(b.centerOfMass, {0, 0, 0.2}, 1e-15);
   EXPECT_NEAR(b.inertia.xx, 3.0 * (0.01 + 0.16) / 12, 1e-14);
   EXPECT_NEAR(b.inertia.zz, 3.0 * (0.04 + 0.01) / 12, 1e-14);
   // The 10 000-triangle torus against the solid torus (R = 0.1, r = 0.04): the
@@ -385,7 +385,7 @@ TEST(RigidBodyMesh, AFlatMeshIsASheetOfParticles) {
   const RigidBody body = makeRigidBody(spec);
   EXPECT_GE(body.object.size(), 20u);
   const MassProperties got = massProperties(body.object.position, body.object.mass);
-  expectNear(got.centerOfMass, {0.1, 0.05, 0}, 1e-6);
+  expectPointNear(got.centerOfMass, {0.1, 0.05, 0}, 1e-6);
   const auto a = principalMoments(got.inertia);
   const double want[3] = {0.01 / 12, 0.04 / 12, 0.05 / 12};
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], want[k], 0.01 * want[k]);

@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kG = 9.81;
 constexpr double kDegree = M_PI / 180.0;
-constexpr double kStep = 1e-4;
+constexpr double kInclineStep = 1e-4;
 
 std::string bodyScene(const std::string& object, double slope, double kinetic) {
   char text[2048];
@@ -46,7 +46,7 @@ const std::string kCube =
 World makeWorld(const std::string& text) { return test::sceneWorld(text); }
 Vec3 centerOfMass(const World& world) { return test::centerOfMass(world); }
 Vec3 comVelocity(const World& world) { return test::comVelocity(world); }
-void run(World& world, double seconds) { test::advance(world, seconds, kStep); }
+void run(World& world, double seconds) { test::advance(world, seconds, kInclineStep); }
 
 struct Body {
   const char* name;
@@ -63,12 +63,12 @@ void tiltTo(World& world, double slope) {
   for (int k = 1; k <= kSteps; ++k) {
     const double a = slope * k / kSteps;
     world.setGravity({kG * std::sin(a), 0.0, -kG * std::cos(a)});
-    ASSERT_EQ(world.step(kStep), StepStatus::kOk);
+    ASSERT_EQ(world.step(kInclineStep), StepStatus::kOk);
   }
 }
 
 // 1° below and above atan μ_s, for the block and the cube.
-class BodyOnIncline : public testing::TestWithParam<Body> {};
+class BodyOnIncline : public ::testing::TestWithParam<Body> {};
 
 TEST_P(BodyOnIncline, HoldsOneDegreeBelowTheFrictionAngle) {
   const Body& body = GetParam();
@@ -110,7 +110,7 @@ TEST_P(BodyOnIncline, SlidesOneDegreeAboveWithTheKineticLaw) {
   EXPECT_NEAR(acceleration / expected, 1.0, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(Bodies, BodyOnIncline, testing::ValuesIn(kBodies));
+INSTANTIATE_TEST_SUITE_P(Bodies, BodyOnIncline, ::testing::ValuesIn(kBodies));
 
 // In one run: the body is set down on level ground, gravity tilts to 22° over
 // 1 s, then on slowly (0.5°/s): the body breaks away within 0.5° of atan μ_s.
@@ -120,7 +120,7 @@ TEST(BodyFriction, SteepestHoldingSlopeIsTheFrictionAngle) {
     const double rate = 0.5 * kDegree;  // rad/s
     World world = makeWorld(bodyScene(*body.spec, 0.0, 0.4));
     for (int k = 1; k <= 10'000; ++k) {  // 0 to 22° in 1 s
-      ASSERT_EQ(world.step(kStep), StepStatus::kOk);
+      ASSERT_EQ(world.step(kInclineStep), StepStatus::kOk);
       const double tilt = startSlope * k / 10'000.0;
       world.setGravity({kG * std::sin(tilt), 0.0, -kG * std::cos(tilt)});
     }
@@ -128,8 +128,8 @@ TEST(BodyFriction, SteepestHoldingSlopeIsTheFrictionAngle) {
     double slope = startSlope, breakAway = 0.0;
     const double limit = std::atan(0.5);
     while (slope < limit + 3.0 * kDegree) {
-      for (int k = 0; k < 100; ++k) ASSERT_EQ(world.step(kStep), StepStatus::kOk);
-      slope += rate * 100 * kStep;
+      for (int k = 0; k < 100; ++k) ASSERT_EQ(world.step(kInclineStep), StepStatus::kOk);
+      slope += rate * 100 * kInclineStep;
       world.setGravity({kG * std::sin(slope), 0.0, -kG * std::cos(slope)});
       const Vec3 v = comVelocity(world);
       if (v.x > 1e-3) {

@@ -18,8 +18,8 @@
 namespace robophi {
 namespace {
 
-constexpr double kG = 9.81;
-constexpr double kDegree = M_PI / 180.0;
+constexpr double kFacetsG = 9.81;
+constexpr double kFacetsDegree = M_PI / 180.0;
 
 // The surface mesh of a lattice box: vertices on the true faces, weights summing
 // to 1 and reproducing the vertex from the particles.
@@ -217,7 +217,7 @@ build::BuiltModel boxOnGround(const BoxOnGround& s) {
   spec.mass = s.mass;
   spec.facets = s.facets;
   const int bottom = s.facets ? (s.cells + 1) * (s.cells + 1) : s.cells * s.cells;
-  spec.center = {0.0, 0.0, 0.5 * s.size - s.mass * kG / (bottom * s.stiffness)};
+  spec.center = {0.0, 0.0, 0.5 * s.size - s.mass * kFacetsG / (bottom * s.stiffness)};
   build::GeneratedObject box = build::makeBox(spec);
   build::SpringSettings springs;
   springs.naturalFrequency = s.naturalFrequency;
@@ -246,25 +246,25 @@ double tippingAngle(int cells, bool facets, double start, double rate) {
   s.cells = cells;
   s.facets = facets;
   build::BuiltModel built = boxOnGround(s);
-  built.model.gravity = Vec3{std::sin(start), 0.0, -std::cos(start)} * kG;
+  built.model.gravity = Vec3{std::sin(start), 0.0, -std::cos(start)} * kFacetsG;
   World world(std::move(built.model), std::move(built.initial));
   constexpr double kStep = 1.0e-4;
   double angle = start;
   for (int step = 0; step < 400'000; ++step) {
     angle = start + rate * step * kStep;
-    world.setGravity(Vec3{std::sin(angle), 0.0, -std::cos(angle)} * kG);
+    world.setGravity(Vec3{std::sin(angle), 0.0, -std::cos(angle)} * kFacetsG);
     world.step(kStep);
-    if (tilt(world) > 3.0 * kDegree) return angle;
+    if (tilt(world) > 3.0 * kFacetsDegree) return angle;
   }
   return angle;
 }
 
 TEST(Facets, LatticeCubeTipsAtItsTrueGeometry) {
   for (const int cells : {2, 3}) {
-    const double tip = tippingAngle(cells, true, 41.0 * kDegree, 1.0 * kDegree);
+    const double tip = tippingAngle(cells, true, 41.0 * kFacetsDegree, 1.0 * kFacetsDegree);
     std::printf("%d×%d×%d cube with facets tips at %.2f° (tan α = %.4f; 45° expected)\n", cells,
-                cells, cells, tip / kDegree, std::tan(tip));
-    EXPECT_NEAR(tip / kDegree, 45.0, 2.0);
+                cells, cells, tip / kFacetsDegree, std::tan(tip));
+    EXPECT_NEAR(tip / kFacetsDegree, 45.0, 2.0);
   }
 }
 
@@ -281,7 +281,7 @@ TEST(Facets, SlidingBoxNormalForceIsSteady) {
   build::BuiltModel built = boxOnGround(s);
   World world(std::move(built.model), std::move(built.initial));
   constexpr double kStep = 5.0e-5;
-  const double weight = s.mass * kG;
+  const double weight = s.mass * kFacetsG;
   double low = 1e300, high = -1e300, mean = 0.0;
   int samples = 0;
   for (int step = 1; step <= 8000; ++step) {  // 0.4 s; stops after v0 / (μ g) = 0.51 s

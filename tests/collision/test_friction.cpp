@@ -11,8 +11,8 @@
 namespace robophi {
 namespace {
 
-constexpr double kMass = 1.0, kRadius = 0.05, kStiffness = 1.0e6;
-constexpr double kStaticFriction = 0.5, kKineticFriction = 0.4, kG = 9.81;
+constexpr double kBallMass = 1.0, kRadius = 0.05, kStiffness = 1.0e6;
+constexpr double kStaticFriction = 0.5, kKineticFriction = 0.4, kFrictionG = 9.81;
 
 // A particle resting on the ground z = 0 at its equilibrium depth, with gravity
 // tilted by `slope` (rad) about y: the ground acts as a slope rising towards -x.
@@ -22,10 +22,11 @@ World restingParticle(double slope, const Vec3& velocity = {}) {
   Model model;
   model.contact.rolling = false;
   State state;
-  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kMass);  // ζ = 0.5
-  model.gravity = Vec3{std::sin(slope), 0.0, -std::cos(slope)} * kG;
-  test::addBall(model, state, {0.0, 0.0, kRadius - kMass * kG * std::cos(slope) / kStiffness},
-                kMass, kRadius);
+  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kBallMass);  // ζ = 0.5
+  model.gravity = Vec3{std::sin(slope), 0.0, -std::cos(slope)} * kFrictionG;
+  test::addBall(model, state,
+                {0.0, 0.0, kRadius - kBallMass * kFrictionG * std::cos(slope) / kStiffness},
+                kBallMass, kRadius);
   state.velocity[0] = velocity;
   model.environment.planes.push_back(GroundPlane{});
   test::overrideWithEnvironment(model, 0, kStiffness, damping, kStaticFriction, kKineticFriction);
@@ -35,7 +36,7 @@ World restingParticle(double slope, const Vec3& velocity = {}) {
 TEST(Friction, SlidingBlockStopsAfterTheCoulombDistance) {
   constexpr double kSpeed = 2.0;  // m/s
   World world = restingParticle(0.0, {kSpeed, 0.0, 0.0});
-  const double expected = kSpeed * kSpeed / (2.0 * kKineticFriction * kG);
+  const double expected = kSpeed * kSpeed / (2.0 * kKineticFriction * kFrictionG);
   constexpr double kStep = 1.0e-5;
   for (int step = 0; step < 120'000; ++step) world.step(kStep);  // 1.2 s; stops at 0.51 s
   const double travelled = world.state().position[0].x;
@@ -74,7 +75,7 @@ TEST(Friction, SlidesJustAboveTheFrictionAngleAtTheKineticAcceleration) {
   for (int step = 0; step < 10'000; ++step) world.step(kStep);
   const double v2 = world.state().velocity[0].x;
   const double acceleration = (v2 - v1) / 1.0;
-  const double expected = kG * (std::sin(angle) - kKineticFriction * std::cos(angle));
+  const double expected = kFrictionG * (std::sin(angle) - kKineticFriction * std::cos(angle));
   std::printf("slide at %.3f°: a = %.6f m/s², g (sin α - μk cos α) = %.6f m/s²\n",
               angle * 180.0 / M_PI, acceleration, expected);
   EXPECT_NEAR(acceleration / expected, 1.0, 1e-3);
@@ -102,9 +103,10 @@ TEST(Friction, AWallContactKeepsItsHistoryWhenTheGroundContactStarts) {
   model.contact.rolling = false;
   State state;
   constexpr double kPush = 2.0;  // m/s², towards the wall
-  model.gravity = {-kPush, 0.0, -kG};
-  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kMass);  // ζ = 0.5
-  test::addBall(model, state, {kRadius - kMass * kPush / kStiffness, 0.0, 0.2}, kMass, kRadius);
+  model.gravity = {-kPush, 0.0, -kFrictionG};
+  const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kBallMass);  // ζ = 0.5
+  test::addBall(model, state, {kRadius - kBallMass * kPush / kStiffness, 0.0, 0.2}, kBallMass,
+                kRadius);
   model.environment.planes.push_back(GroundPlane{});
   BoxObstacle wall;  // its face at x = 0
   wall.center = {-0.5, 0.0, 0.5};

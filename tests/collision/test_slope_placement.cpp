@@ -28,8 +28,8 @@
 namespace robophi {
 namespace {
 
-constexpr double kG = 9.81;
-constexpr double kDegree = M_PI / 180.0;
+constexpr double kSlopeG = 9.81;
+constexpr double kSlopeDegree = M_PI / 180.0;
 
 struct Placement {
   const char* name;
@@ -61,8 +61,9 @@ std::string boxScene(double slope, const Placement& placement, bool facets,
                  "size": [0.15, 0.15, 0.1], "cells": [3, 3, 2], "mass": 1, "material": "m",
                  "facets": %s}%s]
   })",
-                kG * std::sin(slope), -kG * std::cos(slope), 2.0 * placement.kappa, 2.0 * damping,
-                0.05 + placement.gap, facets ? "true" : "false", extraObjects.c_str());
+                kSlopeG * std::sin(slope), -kSlopeG * std::cos(slope), 2.0 * placement.kappa,
+                2.0 * damping, 0.05 + placement.gap, facets ? "true" : "false",
+                extraObjects.c_str());
   return text;
 }
 
@@ -77,7 +78,7 @@ struct Case {
   bool facets;
 };
 
-std::string caseName(const testing::TestParamInfo<Case>& info) {
+std::string caseName(const ::testing::TestParamInfo<Case>& info) {
   const Case& c = info.param;
   std::string name = std::string(c.facets ? "faceted_" : "lattice_") +
                      std::to_string(static_cast<int>(c.degrees)) + "deg_" + c.placement.name;
@@ -86,11 +87,11 @@ std::string caseName(const testing::TestParamInfo<Case>& info) {
   return name;
 }
 
-class SlopePlacement : public testing::TestWithParam<Case> {};
+class SlopePlacement : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SlopePlacement, CreepsLessThanOneMillimetre) {
   const Case& c = GetParam();
-  World world = test::sceneWorld(boxScene(c.degrees * kDegree, c.placement, c.facets));
+  World world = test::sceneWorld(boxScene(c.degrees * kSlopeDegree, c.placement, c.facets));
   const Vec3 start = test::centerOfMass(world);
   const double seconds = secondsFor(c.placement);
   test::advance(world, seconds, c.placement.step);
@@ -128,15 +129,15 @@ std::vector<Case> slidingCases() {
   return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Holds, SlopePlacement, testing::ValuesIn(holdingCases()), caseName);
-INSTANTIATE_TEST_SUITE_P(DISABLED_Slides, SlopePlacement, testing::ValuesIn(slidingCases()),
+INSTANTIATE_TEST_SUITE_P(Holds, SlopePlacement, ::testing::ValuesIn(holdingCases()), caseName);
+INSTANTIATE_TEST_SUITE_P(DISABLED_Slides, SlopePlacement, ::testing::ValuesIn(slidingCases()),
                          caseName);
 
 // Above atan μ_s (28°) the box slides at g (sin α - μ_k cos α) once the landing
 // transient is over: the acceleration of its centre of mass from 1 s to 2 s.
 TEST(SlopePlacementSliding, AboveTheFrictionAngleAtTheKineticLaw) {
-  const double slope = 28.0 * kDegree;
-  const double expected = kG * (std::sin(slope) - 0.3 * std::cos(slope));
+  const double slope = 28.0 * kSlopeDegree;
+  const double expected = kSlopeG * (std::sin(slope) - 0.3 * std::cos(slope));
   for (const bool facets : {false, true}) {
     World world = test::sceneWorld(boxScene(slope, kZeroGap, facets));
     test::advance(world, 1.0, kZeroGap.step);
@@ -168,7 +169,7 @@ TEST(SlopePlacementStack, DISABLED_FiveBoxesHoldOnFifteenDegrees) {
                   k, 0.075 + 0.05 * k, facets ? "true" : "false");
     boxes += text;
   }
-  World world = test::sceneWorld(boxScene(15.0 * kDegree, kZeroGap, facets, boxes));
+  World world = test::sceneWorld(boxScene(15.0 * kSlopeDegree, kZeroGap, facets, boxes));
   std::vector<Vec3> start;
   for (int k = 0; k < 5; ++k) start.push_back(test::centerOfMass(world, k));
   const double seconds = secondsFor(kZeroGap);

@@ -14,9 +14,9 @@
 namespace robophi {
 namespace {
 
-constexpr double kG = 9.81;
+constexpr double kRollingG = 9.81;
 constexpr double kSlope = 10.0 * M_PI / 180.0;
-constexpr double kStep = 5e-5;
+constexpr double kRollingStep = 5e-5;
 
 // Gravity tilted about y by `slope`: downhill is +x on the ground z = 0.
 std::string rollingScene(const std::string& object, double slope, double damping = 30.0) {
@@ -29,7 +29,7 @@ std::string rollingScene(const std::string& object, double slope, double damping
     "environment": {"ground": {"material": "rubber"}},
     "objects": [%s]
   })",
-                kG * std::sin(slope), -kG * std::cos(slope), damping, object.c_str());
+                kRollingG * std::sin(slope), -kRollingG * std::cos(slope), damping, object.c_str());
   return text;
 }
 
@@ -52,9 +52,9 @@ double totalMass(const World& world) {
 
 // Measured along the slope from 0.2 s to 1.2 s.
 double measuredAcceleration(World& world) {
-  test::advance(world, 0.2, kStep);
+  test::advance(world, 0.2, kRollingStep);
   const double v1 = test::comVelocity(world).x;
-  test::advance(world, 1.0, kStep);
+  test::advance(world, 1.0, kRollingStep);
   return test::comVelocity(world).x - v1;
 }
 
@@ -70,7 +70,7 @@ double travelPerTurn(World& world, ParticleIndex far, Centre centre) {
   double turned = 0.0, previous = angle();
   const double start = centre().x;
   while (turned < 4.0 * M_PI) {
-    test::advance(world, 1e-3, kStep);
+    test::advance(world, 1e-3, kRollingStep);
     double now = angle(), change = now - previous;
     if (change > M_PI) change -= 2.0 * M_PI;
     if (change < -M_PI) change += 2.0 * M_PI;
@@ -95,7 +95,7 @@ TEST(TrueRolling, WheelRollsDownTheSlopeAtTheClosedForm) {
   for (const int rim : {12, 32}) {
     World world = test::sceneWorld(rollingScene(wheel(rim), kSlope));
     const double m = totalMass(world), inertia = inertiaAboutY(world), R = 0.1;
-    const double expected = kG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
+    const double expected = kRollingG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
     const double a = measuredAcceleration(world);
     std::printf(
         "wheel of %d rim particles: a = %.5f m/s^2, g sin a / (1 + I/mR^2) = %.5f (%+.2f%%)\n", rim,
@@ -125,7 +125,7 @@ TEST(TrueRolling, WheelOnFlatGroundKeepsItsKineticEnergy) {
     const double start = world.energy().kinetic;
     const double x0 = test::centerOfMass(world).x;
     while (test::centerOfMass(world).x - x0 < 2.0) {
-      test::advance(world, 1e-2, kStep);
+      test::advance(world, 1e-2, kRollingStep);
       ASSERT_LT(world.state().time, 5.0);
     }
     const double kept = world.energy().kinetic / start;
@@ -139,7 +139,7 @@ TEST(TrueRolling, OneParticleBallRollsAtFiveSevenths) {
       R"({"name": "ball", "type": "ball", "center": [0, 0, 0.0499], "radius": 0.05,
           "mass": 1, "material": "rubber"})",
       kSlope));
-  const double expected = 5.0 / 7.0 * kG * std::sin(kSlope);
+  const double expected = 5.0 / 7.0 * kRollingG * std::sin(kSlope);
   const double a = measuredAcceleration(world);
   std::printf("one-particle ball: a = %.5f m/s^2, 5/7 g sin a = %.5f (%+.2f%%)\n", a, expected,
               100.0 * (a / expected - 1.0));
@@ -173,7 +173,7 @@ TEST(TrueRolling, GeneratedBallRollsDownTheSlopeAtTheClosedForm) {
     ASSERT_EQ(world.model().rims.size(), 1u);
     ASSERT_TRUE(world.model().rims[0].isSphere());
     const double m = totalMass(world), inertia = inertiaAboutY(world), R = kBallRadius;
-    const double expected = kG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
+    const double expected = kRollingG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
     const double start = world.energy().total();
     const double a = measuredAcceleration(world);
     const double scale = world.energy().kinetic;  // what it has gained rolling
@@ -182,7 +182,7 @@ TEST(TrueRolling, GeneratedBallRollsDownTheSlopeAtTheClosedForm) {
         "ball of %d cells (%d particles, I/mR^2 = %.4f): a = %.5f m/s^2, g sin a / (1 + I/mR^2) = "
         "%.5f (%+.2f%%), 5/7 g sin a = %.5f; energy account drift %.3g of %.4f J\n",
         cells, world.model().particleCount(), inertia / (m * R * R), a, expected,
-        100.0 * (a / expected - 1.0), 5.0 / 7.0 * kG * std::sin(kSlope), drift, scale);
+        100.0 * (a / expected - 1.0), 5.0 / 7.0 * kRollingG * std::sin(kSlope), drift, scale);
     EXPECT_NEAR(a / expected, 1.0, 0.02) << cells;
     EXPECT_LT(std::fabs(drift), 1e-3 * scale) << cells;
   }
@@ -212,7 +212,7 @@ TEST(TrueRolling, GeneratedBallOnFlatGroundKeepsItsKineticEnergy) {
     const double total = world.energy().total();
     const double x0 = test::centerOfMass(world).x;
     while (test::centerOfMass(world).x - x0 < 2.0) {
-      test::advance(world, 1e-2, kStep);
+      test::advance(world, 1e-2, kRollingStep);
       ASSERT_LT(world.state().time, 5.0);
     }
     const double kept = world.energy().kinetic / start;
@@ -232,11 +232,11 @@ TEST(TrueRolling, GeneratedBallOnFlatGroundKeepsItsKineticEnergy) {
 // (κ_c = 1e5 N/m, μ_c = 15 N·s/m, docs/contact.md "Materials and pairs").
 TEST(TrueRolling, GeneratedBallBounces) {
   for (const int cells : {5, 7}) {
-    const double drop = 1.0 / (2.0 * kG);  // falls 1/(2g) m: 1 m/s at impact
+    const double drop = 1.0 / (2.0 * kRollingG);  // falls 1/(2g) m: 1 m/s at impact
     World world = test::sceneWorld(ballScene(latticeBall(cells, kBallRadius + drop), 0.0));
     double down = 0.0, up = 0.0;
     while (world.state().time < 0.5) {
-      test::advance(world, 1e-4, kStep);
+      test::advance(world, 1e-4, kRollingStep);
       const double vz = test::comVelocity(world).z;
       down = std::min(down, vz);
       up = std::max(up, vz);
@@ -256,9 +256,9 @@ TEST(TrueRolling, GeneratedBallBounces) {
 TEST(TrueRolling, GeneratedBallAtRestStaysAtRest) {
   for (const int cells : {5, 7}) {
     World world = test::sceneWorld(ballScene(latticeBall(cells), 0.0));
-    test::advance(world, 0.2, kStep);  // settles onto the ground
+    test::advance(world, 0.2, kRollingStep);  // settles onto the ground
     const Vec3 before = test::centerOfMass(world);
-    test::advance(world, 2.0, kStep);
+    test::advance(world, 2.0, kRollingStep);
     const Vec3 moved = test::centerOfMass(world) - before;
     const double creep = std::hypot(moved.x, moved.y);
     std::printf("ball of %d cells at rest: moved %.3g m sideways in 2 s\n", cells, creep);
@@ -357,10 +357,10 @@ TEST(TrueRolling, GeneratedBallRollsDownABoxRamp) {
   for (ParticleIndex i = 0; i < world.model().particleCount(); ++i)
     world.setPosition(i, world.state().position[i] + Vec3{start.x, 0.0, 0.0});
   const double m = totalMass(world), inertia = inertiaAboutY(world), R = kBallRadius;
-  const double expected = kG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
-  test::advance(world, 0.2, kStep);
+  const double expected = kRollingG * std::sin(kSlope) / (1.0 + inertia / (m * R * R));
+  test::advance(world, 0.2, kRollingStep);
   const double v1 = dot(test::comVelocity(world), down);
-  test::advance(world, 1.0, kStep);
+  test::advance(world, 1.0, kRollingStep);
   const double a = dot(test::comVelocity(world), down) - v1;
   std::printf("ball of 5 cells down a box ramp: a = %.5f m/s^2, expected %.5f (%+.2f%%)\n", a,
               expected, 100.0 * (a / expected - 1.0));

@@ -14,9 +14,9 @@
 namespace robophi {
 namespace {
 
-constexpr double kMass = 2.0;    // kg: m g = 19.62 N
+constexpr double kEditedMass = 2.0;  // kg: m g = 19.62 N
 constexpr double kRadius = 0.3;  // m: deep enough for the softest contact below
-constexpr double kGravity = 9.81;
+constexpr double kEditsGravity = 9.81;
 
 // One ball on the ground (plane z = 0), with a pair override ball–environment.
 struct BallOnGround {
@@ -24,7 +24,7 @@ struct BallOnGround {
   State state;
   std::int32_t ball = 0;
   BallOnGround() {
-    test::addBall(model, state, {0.0, 0.0, kRadius}, kMass, kRadius);
+    test::addBall(model, state, {0.0, 0.0, kRadius}, kEditedMass, kRadius);
     ball = 0;
     model.materials.push_back(Material{"soft", 2.0e3, 20.0, 0.5, 0.4});
     model.materials.push_back(Material{"hard", 4.0e4, 20.0, 0.5, 0.4});
@@ -44,7 +44,7 @@ double settledDepth(World& world) {
 TEST(Edits, ContactParameterFrictionAndMaterialReachTheContactStage) {
   BallOnGround setup;
   World world(setup.model, setup.state, Integrator::kSymplecticEuler);
-  const double weight = kMass * kGravity;
+  const double weight = kEditedMass * kEditsGravity;
   // A pair override: κ_c = 1e4 N/m, then 1e2 N/m (the depth is m g / κ_c).
   EXPECT_NEAR(settledDepth(world), weight / 1.0e4, 1e-3 * weight / 1.0e4);
   world.setContactPair(ContactPairOverride{setup.ball, -1, 1.0e2, 5.0, 0.5, 0.4});
@@ -70,9 +70,9 @@ TEST(Edits, AFrictionCoefficientEditedBetweenStepsTakesEffect) {
   BallOnGround setup;
   setup.model.contact.rolling = false;
   const double alpha = std::atan(0.3);
-  setup.model.gravity = Vec3{std::sin(alpha), 0.0, -std::cos(alpha)} * kGravity;
+  setup.model.gravity = Vec3{std::sin(alpha), 0.0, -std::cos(alpha)} * kEditsGravity;
   setup.model.linearDamping[0] = 0.0;
-  setup.state.position[0].z = kRadius - kMass * kGravity * std::cos(alpha) / 1.0e4;
+  setup.state.position[0].z = kRadius - kEditedMass * kEditsGravity * std::cos(alpha) / 1.0e4;
   World world(setup.model, setup.state, Integrator::kSymplecticEuler);
   for (int s = 0; s < 10000; ++s) world.step(1e-4);
   const double stuckAt = world.state().position[0].x;
@@ -82,7 +82,7 @@ TEST(Edits, AFrictionCoefficientEditedBetweenStepsTakesEffect) {
   world.setContactPair(ContactPairOverride{setup.ball, -1, 1.0e4, 50.0, 0.2, 0.2});
   const double start = world.state().position[0].x;
   for (int s = 0; s < 5000; ++s) world.step(1e-4);
-  const double a = kGravity * (std::sin(alpha) - 0.2 * std::cos(alpha));
+  const double a = kEditsGravity * (std::sin(alpha) - 0.2 * std::cos(alpha));
   EXPECT_NEAR(world.state().position[0].x - start, 0.5 * a * 0.25, 0.02 * 0.5 * a * 0.25);
 }
 

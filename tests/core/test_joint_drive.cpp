@@ -17,12 +17,12 @@ namespace robophi {
 namespace {
 
 // A rotor: a fixed axle (centre c at the origin, axis particle d on +z) and a
-// fixed parent arm a on +x; a ring of `kRing` particles of mass kMass at radius
+// fixed parent arm a on +x; a ring of `kRing` particles of mass kDriveMass at radius
 // kR about the axle, every pair tied by a stiff LS and each tied to c and d.
-// Joint "rotor" is the JS (a, c, ring[0], d). I = kRing kMass kR².
+// Joint "rotor" is the JS (a, c, ring[0], d). I = kRing kDriveMass kR².
 constexpr int kRing = 6;
-constexpr double kMass = 0.1, kR = 0.2;
-constexpr double kInertia = kRing * kMass * kR * kR;  // 0.024 kg·m²
+constexpr double kDriveMass = 0.1, kR = 0.2;
+constexpr double kInertia = kRing * kDriveMass * kR * kR;  // 0.024 kg·m²
 
 struct Rotor {
   Model model;
@@ -32,7 +32,7 @@ struct Rotor {
     const auto add = [&](const Vec3& p, bool fixed) {
       state.position.push_back(p);
       state.velocity.push_back({});
-      return model.addParticle(kMass, 0.01, fixed, object);
+      return model.addParticle(kDriveMass, 0.01, fixed, object);
     };
     const ParticleIndex c = add({0, 0, 0}, true), d = add({0, 0, 0.1}, true);
     const ParticleIndex a = add({0.3, 0, 0}, true);
@@ -214,15 +214,16 @@ TEST(JointDrive, TheDampingRateOfADriveIsBoundedExactly) {
   rotor.model.joints[0].drive.rateGain = g;
   {
     World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
-    EXPECT_NEAR(world.evaluation().driveDampingRate, g / (kMass * kR * kR), 1e-9 * g / kMass);
+    EXPECT_NEAR(world.evaluation().driveDampingRate, g / (kDriveMass * kR * kR),
+                1e-9 * g / kDriveMass);
   }
   rotor.model.joints[0].drive.damping = 1.0;  // adds to the gain
   rotor.model.joints.push_back(rotor.model.joints[0]);
   rotor.model.joints.back().name = "twin";
   {
     World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
-    EXPECT_NEAR(world.evaluation().driveDampingRate, 2.0 * (g + 1.0) / (kMass * kR * kR),
-                1e-9 * g / kMass);
+    EXPECT_NEAR(world.evaluation().driveDampingRate, 2.0 * (g + 1.0) / (kDriveMass * kR * kR),
+                1e-9 * g / kDriveMass);
   }
   rotor.model.joints.pop_back();
   rotor.model.joints[0].drive.damping = 0.0;
@@ -244,7 +245,7 @@ TEST(JointDrive, TheAdaptiveStepKeepsBelowAStiffRateDrive) {
   Rotor rotor;
   rotor.model.joints[0].drive.rateGain = 40.0;
   rotor.model.joints[0].drive.targetRate = 5.0;
-  const double rate = 40.0 / (kMass * kR * kR);
+  const double rate = 40.0 / (kDriveMass * kR * kR);
   World world(rotor.model, rotor.state, Integrator::kVelocityVerlet);
   AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
   double largest = 0.0;

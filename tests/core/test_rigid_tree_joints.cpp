@@ -15,11 +15,12 @@
 #include "robophi/multibody.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 bool robotsPresent() { return std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"); }
 
 // A two-link planar arm (revolute about y, 0.5 m links of 1 kg) on a fixed base,

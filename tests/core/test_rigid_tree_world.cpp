@@ -16,11 +16,12 @@
 #include "robophi/multibody.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 TEST(RigidTreeWorld, ABoxBodyLandsAndRestsOnItsFace) {
   build::BuiltModel built = test::droppedBox(0.1);
@@ -59,10 +60,10 @@ TEST(RigidTreeWorld, ATumblingBoxSettlesFlat) {
   EXPECT_TRUE(std::abs(z - 0.05) < 3e-3 || std::abs(z - 0.1) < 3e-3) << "z = " << z;
 }
 
-bool robotsPresent() { return std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"); }
+bool iiwaUrdfPresent() { return std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"); }
 
 TEST(RigidTreeWorld, ARobotTouchesOnlyByItsCollisionGeometry) {
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaUrdfPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   for (const char* file : {"r2d2/r2d2.urdf", "husky/husky.urdf", "franka_panda/panda.urdf",
                            "kuka_iiwa/model.urdf", "pr2_gripper/pr2_gripper.urdf"}) {
     const std::string path = kRobots + "/" + file;
@@ -102,7 +103,7 @@ TEST(RigidTreeWorld, ARobotTouchesOnlyByItsCollisionGeometry) {
 }
 
 TEST(RigidTreeWorld, TheIiwaAsABareRigidUrdfHoldsItsPose) {
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaUrdfPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   UrdfSceneOptions options;
   options.rigid = true;
   SceneLoadResult loaded = loadUrdfFile(kRobots + "/kuka_iiwa/model.urdf", options);

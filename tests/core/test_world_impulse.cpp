@@ -20,7 +20,7 @@
 namespace robophi {
 namespace {
 
-std::string robotsDir() {
+std::string sharedRobotsDir() {
   const char* env = std::getenv("ROBOPHI_ROBOTS_DIR");
   return env != nullptr && *env != '\0' ? std::string(env) : std::string(ROBOPHI_ROBOTS_DIR);
 }
@@ -91,7 +91,7 @@ TEST(WorldImpulse, AFreeRigidBodyGetsPAndRCrossP) {
 }
 
 TEST(WorldImpulse, OnTheIiwaTheEnergyBookedIsTheKineticEnergyAdded) {
-  const std::string robots = robotsDir();
+  const std::string robots = sharedRobotsDir();
   if (!std::filesystem::exists(robots + "/kuka_iiwa/model.urdf"))
     GTEST_SKIP() << "no robots at " << robots << " (ROBOPHI_ROBOTS_DIR)";
   UrdfSceneOptions options;

@@ -11,7 +11,7 @@
 namespace robophi {
 namespace {
 
-constexpr double kGravity = 9.81;
+constexpr double kAtsGravity = 9.81;
 
 // A ball (1 kg) dropped from rest, its bottom `height` above the ground,
 // moving sideways at `sideways` (m/s) over a frictionless ground: seen by an
@@ -21,7 +21,7 @@ constexpr double kGravity = 9.81;
 World makeDrop(double scale, double sideways) {
   const double radius = 0.05 * scale, height = 1.0 * scale;
   Model model;
-  model.gravity = {0.0, 0.0, -kGravity};
+  model.gravity = {0.0, 0.0, -kAtsGravity};
   model.addParticle(1.0, radius, false, model.addObject("ball", "particles"));
   model.environment.planes.push_back(GroundPlane{});
   model.contact.pairOverrides.push_back(
@@ -38,7 +38,7 @@ World makeDrop(double scale, double sideways) {
 World makeDropOnSphere(double scale, const Vec3& boost) {
   const double radius = 0.05 * scale, sphere = 0.5 * scale, height = 1.0 * scale;
   Model model;
-  model.gravity = {0.0, 0.0, -kGravity};
+  model.gravity = {0.0, 0.0, -kAtsGravity};
   const int ground = model.addObject("ground", "particles");
   model.addParticle(1.0, sphere, true, ground);
   model.addParticle(1.0, radius, false, model.addObject("ball", "particles"));
@@ -73,7 +73,7 @@ double restitution(World world, double scale, ParticleIndex ball, ParticleIndex 
   };
   double gap0 = 0.0;
   normalSpeedAndGap(gap0);
-  const double approach = std::sqrt(2.0 * kGravity * gap0);
+  const double approach = std::sqrt(2.0 * kAtsGravity * gap0);
   bool touched = false;
   const double duration = 1.0 * std::sqrt(scale);
   while (world.state().time < duration) {
@@ -86,7 +86,7 @@ double restitution(World world, double scale, ParticleIndex ball, ParticleIndex 
       double gap = 0.0;
       const double v = normalSpeedAndGap(gap);
       EXPECT_GT(v, 0.0);
-      return std::sqrt(v * v + 2.0 * kGravity * gap) / approach;
+      return std::sqrt(v * v + 2.0 * kAtsGravity * gap) / approach;
     }
   }
   ADD_FAILURE() << "no rebound";
@@ -151,7 +151,7 @@ TEST(AtsInvariance, EnergyScalesSeeNeitherTheDatumNorTheObserver) {
   const auto scale = [](const World& w) {
     return energyAccountScale(w.model(), w.state(), w.energy());
   };
-  EXPECT_NEAR(scale(a), 1.0 * kGravity * 1.05, 1e-9);
+  EXPECT_NEAR(scale(a), 1.0 * kAtsGravity * 1.05, 1e-9);
   EXPECT_NEAR(scale(b), scale(a), 1e-9);
   EXPECT_NEAR(scale(c), scale(a), 1e-9);
   EXPECT_NEAR(activeEnergy(b.model(), b.state(), b.energy()), 0.0, 1e-12);

@@ -23,7 +23,7 @@ constexpr double kCell = 0.01, kYoung = 1.0e6, kShear = 0.4e6, kDensity = 1000.0
 // The dynamic relaxation to the static equilibrium: the step (s) and at most
 // kMaxSteps steps (2 s). Neither the step nor the particle viscosity (makeBar)
 // changes the equilibrium, only how fast it is reached.
-constexpr double kStep = 1e-4;
+constexpr double kBarStep = 1e-4;
 constexpr int kMaxSteps = 20000, kCheckEvery = 100;
 
 // A bar of `layers` cells along x and across × across cells in y and z.
@@ -86,8 +86,8 @@ Scene makeBar(const BarShape& bar, Load load, double force, int& anchorCount) {
      "fixed": [{}], "linearDamping": {}}},
     {{"name": "anchor", "type": "particles", "fixed": true, "particles": [{}]}}],
   "connectors": [{}]}})",
-      kStep, 0.5 * length, length, width, width, bar.layers, bar.across, bar.across, mass, kYoung,
-      kShear, fixed, viscosity, anchors, connectors);
+      kBarStep, 0.5 * length, length, width, width, bar.layers, bar.across, bar.across, mass,
+      kYoung, kShear, fixed, viscosity, anchors, connectors);
   SceneLoadResult result = loadSceneText(text, "bar");
   for (const auto& e : result.errors) ADD_FAILURE() << e.format();
   EXPECT_TRUE(result.ok());
@@ -111,7 +111,7 @@ double measure(const BarShape& bar, Load load) {
   // for rest.
   int still = 0;
   for (int s = 0; s < kMaxSteps && still < 5; s += kCheckEvery) {
-    for (int q = 0; q < kCheckEvery; ++q) world.step(kStep);
+    for (int q = 0; q < kCheckEvery; ++q) world.step(kBarStep);
     still = maxSpeed(world.state()) < 1e-7 ? still + 1 : 0;
   }
   const State& st = world.state();

@@ -24,13 +24,13 @@
 namespace robophi {
 namespace {
 
-std::int32_t objectNamed(const Model& model, const std::string& name) {
+std::int32_t handObjectNamed(const Model& model, const std::string& name) {
   for (std::size_t o = 0; o < model.objects.size(); ++o)
     if (model.objects[o].name == name) return static_cast<std::int32_t>(o);
   return -1;
 }
 
-Vec3 centerOf(const Model& model, const State& state, std::int32_t object) {
+Vec3 handCenterOf(const Model& model, const State& state, std::int32_t object) {
   const ObjectInfo& o = model.objects[static_cast<std::size_t>(object)];
   Vec3 sum{};
   double mass = 0.0;
@@ -148,8 +148,8 @@ GripRun runGrip(double radius, double mass, double effort, const Vec3& down) {
   if (!loaded.ok()) return out;
   const Scene& scene = *loaded.scene;
   const Model& model = scene.model;
-  const std::int32_t ball = objectNamed(model, "ball");
-  const std::int32_t palm = objectNamed(model, "hand.palm");
+  const std::int32_t ball = handObjectNamed(model, "ball");
+  const std::int32_t palm = handObjectNamed(model, "hand.palm");
   EXPECT_TRUE(ball >= 0 && palm >= 0);
   if (ball < 0 || palm < 0) return out;
   const auto objectOf = [&](std::int32_t particle) {
@@ -185,7 +185,8 @@ GripRun runGrip(double radius, double mass, double effort, const Vec3& down) {
   options.tasks = {hook.task, [&](World& world, std::vector<std::string>&) {
                      const State& s = world.state();
                      if (s.time < closing) return true;
-                     const Vec3 relative = centerOf(model, s, ball) - centerOf(model, s, palm);
+                     const Vec3 relative =
+                         handCenterOf(model, s, ball) - handCenterOf(model, s, palm);
                      if (!gravityOn) {
                        out.closedGrip = gripForce(world);
                        world.setGravity(down * 9.81);

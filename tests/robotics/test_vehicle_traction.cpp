@@ -34,10 +34,10 @@ std::string vehicleScene(double slopeDegrees, double wheelSpeed) {
          std::to_string(wheelSpeed) + R"(, "wheelGain": 5, "wheelTorqueLimit": 1.5}]})";
 }
 
-struct Drive {
+struct TractionDrive {
   Scene scene;
   std::optional<World> world;
-  explicit Drive(const std::string& text) {
+  explicit TractionDrive(const std::string& text) {
     SceneLoadResult r = loadSceneText(text, "vehicle.json");
     for (const auto& e : r.errors) ADD_FAILURE() << e.format();
     if (!r.ok()) return;
@@ -76,10 +76,10 @@ struct Drive {
 
 TEST(VehicleTraction, DrivesOmegaRTimesTOnFlatGroundByTractionAlone) {
   const double omega = 2.0;  // rad/s: 0.24 m/s
-  Drive drive(vehicleScene(0.0, omega));
+  TractionDrive drive(vehicleScene(0.0, omega));
   ASSERT_TRUE(drive.world);
   for (const Joint& j : drive.world->model().joints) EXPECT_GT(j.drive.rateGain, 0.0);
-  const Drive::Leg leg = drive.leg(4.0);
+  const TractionDrive::Leg leg = drive.leg(4.0);
   const double expected = omega * kWheelRadius * leg.time;
   EXPECT_NEAR(leg.moved.x, expected, 0.02 * expected)
       << "moved " << leg.moved.x << " m in " << leg.time << " s; ω R t = " << expected << " m";
@@ -95,9 +95,9 @@ TEST(VehicleTraction, DrivesOmegaRTimesTOnFlatGroundByTractionAlone) {
 
 TEST(VehicleTraction, ClimbsATenDegreeSlopeOnItsMotors) {
   const double omega = 2.0;
-  Drive drive(vehicleScene(10.0, omega));
+  TractionDrive drive(vehicleScene(10.0, omega));
   ASSERT_TRUE(drive.world);
-  const Drive::Leg leg = drive.leg(3.0);
+  const TractionDrive::Leg leg = drive.leg(3.0);
   const double expected = omega * kWheelRadius * leg.time;
   // Uphill (+x) near ω R: the rate drive's error τ / k_v = 0.68 / 5 rad/s is 7 %.
   EXPECT_GT(leg.moved.x, 0.88 * expected) << "moved " << leg.moved.x << " m; ω R t = " << expected;
@@ -124,7 +124,7 @@ TEST(VehicleTraction, AnArmMountedOnTheVehicleRidesWithIt) {
                  "links": [0.3], "axes": [[0, 1, 0]], "mass": 0.3, "stiffness": 20000}],
     "control": {"mounts": [{"object": "arm", "on": "vehicle", "stiffness": 20000}],
                 "joints": {"arm.j1": {"mode": "position", "kp": 20, "kd": 0.5, "target": 0}}}})";
-  Drive drive(text);
+  TractionDrive drive(text);
   ASSERT_TRUE(drive.world);
   const Model& model = drive.world->model();
   const ObjectInfo& arm = model.objects[1];

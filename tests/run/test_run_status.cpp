@@ -134,7 +134,7 @@ Scene pendulumAt(double z0) {
 // account grew by what the kicks did not integrate: the dampers (kd, the bodies'
 // and links') booked at the half-step velocity u over the whole step, -kd u^2,
 // while their force acts across the kicks u -> v -> v + dt/2 F/m (docs/model.md §2.4).
-std::string robotsDir() {
+std::string robotsFolder() {
   const char* env = std::getenv("ROBOPHI_ROBOTS_DIR");
   return env != nullptr ? env : ROBOPHI_ROBOTS_DIR;
 }
@@ -151,7 +151,7 @@ Scene iiwaPdHold(double kd, double duration) {
   return sceneFromText(R"({"run": {"duration": )" + std::to_string(duration) + R"(},
     "gravity": [0, 0, -9.81],
     "objects": [{"name": "arm", "type": "urdf", "file": ")" +
-                       robotsDir() + R"(/kuka_iiwa/model.urdf", "fixedBase": true,
+                       robotsFolder() + R"(/kuka_iiwa/model.urdf", "fixedBase": true,
                  "holdJoints": false,
                  "initialPositions": {"lbr_iiwa_joint_2": 1.0, "lbr_iiwa_joint_4": -1.0}}],
     "environment": {"ground": true},
@@ -160,8 +160,8 @@ Scene iiwaPdHold(double kd, double duration) {
 }
 
 TEST_F(RunStatus, AnArmHeldByPdServosKeepsItsEnergyAccount) {
-  if (!fs::exists(robotsDir() + "/kuka_iiwa/model.urdf"))
-    GTEST_SKIP() << "no robots at " << robotsDir() << " (ROBOPHI_ROBOTS_DIR)";
+  if (!fs::exists(robotsFolder() + "/kuka_iiwa/model.urdf"))
+    GTEST_SKIP() << "no robots at " << robotsFolder() << " (ROBOPHI_ROBOTS_DIR)";
   const RunReport report = run(iiwaPdHold(20.0, 4.0), "hold");
   EXPECT_TRUE(report.ok()) << report.failure;
   EXPECT_GT(report.energyScale, 300.0);

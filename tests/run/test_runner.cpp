@@ -9,7 +9,7 @@ namespace robophi {
 namespace {
 
 // Two particles on a stiff LS, stretched, run with a constant step far above 2/ω.
-Scene stiffPair(double dt, double duration) {
+Scene stiffSpringPair(double dt, double duration) {
   Scene scene;
   scene.name = "stiff pair";
   Model& model = scene.model;
@@ -30,7 +30,7 @@ Scene stiffPair(double dt, double duration) {
 TEST(Runner, RunawayEnergyIsReportedAsDivergence) {
   // ω = sqrt(2κ/m) = 141 rad/s: 2/ω = 14 ms. At 20 ms the energy grows by about
   // 3× a step; 12 steps stay finite but are garbage.
-  const Scene scene = stiffPair(0.02, 0.24);
+  const Scene scene = stiffSpringPair(0.02, 0.24);
   RunOptions options;
   options.settings = scene.run;
   const RunReport report = runScene(scene, options);
@@ -41,7 +41,7 @@ TEST(Runner, RunawayEnergyIsReportedAsDivergence) {
 }
 
 TEST(Runner, NonFiniteStateIsReportedWithTheParticle) {
-  const Scene scene = stiffPair(0.02, 100.0);
+  const Scene scene = stiffSpringPair(0.02, 100.0);
   RunOptions options;
   options.settings = scene.run;
   const RunReport report = runScene(scene, options);
@@ -50,7 +50,7 @@ TEST(Runner, NonFiniteStateIsReportedWithTheParticle) {
 }
 
 TEST(Runner, AStableRunIsOk) {
-  const Scene scene = stiffPair(1e-4, 0.5);
+  const Scene scene = stiffSpringPair(1e-4, 0.5);
   RunOptions options;
   options.settings = scene.run;
   const RunReport report = runScene(scene, options);

@@ -30,7 +30,7 @@ inline const Diagnostic* findError(const SceneLoadResult& result, std::string_vi
 /// A parameterised test's name from its case's `label` (non-alphanumerics → '_').
 struct LabelName {
   template <typename Case>
-  std::string operator()(const testing::TestParamInfo<Case>& param) const {
+  std::string operator()(const ::testing::TestParamInfo<Case>& param) const {
     std::string name = param.param.label;
     for (char& ch : name)
       if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';

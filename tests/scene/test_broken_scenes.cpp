@@ -80,13 +80,13 @@ std::vector<BrokenCase> readCases() {
   return cases;
 }
 
-struct Outcome {
+struct BrokenOutcome {
   int exitCode = -1;
   std::string errors;
 };
 
 // `robophi <args>`: its exit code and what it wrote to stderr.
-Outcome robophi(const std::string& args, const fs::path& scratch) {
+BrokenOutcome robophi(const std::string& args, const fs::path& scratch) {
   const fs::path errors = scratch / "stderr.txt";
   const std::string command =
       std::string(ROBOPHI_BINARY) + " " + args + " > /dev/null 2> " + errors.string();
@@ -111,7 +111,7 @@ TEST_P(BrokenScene, IsRefusedWithItsPlaceAndMessageAndWritesNothing) {
     for (auto at = args.find(token); at != std::string::npos; at = args.find(token))
       args.replace(at, token.size(), ROBOPHI_SOURCE_DIR "/scenes");
     const bool run = args.starts_with("run ");
-    const Outcome o = robophi(args + (run ? " --quiet --out " + out.string() : ""), scratch_);
+    const BrokenOutcome o = robophi(args + (run ? " --quiet --out " + out.string() : ""), scratch_);
     EXPECT_EQ(o.exitCode, c.exitCode) << o.errors;
     EXPECT_NE(o.errors.find(c.place), std::string::npos) << o.errors;
     EXPECT_NE(o.errors.find(c.fragment), std::string::npos) << o.errors;
@@ -138,7 +138,7 @@ TEST_P(BrokenScene, IsRefusedWithItsPlaceAndMessageAndWritesNothing) {
   for (const std::string command : {"validate", "run"}) {
     SCOPED_TRACE(command);
     const std::string extra = command == "run" ? " --quiet --out " + out.string() : "";
-    const Outcome o = robophi(command + " " + scene.string() + extra, scratch_);
+    const BrokenOutcome o = robophi(command + " " + scene.string() + extra, scratch_);
     EXPECT_EQ(o.exitCode, c.exitCode) << o.errors;
     EXPECT_NE(o.errors.find(where), std::string::npos) << o.errors;
     EXPECT_NE(o.errors.find(c.fragment), std::string::npos) << o.errors;

@@ -11,7 +11,7 @@ namespace robophi {
 namespace {
 
 std::string writeFile(const std::string& name, const std::string& bytes) {
-  const std::string path = testing::TempDir() + "/" + name;
+  const std::string path = ::testing::TempDir() + "/" + name;
   std::ofstream out(path, std::ios::binary);
   out << bytes;
   return path;

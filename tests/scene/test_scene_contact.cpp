@@ -81,7 +81,7 @@ TEST(SceneContact, RedefinesTheDefaultMaterialAndGroundTrue) {
 }
 
 TEST(SceneContact, HeightfieldFromAPgmFileRelativeToTheScene) {
-  const std::string directory = testing::TempDir();
+  const std::string directory = ::testing::TempDir();
   {
     std::ofstream out(directory + "/hills.pgm");
     out << "P2\n2 2\n10\n0 10\n5 0\n";
@@ -181,7 +181,7 @@ const BadContactKey kBadKeys[] = {
      "no material named 'stel' in /materials; did you mean 'steel'?", "/objects/0/material"},
 };
 
-class SceneContactBadKeys : public testing::TestWithParam<BadContactKey> {};
+class SceneContactBadKeys : public ::testing::TestWithParam<BadContactKey> {};
 
 TEST_P(SceneContactBadKeys, AreReportedWithASuggestionAndTheirPlace) {
   const BadContactKey& c = GetParam();
@@ -200,7 +200,7 @@ TEST_P(SceneContactBadKeys, AreReportedWithASuggestionAndTheirPlace) {
   EXPECT_GT(match->column, 0) << match->format();
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, SceneContactBadKeys, testing::ValuesIn(kBadKeys),
+INSTANTIATE_TEST_SUITE_P(Scene, SceneContactBadKeys, ::testing::ValuesIn(kBadKeys),
                          test::LabelName());
 
 // The misspelt key is pointed at on its own line and column, in the same form as

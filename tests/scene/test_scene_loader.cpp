@@ -30,7 +30,7 @@ std::string showPlace(const std::string& text, int line, int column) {
 }
 
 // A broken scene and what its (first matching) error must say.
-struct BrokenScene {
+struct BrokenSceneCase {
   const char* label;
   const char* text;
   const char* fragment;
@@ -42,7 +42,7 @@ struct BrokenScene {
 // Valid header lines shared by the table (2 lines: the objects start on line 3).
 #define HEAD "{\"robophi\": 1,\n\"objects\": [\n"
 
-const BrokenScene kBroken[] = {
+const BrokenSceneCase kBroken[] = {
     {"syntax", "{\n  \"robophi\": 1,\n  \"objects\": [ }\n", "JSON syntax error", 3, 16, nullptr},
     {"trailing comma", "{\"objects\": [],\n}", "trailing comma", 2, 1, nullptr},
     {"unterminated", "{\"objects\": [\n", "unterminated array", 1, 13, nullptr},
@@ -177,10 +177,10 @@ const BrokenScene kBroken[] = {
      "'2': object 'p' has 2 particles", 6, 49, "/objects/0/connectors/0/particles/1"},
 };
 
-class SceneBrokenTable : public testing::TestWithParam<BrokenScene> {};
+class SceneBrokenTable : public ::testing::TestWithParam<BrokenSceneCase> {};
 
 TEST_P(SceneBrokenTable, IsRejectedWithTheRightMessageAndPlace) {
-  const BrokenScene& c = GetParam();
+  const BrokenSceneCase& c = GetParam();
   const SceneLoadResult result = loadSceneText(c.text, "broken.json");
   EXPECT_FALSE(result.ok());
   EXPECT_FALSE(result.scene.has_value());
@@ -199,7 +199,7 @@ TEST_P(SceneBrokenTable, IsRejectedWithTheRightMessageAndPlace) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, SceneBrokenTable, testing::ValuesIn(kBroken), test::LabelName());
+INSTANTIATE_TEST_SUITE_P(Scene, SceneBrokenTable, ::testing::ValuesIn(kBroken), test::LabelName());
 
 TEST(SceneLoader, ReportsEveryErrorNotOnlyTheFirst) {
   const char* text = R"({

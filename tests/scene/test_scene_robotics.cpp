@@ -53,7 +53,7 @@ const BadRobotics kBadRobotics[] = {
      "/robotics/goal"},
 };
 
-class SceneRoboticsBad : public testing::TestWithParam<BadRobotics> {};
+class SceneRoboticsBad : public ::testing::TestWithParam<BadRobotics> {};
 
 TEST_P(SceneRoboticsBad, IsReportedAtItsPlace) {
   const BadRobotics& c = GetParam();
@@ -66,7 +66,7 @@ TEST_P(SceneRoboticsBad, IsReportedAtItsPlace) {
   EXPECT_GT(match->line, 0) << match->format();
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, SceneRoboticsBad, testing::ValuesIn(kBadRobotics),
+INSTANTIATE_TEST_SUITE_P(Scene, SceneRoboticsBad, ::testing::ValuesIn(kBadRobotics),
                          test::LabelName());
 
 TEST(SceneRobotics, GoalWithEscapeAndLimitFillTheTasks) {

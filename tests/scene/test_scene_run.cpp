@@ -119,7 +119,7 @@ const BadAdaptive kBadAdaptive[] = {
      "/run/adaptive"},
 };
 
-class SceneRunBadAdaptive : public testing::TestWithParam<BadAdaptive> {};
+class SceneRunBadAdaptive : public ::testing::TestWithParam<BadAdaptive> {};
 
 TEST_P(SceneRunBadAdaptive, IsRejectedWithItsPlaceAndRange) {
   const BadAdaptive& c = GetParam();
@@ -133,7 +133,7 @@ TEST_P(SceneRunBadAdaptive, IsRejectedWithItsPlaceAndRange) {
   EXPECT_GT(e.column, 0) << e.format();
 }
 
-INSTANTIATE_TEST_SUITE_P(Scene, SceneRunBadAdaptive, testing::ValuesIn(kBadAdaptive),
+INSTANTIATE_TEST_SUITE_P(Scene, SceneRunBadAdaptive, ::testing::ValuesIn(kBadAdaptive),
                          test::LabelName());
 
 }  // namespace

@@ -484,13 +484,13 @@ std::string evaluateCheck(const std::string& check, RunOutputs& run) {
   p.fail("expected <, <=, >, >=, in [a, b] or ~ x ± tol");
 }
 
-struct Outcome {
+struct StressOutcome {
   int exitCode = -1;
   std::string errors;
   double wallSeconds = 0.0;
 };
 
-Outcome robophi(const std::string& args, const fs::path& scratch) {
+StressOutcome robophi(const std::string& args, const fs::path& scratch) {
   const fs::path errors = scratch / "stderr.txt";
   const std::string command =
       std::string(ROBOPHI_BINARY) + " " + args + " > /dev/null 2> " + errors.string();
@@ -515,7 +515,7 @@ TEST_P(StressScene, EndsSoundOrWithANamedFailure) {
   ASSERT_TRUE(fs::exists(scene)) << scene;
   RunOutputs run;
   run.dir = scratch_ / "out";
-  const Outcome o = robophi(
+  const StressOutcome o = robophi(
       "run " + scene.string() + " " + c.extras + " --quiet --out " + run.dir.string(), scratch_);
   run.errors = o.errors;
   RecordProperty("wall_seconds", std::to_string(o.wallSeconds));

@@ -25,11 +25,12 @@
 #include "robophi/build/urdf_multibody.h"
 #include "robophi/kinematics.h"
 #include "robophi/multibody.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 const std::string kUr5 =
     kRobots + "/../robots-wild/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf";
 

@@ -22,7 +22,7 @@
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 TEST(UrdfDefaults, EverySharedRobotRunsAsPublishedWithTheDefaults) {
   if (!std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"))

@@ -21,11 +21,12 @@
 #include "robophi/world.h"
 #include "robotics/controller.h"
 #include "robotics/tasks.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 const std::string kScenes = ROBOPHI_SOURCE_DIR "/scenes/";
 constexpr double kWheelRadius = 0.17775;  // m, husky.urdf's <cylinder radius>
 const char* const kWheels[] = {"front_left_wheel", "front_right_wheel", "rear_left_wheel",

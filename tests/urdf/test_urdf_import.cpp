@@ -13,11 +13,12 @@
 #include "robophi/scene/scene.h"
 #include "run/object_report.h"
 #include "run/runner.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 const std::string kBroken = std::string(ROBOPHI_SOURCE_DIR) + "/tests/urdf/broken/";
 
 struct RobotCase {

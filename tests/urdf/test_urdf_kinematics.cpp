@@ -23,13 +23,14 @@
 #include "robophi/joints.h"
 #include "robophi/stability.h"
 #include "robophi/world.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
-struct Pose {
+struct KdlPose {
   Eigen::Vector3d origin;
   Eigen::Matrix3d rotation;
 };
@@ -37,7 +38,7 @@ struct Pose {
 Eigen::Vector3d eig(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 // The rigid motion (R, t) that best carries `from` onto `to` (Kabsch, equal weights).
-Pose bestFit(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) {
+KdlPose bestFit(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) {
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < from.size(); ++i) {
     a += from[i];
@@ -122,7 +123,7 @@ Errors servoAndCompare(const build::UrdfRobot& robot, const std::map<std::string
       from.push_back(eig(initial.position[static_cast<std::size_t>(i)]));
       to.push_back(eig(world.state().position[static_cast<std::size_t>(i)]));
     }
-    const Pose motion = bestFit(from, to);
+    const KdlPose motion = bestFit(from, to);
     Eigen::Matrix3d r0;
     for (int c = 0; c < 3; ++c) r0.col(c) = eig(link.frame.axes[static_cast<std::size_t>(c)]);
     const Eigen::Vector3d origin = motion.rotation * eig(link.frame.origin) + motion.origin;

@@ -30,7 +30,7 @@
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 const std::string kWild = kRobots + "/../robots-wild";
 
 struct RobotFile {
@@ -54,10 +54,10 @@ build::UrdfMultibodySpec specOf(const std::string& path) {
   return spec;
 }
 
-bool robotsPresent() { return std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"); }
+bool iiwaPresent() { return std::filesystem::exists(kRobots + "/kuka_iiwa/model.urdf"); }
 
 TEST(UrdfMultibody, EverySharedRobotLoadsAsPublished) {
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   for (const RobotFile& file : sharedRobots()) {
     if (!std::filesystem::exists(file.path)) {
       ADD_FAILURE() << "missing " << file.path;
@@ -195,7 +195,7 @@ bool compareWithKdl(const RobotFile& file, Worst& worst) {
 }
 
 TEST(UrdfMultibody, KinematicsAndGravityEqualKdlsOnEverySharedRobot) {
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   for (const RobotFile& file : sharedRobots()) {
     // urdfdom (KDL's reader) crashes on the Husky's xacro leftovers ("$(optenv ...)"
     // in an origin, which robophi reads as its default): not compared.
@@ -219,7 +219,7 @@ TEST(UrdfMultibody, KinematicsAndGravityEqualKdlsOnEverySharedRobot) {
 TEST(UrdfMultibody, EachBodysMassPropertiesAreTheSumOfItsLinksInKdl) {
   // KDL's segments carry the file's inertias (its root's excepted: kdl_parser drops
   // a root link's inertia); each body is the exact sum of the links merged into it.
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   for (const RobotFile& file : sharedRobots()) {
     if (file.path.find("husky") != std::string::npos) continue;  // (urdfdom cannot read it)
     build::UrdfMultibodySpec spec;
@@ -298,7 +298,7 @@ TEST(UrdfMultibody, TheIiwaHoldsAPoseByPdWithGravityCompensation) {
   // The task of ../shared/peers/mujoco/mj_hold.c: j2 = 1, j4 = −1 held 10 s by joint
   // PD kp 300, kd 20 at 1 kHz, efforts set every step with gravity compensation
   // from the library's gravity forces; the worst joint error at the end.
-  if (!robotsPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
+  if (!iiwaPresent()) GTEST_SKIP() << "no robots at " << kRobots << " (ROBOPHI_ROBOTS_DIR)";
   const build::UrdfMultibody robot = build::makeUrdfMultibody(specOf(kRobots + "/kuka_iiwa/model.urdf"));
   const Multibody& mb = robot.multibody;
   const auto n = static_cast<std::size_t>(mb.velocityCount);

@@ -24,11 +24,12 @@
 #include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 const std::string kScene = std::string(ROBOPHI_SOURCE_DIR) + "/scenes/panda_pick.json";
 
 // The scene finds the robot at $(optenv ROBOPHI_ROBOTS_DIR ../../shared/robots): the

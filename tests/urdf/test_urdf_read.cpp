@@ -8,12 +8,13 @@
 
 #include "build/urdf_parse.h"
 #include "robophi/build/urdf_error.h"
+#include "test_files.h"
 
 namespace robophi::build {
 namespace {
 
 const std::string kBroken = std::string(ROBOPHI_SOURCE_DIR) + "/tests/urdf/broken/";
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 struct BrokenCase {
   const char* file;

@@ -17,20 +17,20 @@ namespace robophi {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
-struct Outcome {
+struct UrdfOutcome {
   int exitCode = -1;
   std::string out, errors;
 };
 
-Outcome robophi(const std::string& args) {
+UrdfOutcome robophi(const std::string& args) {
   const fs::path dir = testing::makeTempFolder("robophi_urdf_cli_");
   const std::string command = std::string(ROBOPHI_BINARY) + " " + args + " > " +
                               (dir / "out.txt").string() + " 2> " + (dir / "err.txt").string();
   const int status = std::system(command.c_str());
-  Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1, testing::readText(dir / "out.txt"),
-            testing::readText(dir / "err.txt")};
+  UrdfOutcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1, testing::readText(dir / "out.txt"),
+                testing::readText(dir / "err.txt")};
   fs::remove_all(dir);
   return o;
 }
@@ -117,7 +117,7 @@ TEST(UrdfScene, PathsTakeEnvironmentArguments) {
 }
 
 TEST(UrdfCommand, ValidateABareUrdfAndABrokenOne) {
-  const Outcome ok = robophi("validate " + kRobots + "/cartpole/cartpole.urdf");
+  const UrdfOutcome ok = robophi("validate " + kRobots + "/cartpole/cartpole.urdf");
   EXPECT_EQ(ok.exitCode, 0) << ok.errors;
   EXPECT_NE(ok.out.find("cartpole.urdf: valid"), std::string::npos) << ok.out;
   // One warning a kind of ignored element, with the URDF's file:line.
@@ -125,19 +125,20 @@ TEST(UrdfCommand, ValidateABareUrdfAndABrokenOne) {
             std::string::npos)
       << ok.errors;
   const std::string broken = std::string(ROBOPHI_SOURCE_DIR) + "/tests/urdf/broken/cycle.urdf";
-  const Outcome bad = robophi("validate " + broken);
+  const UrdfOutcome bad = robophi("validate " + broken);
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_NE(bad.errors.find(broken + ":14: error: link 'c' has two parents"), std::string::npos)
       << bad.errors;
   // The Panda's package://meshes/... is found beside it (a warning names the
   // folder taken), or in the package path given.
   const std::string panda = kRobots + "/franka_panda/panda.urdf";
-  const Outcome beside = robophi("validate " + panda);
+  const UrdfOutcome beside = robophi("validate " + panda);
   EXPECT_EQ(beside.exitCode, 0) << beside.errors;
   EXPECT_NE(beside.errors.find("package 'meshes' taken from " + kRobots + "/franka_panda/meshes/"),
             std::string::npos)
       << beside.errors;
-  const Outcome given = robophi("validate " + panda + " --package-path " + kRobots + "/franka_panda");
+  const UrdfOutcome given =
+      robophi("validate " + panda + " --package-path " + kRobots + "/franka_panda");
   EXPECT_EQ(given.exitCode, 0);
   EXPECT_EQ(given.errors.find("package 'meshes' taken from"), std::string::npos) << given.errors;
   EXPECT_EQ(robophi("validate " + panda + " --base sideways").exitCode, 2);
@@ -145,7 +146,7 @@ TEST(UrdfCommand, ValidateABareUrdfAndABrokenOne) {
 
 TEST(UrdfCommand, InfoJsonReportsEveryLinkAgainstTheUrdf) {
   // The particle robot: one object a link, each against the URDF's values.
-  const Outcome o =
+  const UrdfOutcome o =
       robophi("info " + kRobots + "/pr2_gripper/pr2_gripper.urdf --particles --json");
   ASSERT_EQ(o.exitCode, 0) << o.errors;
   const nlohmann::json info = nlohmann::json::parse(o.out);
@@ -169,7 +170,7 @@ TEST(UrdfCommand, InfoJsonReportsEveryLinkAgainstTheUrdf) {
   }
   EXPECT_NEAR(total, 0.5 + 4 * 0.1, 1e-6);
   // The text form names the declared values too.
-  const Outcome text = robophi("info " + kRobots + "/kuka_iiwa/model.urdf --particles");
+  const UrdfOutcome text = robophi("info " + kRobots + "/kuka_iiwa/model.urdf --particles");
   ASSERT_EQ(text.exitCode, 0) << text.errors;
   EXPECT_NE(text.out.find("declared (URDF)"), std::string::npos);
   EXPECT_NE(text.out.find("notional base"), std::string::npos);

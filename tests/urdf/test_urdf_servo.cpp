@@ -18,11 +18,12 @@
 #include "robophi/joints.h"
 #include "robophi/stability.h"
 #include "robophi/world.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 struct Arm {
   build::UrdfRobot robot;

@@ -16,21 +16,22 @@
 #include "robophi/scene/scene.h"
 #include "robotics/tasks.h"
 #include "run/runner.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
-std::int32_t objectNamed(const Model& model, const std::string& name) {
+std::int32_t shakenObjectNamed(const Model& model, const std::string& name) {
   for (std::size_t o = 0; o < model.objects.size(); ++o)
     if (model.objects[o].name == name) return static_cast<std::int32_t>(o);
   return -1;
 }
 
 // Mass centre (m) and its velocity (m/s) of an object's particles.
-void centerOf(const Model& model, const State& state, std::int32_t object, Vec3& position,
-              Vec3& velocity) {
+void shakenCenterOf(const Model& model, const State& state, std::int32_t object, Vec3& position,
+                    Vec3& velocity) {
   const ObjectInfo& o = model.objects[static_cast<std::size_t>(object)];
   Vec3 p{}, v{};
   double mass = 0.0;
@@ -66,7 +67,7 @@ ShakeRun runShake(const std::string& text) {
   if (!result.ok()) return out;
   const Scene& scene = *result.scene;
   const Model& model = scene.model;
-  const std::int32_t box = objectNamed(model, "box");
+  const std::int32_t box = shakenObjectNamed(model, "box");
   EXPECT_GE(box, 0);
   if (box < 0) return out;
   struct Sample {
@@ -97,7 +98,7 @@ ShakeRun runShake(const std::string& text) {
   options.tasks = {hook.task, [&](World& world, std::vector<std::string>&) {
                      const State& s = world.state();
                      Vec3 b, v;
-                     centerOf(model, s, box, b, v);
+                     shakenCenterOf(model, s, box, b, v);
                      samples.push_back({s.time, v, inverse(fingerPose(s)) * b});
                      return true;
                    }};

@@ -3,10 +3,10 @@
 // built in both forms of the robot (particle bodies and a rigid tree).
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <string>
 
 #include "build/urdf_parse.h"
@@ -14,11 +14,12 @@
 #include "robophi/build/urdf.h"
 #include "robophi/build/urdf_multibody.h"
 #include "robophi/multibody.h"
+#include "test_files.h"
 
 namespace robophi::build {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 // A two-link arm whose links carry a box, a cylinder, a named material and a
 // visual mesh that is not there.

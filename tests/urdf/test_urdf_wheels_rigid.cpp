@@ -15,15 +15,16 @@
 #include "robophi/joints.h"
 #include "robophi/scene/scene.h"
 #include "robophi/world.h"
+#include "test_files.h"
 
 namespace robophi {
 namespace {
 
-const std::string kRobots = ROBOPHI_ROBOTS_DIR;
+using testing::kRobots;  // ROBOPHI_ROBOTS_DIR (test_files.h)
 
 // What a drive measured: the base's speed over the last part of the run, the
 // wheels' mean rate over it, and the base's height range and heading change.
-struct Drive {
+struct WheelDrive {
   int rims = 0;
   double speed = 0.0, wheelRate = 0.0;
   double lowest = 1e9, highest = -1e9;
@@ -33,12 +34,12 @@ struct Drive {
 // Loads `urdf` rigid on a free base, drives every continuous joint whose name holds
 // "wheel" at `rate` (rad/s) by a velocity servo (`gain` N·m·s/rad, ±`limit` N·m), at
 // a constant step of 2 ms for `seconds`, and measures from `settle` s on.
-Drive drive(const std::string& urdf, double rate, double gain, double limit, double seconds,
-            double settle) {
+WheelDrive drive(const std::string& urdf, double rate, double gain, double limit, double seconds,
+                 double settle) {
   UrdfSceneOptions options;
   options.fixedBase = false;
   SceneLoadResult loaded = loadUrdfFile(urdf, options);
-  Drive d;
+  WheelDrive d;
   for (const Diagnostic& e : loaded.errors) ADD_FAILURE() << e.format();
   if (!loaded.ok()) return d;
   Scene& scene = *loaded.scene;
@@ -94,7 +95,7 @@ TEST(RigidWheels, TheHuskyRollsOnItsWheelsTrueRadius) {
   const std::string husky = kRobots + "/husky/husky.urdf";
   if (!std::filesystem::exists(husky)) GTEST_SKIP() << "no " << husky << " (ROBOPHI_ROBOTS_DIR)";
   constexpr double kRadius = 0.17775;  // husky.urdf's wheel <cylinder radius>
-  const Drive d = drive(husky, 4.0, 100.0, 15.0, 3.5, 1.5);  // bench/multibody_husky.cpp's
+  const WheelDrive d = drive(husky, 4.0, 100.0, 15.0, 3.5, 1.5);  // bench/multibody_husky.cpp's
   EXPECT_EQ(d.rims, 4);
   // R per radian of the wheels' own mean rate: within 0.1 % (0.6 % short on its
   // particles' polygon).
@@ -108,7 +109,7 @@ TEST(RigidWheels, TheHuskyRollsOnItsWheelsTrueRadius) {
 // A cart the importer was not tuned to: 6 cm wheels 3 cm wide whose cylinders are
 // turned onto the joint's y axis by their <origin rpy>, a 4 kg chassis.
 TEST(RigidWheels, ACartWithOtherWheelsRollsOnTheirRadiusToo) {
-  const std::string path = testing::TempDir() + "/robophi_rigid_cart.urdf";
+  const std::string path = ::testing::TempDir() + "/robophi_rigid_cart.urdf";
   {
     std::ofstream out(path);
     out << R"(<robot name="cart">
@@ -127,7 +128,7 @@ TEST(RigidWheels, ACartWithOtherWheelsRollsOnTheirRadiusToo) {
     }
     out << "\n</robot>\n";
   }
-  const Drive d = drive(path, 6.0, 0.5, 0.5, 2.5, 1.0);  // (±0.5 N·m: no wheelie)
+  const WheelDrive d = drive(path, 6.0, 0.5, 0.5, 2.5, 1.0);  // (±0.5 N·m: no wheelie)
   EXPECT_EQ(d.rims, 4);
   EXPECT_NEAR(d.speed / (d.wheelRate * 0.06), 1.0, 1e-3)
       << "speed " << d.speed << " m/s, wheels " << d.wheelRate << " rad/s";
