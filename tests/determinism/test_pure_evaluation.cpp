@@ -10,7 +10,7 @@
 namespace robophi {
 namespace {
 
-constexpr std::int64_t kSteps = 1500;
+constexpr std::int64_t kPureEvaluationSteps = 1500;
 
 bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
@@ -20,10 +20,10 @@ TEST(PureEvaluation, FiveExtraEvaluationsBeforeEveryStepOfEveryShippedSceneChang
   for (const std::string& path : testing::shippedScenes()) {
     const SceneLoadResult loaded = loadSceneFile(path);
     ASSERT_TRUE(loaded.ok()) << path;
-    const RunReport plain = testing::runSteps(*loaded.scene, kSteps);
+    const RunReport plain = testing::runSteps(*loaded.scene, kPureEvaluationSteps);
     Workspace spare;
     int mismatches = 0;
-    const RunReport probed = testing::runSteps(*loaded.scene, kSteps, [&](World& world) {
+    const RunReport probed = testing::runSteps(*loaded.scene, kPureEvaluationSteps, [&](World& world) {
       // Five evaluations in a workspace of our own, then five through the
       // world (the first brings its evaluation up to date after the tasks'
       // edits; the others must find nothing to do).

@@ -21,6 +21,7 @@
 #include "output/mesh_decimation.h"
 #include "output/replay_meshes.h"
 #include "test_files.h"
+#include "io/point_box.h"
 
 namespace robophi {
 namespace {
@@ -54,16 +55,6 @@ Sphere uvSphere(double radius, int around, int along) {
   return s;
 }
 
-// The box of the vertices the triangles use: {lower, upper}.
-std::array<Vec3, 2> boxOf(const std::vector<Vec3>& points) {
-  Vec3 lower = points[0], upper = points[0];
-  for (const Vec3& p : points) {
-    lower = {std::min(lower.x, p.x), std::min(lower.y, p.y), std::min(lower.z, p.z)};
-    upper = {std::max(upper.x, p.x), std::max(upper.y, p.y), std::max(upper.z, p.z)};
-  }
-  return {lower, upper};
-}
-
 TEST(MeshDecimation, BringsAFineSphereUnderTheBudgetKeepingItsBox) {
   const Sphere sphere = uvSphere(0.1, 200, 100);
   ASSERT_EQ(sphere.triangles.size(), 39'600u);
@@ -75,8 +66,8 @@ TEST(MeshDecimation, BringsAFineSphereUnderTheBudgetKeepingItsBox) {
   for (const std::size_t t : clustered.keptTriangles)
     for (const std::int32_t v : sphere.triangles[t])
       used.push_back(clustered.positions[static_cast<std::size_t>(clustered.clusterOf[static_cast<std::size_t>(v)])]);
-  const auto before = boxOf(sphere.vertices);
-  const auto after = boxOf(used);
+  const auto before = test::boxOf(sphere.vertices);
+  const auto after = test::boxOf(used);
   const double size = 0.2;  // the sphere's diameter (m)
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(after[0][k], before[0][k], 0.02 * size) << "axis " << k;

@@ -24,6 +24,7 @@
 #include "robophi/scene/scene.h"
 #include "run/runner.h"
 #include "test_files.h"
+#include "io/point_box.h"
 
 namespace robophi {
 namespace {
@@ -34,15 +35,6 @@ const fs::path kUr5Visual = fs::path(ROBOPHI_ROBOTS_DIR) / ".." / "robots-wild" 
                             "robots" / "ur_description" / "meshes" / "ur5" / "visual";
 const std::array<const char*, 7> kUr5Meshes = {"base",    "shoulder", "upperarm", "forearm",
                                                "wrist1", "wrist2",   "wrist3"};
-
-std::array<Vec3, 2> boxOf(const std::vector<Vec3>& points) {
-  Vec3 lower = points.at(0), upper = points.at(0);
-  for (const Vec3& p : points) {
-    lower = {std::min(lower.x, p.x), std::min(lower.y, p.y), std::min(lower.z, p.z)};
-    upper = {std::max(upper.x, p.x), std::max(upper.y, p.y), std::max(upper.z, p.z)};
-  }
-  return {lower, upper};
-}
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -83,8 +75,8 @@ TEST(ReplayMeshes, TheUr5sDaeMeshesGoInUnderTheTriangleBudget) {
     const build::ShadedMesh before = build::loadShadedMesh(path.string());
     const build::ShadedMesh after = build::loadShadedMesh(obj.string());
     EXPECT_EQ(after.mesh.triangles.size(), page.trianglesAfter) << name;
-    const auto boxBefore = boxOf(before.mesh.vertices);
-    const auto boxAfter = boxOf(after.mesh.vertices);
+    const auto boxBefore = test::boxOf(before.mesh.vertices);
+    const auto boxAfter = test::boxOf(after.mesh.vertices);
     const double size = norm(boxBefore[1] - boxBefore[0]);
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(boxAfter[0][k], boxBefore[0][k], 0.02 * size) << name << " axis " << k;
