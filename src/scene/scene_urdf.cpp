@@ -135,7 +135,9 @@ void forEachTreeJoint(Model& model, const State& state, std::int32_t treeIndex, 
     const std::int32_t k = tree.jointOfRate[i];
     if (k < 0) continue;
     Joint& joint = model.joints[static_cast<std::size_t>(k)];
-    set(joint, M[i * n + i],
+    // M(q)'s diagonal is >= 0; a link of no mass can round it to -1e-15..-1e-10
+    // (a fuzz finding: a negative servo stiffness, refused by checkModel).
+    set(joint, std::max(0.0, M[i * n + i]),
         q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(joint.treeBody)].qStart)]);
   }
 }
