@@ -1,5 +1,5 @@
 // Mesh files → TriangleMesh (loadMesh) and ShadedMesh (loadShadedMesh, for the
-// replay page) through assimp, both by one checked road (readCheckedScene).
+// replay page) through assimp, both by one checked road (readMesh, assimp in a child process).
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/MemoryIOWrapper.h>
@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <type_traits>
 #include <mutex>
 #include <stdexcept>
 #include <system_error>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "build/checks.h"
+#include "build/child_process.h"
 #include "robophi/build/input_files.h"
 #include "robophi/build/rigid_body.h"
 #include "robophi/build/shaded_mesh.h"
@@ -345,17 +347,43 @@ std::string readMeshBytes(const std::string& path) {
   }
 }
 
-// The mesh file `path`, whose bytes are `bytes`, read into `importer` (its file
-// system, which the importer owns and which lists the other files assimp asked
-// about, into `files`) and checked against the budgets before and after the
-// triangulation: the scene, or a throw of meshError.
-const aiScene& readCheckedScene(const std::string& path, const std::string& bytes,
-                                Assimp::Importer& importer, InputFileSystem*& files) {
-  if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
-    meshError(path, problem);
-  if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
-    meshError(path, problem);
-  files = new InputFileSystem(path, bytes);  // the importer owns it
+// A mesh file as read: its triangles as collect leaves them, unscaled (with
+// normals and materials when read for display), and the other files assimp
+// asked about (what a kept mesh depends on).
+struct MeshRead {
+  ShadedMesh shaded;  // (its bytes unused)
+  std::vector<OtherFile> asked;
+};
+
+// The materials of `scene` into `out` (at least one).
+void readMaterials(const aiScene& scene, ShadedMesh& out) {
+  for (unsigned k = 0; k < scene.mNumMaterials; ++k) {
+    const aiMaterial& material = *scene.mMaterials[k];
+    MeshMaterial m;
+    m.name = material.GetName().C_Str();
+    aiColor4D diffuse;
+    if (material.Get(AI_MATKEY_COLOR_DIFFUSE, diffuse) == AI_SUCCESS) {
+      m.hasColor = true;
+      m.rgba = {diffuse.r, diffuse.g, diffuse.b, diffuse.a};
+      ai_real opacity = 1;
+      if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) m.rgba[3] = opacity;
+      for (double& c : m.rgba) c = std::isfinite(c) ? std::clamp(c, 0.0, 1.0) : 1.0;
+    }
+    out.materials.push_back(std::move(m));
+  }
+  // (A mesh naming no material of the file: one of the reader's own.)
+  if (out.materials.empty() ||
+      std::find(out.materialOf.begin(), out.materialOf.end(), scene.mNumMaterials) !=
+          out.materialOf.end())
+    out.materials.push_back({"default", {0.7, 0.7, 0.7, 1.0}, false});
+}
+
+// The mesh file `path`, whose bytes are `bytes`, read by assimp in this process
+// and checked against the budgets before and after the triangulation, or a
+// throw of meshError.
+MeshRead readMeshHere(const std::string& path, const std::string& bytes, bool shaded) {
+  Assimp::Importer importer;
+  auto* files = new InputFileSystem(path, bytes);  // the importer owns it
   importer.SetIOHandler(files);
   // ROS meshes are Z-up whatever a COLLADA file's <up_axis> says (as rviz reads them).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -382,7 +410,155 @@ const aiScene& readCheckedScene(const std::string& path, const std::string& byte
   if (scene == nullptr) meshError(path, "cannot be triangulated (" + assimpReason(importer) + ")");
   if (const std::string problem = meshBudgetProblem(*scene, true); !problem.empty())
     meshError(path, problem + " (docs/scene-format.md#limits)");
-  return *scene;
+  MeshRead out;
+  // Unscaled: loadMesh multiplies by its scale after, the same product as here.
+  if (scene->mRootNode != nullptr)
+    collect(*scene, {1, 1, 1}, out.shaded.mesh, shaded ? &out.shaded : nullptr);
+  if (shaded) readMaterials(*scene, out.shaded);
+  out.asked = std::move(files->asked);
+  return out;
+}
+
+// A MeshRead as bytes, from the child that read it to its parent.
+class MeshRecord {
+ public:
+  static std::string encode(const MeshRead& read) {
+    MeshRecord r;
+    r.vector(read.shaded.mesh.vertices);
+    r.vector(read.shaded.mesh.triangles);
+    r.vector(read.shaded.normals);
+    r.vector(read.shaded.materialOf);
+    r.value(read.shaded.materials.size());
+    for (const MeshMaterial& m : read.shaded.materials) {
+      r.text(m.name);
+      r.value(m.rgba);
+      r.value(m.hasColor);
+    }
+    r.value(read.asked.size());
+    for (const OtherFile& f : read.asked) {
+      r.text(f.path);
+      r.value(f.found);
+      r.value(f.opened);
+      r.text(f.bytes);
+    }
+    return std::move(r.bytes_);
+  }
+  // Throws meshError on a record cut short (a child that did not finish writing).
+  static MeshRead decode(const std::string& path, std::string bytes) {
+    MeshRecord r;
+    r.bytes_ = std::move(bytes);
+    MeshRead read;
+    r.vector(path, read.shaded.mesh.vertices);
+    r.vector(path, read.shaded.mesh.triangles);
+    r.vector(path, read.shaded.normals);
+    r.vector(path, read.shaded.materialOf);
+    read.shaded.materials.resize(r.count(path));
+    for (MeshMaterial& m : read.shaded.materials) {
+      r.text(path, m.name);
+      r.value(path, m.rgba);
+      r.value(path, m.hasColor);
+    }
+    read.asked.resize(r.count(path));
+    for (OtherFile& f : read.asked) {
+      r.text(path, f.path);
+      r.value(path, f.found);
+      r.value(path, f.opened);
+      r.text(path, f.bytes);
+    }
+    return read;
+  }
+
+ private:
+  template <typename T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <typename T>
+  void vector(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    value(v.size());
+    bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) {
+    value(s.size());
+    bytes_ += s;
+  }
+  const char* take(const std::string& path, std::size_t size) {
+    if (size > bytes_.size() - at_) meshError(path, "the reader's process sent a record cut short");
+    const char* from = bytes_.data() + at_;
+    at_ += size;
+    return from;
+  }
+  template <typename T>
+  void value(const std::string& path, T& v) {
+    std::memcpy(&v, take(path, sizeof v), sizeof v);
+  }
+  std::size_t count(const std::string& path) {
+    std::size_t n = 0;
+    value(path, n);
+    if (n > bytes_.size()) meshError(path, "the reader's process sent a record cut short");
+    return n;
+  }
+  template <typename T>
+  void vector(const std::string& path, std::vector<T>& v) {
+    v.resize(count(path));
+    if (!v.empty()) std::memcpy(v.data(), take(path, v.size() * sizeof(T)), v.size() * sizeof(T));
+  }
+  void text(const std::string& path, std::string& s) {
+    const std::size_t n = count(path);
+    s.assign(take(path, n), n);
+  }
+  std::string bytes_;
+  std::size_t at_ = 0;
+};
+
+// How long assimp may take to read a mesh file before it counts as a hang (s).
+constexpr int kMeshReadSeconds = 30;
+
+// The mesh file `path`, whose bytes are `bytes`, read and checked, or a throw
+// of meshError. A mesh file is untrusted input, and assimp 5.2's readers crash
+// on some malformed files (a null read in the COLLADA reader, a fuzz finding of
+// stop 39; an array without a count, refused below before assimp sees it). So
+// assimp reads it in a child process (runInChild): a crash, an abort or a hang
+// there ends only the child, and the file is refused with what happened (exit 2
+// for the command line, as any bad mesh). The child sends the triangles back;
+// the files it read are recorded here as this process's inputs. Where no child
+// can be started, the file is read in this process.
+MeshRead readMesh(const std::string& path, const std::string& bytes, bool shaded) {
+  if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
+    meshError(path, problem);
+  if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
+    meshError(path, problem);
+  const ChildOutcome outcome = runInChild(
+      [&]() -> std::string {
+        try {
+          return "K" + MeshRecord::encode(readMeshHere(path, bytes, shaded));
+        } catch (const std::exception& e) {
+          return std::string("E") + e.what();
+        } catch (...) {
+          return "Emesh '" + path + "': an unknown error while reading it";
+        }
+      },
+      kMeshReadSeconds);
+  switch (outcome.kind) {
+    case ChildOutcome::kNotStarted:
+      return readMeshHere(path, bytes, shaded);
+    case ChildOutcome::kTimedOut:
+      meshError(path, "assimp took more than " + std::to_string(kMeshReadSeconds) +
+                          " s to read it (a hang): refused");
+    case ChildOutcome::kCrashed:
+      meshError(path, "assimp's reader crashed on it (" + outcome.how() +
+                          "; a bug of assimp's on a malformed file): refused");
+    case ChildOutcome::kAnswered:
+      break;
+  }
+  if (outcome.answer.empty()) meshError(path, "the reader's process sent no answer");
+  if (outcome.answer[0] == 'E') throw std::runtime_error(outcome.answer.substr(1));
+  MeshRead read = MeshRecord::decode(path, outcome.answer.substr(1));
+  for (const OtherFile& f : read.asked)
+    if (f.opened && f.found) InputFileLog::record(f.path);
+  return read;
 }
 
 // A mesh as collected: some triangles, finite vertices, some area. Throws meshError.
@@ -412,47 +588,23 @@ TriangleMesh loadMesh(const std::string& path, const Vec3& scale) {
                         ") has a zero factor: the mesh would have no volume");
   std::string bytes = readMeshBytes(path);
   if (const auto kept = meshFileMemo().find(path, scale, bytes)) return *kept;
-  Assimp::Importer importer;
-  InputFileSystem* files = nullptr;
-  const aiScene& scene = readCheckedScene(path, bytes, importer, files);
-  TriangleMesh mesh;
-  if (scene.mRootNode != nullptr) collect(scene, scale, mesh, nullptr);
+  MeshRead read = readMesh(path, bytes, false);
+  TriangleMesh mesh = std::move(read.shaded.mesh);
+  for (Vec3& v : mesh.vertices) v = {v.x * scale.x, v.y * scale.y, v.z * scale.z};
   checkGeometry(path, mesh);
   // A mirroring scale (an odd number of negative factors) turns the winding inside out.
   if (scale.x * scale.y * scale.z < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   }
-  meshFileMemo().keep(path, scale, std::move(bytes), std::move(files->asked), mesh);
+  meshFileMemo().keep(path, scale, std::move(bytes), std::move(read.asked), mesh);
   return mesh;
 }
 
 ShadedMesh loadShadedMesh(const std::string& path) {
-  ShadedMesh out;
-  out.bytes = readMeshBytes(path);
-  Assimp::Importer importer;
-  InputFileSystem* files = nullptr;
-  const aiScene& scene = readCheckedScene(path, out.bytes, importer, files);
-  if (scene.mRootNode != nullptr) collect(scene, {1, 1, 1}, out.mesh, &out);
+  std::string bytes = readMeshBytes(path);
+  ShadedMesh out = std::move(readMesh(path, bytes, true).shaded);
+  out.bytes = std::move(bytes);
   checkGeometry(path, out.mesh);
-  for (unsigned k = 0; k < scene.mNumMaterials; ++k) {
-    const aiMaterial& material = *scene.mMaterials[k];
-    MeshMaterial m;
-    m.name = material.GetName().C_Str();
-    aiColor4D diffuse;
-    if (material.Get(AI_MATKEY_COLOR_DIFFUSE, diffuse) == AI_SUCCESS) {
-      m.hasColor = true;
-      m.rgba = {diffuse.r, diffuse.g, diffuse.b, diffuse.a};
-      ai_real opacity = 1;
-      if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) m.rgba[3] = opacity;
-      for (double& c : m.rgba) c = std::isfinite(c) ? std::clamp(c, 0.0, 1.0) : 1.0;
-    }
-    out.materials.push_back(std::move(m));
-  }
-  // (A mesh naming no material of the file: one of the reader's own.)
-  if (out.materials.empty() ||
-      std::find(out.materialOf.begin(), out.materialOf.end(), scene.mNumMaterials) !=
-          out.materialOf.end())
-    out.materials.push_back({"default", {0.7, 0.7, 0.7, 1.0}, false});
   return out;
 }
 

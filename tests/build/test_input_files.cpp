@@ -187,6 +187,43 @@ TEST_F(InputFiles, AColladaArrayWithoutItsCountIsRefusedBeforeAssimpReadsIt) {
                                   "': a COLLADA <float_array> at line 4 has no count attribute");
 }
 
+// A fuzz finding (stop 39): a COLLADA <float_array> whose count is 0 (or not a
+// number, which assimp 5.2 reads as 0) under an accessor that reads from it is a
+// null read inside assimp's reader, which crashed the process. assimp reads a mesh
+// in a child process: the crash ends the child, and the file is refused with what
+// happened, as any bad mesh; the same file with its count reads.
+TEST_F(InputFiles, AMeshThatCrashesAssimpsReaderIsRefusedAndTheProcessGoesOn) {
+  const fs::path dae = dir_ / "empty_array.dae";
+  const auto tetrahedron = [](const std::string& count) {
+    return "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/"
+           "COLLADASchema\" version=\"1.4.1\">\n<library_geometries><geometry id=\"t\"><mesh>\n"
+           "<source id=\"p\"><float_array id=\"a\" count=\"" +
+           count +
+           "\">0 0 0 1 0 0 0 1 0 0 0 1</float_array><technique_common><accessor source=\"#a\" "
+           "count=\"4\" stride=\"3\"><param name=\"X\" type=\"float\"/><param name=\"Y\" "
+           "type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor></technique_common>"
+           "</source>\n<vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/>"
+           "</vertices>\n<triangles count=\"4\"><input semantic=\"VERTEX\" source=\"#v\" "
+           "offset=\"0\"/>\n<p>0 2 1 0 1 3 0 3 2 1 2 3</p></triangles></mesh></geometry>"
+           "</library_geometries>\n<library_visual_scenes><visual_scene id=\"s\"><node "
+           "id=\"n\"><instance_geometry url=\"#t\"/></node></visual_scene>"
+           "</library_visual_scenes>\n<scene><instance_visual_scene url=\"#s\"/></scene>\n"
+           "</COLLADA>\n";
+  };
+  testing::writeText(dae, tetrahedron("12"));
+  EXPECT_EQ(meshMessage(dae), "loaded");
+  for (const std::string count : {"0", "x1"}) {
+    testing::writeText(dae, tetrahedron(count));
+    EXPECT_EQ(meshMessage(dae), "mesh '" + dae.string() +
+                                    "': assimp's reader crashed on it (Segmentation fault; a "
+                                    "bug of assimp's on a malformed file): refused")
+        << "count " << count;
+  }
+  // The process that asked goes on: the good file still reads.
+  testing::writeText(dae, tetrahedron("12"));
+  EXPECT_EQ(meshMessage(dae), "loaded");
+}
+
 // The triangulation's reason too (a fuzz finding: an STL whose bytes past ASCII
 // reached the message when assimp's post-processing failed).
 TEST_F(InputFiles, AMeshTriangulationsReasonIsKeptValidUtf8) {
