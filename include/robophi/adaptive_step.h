@@ -262,6 +262,9 @@ class AdaptiveStepper {
   /// The ω_max and damping rate (1/s) of the estimate that set stabilityLimit_,
   /// to which a joint drive's damping is added (Evaluation::driveDampingRate).
   double stabilityOmega_ = 0.0, stabilityDamping_ = 0.0;
+  /// The Taylor scheme's stable step (StabilityEstimate::taylorStep, s), the
+  /// larger of the model-only and the refined estimates'.
+  double taylorStep_ = 0.0;
   double step_;
   /// The error order in use (set at the first step from the integrator).
   double errorOrder_ = 0.0;

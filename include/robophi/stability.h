@@ -23,7 +23,19 @@ struct StabilityEstimate {
   double criticalStep = 0.0;
   /// The particle that sets it, or kNoParticle.
   ParticleIndex limitingParticle = kNoParticle;
+  /// The largest step (s) at which the paper's Taylor scheme is stable (MODEL
+  /// §2, docs/model.md "The paper's scheme"): 2 γ_min / ω_max² + 2 τ_min, γ_min
+  /// the smallest damping rate c/m of a particle with stiffness, τ_min the
+  /// smallest damping-to-stiffness ratio c/k of a connector. 0 when both are 0
+  /// (an undamped connector on an undamped particle: no step is stable, the
+  /// energy grows by 1 + (ωδ)²/2 a step); infinite when nothing is stiff.
+  double taylorStep = 0.0;
 };
+
+/// The step an explicit scheme must stay below: criticalStep, and for the
+/// Taylor scheme (`taylor` true) also taylorStep where it is not 0 (with no
+/// damping there is no stable step: the adaptive step's energy test judges).
+double criticalStepFor(const StabilityEstimate& estimate, bool taylor);
 
 /// From the model alone: a Gershgorin bound, conservative. Given positions
 /// ((particleCount) entries), the linear springs' part is found by power

@@ -666,6 +666,7 @@ AdaptiveStepper::AdaptiveStepper(const Model& model, AdaptiveStepSettings settin
     : settings_(checked(settings)) {
   const StabilityEstimate estimate = estimateStability(model);
   stabilityLimit_ = settings_.stabilitySafety * estimate.criticalStep;
+  taylorStep_ = estimate.taylorStep;
   stabilityOmega_ = estimate.omegaMax;
   stabilityDamping_ = estimate.dampingRate;
   step_ = std::min({settings_.initialStep, settings_.maxStep, stabilityLimit_});
@@ -720,6 +721,14 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt,
       stabilityLimit_ = settings_.stabilitySafety * refined.criticalStep;
       stabilityOmega_ = refined.omegaMax;
       stabilityDamping_ = refined.dampingRate;
+    }
+    // The paper's Taylor scheme is stable only below its own bound, set by the
+    // damping (StabilityEstimate::taylorStep; the larger of the two estimates',
+    // as above); without damping it has none, and the energy test judges.
+    taylorStep_ = std::max(taylorStep_, refined.taylorStep);
+    if (world.integrator() == Integrator::kTaylor && taylorStep_ > 0.0) {
+      stabilityLimit_ = std::min(stabilityLimit_, settings_.stabilitySafety * taylorStep_);
+      step_ = std::min(step_, stabilityLimit_);
     }
   }
   if (errorOrder_ <= 0.0) {

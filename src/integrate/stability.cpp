@@ -1,4 +1,5 @@
 // The stability estimate of MODEL §2: δ < 2/ω_max for the symplectic schemes.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -131,8 +132,21 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
   // damping gives ζ, and a damped explicit step needs ω δ < 2 (√(1+ζ²) - ζ).
   StabilityEstimate estimate;
   estimate.criticalStep = std::numeric_limits<double>::infinity();
+  // The Taylor scheme's bound (StabilityEstimate::taylorStep): the least damping
+  // rate c/m of a stiff particle and the least damping-to-stiffness ratio c/κ
+  // of a connector (a lower bound of every mode's damping: C >= τ_min K).
+  double leastRate = std::numeric_limits<double>::infinity();   // (1/s)
+  double leastRatio = std::numeric_limits<double>::infinity();  // (s)
+  const auto ratio = [&](double k, double c) {
+    if (k > 0.0) leastRatio = std::min(leastRatio, c / k);
+  };
+  for (const LinearSpring& s : model.linearSprings) ratio(s.stiffness, s.damping);
+  for (const TorsionSpring& s : model.torsionSprings) ratio(s.stiffness, s.damping);
+  for (const JointSpring& s : model.jointSprings) ratio(s.stiffness, s.damping);
   for (std::size_t i = 0; i < n; ++i) {
     if (model.inverseMass[i] == 0.0) continue;
+    if (stiffness[i] > 0.0)
+      leastRate = std::min(leastRate, model.linearDamping[i] * model.inverseMass[i]);
     const double omegaSquared = 2.0 * stiffness[i] * model.inverseMass[i];
     const double omega = std::sqrt(omegaSquared);
     const double dampingRate = 2.0 * damping[i] * model.inverseMass[i];  // 2ζω
@@ -144,6 +158,14 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
       estimate.limitingParticle = static_cast<ParticleIndex>(i);
     }
   }
+  // Taylor's scheme on a damped oscillator x'' = -ω² x - γ x' has the step
+  // matrix determinant 1 - γδ + (ωδ)²/2: stable while δ < 2γ/ω². Connector
+  // damping c = τ κ damps a mode of ω at the rate τ ω².
+  const auto taylorStep = [&](double omega) {
+    if (!(omega > 0.0) || !std::isfinite(leastRate)) return std::numeric_limits<double>::infinity();
+    return 2.0 * leastRate / (omega * omega) + 2.0 * (std::isfinite(leastRatio) ? leastRatio : 0.0);
+  };
+  estimate.taylorStep = taylorStep(estimate.omegaMax);
   if (position == nullptr || model.linearSprings.empty()) return estimate;
 
   // With positions: the LS part by power iteration instead of Gershgorin, which
@@ -196,8 +218,15 @@ StabilityEstimate estimateStability(const Model& model, const std::vector<Vec3>*
     estimate.omegaMax = omega;
     estimate.dampingRate = dampingRate;
     estimate.criticalStep = step;
+    estimate.taylorStep = taylorStep(omega);
   }
   return estimate;
+}
+
+double criticalStepFor(const StabilityEstimate& estimate, bool taylor) {
+  if (taylor && estimate.taylorStep > 0.0)
+    return std::min(estimate.criticalStep, estimate.taylorStep);
+  return estimate.criticalStep;
 }
 
 }  // namespace robophi

@@ -29,7 +29,16 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
   // Constant steps only: the adaptive step never starts above its stability
   // limit (AdaptiveStepSettings::stabilitySafety × the critical step), so
   // there `dt`, its first trial step, cannot make the run diverge.
-  if (settings.stepMode == StepMode::kConstant && settings.dt > stability.criticalStep) {
+  const bool taylor = settings.integrator == Integrator::kTaylor;
+  const double critical = criticalStepFor(stability, taylor);
+  if (settings.stepMode == StepMode::kConstant && taylor && critical < stability.criticalStep &&
+      settings.dt > critical) {
+    warnings.push_back(fmt::format(
+        "step {:.3g} s exceeds {:.3g} s, the largest step at which the Taylor scheme is stable "
+        "(2 gamma/omega_max^2 + 2 tau with the model's least damping: docs/model.md \"The "
+        "paper's scheme\"): the run gains energy at every step and may diverge",
+        settings.dt, critical));
+  } else if (settings.stepMode == StepMode::kConstant && settings.dt > stability.criticalStep) {
     // criticalStep is 2/omega_max reduced for damping (MODEL §2): name it as such.
     warnings.push_back(fmt::format(
         "step {:.3g} s exceeds the critical step {:.3g} s (the stability estimate: 2/omega_max = "
@@ -44,7 +53,8 @@ std::vector<std::string> preflightWarnings(const RunSettings& settings,
 std::string adaptiveStepLimitProblem(const RunSettings& settings,
                                      const StabilityEstimate& stability) {
   if (settings.stepMode != StepMode::kAdaptive) return {};
-  const double ceiling = settings.adaptive.stabilitySafety * stability.criticalStep;
+  const double ceiling = settings.adaptive.stabilitySafety *
+                        criticalStepFor(stability, settings.integrator == Integrator::kTaylor);
   const double fewest = settings.duration / ceiling;
   if (fewest <= kMaxRunSteps) return {};
   return fmt::format(
@@ -636,13 +646,22 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   const double growth = (report.finalTotal - report.initialTotal) / runawayScale;
   if (report.ok() && growth > kRunawayEnergyGrowth) {
     const FailurePlace at = placeOf(world, mostEnergetic(world));
+    // The Taylor scheme on undamped stiffness has no stable step at all.
+    const std::string cause =
+        settings.integrator == Integrator::kTaylor && report.stability.taylorStep == 0.0
+            ? "the paper's Taylor scheme gains energy at any step on undamped stiffness (its "
+              "step matrix has determinant 1 + (omega delta)^2/2; docs/model.md \"The paper's "
+              "scheme\"): give the connectors or the particles damping (then it is stable "
+              "below 2 gamma/omega^2 + 2 c/k) or use --integrator verlet"
+            : fmt::format("the step is too large for the model's stiffness (estimate "
+                          "2/omega_max = {:.3g} s)",
+                          report.stability.criticalStep);
     fail(report, "diverged", at,
          fmt::format("the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or "
                      "the work from outside, whichever is larger; E + dissipated - external, "
-                     "from {:.6g} J to {:.6g} J; fastest at the end: {}): the step is too large "
-                     "for the model's stiffness (estimate 2/omega_max = {:.3g} s)",
+                     "from {:.6g} J to {:.6g} J; fastest at the end: {}): {}",
                      growth, runawayScale, report.initialTotal, report.finalTotal,
-                     describePlace(at), report.stability.criticalStep));
+                     describePlace(at), cause));
   }
   // The tasks' outcomes as data; a goal not reached by the end is a status.
   for (const StepTask& task : options.tasks) {
