@@ -1,5 +1,6 @@
 // Mesh files → TriangleMesh (loadMesh) and ShadedMesh (loadShadedMesh, for the
-// replay page) through assimp, both by one checked road (readMesh, assimp in a child process).
+// replay page) through assimp, both by one checked road (readMesh: assimp in a
+// child process).
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/MemoryIOWrapper.h>
@@ -15,10 +16,10 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
-#include <type_traits>
 #include <mutex>
 #include <stdexcept>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
