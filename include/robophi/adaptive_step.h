@@ -61,6 +61,14 @@ struct AdaptiveStepSettings {
   double stabilitySafety = 0.9;
   /// Rejections in a row before the run stops with a diagnosis.
   int maxRejectionsInARow = 200;
+  /// Largest jump of the energy accepted (relative to the energy scale, -). A
+  /// step's error that stays within 10% of the first trial's while the step is
+  /// cut 16-fold is no error of the step: the potential itself jumps there (a
+  /// contact's geometry that is only continuous up to its search's round-off, a
+  /// terrain's kink). Up to this size the smallest trial is taken, its error
+  /// counted in the energy account like any other and the step counted as set
+  /// by "a jump of the energy"; beyond it the step shrinks to the floor (a stall).
+  double jumpLimit = 1.0e-3;
 };
 
 /// The velocity of the scene's own frame (m/s), MODEL §4.1: the mean velocity
@@ -155,7 +163,7 @@ struct AdaptiveStepStats {
   /// connectors' stability cap; the touching contacts' stability limit; the
   /// anti-tunnelling bound; maxStep; the time left to the run's end.
   std::int64_t setByError = 0, setByConnectors = 0, setByContacts = 0, setByApproach = 0,
-               setByMaxStep = 0, setByTimeLeft = 0;
+               setByMaxStep = 0, setByTimeLeft = 0, setByJump = 0;
   double meanStep() const {
     return accepted > 0 ? sumOfSteps / static_cast<double>(accepted) : 0.0;
   }
@@ -175,7 +183,8 @@ inline constexpr StepCause kStepCauses[] = {
     {"contact_stability", "the contacts' stability", &AdaptiveStepStats::setByContacts},
     {"approach", "the approach bound", &AdaptiveStepStats::setByApproach},
     {"max_step", "maxStep", &AdaptiveStepStats::setByMaxStep},
-    {"time_left", "the time left", &AdaptiveStepStats::setByTimeLeft}};
+    {"time_left", "the time left", &AdaptiveStepStats::setByTimeLeft},
+    {"energy_jump", "a jump of the energy", &AdaptiveStepStats::setByJump}};
 
 /// The outcome of one adaptive advance.
 struct AdaptiveStepResult {
@@ -186,6 +195,8 @@ struct AdaptiveStepResult {
   double energyError = 0.0;
   /// Trials rejected before it.
   int rejections = 0;
+  /// The step was taken across a jump of the energy (AdaptiveStepSettings::jumpLimit).
+  bool jumped = false;
   /// When !ok: what went wrong and where (particles, connectors, contacts).
   std::string failure;
   /// When !ok: the particle the failure is blamed on (the largest acceleration
@@ -229,10 +240,12 @@ class AdaptiveStepper {
     double gravityScale = -1.0;
     bool refinedLimit = false;
     AdaptiveStepStats stats;
+    double jumpError = 0.0, jumpTrial = 0.0, jumpTime = 0.0;
   };
   Progress progress() const {
-    return {step_,        stabilityLimit_, stabilityOmega_, stabilityDamping_,
-            errorOrder_,  gravityScale_,   refinedLimit_,   stats_};
+    return {step_,       stabilityLimit_, stabilityOmega_, stabilityDamping_, errorOrder_,
+            gravityScale_, refinedLimit_, stats_,         jumpError_,        jumpTrial_,
+            jumpTime_};
   }
   /// Continues from the progress() of a stepper of the same settings and model.
   void resume(const Progress& p) {
@@ -244,6 +257,9 @@ class AdaptiveStepper {
     gravityScale_ = p.gravityScale;
     refinedLimit_ = p.refinedLimit;
     stats_ = p.stats;
+    jumpError_ = p.jumpError;
+    jumpTrial_ = p.jumpTrial;
+    jumpTime_ = p.jumpTime;
   }
 
  private:
@@ -276,6 +292,11 @@ class AdaptiveStepper {
   World::Snapshot saved_;
   /// Whether stabilityLimit_ has been refined with the first state's positions.
   bool refinedLimit_ = false;
+  /// A suspected jump of the energy (AdaptiveStepSettings::jumpLimit): the error
+  /// of the last rejected trial that differed from the one before (0: none) and
+  /// the largest trial step (s) that has shown it since, from time jumpTime_ (s):
+  /// the jump lies within that trial, and a later time clears the suspicion.
+  double jumpError_ = 0.0, jumpTrial_ = 0.0, jumpTime_ = 0.0;
   /// What the last accepted step measured at the state it ended at: its active
   /// energy and deepest penetration, the next step's "before" while that world
   /// has not changed since (World::changeCount, its time and step count).

@@ -56,6 +56,9 @@ struct Heightfield {
   /// gradient jumps across cell edges; a contact depth measured along it would
   /// make the contact energy jump there.)
   Vec3 normalAt(double x, double y) const;
+  /// The smoothed gradient g = (gx, gy) normalAt is made of at (x, y), and its
+  /// derivatives along x (dgdx = (∂gx/∂x, ∂gy/∂x)) and y, per cell.
+  void smoothedGradientAt(double x, double y, double g[2], double dgdx[2], double dgdy[2]) const;
 };
 
 /// A fixed oriented box.

@@ -342,6 +342,7 @@ void bindWorld(py::module_& m) {
       .def_readwrite("max_penetration_fraction", &AdaptiveStepSettings::maxPenetrationFraction, "-")
       .def_readwrite("max_approach_fraction", &AdaptiveStepSettings::maxApproachFraction, "-")
       .def_readwrite("stability_safety", &AdaptiveStepSettings::stabilitySafety, "-")
+      .def_readwrite("jump_limit", &AdaptiveStepSettings::jumpLimit, "-")
       .def_readwrite("max_rejections_in_a_row", &AdaptiveStepSettings::maxRejectionsInARow);
 
   py::class_<World::Snapshot>(m, "Snapshot",

@@ -351,8 +351,9 @@ inline void particleVersusEnvironment(const Model& model, const Vec3& p, std::in
     // Cheap cull: the particle's sphere must reach the item's bounding box.
     const Vec3& low = cache.tables->environmentLow[e];
     const Vec3& high = cache.tables->environmentHigh[e];
+    // (Above a heightfield, its distance is the vertical gap times n_z: reach r · steepness.)
     if (p.x + r < low.x || p.x - r > high.x || p.y + r < low.y || p.y - r > high.y ||
-        p.z + r < low.z || p.z - r > high.z) {
+        p.z + r < low.z || p.z - r * cache.tables->environmentReaches[e].steepness > high.z) {
       continue;
     }
     ++work.environmentTests;

@@ -344,14 +344,14 @@ ContactTables compileContactTables(const Model& model) {
     }
     const std::int32_t items = model.environment.itemCount();
     cache->environmentMaterials.resize(static_cast<std::size_t>(items));
-    cache->environmentTops.resize(static_cast<std::size_t>(items));
+    cache->environmentReaches.resize(static_cast<std::size_t>(items));
     cache->environmentLow.resize(static_cast<std::size_t>(items));
     cache->environmentHigh.resize(static_cast<std::size_t>(items));
     for (std::int32_t e = 0; e < items; ++e) {
       const std::int32_t material = environmentMaterial(model.environment, e);
       cache->environmentMaterials[e] =
           material >= 0 && material < cache->materialCount ? material : 0;
-      cache->environmentTops[e] = environmentTop(model.environment, e);
+      cache->environmentReaches[e] = environmentReach(model.environment, e);
       constexpr double kInfinity = std::numeric_limits<double>::infinity();
       if (!environmentBounds(model.environment, e, cache->environmentLow[e],
                              cache->environmentHigh[e])) {

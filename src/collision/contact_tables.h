@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collision/environment.h"
 #include "robophi/contact.h"
 #include "robophi/model.h"
 
@@ -114,8 +115,8 @@ struct ContactTables {
   std::int32_t materialCount = 0;
   /// Environment item materials, (environment items).
   std::vector<std::int32_t> environmentMaterials;
-  /// Highest point of each heightfield item (m), for culling; 0 for other items.
-  std::vector<double> environmentTops;
+  /// Each item's highest point and steepness, for culling (environmentReach).
+  std::vector<EnvironmentReach> environmentReaches;
   /// Bounding boxes of the environment items (m); planes get an infinite box.
   std::vector<Vec3> environmentLow, environmentHigh;
   /// Single small particles handled by the grid, ascending particle index.

@@ -32,13 +32,20 @@ inline bool touchesEnvironment(const Environment& environment, std::int32_t i, c
   return true;
 }
 
-/// The highest point of a heightfield item (m); 0 for other items.
-double environmentTop(const Environment& environment, std::int32_t item);
+/// What a cull needs of a heightfield item: its highest sample (m) and its
+/// steepness, the largest 1/n_z of its (smoothed) normal. Its distance is the
+/// vertical gap times n_z (environmentDistance), so a sphere of radius r may touch
+/// it down to r · steepness above its top. (Other items: top 0, steepness 1.)
+struct EnvironmentReach {
+  double top = 0.0;
+  double steepness = 1.0;
+};
+EnvironmentReach environmentReach(const Environment& environment, std::int32_t item);
 
 /// True when a sphere (center, radius) cannot touch item `item`: a cheap test for
-/// culling a sphere-tree node. `top` is environmentTop(environment, item).
+/// culling a sphere-tree node, a ring or a ball. `reach` is environmentReach(environment, item).
 bool environmentFarFrom(const Environment& environment, std::int32_t item, const Vec3& center,
-                        double radius, double top);
+                        double radius, const EnvironmentReach& reach);
 
 /// A box containing item `item` (m); false when it has none (a plane). A
 /// heightfield's reaches down to -infinity: the terrain is solid below its surface.

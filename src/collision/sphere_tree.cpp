@@ -447,7 +447,7 @@ void treeVersusEnvironment(const Model& model, const std::vector<Vec3>& position
                            ContactScratch& cache, std::int32_t node, std::int32_t item) {
   const TreeNode& n = cache.nodes[node];
   if (environmentFarFrom(model.environment, item, n.center, outerRadius(cache, n),
-                         cache.tables->environmentTops[item])) {
+                         cache.tables->environmentReaches[item])) {
     return;
   }
   if (n.isLeaf()) {

@@ -642,6 +642,7 @@ const AdaptiveStepSettings& checked(const AdaptiveStepSettings& s) {
   };
   require(s.initialStep > 0.0, "initialStep", s.initialStep, "> 0 (s)");
   require(s.minStep >= 0.0, "minStep", s.minStep, ">= 0 (s; 0: relative to the first step)");
+  require(s.jumpLimit >= 0.0, "jumpLimit", s.jumpLimit, ">= 0 (-; 0: no jump is taken)");
   require(s.maxStep >= s.minStep && s.maxStep > 0.0, "maxStep",
           std::isinf(s.maxStep) ? 1.0 : s.maxStep, "> 0 and >= minStep (s; infinite: none)");
   require(s.energyTolerance > 0.0, "energyTolerance", s.energyTolerance, "> 0");
@@ -802,8 +803,26 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt,
             : 0.0;
     const bool tooDeep = finite && settings_.maxPenetrationFraction > 0.0 &&
                          penetrationAfter - penetrationBefore > settings_.maxPenetrationFraction;
-    const bool accepted = !tooDeep && error <= settings_.energyTolerance &&
-                          error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
+    bool accepted = !tooDeep && error <= settings_.energyTolerance &&
+                    error >= -settings_.lossToleranceFactor * settings_.energyTolerance;
+    if (!accepted && !tooDeep && std::isfinite(error)) {
+      // A jump of the potential (jumpLimit): the same error from trials 16-fold
+      // apart in size, in this call or an earlier one (steps that stop short of
+      // the jump are accepted, so that the trials close in on it over several
+      // calls). No step removes it: this trial takes it.
+      const double now = saved_.state().time;
+      if (now <= jumpTime_ + jumpTrial_ &&
+          std::abs(error - jumpError_) <= 0.1 * std::abs(jumpError_)) {
+        if (std::abs(error) <= settings_.jumpLimit && dt * 16.0 <= jumpTrial_) {
+          accepted = true;
+          result.jumped = true;
+        }
+      } else {
+        jumpError_ = error;
+        jumpTrial_ = dt;
+        jumpTime_ = now;
+      }
+    }
     if (accepted) {
       after_ = {&world,      world.changeCount(), world.state().stepCount, world.state().time,
                 activeAfter, penetrationAfter};
@@ -816,7 +835,9 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt,
       stats_.lastEnergyError = error;
       stats_.lastStep = dt;
       // What set the step (the caps in the order of the trial's min).
-      if (dt == step_) {
+      if (result.jumped) {
+        ++stats_.setByJump;
+      } else if (dt == step_) {
         if (step_ == stabilityLimit_)
           ++stats_.setByConnectors;
         else if (step_ == settings_.maxStep)
@@ -835,6 +856,14 @@ AdaptiveStepResult AdaptiveStepper::advance(World& world, double maxDt,
       // Grow when the error leaves room: δ · safety · (tol/|e|)^(1/p), at most × growFactor.
       // (The carried step grows from at most growFactor × the trial: a cap that
       // held the trial down for long does not leave an unbounded step behind.)
+      if (result.jumped) {
+        // The jump tells nothing of the steps beyond it: the next trial is the
+        // first one of this call again (else a few jumps in a row hold the step
+        // at the floor, where no jump can be told from the step's error).
+        step_ = std::min(jumpTrial_, stabilityLimit_);
+        jumpError_ = 0.0;
+        return result;
+      }
       step_ = std::min(step_, dt * settings_.growFactor);
       step_ = std::min({step_ * std::clamp(proposal(error), 1.0, settings_.growFactor),
                         settings_.maxStep, stabilityLimit_});

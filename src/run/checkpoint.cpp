@@ -389,7 +389,10 @@ json adaptiveProgressToJson(const AdaptiveStepper::Progress& p) {
           {"sum_of_steps", exactNumber(s.sumOfSteps)},
           {"last_energy_error", exactNumber(s.lastEnergyError)},
           {"last_step", exactNumber(s.lastStep)},
-          {"set_by", setByCounts(s)}};
+          {"set_by", setByCounts(s)},
+          {"jump_error", exactNumber(p.jumpError)},
+          {"jump_trial", exactNumber(p.jumpTrial)},
+          {"jump_time", exactNumber(p.jumpTime)}};
 }
 
 AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
@@ -404,6 +407,12 @@ AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
   p.errorOrder = number(j, "error_order");
   p.gravityScale = number(j, "gravity_scale");
   p.refinedLimit = j.at("refined_limit").get<bool>();
+  // (A checkpoint from before energy jumps were told apart: none suspected.)
+  if (j.contains("jump_error")) {
+    p.jumpError = number(j, "jump_error");
+    p.jumpTrial = number(j, "jump_trial");
+    p.jumpTime = number(j, "jump_time");
+  }
   p.stats.accepted = j.at("accepted").get<std::int64_t>();
   p.stats.rejected = j.at("rejected").get<std::int64_t>();
   p.stats.smallestStep = number(j, "smallest_step");
@@ -414,12 +423,13 @@ AdaptiveStepper::Progress adaptiveProgressFromJson(const json& j) {
   // (Checkpoints written before the counts were kept have none: they start at 0.)
   if (const auto it = j.find("set_by"); it != j.end()) {
     const std::vector<std::int64_t> counts = it->get<std::vector<std::int64_t>>();
+    // (Checkpoints written before the energy jumps were counted hold one count fewer.)
     constexpr std::size_t kCauses = std::size(kStepCauses);
-    if (counts.size() != kCauses)
+    if (counts.size() != kCauses && counts.size() != kCauses - 1)
       throw std::runtime_error("the checkpoint's adaptive set_by holds " +
                                std::to_string(counts.size()) + " counts, not " +
                                std::to_string(kCauses));
-    for (std::size_t k = 0; k < kCauses; ++k) p.stats.*kStepCauses[k].count = counts[k];
+    for (std::size_t k = 0; k < counts.size(); ++k) p.stats.*kStepCauses[k].count = counts[k];
   }
   return p;
 }
@@ -444,7 +454,8 @@ json runSettingsToJson(const RunSettings& r) {
             {"error_order", exactNumber(a.errorOrder)},
             {"max_penetration_fraction", exactNumber(a.maxPenetrationFraction)},
             {"stability_safety", exactNumber(a.stabilitySafety)},
-            {"max_rejections_in_a_row", a.maxRejectionsInARow}}}};
+            {"max_rejections_in_a_row", a.maxRejectionsInARow},
+            {"jump_limit", exactNumber(a.jumpLimit)}}}};
 }
 
 RunSettings runSettingsFromJson(const json& j) {
@@ -471,6 +482,9 @@ RunSettings runSettingsFromJson(const json& j) {
   s.maxPenetrationFraction = number(a, "max_penetration_fraction");
   s.stabilitySafety = number(a, "stability_safety");
   s.maxRejectionsInARow = a.at("max_rejections_in_a_row").get<int>();
+  // (Checkpoints written before energy jumps were taken have none: none was taken.)
+  if (a.contains("jump_limit")) s.jumpLimit = number(a, "jump_limit");
+  else s.jumpLimit = 0.0;
   return r;
 }
 

@@ -32,6 +32,7 @@ const AdaptiveKey kAdaptiveKeys[] = {
     {"maxPenetrationFraction", &AdaptiveStepSettings::maxPenetrationFraction,
      Interval::atLeast(0.0), ""},
     {"stabilitySafety", &AdaptiveStepSettings::stabilitySafety, Interval::openClosed(0.0, 1.0), ""},
+    {"jumpLimit", &AdaptiveStepSettings::jumpLimit, Interval::atLeast(0.0), ""},
 };
 
 }  // namespace

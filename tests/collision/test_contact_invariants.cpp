@@ -127,7 +127,11 @@ TEST(ContactInvariants, EnvironmentItemsGiveDistanceAndNormal) {
 
 // A particle below the terrain surface has a contact depth (hence energy ½κd²)
 // that is continuous as it crosses a cell edge, where the bilinear surface's
-// slope jumps: the depth is measured along the smoothed normal (normalAt).
+// slope jumps: the depth is measured along the smoothed normal (normalAt). The
+// contact's normal is the depth's own gradient, made unit (so that the force
+// κ d n is the energy's gradient, up to |∇d|): checked by central differences on
+// either side of the edge (off the rows' edges), where it jumps with the
+// surface's slope.
 TEST(ContactInvariants, HeightfieldDepthIsContinuousAcrossCellEdges) {
   Environment environment;
   Heightfield field;
@@ -135,6 +139,12 @@ TEST(ContactInvariants, HeightfieldDepthIsContinuousAcrossCellEdges) {
   field.rows = 3;
   field.heights = {0.0, 0.0, 0.3, 0.0, 0.0, 0.1, 0.4, 0.1, 0.0, 0.0, 0.2, 0.0};
   environment.heightfields.push_back(field);
+  const auto distanceAt = [&](const Vec3& p) {
+    double d = 0.0;
+    Vec3 n;
+    EXPECT_TRUE(environmentDistance(environment, 0, p, d, n));
+    return d;
+  };
   for (double edge : {1.0, 2.0}) {  // x of the inner cell edges (cell size 1 m)
     for (double y : {0.3, 1.0, 1.7}) {
       double before = 0.0, after = 0.0;
@@ -146,8 +156,20 @@ TEST(ContactInvariants, HeightfieldDepthIsContinuousAcrossCellEdges) {
           environmentDistance(environment, 0, {edge + 1e-9, y, h - 0.05}, after, normalAfter));
       EXPECT_LT(before, -0.03);
       EXPECT_NEAR(before, after, 1e-8) << "x " << edge << " y " << y;
-      EXPECT_NEAR(norm(normalBefore - normalAfter), 0.0, 1e-8);
       EXPECT_NEAR(norm(normalBefore), 1.0, 1e-12);
+      for (const double side : {-1e-3, 1e-3}) {
+        const Vec3 p{edge + side, y + 1e-3, h - 0.05};  // (y = 1 is a row edge: off it)
+        double d = 0.0;
+        Vec3 n;
+        ASSERT_TRUE(environmentDistance(environment, 0, p, d, n));
+        constexpr double kStep = 1e-7;
+        const Vec3 gradient{
+            (distanceAt(p + Vec3{kStep, 0, 0}) - distanceAt(p - Vec3{kStep, 0, 0})) / (2 * kStep),
+            (distanceAt(p + Vec3{0, kStep, 0}) - distanceAt(p - Vec3{0, kStep, 0})) / (2 * kStep),
+            (distanceAt(p + Vec3{0, 0, kStep}) - distanceAt(p - Vec3{0, 0, kStep})) / (2 * kStep)};
+        EXPECT_NEAR(norm(n - gradient / norm(gradient)), 0.0, 1e-6)
+            << "x " << p.x << " y " << y;
+      }
     }
   }
 }
