@@ -208,11 +208,9 @@ int dipsOnCircle(const Environment& environment, std::int32_t e, const Ring& rin
     }
     const int shallower = dips[1].distance < dips[0].distance ? 0 : 1;
     dips[shallower].saddle = std::max(std::min(highs[0], highs[1]), dips[shallower].distance);
-  }
-  if (count == 2) {
-    Vec3 down{0.0, 0.0, -1.0};
-    if (std::abs(ring.axis.z) > 0.99) down = {-1.0, 0.0, 0.0};
-    const Vec3 lowestPoint = circlePointAgainst(ring, down * -1.0);
+    // Named in the order of their angle from the circle's lowest point.
+    const Vec3 up = std::abs(ring.axis.z) > 0.99 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 1.0};
+    const Vec3 lowestPoint = circlePointAgainst(ring, up);
     const auto fromLowest = [&](const CirclePoint& dip) {
       return norm(dip.point - lowestPoint);  // (the chord: monotone in the angle)
     };
