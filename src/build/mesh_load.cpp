@@ -517,31 +517,52 @@ class MeshRecord {
 // How long assimp may take to read a mesh file before it counts as a hang (s).
 constexpr int kMeshReadSeconds = 30;
 
+// A request to the mesh reader's process: the file's path, its bytes, shaded.
+std::string meshRequest(const std::string& path, const std::string& bytes, bool shaded) {
+  const std::size_t n = path.size();
+  return std::string(reinterpret_cast<const char*>(&n), sizeof n) + path + (shaded ? 'S' : 'P') +
+         bytes;
+}
+
+// The mesh reader's process's answer to a request: "K" and the MeshRecord, or
+// "E" and the error's message.
+std::string answerMeshRequest(const std::string& request) {
+  std::size_t n = 0;
+  std::memcpy(&n, request.data(), sizeof n);
+  const std::string path = request.substr(sizeof n, n);
+  const bool shaded = request[sizeof n + n] == 'S';
+  const std::string bytes = request.substr(sizeof n + n + 1);
+  try {
+    return "K" + MeshRecord::encode(readMeshHere(path, bytes, shaded));
+  } catch (const std::exception& e) {
+    return std::string("E") + e.what();
+  } catch (...) {
+    return "Emesh '" + path + "': an unknown error while reading it";
+  }
+}
+
+// The process that reads mesh files for this one (forked at the first read).
+ChildServer& meshReader() {
+  static ChildServer reader(&answerMeshRequest);
+  return reader;
+}
+
 // The mesh file `path`, whose bytes are `bytes`, read and checked, or a throw
 // of meshError. A mesh file is untrusted input, and assimp 5.2's readers crash
 // on some malformed files (a null read in the COLLADA reader, a fuzz finding of
 // stop 39; an array without a count, refused below before assimp sees it). So
-// assimp reads it in a child process (runInChild): a crash, an abort or a hang
-// there ends only the child, and the file is refused with what happened (exit 2
-// for the command line, as any bad mesh). The child sends the triangles back;
-// the files it read are recorded here as this process's inputs. Where no child
-// can be started, the file is read in this process.
+// assimp reads it in a child process (meshReader, a ChildServer kept for the
+// next file): a crash, an abort or a hang there ends only the child, and the
+// file is refused with what happened (exit 2 for the command line, as any bad
+// mesh). The child sends the triangles back; the files it read are recorded
+// here as this process's inputs. Where no child can be started, the file is
+// read in this process.
 MeshRead readMesh(const std::string& path, const std::string& bytes, bool shaded) {
   if (const std::string problem = colladaIndexProblem(path, bytes); !problem.empty())
     meshError(path, problem);
   if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
     meshError(path, problem);
-  const ChildOutcome outcome = runInChild(
-      [&]() -> std::string {
-        try {
-          return "K" + MeshRecord::encode(readMeshHere(path, bytes, shaded));
-        } catch (const std::exception& e) {
-          return std::string("E") + e.what();
-        } catch (...) {
-          return "Emesh '" + path + "': an unknown error while reading it";
-        }
-      },
-      kMeshReadSeconds);
+  const ChildOutcome outcome = meshReader().ask(meshRequest(path, bytes, shaded), kMeshReadSeconds);
   switch (outcome.kind) {
     case ChildOutcome::kNotStarted:
       return readMeshHere(path, bytes, shaded);

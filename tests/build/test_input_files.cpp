@@ -219,9 +219,13 @@ TEST_F(InputFiles, AMeshThatCrashesAssimpsReaderIsRefusedAndTheProcessGoesOn) {
                                     "bug of assimp's on a malformed file): refused")
         << "count " << count;
   }
-  // The process that asked goes on: the good file still reads.
+  // The process that asked goes on: the good file still reads, and a new one
+  // (not in the mesh memo: read by a new reader process).
   testing::writeText(dae, tetrahedron("12"));
   EXPECT_EQ(meshMessage(dae), "loaded");
+  const fs::path other = dir_ / "other.dae";
+  testing::writeText(other, tetrahedron("12"));
+  EXPECT_EQ(meshMessage(other), "loaded");
 }
 
 // The triangulation's reason too (a fuzz finding: an STL whose bytes past ASCII

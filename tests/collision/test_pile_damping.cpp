@@ -28,11 +28,11 @@ struct Pile {
 
 Pile makePile(double tangentialDampingRatio) {
   constexpr int kSide = 6;
-  constexpr double kRadius = 0.01, kSpacing = 0.025, kPairStiffness = 2.0e4;
+  constexpr double kPileRadius = 0.01, kSpacing = 0.025, kPairStiffness = 2.0e4;
   Pile pile;
   Model& model = pile.model;
   model.gravity = {0.0, 0.0, -9.81};
-  const double mass = 1000.0 * 4.0 / 3.0 * M_PI * kRadius * kRadius * kRadius;
+  const double mass = 1000.0 * 4.0 / 3.0 * M_PI * kPileRadius * kPileRadius * kPileRadius;
   Material material;
   material.name = "pile";
   material.contactStiffness = 2.0 * kPairStiffness;
@@ -50,7 +50,7 @@ Pile makePile(double tangentialDampingRatio) {
     for (int j = 0; j < kSide; ++j) {
       for (int i = 0; i < kSide; ++i) {
         const std::int32_t object = model.addObject("ball", "ball", 1);
-        model.addParticle(mass, kRadius, false, object);
+        model.addParticle(mass, kPileRadius, false, object);
         pile.initial.position.push_back(Vec3{-half + (i + 0.5) * kSpacing + jitter(),
                                              -half + (j + 0.5) * kSpacing + jitter(),
                                              0.015 + k * kSpacing + jitter()});
