@@ -373,6 +373,19 @@ std::int32_t World::addSphereObstacle(const SphereObstacle& sphere) {
   return environment.itemCount() - 1;
 }
 
+void World::moveSphereObstacle(std::int32_t item, const Vec3& center) {
+  const char* function = "World::moveSphereObstacle";
+  requireFinite(function, "center", center);
+  Environment& environment = model_.model_.environment;
+  const std::int32_t first = environment.itemCount() - static_cast<std::int32_t>(environment.spheres.size());
+  if (item < first || item >= environment.itemCount())
+    throw std::invalid_argument(detail::text("{}: environment item {} is not a sphere (spheres are {} to {})",
+                                             function, item, first, environment.itemCount() - 1));
+  edited();
+  environment.spheres[static_cast<std::size_t>(item - first)].center = center;
+  model_.changed(CompiledModel::kContactTables);
+}
+
 void World::setViscosity(double viscosity) {
   requireNonNegative("World::setViscosity", "viscosity", viscosity);
   edited();

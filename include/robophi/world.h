@@ -133,6 +133,10 @@ class World {
   void setGravity(const Vec3& gravity);
   /// Adds a fixed sphere to the environment; returns its environment item index.
   std::int32_t addSphereObstacle(const SphereObstacle& sphere);
+  /// Puts environment item `item`, a sphere (as addSphereObstacle returned it),
+  /// at `center`: a virtual obstacle placed by trial (the escape, MODEL §5.2).
+  /// Throws std::invalid_argument for an item that is not a sphere.
+  void moveSphereObstacle(std::int32_t item, const Vec3& center);
   /// The viscosity of the medium k (N·s/m), >= 0.
   void setViscosity(double viscosity);
 

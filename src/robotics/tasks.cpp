@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "output/json_numbers.h"
 
@@ -59,9 +61,123 @@ bool touchesOutside(const World& world, const RobotOf& robot) {
   return false;
 }
 
+// What holds a robot at a local minimum: its contacts with what is outside it.
+struct Blocking {
+  double force = 0.0;  ///< |Σ F_n n| (N)
+  Vec3 normal;         ///< unit: Σ F_n n, each normal pointing into the robot
+  Vec3 push;           ///< Σ F_n n (N)
+  Vec3 point;          ///< the blocked points (a particle's, a surface vertex's, a ball's centre), by force
+  double radius = 0.0; ///< the patch they span about `point` (m), with their radii
+  std::vector<Vec3> touching;  ///< every contact's normal (into the robot), blocking or not
+  Vec3 held;  ///< Σ F_n n (N) of every contact against the pull, the virtual obstacles' too
+};
+
+// How far (× its radius) from the most loaded holding contact the others count
+// as the same place.
+constexpr double kPatchReach = 4.0;
+
+// Where contact `c` touches the robot (its particle `mine`), and the radius
+// there: a particle's centre and radius, a surface vertex (and its heaviest
+// particle's radius), a round ball's centre and radius.
+std::pair<Vec3, double> blockedPoint(const Model& model, const State& s, const Contact& c,
+                                     ParticleIndex mine) {
+  if (c.rim >= 0 && model.rims[static_cast<std::size_t>(c.rim)].isSphere()) {
+    const RimRing& ball = model.rims[static_cast<std::size_t>(c.rim)];
+    Vec3 sum;
+    double mass = 0.0;
+    for (ParticleIndex j = ball.first; j < ball.first + ball.count; ++j) {
+      sum += s.position[j] * model.mass[j];
+      mass += model.mass[j];
+    }
+    return {mass > 0.0 ? sum / mass : s.position[mine], ball.sphereRadius};
+  }
+  if (c.vertex >= 0 && mine == c.a) {
+    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
+    Vec3 at;
+    for (std::size_t k = 0; k < SurfaceVertex::kMaxParticles; ++k)
+      if (v.particle[k] >= 0) at += s.position[v.particle[k]] * v.weight[k];
+    return {at, model.radius[mine]};
+  }
+  return {s.position[mine], model.radius[mine]};
+}
+
+// The contacts that hold the robot against its pull `toGoal` (their normals
+// oppose it), those of the escape's own obstacles (material `virtualMaterial`;
+// -1: none yet) left out but in `held`.
+Blocking blockingContacts(const World& world, const RobotOf& robot, std::int32_t virtualMaterial,
+                          const Vec3& toGoal) {
+  const Model& model = world.model();
+  const Environment& environment = model.environment;
+  const std::int32_t firstSphere =
+      environment.itemCount() - static_cast<std::int32_t>(environment.spheres.size());
+  const auto isVirtual = [&](const Contact& c) {
+    const std::int32_t item = c.environmentItem();
+    return c.withEnvironment() && virtualMaterial >= 0 && item >= firstSphere &&
+           environment.spheres[static_cast<std::size_t>(item - firstSphere)].material ==
+               virtualMaterial;
+  };
+  const State& s = world.state();
+  Blocking out;
+  // The holding contacts about the most loaded one (within kPatchReach of its
+  // radius): the place one obstacle can lift; contacts farther along the robot
+  // (an arm's link elsewhere) are another place.
+  struct Held {
+    Vec3 at, normal;
+    double radius, force;
+  };
+  std::vector<Held> held;
+  for (const Contact& c : world.contacts()) {
+    const bool aIn = robot.has(c.a);
+    const bool otherIn = !c.withEnvironment() && robot.has(c.other);
+    if (aIn == otherIn || !(c.normalForce > 0.0)) continue;
+    const Vec3 normal = aIn ? c.normal : c.normal * -1.0;
+    const bool holds = dot(normal, toGoal) < 0.0;
+    if (holds) out.held += normal * c.normalForce;
+    if (isVirtual(c)) continue;
+    out.touching.push_back(normal);
+    if (!holds) continue;
+    const auto [at, radius] = blockedPoint(model, s, c, aIn ? c.a : c.other);
+    held.push_back({at, normal, radius, c.normalForce});
+  }
+  if (held.empty()) return out;
+  const Held most = *std::max_element(
+      held.begin(), held.end(), [](const Held& x, const Held& y) { return x.force < y.force; });
+  std::erase_if(held, [&](const Held& h) {
+    return norm(h.at - most.at) > kPatchReach * std::max(most.radius, h.radius);
+  });
+  double weight = 0.0;
+  for (const Held& h : held) {
+    out.push += h.normal * h.force;
+    out.point += h.at * h.force;
+    weight += h.force;
+  }
+  out.force = norm(out.push);
+  if (!(out.force > 0.0)) return out;
+  out.normal = out.push / out.force;
+  out.point = out.point / weight;
+  for (const Held& h : held) out.radius = std::max(out.radius, norm(h.at - out.point) + h.radius);
+  return out;
+}
+
+// MODEL §5.2, docs/robotics.md "Escape": how an obstacle meets the robot (rad
+// from the blocking normal towards the escape), how hard it pushes (× the
+// blocking force), and the default shares of the energy scale one obstacle and
+// all of them may inject.
+constexpr double kTilt = M_PI / 4.0;
+constexpr double kPushShare = 2.0;
+constexpr double kObstacleShare = 0.01;
+constexpr double kBudgetShare = 0.1;
+
 }  // namespace
 
 std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSpec& goal) {
+  // The energy scale (as the run's account has it): the largest kinetic and
+  // elastic energy so far. Shares of it bound the work the obstacles inject.
+  {
+    const EnergyTally e = world.energy();
+    energyScale_ = std::max(energyScale_, e.kinetic + e.linearSpring + e.torsionSpring +
+                                              e.jointSpring + e.contact);
+  }
   const GoalStatus status = goalStatus(world, goal);
   const double t = world.state().time;
   const State& s = world.state();
@@ -82,8 +198,13 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   const bool touching = touchesOutside(world, robot);
   std::optional<std::string> event;
   if (pushing_) {
-    // Free: nearer the goal by a tenth of where it was stuck, or touching nothing.
-    if (status.worstDistance < 0.9 * stuckDistance_ || !touching) {
+    // Free: nearer the goal by a tenth of where it was stuck, or touching nothing
+    // for a window (an obstacle lifts it off what held it for a moment).
+    if (touching) untouchedSince_ = -1.0;
+    else if (untouchedSince_ < 0.0) untouchedSince_ = t;
+    if (status.worstDistance < 0.9 * stuckDistance_ ||
+        (untouchedSince_ >= 0.0 && t - untouchedSince_ >= spec_.window)) {
+      untouchedSince_ = -1.0;
       pushing_ = false;
       stoppedSince_ = -1.0;
       return fmt::format(
@@ -91,7 +212,7 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
           "(work {:.3g} J), {:.3g} m from the goal",
           goal.name, t, pushes_, pushes_ == 1 ? "" : "s", pushWork_, status.worstDistance);
     }
-    const double interval = spec_.pushInterval > 0.0 ? spec_.pushInterval : spec_.window;
+    const double interval = spec_.pushInterval > 0.0 ? spec_.pushInterval : spec_.window / 3.0;
     if (t - lastPush_ < interval || static_cast<int>(added_.size()) >= spec_.maxObstacles)
       return std::nullopt;
   } else {
@@ -114,109 +235,92 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
         "virtual obstacles from now on",
         goal.name, t, status.worstDistance, status.meanSpeed);
   }
-  // A virtual obstacle at the local minimum, beside the stuck particle, so that
-  // it pushes it across its pull to the goal. The side is chosen once (the
-  // horizontal perpendicular to the pull, turned the way the robot's blocking
-  // contacts leave free), so successive obstacles push the same way and stay
-  // behind it, filling the minimum.
+  // Nothing more once the work budget is spent: the goal is then reported not reached.
+  const double budget = spec_.workBudget > 0.0 ? spec_.workBudget : kBudgetShare * energyScale_;
+  const double perObstacle = spec_.maxWork > 0.0 ? spec_.maxWork : kObstacleShare * energyScale_;
+  if (budget - work_ < 0.1 * perObstacle) return event;
   const double worstDistance = status.worstDistance;
   const Vec3 toGoal = (s.position[goal.targets[worst]] - s.position[i]) / worstDistance;
-  if (!side_) {
-    Vec3 sideways = cross(toGoal, Vec3{0.0, 0.0, 1.0});
-    if (norm(sideways) < 1e-6) sideways = cross(toGoal, Vec3{1.0, 0.0, 0.0});
-    sideways = sideways / norm(sideways);
-    // The contacts' push on the robot, across the pull: go the way it points.
-    Vec3 contactPush;
-    for (const Contact& c : world.contacts()) {
-      const bool aIn = robot.has(c.a);
-      const bool otherIn = !c.withEnvironment() && robot.has(c.other);
-      if (aIn && !otherIn) contactPush += c.normal * c.normalForce;
-      if (otherIn && !aIn) contactPush -= c.normal * c.normalForce;
-    }
-    if (dot(contactPush, sideways) < 0.0) sideways = sideways * -1.0;
-    side_ = sideways;
+  const Blocking blocking = blockingContacts(world, robot, material_, toGoal);
+  if (!(blocking.force > 0.0)) return event;
+  // The escape direction, along the blocking surface: the one the last obstacle
+  // pushed towards, else the first that no contact of the robot's opposes (a
+  // corner, a trap's side, the ground) of: across the pull (first the way the
+  // blocking contacts push across it, then the other way), the third direction
+  // either way, back from the goal.
+  const auto alongSurface = [&](const Vec3& d) -> std::optional<Vec3> {
+    const Vec3 v = d - blocking.normal * dot(d, blocking.normal);
+    if (norm(v) < 0.3) return std::nullopt;
+    const Vec3 u = v / norm(v);
+    for (const Vec3& n : blocking.touching)
+      if (dot(u, n) < -0.2) return std::nullopt;
+    return u;
+  };
+  Vec3 sideways = cross(toGoal, Vec3{0.0, 0.0, 1.0});
+  if (norm(sideways) < 1e-6) sideways = cross(toGoal, Vec3{1.0, 0.0, 0.0});
+  sideways = sideways / norm(sideways);
+  if (dot(blocking.push, sideways) < 0.0) sideways = sideways * -1.0;
+  const Vec3 side = side_.value_or(sideways);
+  Vec3 third = cross(toGoal, side);
+  third = norm(third) > 1e-9 ? third / norm(third) : cross(side, blocking.normal);
+  std::optional<Vec3> along;
+  for (const Vec3& d : {side, third, third * -1.0, side * -1.0, toGoal * -1.0}) {
+    if ((along = alongSurface(d))) break;
   }
-  Vec3 push = *side_ - toGoal * dot(*side_, toGoal);
-  push = norm(push) > 1e-9 ? push / norm(push) : *side_;
+  if (!along) return event;  // boxed in on every side: the next interval tries again
+  side_ = *along;
+  // The obstacle comes in from under the blocking surface towards the robot's
+  // blocking point, turned towards the escape direction by kTilt: the robot is
+  // lifted off what holds it (no friction: the obstacle's material has none) and
+  // rests on a slope that its own pull slides it down, along the surface.
+  const Vec3 approach =
+      blocking.normal * std::cos(kTilt) + *along * std::sin(kTilt);  // from the obstacle to the robot
   const Model& model = world.model();
-  const auto isVirtual = [&](ParticleIndex j) {
-    return model.objects[static_cast<std::size_t>(model.objectOf[static_cast<std::size_t>(j)])].kind ==
-           "virtual";
-  };
-  const double radius = spec_.obstacleRadius;
-  // The pushed particle for a push along d: the stuck one, or for a point a link
-  // carries (it touches nothing) the robot's rearmost particle along d within two
-  // obstacle radii of it (the nearest if none; ties: the lower index), so that the
-  // sphere behind it meets the link's back and not its flank.
-  const auto pushedFor = [&](const Vec3& d) {
-    if (!isVirtual(i)) return i;
-    ParticleIndex pushed = i, nearest = i;
-    double rearmost = 1e300, closest = 1e300;
-    for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
-      if (!robot.has(j) || isVirtual(j)) continue;
-      const double distance = norm(s.position[j] - s.position[i]);
-      if (distance < closest) {
-        closest = distance;
-        nearest = j;
-      }
-      if (distance <= 2.0 * radius && dot(s.position[j], d) < rearmost) {
-        rearmost = dot(s.position[j], d);
-        pushed = j;
-      }
-    }
-    return rearmost < 1e300 ? pushed : nearest;
-  };
-  // The elastic energy (J) a sphere at `c` would add, ½ κ_c d² over every
-  // particle it overlaps (virtual ones touch nothing), with κ_c the stiffest
-  // material's: an upper bound of the work the World will book.
-  double stiffness = 0.0;
-  for (const Material& m : model.materials) stiffness = std::max(stiffness, m.contactStiffness);
-  for (const ContactPairOverride& p : model.contact.pairOverrides)
-    stiffness = std::max(stiffness, p.stiffness);
-  const auto overlapEnergy = [&](const Vec3& c) {
-    double energy = 0.0;
-    for (ParticleIndex j = 0; j < model.particleCount(); ++j) {
-      if (!model.moves(j) || isVirtual(j)) continue;
-      const double d = norm(s.position[j] - c) - radius - model.radius[j];
-      if (d < 0.0) energy += 0.5 * stiffness * d * d;
-    }
-    return energy;
-  };
-  // Where it goes: beside the stuck particle on the pushing side, turned by up
-  // to 60° in the plane of the push and the pull if that side is taken by the
-  // robot's own particles (a sphere landing on them would inject their overlap);
-  // at the first obstacle the other side is as good, and is then kept.
-  // It then overlaps the stuck particle by half the smaller radius, halved
-  // until the work it injects is within maxWork.
-  const auto centreFor = [&](const Vec3& direction, double o) {
-    const ParticleIndex pushed = pushedFor(direction);
-    return s.position[pushed] - direction * (radius + model.radius[pushed] - o);
-  };
-  const double bound = spec_.maxWork > 0.0 ? spec_.maxWork : 1e300;
-  std::optional<Vec3> direction;
-  for (double degrees : {0.0, -20.0, 20.0, -40.0, 40.0, -60.0, 60.0}) {
-    for (double flip : {1.0, -1.0}) {
-      if (flip < 0.0 && !added_.empty()) break;  // the side is kept once chosen
-      const double beta = degrees * M_PI / 180.0;
-      const Vec3 d = push * (flip * std::cos(beta)) + toGoal * std::sin(beta);
-      if (overlapEnergy(centreFor(d, 0.0)) <= bound) {
-        direction = d;
-        break;
-      }
-    }
-    if (direction) break;
+  if (material_ < 0) {
+    Material virtualMaterial = model.materials.front();
+    virtualMaterial.name = "escape (virtual obstacles)";
+    virtualMaterial.staticFriction = virtualMaterial.kineticFriction = 0.0;
+    virtualMaterial.rollingResistance = 0.0;
+    material_ = world.addMaterial(virtualMaterial);
   }
-  if (!direction) return event;  // no free place this time; the next interval tries again
-  if (dot(*direction, *side_) < 0.0) side_ = *side_ * -1.0;
-  double overlap = 0.5 * std::min(radius, model.radius[pushedFor(*direction)]);
-  for (int k = 0; k < 30 && overlapEnergy(centreFor(*direction, overlap)) > bound; ++k)
-    overlap *= 0.5;
   SphereObstacle sphere;
-  sphere.center = centreFor(*direction, overlap);
-  sphere.radius = radius;
+  sphere.radius = spec_.obstacleRadius > 0.0 ? spec_.obstacleRadius : blocking.radius;
+  sphere.material = material_;
+  const auto centreAt = [&](double distance) { return blocking.point - approach * distance; };
+  // Placed by trial in the World (its contact law, whatever the robot's shape):
+  // the obstacle's push on the robot kPushShare × the blocking force, its work
+  // within the bound; found by bisection on its distance from the blocking point.
+  const double bound = std::min(perObstacle, budget - work_);
+  double far = sphere.radius + 2.0 * blocking.radius;
+  sphere.center = centreAt(far);
   world.bookExternalWork();  // what earlier edits did is not this obstacle's
-  world.addSphereObstacle(sphere);
-  const double work = world.bookExternalWork();
+  const std::int32_t item = world.addSphereObstacle(sphere);
+  double work = world.bookExternalWork();
+  const auto pushOf = [&]() {
+    double push = 0.0;
+    for (const Contact& c : world.contacts())
+      if (c.withEnvironment() && c.environmentItem() == item) push += c.normalForce;
+    return push;
+  };
+  for (int k = 0; k < 20 && pushOf() > 0.0; ++k) {  // out of reach first
+    far *= 2.0;
+    world.moveSphereObstacle(item, centreAt(far));
+    work += world.bookExternalWork();
+  }
+  double near = 0.0;
+  const double wanted = kPushShare * norm(blocking.held);
+  for (int k = 0; k < 40; ++k) {
+    const double middle = 0.5 * (near + far);
+    world.moveSphereObstacle(item, centreAt(middle));
+    work += world.bookExternalWork();
+    if (pushOf() > wanted || work > bound)
+      near = middle;
+    else
+      far = middle;
+  }
+  world.moveSphereObstacle(item, centreAt(far));
+  work += world.bookExternalWork();
+  sphere.center = centreAt(far);
   work_ += work;
   pushWork_ += work;
   ++pushes_;
@@ -476,7 +580,10 @@ json LocalMinimumEscape::save() const {
           {"push_work", exactNumber(pushWork_)},
           {"work", exactNumber(work_)},
           {"added", added},
-          {"side", side_ ? exactVec3(*side_) : json()}};
+          {"side", side_ ? exactVec3(*side_) : json()},
+          {"energy_scale", exactNumber(energyScale_)},
+          {"untouched_since", exactNumber(untouchedSince_)},
+          {"material", material_}};
 }
 
 void LocalMinimumEscape::restore(const json& saved) {
@@ -498,6 +605,14 @@ void LocalMinimumEscape::restore(const json& saved) {
   }
   side_.reset();
   if (!saved.at("side").is_null()) side_ = vec3FromJson(saved.at("side"), "escape side");
+  // (Checkpoints before stop 49 have neither: the scale is then measured again.)
+  energyScale_ = saved.contains("energy_scale")
+                     ? numberFromJson(saved.at("energy_scale"), "escape energy_scale")
+                     : 0.0;
+  material_ = saved.contains("material") ? saved.at("material").get<std::int32_t>() : -1;
+  untouchedSince_ = saved.contains("untouched_since")
+                        ? numberFromJson(saved.at("untouched_since"), "escape untouched_since")
+                        : -1.0;
 }
 
 namespace {

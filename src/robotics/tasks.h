@@ -72,12 +72,18 @@ class LocalMinimumEscape {
   /// was stuck (m), when the last obstacle came, and how many this minimum took.
   bool pushing_ = false;
   double stuckDistance_ = 0.0, lastPush_ = 0.0, pushStart_ = 0.0;
+  /// While pushing: since when (s) it touches nothing outside itself; < 0: it touches.
+  double untouchedSince_ = -1.0;
   int pushes_ = 0;
   double pushWork_ = 0.0;
   std::vector<SphereObstacle> added_;
   double work_ = 0.0;
   /// The side (unit) the virtual obstacles push towards, chosen at the first one.
   std::optional<Vec3> side_;
+  /// The largest kinetic and elastic energy seen (J): the scale of the budgets.
+  double energyScale_ = 0.0;
+  /// The virtual obstacles' material (frictionless), made at the first; -1 before.
+  std::int32_t material_ = -1;
 };
 
 /// MODEL §5.3, the paper's criterion: closes the hand by its joints, detects by

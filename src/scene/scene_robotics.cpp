@@ -102,10 +102,11 @@ std::optional<build::EscapeSpec> readEscape(DiagnosticSink& sink, const nlohmann
   build::EscapeSpec spec;
   spec.speedThreshold = e.numberOr("speedThreshold", spec.speedThreshold, Bound::kPositive, "m/s");
   spec.window = e.numberOr("window", spec.window, Bound::kPositive, "s");
-  spec.obstacleRadius = e.numberOr("obstacleRadius", spec.obstacleRadius, Bound::kPositive, "m");
+  spec.obstacleRadius = e.numberOr("obstacleRadius", 0.0, Bound::kNonNegative, "m");
   spec.maxObstacles = e.integer("maxObstacles", 1).value_or(spec.maxObstacles);
   spec.settleDistance = e.numberOr("settleDistance", 0.0, Bound::kNonNegative, "m");
   spec.maxWork = e.numberOr("maxWork", 0.0, Bound::kNonNegative, "J");
+  spec.workBudget = e.numberOr("workBudget", 0.0, Bound::kNonNegative, "J");
   spec.pushInterval = e.numberOr("pushInterval", 0.0, Bound::kNonNegative, "s");
   e.finish();
   return spec;

@@ -167,6 +167,30 @@ TEST(Edits, BadArgumentsAreClearExceptionsNotCrashes) {
   EXPECT_EQ(stateHash(world.state()), stateHash(World(setup.model, setup.state).state()));
 }
 
+// A sphere obstacle moved by trial (the escape's placement, MODEL §5.2): each
+// move is an edit whose work is the contact energy it adds or takes away, so a
+// sphere moved into the ball and back out books no work in all; an item that is
+// not a sphere is refused.
+TEST(Edits, AMovedSphereObstacleBooksTheContactEnergyItChanges) {
+  BallOnGround setup;
+  World world(setup.model, setup.state);
+  world.bookExternalWork();
+  const double before = world.energy().contact;
+  const std::int32_t item =
+      world.addSphereObstacle(SphereObstacle{{2.0, 0.0, kRadius}, 0.1, 0});
+  EXPECT_EQ(item, 1);  // after the ground plane
+  EXPECT_EQ(world.bookExternalWork(), 0.0);  // out of reach
+  world.moveSphereObstacle(item, {kRadius + 0.1 - 0.01, 0.0, kRadius});  // 1 cm into the ball
+  const double into = world.bookExternalWork();
+  EXPECT_GT(into, 0.0);
+  EXPECT_NEAR(into, world.energy().contact - before, 1e-12);
+  world.moveSphereObstacle(item, {2.0, 0.0, kRadius});
+  EXPECT_NEAR(world.bookExternalWork(), -into, 1e-12);
+  EXPECT_THROW(world.moveSphereObstacle(0, {}), std::invalid_argument);  // the plane
+  EXPECT_THROW(world.moveSphereObstacle(2, {}), std::invalid_argument);  // no such item
+  EXPECT_THROW(world.moveSphereObstacle(item, {std::nan(""), 0.0, 0.0}), std::invalid_argument);
+}
+
 TEST(Edits, ConnectorEndsRebuildTheExclusionLists) {
   // Two touching balls tied by an LS do not collide; re-tie the LS to another
   // pair and they do.

@@ -29,11 +29,10 @@ CASES = {
                    {"box": [0.45, 0.0, 0.21], "size": [0.2, 0.08, 0.42], "target": [0.55, 0.35, 0.55]}),
     "panda": ("panda_passive_box.json", "panda_replay.json", {}),
     # μ 0.1 on the robot (0.22 with the box): stuck against the box's face, a friction
-    # local minimum (MODEL §5.2) that virtual obstacles push it out of.
+    # local minimum (MODEL §5.2) that virtual obstacles push it out of, with the
+    # escape's default settings.
     "iiwa_escape": ("iiwa_passive_box.json", "iiwa_replay.json",
-                    {"friction": 0.1, "duration": 12.0,
-                     "escape": {"speedThreshold": 0.01, "window": 0.3, "obstacleRadius": 0.05,
-                                "maxObstacles": 300, "maxWork": 0.5, "pushInterval": 0.05}}),
+                    {"friction": 0.1, "duration": 12.0, "escape": {}}),
 }
 
 

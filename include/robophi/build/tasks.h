@@ -57,20 +57,24 @@ struct EscapeSpec {
   double speedThreshold = 0.02;
   /// Time (s) it must stay stopped away from the goal.
   double window = 0.3;
-  /// Radius (m) of each virtual obstacle.
-  double obstacleRadius = 0.1;
+  /// Radius (m) of each virtual obstacle. 0: the radius of the robot where it
+  /// is blocked (its blocking particles', or its ball's).
+  double obstacleRadius = 0.0;
   /// Most virtual obstacles added.
-  int maxObstacles = 10;
+  int maxObstacles = 200;
   /// Not stuck, but settling: within this distance (m) of its target the robot
   /// is left alone (an arm sagging under gravity near its goal). 0: 5 × the
   /// goal's tolerance.
   double settleDistance = 0.0;
-  /// Most work (J) one virtual obstacle may inject: its overlap with the robot
-  /// is cut until the elastic energy it adds is below this. 0: no bound (the
-  /// overlap is half the smaller radius).
+  /// Most work (J) one virtual obstacle may inject (its place is backed off
+  /// until it fits). 0: 1 % of the scene's energy scale (the largest kinetic
+  /// and elastic energy so far, as the run's energy account has it).
   double maxWork = 0.0;
+  /// Most work (J) all the virtual obstacles may inject; once spent, no more
+  /// come (the goal is reported not reached). 0: 10 % of the energy scale.
+  double workBudget = 0.0;
   /// Once a local minimum is found, a further obstacle every `pushInterval` (s)
-  /// while the robot is still held there (0: one per `window`), each from the
+  /// while the robot is still held there (0: three per `window`), each from the
   /// same side: small pushes one after another, until it is free (nearer its
   /// goal by a tenth of the distance it was stuck at, or touching nothing).
   double pushInterval = 0.0;
