@@ -2,7 +2,6 @@
 // its bytes), poll with a deadline, waitpid when the child ends.
 #include "build/child_process.h"
 
-#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>

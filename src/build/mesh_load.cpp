@@ -444,6 +444,22 @@ class MeshRecord {
     }
     return std::move(r.bytes_);
   }
+  // A request to the reader's process: the file's path, its bytes, shaded.
+  static std::string request(const std::string& path, const std::string& bytes, bool shaded) {
+    MeshRecord r;
+    r.text(path);
+    r.text(bytes);
+    r.value(shaded);
+    return std::move(r.bytes_);
+  }
+  static void readRequest(std::string request, std::string& path, std::string& bytes,
+                          bool& shaded) {
+    MeshRecord r;
+    r.bytes_ = std::move(request);
+    r.text("(request)", path);
+    r.text(path, bytes);
+    r.value(path, shaded);
+  }
   // Throws meshError on a record cut short (a child that did not finish writing).
   static MeshRead decode(const std::string& path, std::string bytes) {
     MeshRecord r;
@@ -517,22 +533,13 @@ class MeshRecord {
 // How long assimp may take to read a mesh file before it counts as a hang (s).
 constexpr int kMeshReadSeconds = 30;
 
-// A request to the mesh reader's process: the file's path, its bytes, shaded.
-std::string meshRequest(const std::string& path, const std::string& bytes, bool shaded) {
-  const std::size_t n = path.size();
-  return std::string(reinterpret_cast<const char*>(&n), sizeof n) + path + (shaded ? 'S' : 'P') +
-         bytes;
-}
-
-// The mesh reader's process's answer to a request: "K" and the MeshRecord, or
-// "E" and the error's message.
+// The mesh reader's process's answer to a request (MeshRecord::request): "K"
+// and the MeshRecord, or "E" and the error's message.
 std::string answerMeshRequest(const std::string& request) {
-  std::size_t n = 0;
-  std::memcpy(&n, request.data(), sizeof n);
-  const std::string path = request.substr(sizeof n, n);
-  const bool shaded = request[sizeof n + n] == 'S';
-  const std::string bytes = request.substr(sizeof n + n + 1);
+  std::string path, bytes;
   try {
+    bool shaded = false;
+    MeshRecord::readRequest(request, path, bytes, shaded);
     return "K" + MeshRecord::encode(readMeshHere(path, bytes, shaded));
   } catch (const std::exception& e) {
     return std::string("E") + e.what();
@@ -562,7 +569,7 @@ MeshRead readMesh(const std::string& path, const std::string& bytes, bool shaded
     meshError(path, problem);
   if (const std::string problem = colladaArrayProblem(path, bytes); !problem.empty())
     meshError(path, problem);
-  const ChildOutcome outcome = meshReader().ask(meshRequest(path, bytes, shaded), kMeshReadSeconds);
+  const ChildOutcome outcome = meshReader().ask(MeshRecord::request(path, bytes, shaded), kMeshReadSeconds);
   switch (outcome.kind) {
     case ChildOutcome::kNotStarted:
       return readMeshHere(path, bytes, shaded);
