@@ -51,11 +51,12 @@ for (const run of runs) {
       await page.evaluate((at) => window.robophiReplay.seek(at), t);
       const box = await page.evaluate(() => window.robophiReplay.robotPixelBox());
       console.log(`# ${name} at t = ${t} s: robot box ${JSON.stringify(box)}`);
+      // (Saved before the check, so that a failure has its picture.)
+      await page.screenshot({ path: path.join(outDir, `${name}-${label}.png`) });
       // The box covers 20% of the view, or, for a robot much taller (or wider) than the
       // view's shape (an upright arm: 12% × 85%), spans 60% of the view along its long side.
       assert.ok(box && (box.area >= 0.2 || Math.max(box.width, box.height) >= 0.6),
         `${name} at t = ${t} s: the robot's box is ${JSON.stringify(box)} of the view`);
-      await page.screenshot({ path: path.join(outDir, `${name}-${label}.png`) });
     }
     if (run.q) {
       const series = await page.evaluate(() => window.robophiReplay.plotSeries());

@@ -42,19 +42,22 @@ if [ ${#missing[@]} -gt 0 ]; then
   exit 77
 fi
 
-mkdir -p "$artifacts"
+# The runs go to a folder of this test's own: ctest runs the viewer tests side by
+# side, and run_robots_test.sh runs an iiwa and a UR5 of its own too.
+runs="$artifacts/reference_runs"
+mkdir -p "$runs"
 export ROBOPHI_CHROMIUM="$chromium"
 run() {  # run NAME SCENE [options...]
   local name=$1 scene=$2
   shift 2
-  rm -rf "${artifacts:?}/$name"
-  "$robophi" run "$scene" --out "$artifacts/$name" --quiet "$@" > "$artifacts/$name.log" 2>&1 ||
-    { echo "robophi run $scene failed:" >&2; cat "$artifacts/$name.log" >&2; exit 1; }
+  rm -rf "${runs:?}/$name"
+  "$robophi" run "$scene" --out "$runs/$name" --quiet "$@" > "$runs/$name.log" 2>&1 ||
+    { echo "robophi run $scene failed:" >&2; cat "$runs/$name.log" >&2; exit 1; }
 }
 run panda_pick "$repo/scenes/panda_pick.json" --duration 1.5
 run husky_drive "$repo/scenes/husky_drive.json" --duration 1.5
 run iiwa "$here/scenes/iiwa_swing.json"
 run ur5 "$here/scenes/ur5_swing.json"
 node "$here/reference.test.mjs" "$artifacts/reference" "$here/reference" \
-  "panda_pick=$artifacts/panda_pick" "husky_drive=$artifacts/husky_drive" \
-  "iiwa=$artifacts/iiwa" "ur5=$artifacts/ur5"
+  "panda_pick=$runs/panda_pick" "husky_drive=$runs/husky_drive" \
+  "iiwa=$runs/iiwa" "ur5=$runs/ur5"

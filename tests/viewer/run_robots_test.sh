@@ -35,21 +35,24 @@ if [ ${#missing[@]} -gt 0 ]; then
   exit 77
 fi
 
-mkdir -p "$artifacts"
+# The runs go to a folder of this test's own: ctest runs the viewer tests side by
+# side, and run_reference_test.sh runs an iiwa and a UR5 (other scenes) too.
+runs="$artifacts/robot_runs"
+mkdir -p "$runs"
 export ROBOPHI_CHROMIUM="$chromium"
 run() {  # run NAME URDF [options...]
   local name=$1 urdf=$2
   shift 2
-  rm -rf "${artifacts:?}/$name"
-  "$robophi" run "$urdf" --duration 0.1 --out "$artifacts/$name" --quiet "$@" > /dev/null
+  rm -rf "${runs:?}/$name"
+  "$robophi" run "$urdf" --duration 0.1 --out "$runs/$name" --quiet "$@" > /dev/null
 }
 run iiwa "$robots/kuka_iiwa/model.urdf"
 run iiwa_rigid "$robots/kuka_iiwa/model.urdf" --rigid
 run ur5 "$ur5" --package-path "$wild"
 run ur5_rigid "$ur5" --package-path "$wild" --rigid
 run panda "$robots/franka_panda/panda.urdf" --package-path "$robots/franka_panda"
-node "$here/robots.test.mjs" "$artifacts/robots" "$artifacts/iiwa:q" "$artifacts/iiwa_rigid" \
-  "$artifacts/ur5:q" "$artifacts/ur5_rigid" "$artifacts/panda:q"
+node "$here/robots.test.mjs" "$artifacts/robots" "$runs/iiwa:q" "$runs/iiwa_rigid" \
+  "$runs/ur5:q" "$runs/ur5_rigid" "$runs/panda:q"
 
 # An interrupted run: SIGINT once it has written frames; its folder gets the page
 # (the run is long enough that no machine finishes it first).
