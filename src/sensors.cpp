@@ -291,7 +291,7 @@ void SensorSet::add(const Model& model, const State& reference, const SensorSpec
     // A ray passes through virtual particles too (goals, paths, carriers: they touch nothing).
     if (spec.kind == SensorKind::kRange)
       for (std::size_t i = 0; i < r.own.size(); ++i)
-        if (model.objectOf[i] >= 0 && model.objects[static_cast<std::size_t>(model.objectOf[i])].kind == "virtual")
+        if (model.objectOf[i] >= 0 && !model.objects[static_cast<std::size_t>(model.objectOf[i])].contact.touches)
           r.own[i] = 1;
   }
   needsTreeDynamics_ = needsTreeDynamics_ || (r.tree >= 0 && (spec.kind == SensorKind::kJointForceTorque ||

@@ -68,6 +68,22 @@ struct JointSpring {
 };
 
 /// A named group of particles made by one generator or listed in one scene object.
+/// How contacts treat an object (docs/contact.md "What an object tells the
+/// contacts"): set by the generator or builder that made it. The contact stage,
+/// the step and the sensors read these, never the object's kind.
+struct ContactRole {
+  /// False: the object touches nothing (a goal's copy, a path's end, a URDF
+  /// link's inertia carriers): no contact, no approach bound, no range reading.
+  bool touches = true;
+  /// True: each of its particles' contacts decide their friction on their own (a
+  /// rope's links slide one by one); false: the object's contacts with one other
+  /// body decide together, as one body (MODEL §3.3 "The three regimes").
+  bool frictionPerParticle = false;
+  /// False: its particles neither spin nor turn with their LS neighbours at a
+  /// contact point (a rope's links; MODEL §3.3 "What turns a contact point").
+  bool turns = true;
+};
+
 struct ObjectInfo {
   std::string name;
   /// Generator that made it: "rope", "bar", "plate", "box", "ball", "wheel", "particles".
@@ -92,6 +108,8 @@ struct ObjectInfo {
   /// build::ModelBuilder::excludeContactWithin): one id per object, where pairs
   /// would grow with the square of the links; -1: no group.
   std::int32_t contactGroup = -1;
+  /// How contacts treat it (its builder's; never read from `kind`).
+  ContactRole contact{};
 };
 
 /// A point of an object's outer surface embedded in its particles (MODEL §3.8):

@@ -56,6 +56,15 @@ void bindModel(py::module_& m) {
       .def_readonly("material", &ObjectInfo::material)
       .def_readonly("rigid", &ObjectInfo::rigid)
       .def_property_readonly(
+          "touches", [](const ObjectInfo& o) { return o.contact.touches; },
+          "False for an object that touches nothing (goal copies, path ends, inertia carriers).")
+      .def_property_readonly(
+          "friction_per_particle", [](const ObjectInfo& o) { return o.contact.frictionPerParticle; },
+          "True when each particle's contacts decide their friction alone (a rope's links).")
+      .def_property_readonly(
+          "turns", [](const ObjectInfo& o) { return o.contact.turns; },
+          "False when its contact points do not turn with its particles (a rope's).")
+      .def_property_readonly(
           "particles",
           [](const ObjectInfo& o) {
             return py::slice(o.firstParticle, o.firstParticle + o.particleCount, 1);

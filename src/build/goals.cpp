@@ -54,6 +54,7 @@ ParticleIndex addVirtual(Model& model, State& state, std::int32_t object, const 
 
 std::int32_t openVirtualObject(Model& model, const std::string& name) {
   const std::int32_t id = model.addObject(name, "virtual");
+  model.objects[static_cast<std::size_t>(id)].contact.touches = false;  // (goals, paths: markers)
   model.objects[static_cast<std::size_t>(id)].firstParticle = model.particleCount();
   return id;
 }

@@ -331,6 +331,7 @@ PlacedObject ModelBuilder::addObject(const ObjectPlacement& object) {
   // Surface mesh (MODEL §3.8) in model indices.
   ObjectInfo& info = model_.objects[static_cast<std::size_t>(id)];
   info.rigid = g.rigid;
+  info.contact = g.contact;
   info.surfaceRadius = g.surfaceRadius;
   info.firstVertex = static_cast<std::int32_t>(model_.surfaceVertices.size());
   info.vertexCount = static_cast<std::int32_t>(g.surfaceVertices.size());

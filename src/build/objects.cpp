@@ -303,6 +303,10 @@ GeneratedObject makeRope(const RopeSpec& spec) {
                spec.radius > 0.0 ? spec.radius : 0.5 * rope.spacing);
   for (int i = 0; i + 1 < n; ++i) addLink(rope, i, i + 1);
   for (int i = 1; i + 1 < n; ++i) addBend(rope, i - 1, i, i + 1);
+  // Its links slide one by one (each particle's friction decides alone) and
+  // carry no contact moment (they do not turn).
+  rope.contact.frictionPerParticle = true;
+  rope.contact.turns = false;
   return rope;
 }
 

@@ -804,6 +804,7 @@ UrdfRobot makeUrdfRobot(const UrdfSpec& spec) {
     placement.kind = "link";
     carriers.name = placement.name + ".carriers";
     carriers.kind = "virtual";
+    carriers.geometry.contact.touches = false;
     const int carrierObject = objectCount + static_cast<int>(carrierObjects.size());
     renumber[b].resize(g.size());
     for (std::size_t i = 0; i < g.size(); ++i) {

@@ -260,10 +260,11 @@ struct Turning {
 };
 
 // How particle i's contact point turns (Turning::kind): 0 not at all (rolling
-// off, a fixed or a rope particle, or one with nothing to turn with), 1 with
+// off, a fixed particle, one of an object that does not turn (a rope's:
+// ContactRole::turns), or one with nothing to turn with), 1 with
 // its own spin, 2 with its LS neighbourhood.
 inline std::int32_t turningKind(const Model& model, const ContactTables& tables, std::int32_t i) {
-  if (!model.contact.rolling || tables.movable[i] == 0 || tables.ropeParticle[i] != 0) return 0;
+  if (!model.contact.rolling || tables.movable[i] == 0 || tables.noTurning[i] != 0) return 0;
   // Its own spin: a free particle's, or a rigid tree's particle's, its body's (State::spin).
   if (tables.inverseSpinInertia[i] > 0.0 || tables.treeOf[i] >= 0) return 1;
   return tables.rollNeighbourStart[i] == tables.rollNeighbourStart[i + 1] ? 0 : 2;
@@ -426,11 +427,11 @@ inline double surfaceRadius(const Model& model, const Contact& c) {
 }
 
 // The contact group of a contact: the pair (object of a, object of the other
-// particle or the environment item). Particles outside objects, and a rope's
-// (ContactTables::ropeParticle), are their own.
+// particle or the environment item). Particles outside objects, and those whose
+// friction decides alone (ContactTables::frictionAlone: a rope's), are their own.
 inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
   const std::int32_t object = tables.particleObject[particle];
-  return object >= 0 && tables.ropeParticle[particle] == 0 ? object
+  return object >= 0 && tables.frictionAlone[particle] == 0 ? object
                                                            : (std::int64_t{1} << 40) + particle;
 }
 

@@ -132,21 +132,24 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   const ParticleIndex n = model.particleCount();
   const auto objectCount = static_cast<std::int32_t>(model.objects.size());
   cache.particleObject.assign(static_cast<std::size_t>(n), -1);
-  cache.ropeParticle.assign(static_cast<std::size_t>(n), 0);
+  cache.frictionAlone.assign(static_cast<std::size_t>(n), 0);
+  cache.noTurning.assign(static_cast<std::size_t>(n), 0);
   cache.particleMaterial.assign(static_cast<std::size_t>(n), 0);
   std::vector<std::int32_t> objectSize(static_cast<std::size_t>(objectCount), 0);
   for (ParticleIndex i = 0; i < n; ++i) {
     const std::int32_t object = model.objectOf[i];
     if (object < 0 || object >= objectCount) continue;
     cache.particleObject[i] = object;
-    cache.ropeParticle[i] = model.objects[object].kind == "rope" ? 1 : 0;
+    const ContactRole& role = model.objects[object].contact;
+    cache.frictionAlone[i] = role.frictionPerParticle ? 1 : 0;
+    cache.noTurning[i] = role.turns ? 0 : 1;
     const std::int32_t material = model.objects[object].material;
     cache.particleMaterial[i] = material >= 0 && material < cache.materialCount ? material : 0;
     ++objectSize[object];
   }
   cache.singleParticleBodies = true;
   for (std::int32_t object = 0; object < objectCount; ++object) {
-    if (objectSize[object] > 1 && model.objects[object].kind != "rope")
+    if (objectSize[object] > 1 && !model.objects[object].contact.frictionPerParticle)
       cache.singleParticleBodies = false;
   }
   // Single particles go to the grid unless they are much larger than the
@@ -154,7 +157,7 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   // Virtual particles (robotics goals and paths, docs/robotics.md) touch nothing.
   const auto isVirtual = [&](ParticleIndex i) {
     const std::int32_t object = cache.particleObject[i];
-    return object >= 0 && model.objects[object].kind == "virtual";
+    return object >= 0 && !model.objects[object].contact.touches;
   };
   std::vector<std::int32_t> singles;
   for (ParticleIndex i = 0; i < n; ++i) {

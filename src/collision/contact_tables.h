@@ -77,13 +77,17 @@ struct ContactTables {
   std::vector<std::int32_t> particleMaterial;
   /// Object of each particle, or -1, (particleCount).
   std::vector<std::int32_t> particleObject;
-  /// 1 for a rope's particles, 0 for the others, (particleCount). Their
-  /// contacts decide friction one by one, not with their body's (a rope drapes
-  /// over edges with opposite loads on its two sides), and they do not turn
-  /// (MODEL §3.3: a rope's neighbourhood rotation is its bending, not a
-  /// rolling body's; it stiffened the contacts' tangential coupling so much
-  /// that a rope on a box edge needed 4e-8 s steps).
-  std::vector<std::uint8_t> ropeParticle;
+  /// 1 for the particles of an object whose ContactRole::frictionPerParticle
+  /// is set (a rope's), 0 for the others, (particleCount). Their contacts decide
+  /// friction one by one, not with their body's (a rope drapes over edges with
+  /// opposite loads on its two sides).
+  std::vector<std::uint8_t> frictionAlone;
+  /// 1 for the particles of an object whose ContactRole::turns is false (a
+  /// rope's), (particleCount): their contact points do not turn (MODEL §3.3: a
+  /// rope's neighbourhood rotation is its bending, not a rolling body's; it
+  /// stiffened the contacts' tangential coupling so much that a rope on a box
+  /// edge needed 4e-8 s steps).
+  std::vector<std::uint8_t> noTurning;
   /// Every contact body (contact_force.cpp's group key) is one particle: each
   /// object has one particle or is a rope. Then every friction group (MODEL
   /// §3.3, a pair of bodies) holds one contact and decides on its own.

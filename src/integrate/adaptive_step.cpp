@@ -238,7 +238,7 @@ double approachStepBound(const Model& model, const State& state, const std::vect
   count.assign(objects, 0.0);
   virtualObject.assign(objects, 0);
   for (std::size_t o = 0; o < objects && o < model.objects.size(); ++o)
-    virtualObject[o] = model.objects[o].kind == "virtual" ? 1 : 0;
+    virtualObject[o] = model.objects[o].contact.touches ? 0 : 1;
   // The particles go by runs of one object (an object's particles are usually
   // one run): a run's bounds are kept in locals, not read back from memory
   // particle by particle. The same operations in the same order per object.
@@ -460,7 +460,7 @@ double approachStepFloor(const Model& model, const State& state, const std::vect
   const auto objects = static_cast<std::size_t>(std::max<std::int32_t>(
       1, *std::max_element(model.objectOf.begin(), model.objectOf.end()) + 1));
   const auto isVirtual = [&](std::size_t o) {
-    return o < model.objects.size() && model.objects[o].kind == "virtual";
+    return o < model.objects.size() && !model.objects[o].contact.touches;
   };
   // The boxes, each reset at its object's first run in this call (a stamp per
   // object): a pile of single balls has as many objects as particles, and a

@@ -65,7 +65,7 @@ Json objectsJson(const Model& model) {
                        {"first", info.firstParticle},
                        {"count", info.particleCount},
                        {"fixed", allFixed},
-                       {"virtual", info.kind == "virtual"}});
+                       {"virtual", !info.contact.touches}});
   }
   return objects;
 }
@@ -138,7 +138,7 @@ std::vector<int> attractorSprings(const Model& model) {
                                ? model.objectOf[static_cast<std::size_t>(i)]
                                : -1;
     return o >= 0 && static_cast<std::size_t>(o) < model.objects.size() &&
-           model.objects[static_cast<std::size_t>(o)].kind == "virtual";
+           !model.objects[static_cast<std::size_t>(o)].contact.touches;
   };
   for (std::size_t s = 0; s < model.linearSprings.size(); ++s) {
     const LinearSpring& ls = model.linearSprings[s];

@@ -69,6 +69,7 @@ SceneReport reportScene(const Scene& scene) {
         info.particleCount > 0 && carried != carrier.end()) {
       const auto [t, body] = carried->second;
       r.kind = "rigid body";
+      r.rigidBody = true;
       r.built = bodyMassProperties(model.rigidTrees[t].multibody, kinematics[t], body);
       r.principalMoments = build::principalMoments(r.built.inertia);
     } else if (!position.empty()) {
@@ -175,7 +176,7 @@ std::string reportText(const SceneReport& report) {
   };
   for (const ObjectReport& r : report.objects) {
     row(r.name, std::to_string(r.particles), r.built, r.principalMoments);
-    if (r.kind == "rigid body")
+    if (r.rigidBody)
       out += "    rigid body: its body's own mass properties (the URDF's, after the adjustments\n"
              "    listed when it loads); its particles are its collision surface\n";
     if (!r.urdfLink) continue;

@@ -19,6 +19,8 @@ struct ObjectReport {
   std::string name, kind;
   int particles = 0;
   int fixedParticles = 0;
+  /// A rigid body's (kind "rigid body"): its mass properties are its body's.
+  bool rigidBody = false;
   /// Of its particles: mass (kg), centre of mass (m), inertia about it (kg·m², world axes).
   build::MassProperties built{};
   std::array<double, 3> principalMoments{};  // kg·m², ascending

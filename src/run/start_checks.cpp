@@ -47,7 +47,7 @@ std::vector<std::string> startingOverlapWarnings(const Model& model, const State
   };
   auto isVirtual = [&](std::int32_t o) {
     return o >= 0 && static_cast<std::size_t>(o) < model.objects.size() &&
-           model.objects[static_cast<std::size_t>(o)].kind == "virtual";
+           !model.objects[static_cast<std::size_t>(o)].contact.touches;
   };
   // Key: (object a, object b) or (object a, -1 - environment item).
   std::map<std::pair<std::int32_t, std::int32_t>, Overlap> overlaps;

@@ -67,7 +67,7 @@ std::vector<std::pair<std::string, std::string>> modelNames(const SceneObject& o
   };
   constexpr std::string_view kCarriers = ".carriers";
   for (const build::ObjectPlacement& link : object.urdf->objects) {
-    const bool carriers = link.kind == "virtual";
+    const bool carriers = !link.geometry.contact.touches;
     std::string linkName = local(link.name);
     if (carriers && linkName.ends_with(kCarriers))
       linkName.resize(linkName.size() - kCarriers.size());

@@ -363,7 +363,7 @@ std::optional<ParticleIndex> resolveLinkPoint(DiagnosticSink& sink, const nlohma
     spec.link = ref.get<std::string>();
     // A point the section's "points" named already: its particle.
     for (const ObjectInfo& object : scene.model.objects)
-      if (object.name == spec.link && object.kind == "virtual" && object.particleCount == 1 &&
+      if (object.name == spec.link && !object.contact.touches && object.particleCount == 1 &&
           scene.model.isCarried(object.firstParticle))
         return object.firstParticle;
   } else {

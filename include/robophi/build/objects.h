@@ -48,6 +48,9 @@ struct GeneratedObject {
   double surfaceRadius = 0.0;
   /// Treated as rigid by the contact search (ObjectInfo::rigid).
   bool rigid = false;
+  /// How contacts treat it (ObjectInfo::contact): a rope's links decide their
+  /// friction one by one and do not turn; inertia carriers touch nothing.
+  ContactRole contact{};
 
   std::size_t size() const { return position.size(); }
 };
