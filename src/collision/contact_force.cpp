@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collision/contact_law.h"
 #include "collision/contact_stage.h"
 #include "collision/facets.h"
 #include "collision/pair_lanes.h"
@@ -448,8 +449,10 @@ inline void contactRates(const ContactTables& tables, const PairParameters& k, s
     damping = 0.0;
     return;
   }
-  stiffness = std::max(k.stiffness, k.tangentialStiffness * rotationFactor);
-  damping = std::max(k.damping, tangentialDamping * rotationFactor);
+  const law::Rates<double> rates = law::stabilityRates<law::ScalarOps>(
+      k.stiffness, k.damping, k.tangentialStiffness, tangentialDamping, rotationFactor);
+  stiffness = rates.stiffness;
+  damping = rates.damping;
 }
 
 // Adds a deferred contact's rates to its particles' sums: a rim's contact acts
@@ -737,109 +740,89 @@ inline void pairGeometry(const Model& model, const std::vector<Vec3>& p, std::in
   g.armLengthB = norm(armB);
 }
 
-// The lean stage's batch [begin, end) into the lanes (pair_lanes.h): each
-// contact's inputs (the lanes past it up to the next four: copies of its
-// first), where its history is (PairLaneBatch::history, persists), and whether
-// the lanes work it out (`use`: it has friction and no rolling resistance, and
-// each side spins or does not turn; the others, whose bare pairs take only
-// their geometry from the lanes, the scalar stage works out). `old` is the
-// history's cursor at `begin`; the next batch's contacts and history are asked
-// for ahead.
-void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std::size_t old,
-                   std::size_t oldEnd, detail::PairLaneBatch& b, bool* use) {
+// A side's spin where its contact point turns with it (kind 1), else none.
+inline Vec3 laneSpin(const std::vector<Vec3>& spin, std::int32_t i, std::int32_t kind) {
+  return kind == 1 && static_cast<std::size_t>(i) < spin.size() ? spin[static_cast<std::size_t>(i)]
+                                                                : Vec3{};
+}
+
+// Lane l's other side: a particle, or the environment (its side at rest, the
+// detection's normal and depth).
+void fillLaneOther(const StageInput& in, const ContactSeed& seed, std::int32_t kindB,
+                   std::size_t l, detail::PairLaneBatch& b) {
+  const std::int32_t other = seed.other();
+  const bool environment = other < 0;
+  Vec3 pb, vb, wb, foundNormal;
+  double rb = 0.0, imb = 0.0, spinInverseB = 0.0, foundDepth = 0.0;
+  if (environment) {
+    const Contact& found = seed.full >= 0
+                               ? in.cache.detectedContacts[static_cast<std::size_t>(seed.full)]
+                               : in.cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
+    foundNormal = found.normal;
+    foundDepth = found.depth;
+  } else {
+    pb = in.p[other];
+    vb = in.v[other];
+    wb = laneSpin(in.spin, other, kindB);
+    rb = in.model.radius[other];
+    imb = in.tables.contactInverseMass[other];
+    spinInverseB = in.tables.inverseSpinInertia[other];
+  }
+  b.environment[l] = environment ? 1.0 : 0.0;
+  b.foundx[l] = foundNormal.x, b.foundy[l] = foundNormal.y, b.foundz[l] = foundNormal.z;
+  b.foundDepth[l] = foundDepth;
+  b.pbx[l] = pb.x, b.pby[l] = pb.y, b.pbz[l] = pb.z;
+  b.vbx[l] = vb.x, b.vby[l] = vb.y, b.vbz[l] = vb.z;
+  b.wbx[l] = wb.x, b.wby[l] = wb.y, b.wbz[l] = wb.z;
+  b.rb[l] = rb;
+  b.imb[l] = imb;
+  b.spinInverseB[l] = spinInverseB;
+  b.spinsB[l] = kindB == 1 ? 1.0 : 0.0;
+}
+
+// Contact `seed`'s inputs into lane l (its record of the last evaluation:
+// `before`), and whether the lanes work it out (`use`: it has friction and no
+// rolling resistance, and each side spins or does not turn; the others, whose
+// bare pairs take only their geometry from the lanes, the scalar stage works out).
+void fillLane(const StageInput& in, const ContactSeed& seed, const Contact* before, std::size_t l,
+              detail::PairLaneBatch& b, bool& use) {
   const Model& model = in.model;
   const ContactTables& tables = in.tables;
-  const std::vector<Vec3>& p = in.p;
-  const std::vector<Vec3>& v = in.v;
-  const std::vector<Vec3>& spin = in.spin;
-  const std::vector<Contact>& previous = in.previous;
-  const ContactScratch& cache = in.cache;
-  const auto spinOf = [&](std::int32_t i, std::int32_t kind) {
-    return kind == 1 && static_cast<std::size_t>(i) < spin.size() ? spin[static_cast<std::size_t>(i)]
-                                                                  : Vec3{};
-  };
+  const std::int32_t a = seed.a(), other = seed.other();
   PairParameters unused;  // (the lanes run only without overrides)
-  for (std::size_t j = begin; j < end; ++j) {
-    const std::size_t l = j - begin;
-    const ContactSeed& seed = cache.seeds[j];
-    while (old < oldEnd && previous[old].key() < seed.key) ++old;
-    const Contact* before =
-        old < oldEnd && previous[old].key() == seed.key ? &previous[old] : nullptr;
-    b.history[l] = old;
-    b.persists[l] = before != nullptr;
-    if (before != nullptr) ++old;
-    const std::int32_t a = seed.a(), other = seed.other();
-    const bool environment = other < 0;
-    const PairParameters& k = pairParameters(model, tables, a, other, unused);
-    const std::int32_t kindA = turningKind(model, tables, a);
-    const std::int32_t kindB = environment ? 0 : turningKind(model, tables, other);
-    use[l] = k.tangentialStiffness > 0.0 && (k.staticFriction > 0.0 || k.kineticFriction > 0.0) &&
-             !(k.rollingResistance > 0.0) && kindA != 2 && kindB != 2;
-    const Vec3& pa = p[a];
-    const Vec3& va = v[a];
-    const Vec3 wa = spinOf(a, kindA);
-    b.pax[l] = pa.x, b.pay[l] = pa.y, b.paz[l] = pa.z;
-    b.vax[l] = va.x, b.vay[l] = va.y, b.vaz[l] = va.z;
-    b.wax[l] = wa.x, b.way[l] = wa.y, b.waz[l] = wa.z;
-    b.ra[l] = model.radius[a];
-    b.ima[l] = tables.contactInverseMass[a];
-    b.spinInverseA[l] = tables.inverseSpinInertia[a];
-    b.spinsA[l] = kindA == 1 ? 1.0 : 0.0;
-    // The other side: a particle, or the environment (its side at rest, the
-    // detection's normal and depth).
-    Vec3 pb, vb, wb, foundNormal;
-    double rb = 0.0, imb = 0.0, spinInverseB = 0.0, foundDepth = 0.0;
-    if (environment) {
-      const Contact& found = seed.full >= 0
-                                 ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
-                                 : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)];
-      foundNormal = found.normal;
-      foundDepth = found.depth;
-    } else {
-      pb = p[other];
-      vb = v[other];
-      wb = spinOf(other, kindB);
-      rb = model.radius[other];
-      imb = tables.contactInverseMass[other];
-      spinInverseB = tables.inverseSpinInertia[other];
-    }
-    b.environment[l] = environment ? 1.0 : 0.0;
-    b.foundx[l] = foundNormal.x, b.foundy[l] = foundNormal.y, b.foundz[l] = foundNormal.z;
-    b.foundDepth[l] = foundDepth;
-    b.pbx[l] = pb.x, b.pby[l] = pb.y, b.pbz[l] = pb.z;
-    b.vbx[l] = vb.x, b.vby[l] = vb.y, b.vbz[l] = vb.z;
-    b.wbx[l] = wb.x, b.wby[l] = wb.y, b.wbz[l] = wb.z;
-    b.rb[l] = rb;
-    b.imb[l] = imb;
-    b.spinInverseB[l] = spinInverseB;
-    b.spinsB[l] = kindB == 1 ? 1.0 : 0.0;
-    const Vec3 anchor = before != nullptr ? before->anchor : Vec3{};
-    const bool slid = before != nullptr && before->sliding == kSliding;
-    const Vec3 offset = slid ? before->frictionForce * (-1.0 / k.tangentialStiffness) : Vec3{};
-    b.anchorx[l] = anchor.x, b.anchory[l] = anchor.y, b.anchorz[l] = anchor.z;
-    b.hasBefore[l] = before != nullptr ? 1.0 : 0.0;
-    b.offsetx[l] = offset.x, b.offsety[l] = offset.y, b.offsetz[l] = offset.z;
-    b.slidBefore[l] = slid ? 1.0 : 0.0;
-    b.stiffness[l] = k.stiffness;
-    b.damping[l] = k.damping;
-    b.tangentialStiffness[l] = k.tangentialStiffness;
-    b.staticFriction[l] = k.staticFriction;
-    b.tangentialDampingRatio[l] = k.tangentialDampingRatio;
-  }
-  // The next batch's lists and other sides asked for ahead (the history and the
-  // new list are larger than the cache).
-  const std::size_t next = std::min(cache.seeds.size(), end + detail::PairLaneBatch::kSize);
-  for (std::size_t j = end; j < next; ++j) {
-    prefetchContact(cache.freshContacts.data() + j, true);
-    if (old + (j - end) < oldEnd) prefetchContact(previous.data() + old + (j - end), false);
-    const std::int32_t other = cache.seeds[j].other();
-    if (other >= 0) {
-      prefetchRead(p.data() + other);
-      prefetchRead(v.data() + other);
-    }
-  }
-  // The lanes past the batch up to the next four: a copy of its first.
-  for (std::size_t l = end - begin; l % 4 != 0; ++l) {
+  const PairParameters& k = pairParameters(model, tables, a, other, unused);
+  const std::int32_t kindA = turningKind(model, tables, a);
+  const std::int32_t kindB = other < 0 ? 0 : turningKind(model, tables, other);
+  use = k.tangentialStiffness > 0.0 && (k.staticFriction > 0.0 || k.kineticFriction > 0.0) &&
+        !(k.rollingResistance > 0.0) && kindA != 2 && kindB != 2;
+  const Vec3& pa = in.p[a];
+  const Vec3& va = in.v[a];
+  const Vec3 wa = laneSpin(in.spin, a, kindA);
+  b.pax[l] = pa.x, b.pay[l] = pa.y, b.paz[l] = pa.z;
+  b.vax[l] = va.x, b.vay[l] = va.y, b.vaz[l] = va.z;
+  b.wax[l] = wa.x, b.way[l] = wa.y, b.waz[l] = wa.z;
+  b.ra[l] = model.radius[a];
+  b.ima[l] = tables.contactInverseMass[a];
+  b.spinInverseA[l] = tables.inverseSpinInertia[a];
+  b.spinsA[l] = kindA == 1 ? 1.0 : 0.0;
+  fillLaneOther(in, seed, kindB, l, b);
+  const Vec3 anchor = before != nullptr ? before->anchor : Vec3{};
+  const bool slid = before != nullptr && before->sliding == kSliding;
+  const Vec3 offset = slid ? before->frictionForce * (-1.0 / k.tangentialStiffness) : Vec3{};
+  b.anchorx[l] = anchor.x, b.anchory[l] = anchor.y, b.anchorz[l] = anchor.z;
+  b.hasBefore[l] = before != nullptr ? 1.0 : 0.0;
+  b.offsetx[l] = offset.x, b.offsety[l] = offset.y, b.offsetz[l] = offset.z;
+  b.slidBefore[l] = slid ? 1.0 : 0.0;
+  b.stiffness[l] = k.stiffness;
+  b.damping[l] = k.damping;
+  b.tangentialStiffness[l] = k.tangentialStiffness;
+  b.staticFriction[l] = k.staticFriction;
+  b.tangentialDampingRatio[l] = k.tangentialDampingRatio;
+}
+
+// The lanes past a batch of `count` up to the next four: a copy of its first.
+void padLanes(detail::PairLaneBatch& b, std::size_t count) {
+  for (std::size_t l = count; l % 4 != 0; ++l) {
     for (double* x :
          {b.pax, b.pay, b.paz, b.pbx, b.pby, b.pbz, b.vax, b.vay, b.vaz, b.vbx, b.vby, b.vbz,
           b.wax, b.way, b.waz, b.wbx, b.wby, b.wbz, b.anchorx, b.anchory, b.anchorz, b.hasBefore,
@@ -849,6 +832,39 @@ void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std
           b.tangentialDampingRatio})
       x[l] = x[0];
   }
+}
+
+// The lean stage's batch [begin, end) into the lanes (pair_lanes.h): each
+// contact's inputs (fillLane), where its history is (PairLaneBatch::history,
+// persists), and the lanes past it padded (padLanes). `old` is the history's
+// cursor at `begin`; the next batch's contacts and history are asked for ahead
+// (the history and the new list are larger than the cache).
+void fillPairLanes(const StageInput& in, std::size_t begin, std::size_t end, std::size_t old,
+                   std::size_t oldEnd, detail::PairLaneBatch& b, bool* use) {
+  const std::vector<Contact>& previous = in.previous;
+  const ContactScratch& cache = in.cache;
+  for (std::size_t j = begin; j < end; ++j) {
+    const std::size_t l = j - begin;
+    const ContactSeed& seed = cache.seeds[j];
+    while (old < oldEnd && previous[old].key() < seed.key) ++old;
+    const Contact* before =
+        old < oldEnd && previous[old].key() == seed.key ? &previous[old] : nullptr;
+    b.history[l] = old;
+    b.persists[l] = before != nullptr;
+    if (before != nullptr) ++old;
+    fillLane(in, seed, before, l, b, use[l]);
+  }
+  const std::size_t next = std::min(cache.seeds.size(), end + detail::PairLaneBatch::kSize);
+  for (std::size_t j = end; j < next; ++j) {
+    prefetchContact(cache.freshContacts.data() + j, true);
+    if (old + (j - end) < oldEnd) prefetchContact(previous.data() + old + (j - end), false);
+    const std::int32_t other = cache.seeds[j].other();
+    if (other >= 0) {
+      prefetchRead(in.p.data() + other);
+      prefetchRead(in.v.data() + other);
+    }
+  }
+  padLanes(b, end - begin);
 }
 
 // A lean contact the lanes worked out (fillPairLanes, runPairLanes), its
@@ -941,12 +957,25 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   runTerms = {terms.released, terms.dissipated, c.anchorEnergy};
 }
 
-// One chunk of the contacts: geometry, normal force, the friction trial of each
-// contact and its group's sums; at the end of each run (a's object's contacts)
-// the groups decide and the friction forces follow. A contact between two
-// particles, or one and the environment, whose sides spin or do not turn, leaves
-// its loads for the gather by particle; the others (facets, rims, a side turning
-// with its LS neighbourhood) are deferred to the serial pass.
+// One chunk of the contacts, walked in contact order by ChunkWalk::run. For
+// each contact, these steps (each a named member below):
+//   nextBatch      the bare pairs' geometry a batch ahead (AVX2 lanes or scalar);
+//   startContact   the contact from what the detection found, and its record of
+//                  the last evaluation (the friction history);
+//   laneContact    (lean, AVX2) the whole contact the lanes worked out;
+//   beginTrial     the pair's parameters, its run and its friction trial's slot;
+//   sideGeometry   facet | particle pair | rim | environment: the touching
+//                  point's relative position, velocity, arms and effective mass;
+//   applyNormalLaw MODEL §3.1;
+//   turnSides      how each side turns its contact point (MODEL §3.3 rolling);
+//   frictionTrial  MODEL §3.3 with an anchor: δ_t, the slip, the spring and damper;
+//   joinOrDecide   the contact joins its group (lean: decides at once);
+//   finishRun      at a run's end (a's object's contacts) the groups decide and
+//                  the friction forces follow.
+// A contact between two particles, or one and the environment, whose sides spin
+// or do not turn, leaves its loads for the gather by particle; the others
+// (facets, rims, a side turning with its LS neighbourhood) are deferred to the
+// serial pass.
 // Lean: every group is one contact (ContactTables::singleParticleBodies) and
 // none is deferred: each contact's group decides, and its friction and loads
 // follow, as soon as its trial is taken, the same operations as at the end of
@@ -955,378 +984,393 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
 // adds what it left for the stage's sums (ContactChunk::runTerms), in the same
 // order.
 template <bool Lean>
-void runChunk(const StageInput& in, ContactChunk& chunk) {
-  const Model& model = in.model;
-  const ContactTables& tables = in.tables;
-  const std::vector<Vec3>& p = in.p;
-  const std::vector<Vec3>& v = in.v;
-  const std::vector<Contact>& previous = in.previous;
-  ContactScratch& cache = in.cache;
-  std::vector<Contact>& contacts = cache.freshContacts;
-  StageTally tally;
-  ContactStats& stats = chunk.stats;
-  stats = ContactStats{};
-  chunk.groups.clear();
-  chunk.rings.clear();
-  chunk.inverses.clear();
-  chunk.deferred.clear();
-  const double stickVelocity = model.contact.stickVelocity;
-  const bool direct = in.force != nullptr;
+class ChunkWalk {
+ public:
+  ChunkWalk(const StageInput& in, ContactChunk& chunk)
+      : in_(in), model_(in.model), tables_(in.tables), p_(in.p), v_(in.v), previous_(in.previous),
+        cache_(in.cache), contacts_(in.cache.freshContacts), chunk_(chunk),
+        stickVelocity_(in.model.contact.stickVelocity), direct_(in.force != nullptr),
+        runFirst_(chunk.begin), old_(chunk.historyBegin), oldEnd_(chunk.historyEnd),
+        batchBegin_(chunk.begin), batchEnd_(chunk.begin),
+        lanes_(Lean && in.tables.overrides.empty() && detail::pairLanesAvailable()) {
+    chunk_.stats = ContactStats{};
+    chunk_.groups.clear();
+    chunk_.rings.clear();
+    chunk_.inverses.clear();
+    chunk_.deferred.clear();
+  }
 
-  // A run: the contacts from the first of a's object (the first with friction)
-  // to the next object's. Its groups decide, and its contacts' friction is
-  // worked out, when it ends (its trials are still in the cache).
-  std::size_t runFirst = chunk.begin;
-  const auto finishRun = [&](std::size_t end) {
-    if constexpr (Lean) {  // (its contacts have decided and added their loads)
-      for (std::size_t k = 0; k < end - runFirst; ++k) {
-        const ContactScratch::ContactChunk::RunTerms& terms = chunk.runTerms[k];
-        tally.releasedEnergy += terms.released;
-        tally.dissipativePower -= terms.dissipated;
-        tally.potential += terms.anchorEnergy;
-      }
-      runFirst = end;
-      return;
-    }
-    decideGroups(chunk.groups, chunk.trials.data(), end - runFirst);
-    for (std::size_t index = runFirst; index < end; ++index) {
-      Contact& c = contacts[index];
-      const FrictionTrial& t = chunk.trials[index - runFirst];
-      FrictionTerms terms;
-      ContactLoad& load = direct ? chunk.runLoads[index - runFirst] : cache.loads[index];
-      const Vec3 friction = contactFriction(
-          t, t.group >= 0 ? &chunk.groups[static_cast<std::size_t>(t.group)] : nullptr, c, load,
-          terms);
-      if (!load.deferred) {
-        // As the scatter in accumulateContacts, contact by contact.
-        if (direct) scatterLoad(load, *in.force, *in.torque, cache);
-      } else if (t.group >= 0) {
-        FrictionApplication& application = cache.applications[index];
-        application.force = friction;
-        application.kind = c.involvesFacets() ? FrictionApplication::kFacet
-                           : c.rim >= 0       ? FrictionApplication::kRing
-                                              : FrictionApplication::kParticles;
-      }
-      tally.releasedEnergy += terms.released;
-      tally.dissipativePower -= terms.dissipated;
-      tally.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
-    }
-    chunk.groups.clear();
-    runFirst = end;
+  void run() {
+    for (std::size_t index = chunk_.begin; index < chunk_.end; ++index) contactAt(index);
+    for (; old_ < oldEnd_; ++old_) tally_.releasedEnergy += previous_[old_].anchorEnergy;
+    finishRun(chunk_.end);
+    chunk_.potential = tally_.potential;
+    chunk_.dissipativePower = tally_.dissipativePower;
+    chunk_.releasedEnergy = tally_.releasedEnergy;
+  }
+
+ private:
+  // The contact being worked out (set by startContact .. frictionTrial).
+  struct Current {
+    std::size_t index = 0;
+    const ContactSeed* seed = nullptr;
+    std::int32_t a = -1, other = -1;
+    Contact* c = nullptr;
+    const Contact* before = nullptr;  // its record of the last evaluation, if it persists
+    const PairParameters* k = nullptr;
+    bool frictionless = false, faceted = false, rimmed = false;
+    FrictionTrial* t = nullptr;
+    double smallerRadius = 0.0, inverseMass = 0.0;
+    double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
+    double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
+    double facetStiffness = 0.0, normalForce = 0.0;
+    Vec3 relativeVelocity, rollVelocity;          // of the centres; ω × arm's
+    Vec3 normal, rollMoment;                      // F_n k̂; the rolling resistance on a
+    Turning ta, tb;
   };
 
-  std::size_t old = chunk.historyBegin;
-  const std::size_t oldEnd = chunk.historyEnd;
-  std::int64_t runObject = -1;
-  PairParameters overrideParameters;
-  // Lean: the current contact's trial and loads.
-  FrictionTrial leanTrial;
-  ContactLoad leanLoad;
-  // Per contact, filled only for facet and rim contacts (kept out of the loop:
-  // they are large, and most contacts need neither).
-  FacetKinematics facet;
-  RingMotion ring;  // the current rim contact's (a copy of chunk.rings.back())
+  void contactAt(std::size_t index) ROBOPHI_ALWAYS_INLINE {
+    // The lists are larger than the cache: fetch the contacts a few ahead (the
+    // new one to write, the history's to read). (The lanes fetch a batch ahead:
+    // fillPairLanes.)
+    constexpr std::size_t kAhead = 6;
+    if (!lanes_ && index + kAhead < chunk_.end) prefetchContact(contacts_.data() + index + kAhead, true);
+    if (!lanes_ && old_ + kAhead < oldEnd_) prefetchContact(previous_.data() + old_ + kAhead, false);
+    if (index == batchEnd_) nextBatch(index);
+    startContact(index);
+    if constexpr (Lean) {
+      if (lanes_ && useLanes_[index - batchBegin_]) {
+        laneContact();
+        return;
+      }
+    }
+    beginTrial();
+    sideGeometry();
+    applyNormalLaw();
+    Current& w = w_;
+    if (w.frictionless && w.k->rollingResistance <= 0.0) {
+      w.c->rollVelocity = Vec3{};
+      withoutAnchor();
+      return;
+    }
+    turnSides();
+    if (w.frictionless) {
+      withoutAnchor();
+      return;
+    }
+    frictionTrial();
+    joinOrDecide();
+  }
+
   // The geometry of the bare particle pairs (most contacts), worked out a batch
   // ahead: a pair's chain of square roots and divisions (distance, normal,
   // arms' lengths) is long, and the pairs of a batch overlap theirs, where
-  // within the loop each waited for its own.
-  constexpr std::size_t kBatch = detail::PairLaneBatch::kSize;
-  PairGeometry batch[kBatch];
-  PairGeometry treePair;  // (a pair the trees found: not in the batch)
-  std::size_t batchBegin = chunk.begin, batchEnd = chunk.begin;
-  // Lean: the batch's contacts four at a time (pair_lanes.h), where the
-  // processor has AVX2: the geometry of each bare pair, and the whole of each
-  // contact the lanes work out (`useLanes`).
-  const bool lanes = Lean && tables.overrides.empty() && detail::pairLanesAvailable();
-  detail::PairLaneBatch laneBatch;  // (its lanes are written before they are read)
-  bool useLanes[kBatch];
-  for (std::size_t index = chunk.begin; index < chunk.end; ++index) {
-    // The lists are larger than the cache: fetch the contacts a few ahead (the
-    // new one to write, the history's to read).
-    // (The lanes fetch a batch ahead: fillPairLanes.)
-    constexpr std::size_t kAhead = 6;
-    if (!lanes && index + kAhead < chunk.end) prefetchContact(contacts.data() + index + kAhead, true);
-    if (!lanes && old + kAhead < oldEnd) prefetchContact(previous.data() + old + kAhead, false);
-    if (index == batchEnd) {
-      batchBegin = index;
-      batchEnd = std::min(chunk.end, index + kBatch);
-      if (lanes) {
-        fillPairLanes(in, batchBegin, batchEnd, old, oldEnd, laneBatch, useLanes);
-        detail::runPairLanes(laneBatch, batchEnd - batchBegin);
-        for (std::size_t j = batchBegin; j < batchEnd; ++j) {
-          const std::size_t l = j - batchBegin;
-          if (useLanes[l] || cache.seeds[j].full != -1) continue;  // (only the scalar stage's)
-          PairGeometry& g = batch[l];
-          g.relative = {laneBatch.relx[l], laneBatch.rely[l], laneBatch.relz[l]};
-          g.normal = {laneBatch.nx[l], laneBatch.ny[l], laneBatch.nz[l]};
-          g.depth = laneBatch.depth[l];
-          g.armLengthA = laneBatch.armLengthA[l];
-          g.armLengthB = laneBatch.armLengthB[l];
-        }
-      } else {
-        for (std::size_t j = batchBegin; j < batchEnd; ++j) {
-          const ContactSeed& pair = cache.seeds[j];
-          if (pair.full == -1) pairGeometry(model, p, pair.a(), pair.other(), batch[j - batchBegin]);
-        }
+  // within the loop each waited for its own. Lean with AVX2: the batch's
+  // contacts four at a time (pair_lanes.h), the geometry of each bare pair and
+  // the whole of each contact the lanes work out (`useLanes_`).
+  void nextBatch(std::size_t index) {
+    batchBegin_ = index;
+    batchEnd_ = std::min(chunk_.end, index + kBatch);
+    if (!lanes_) {
+      for (std::size_t j = batchBegin_; j < batchEnd_; ++j) {
+        const ContactSeed& pair = cache_.seeds[j];
+        if (pair.full == -1) pairGeometry(model_, p_, pair.a(), pair.other(), batch_[j - batchBegin_]);
       }
+      return;
     }
-    // The contact, built once from what the detection found. (Its key and
-    // sides are read from the seed: read back from c, they stall on its stores.)
-    const ContactSeed& seed = cache.seeds[index];
-    const std::int32_t a = seed.a(), other = seed.other();
-    Contact& c = contacts[index];
+    fillPairLanes(in_, batchBegin_, batchEnd_, old_, oldEnd_, laneBatch_, useLanes_);
+    detail::runPairLanes(laneBatch_, batchEnd_ - batchBegin_);
+    for (std::size_t j = batchBegin_; j < batchEnd_; ++j) {
+      const std::size_t l = j - batchBegin_;
+      if (useLanes_[l] || cache_.seeds[j].full != -1) continue;  // (only the scalar stage's)
+      PairGeometry& g = batch_[l];
+      g.relative = {laneBatch_.relx[l], laneBatch_.rely[l], laneBatch_.relz[l]};
+      g.normal = {laneBatch_.nx[l], laneBatch_.ny[l], laneBatch_.nz[l]};
+      g.depth = laneBatch_.depth[l];
+      g.armLengthA = laneBatch_.armLengthA[l];
+      g.armLengthB = laneBatch_.armLengthB[l];
+    }
+  }
+
+  // The contact, built once from what the detection found (its key and sides
+  // read from the seed: read back from c, they stall on its stores), and the
+  // friction anchor of a contact that persists (both lists sorted): what opened
+  // before this key is released, then its own record taken. (The lanes' batch
+  // has walked the history already: fillPairLanes.)
+  void startContact(std::size_t index) ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    w.index = index;
+    w.seed = &cache_.seeds[index];
+    const ContactSeed& seed = *w.seed;
+    w.a = seed.a();
+    w.other = seed.other();
+    w.c = &contacts_[index];
     if (seed.full == -1) {
-      startBarePair(c, a, other);
+      startBarePair(*w.c, w.a, w.other);
     } else {
-      startFoundContact(c, seed.full >= 0
-                               ? cache.detectedContacts[static_cast<std::size_t>(seed.full)]
-                               : cache.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
+      startFoundContact(*w.c, seed.full >= 0
+                                  ? cache_.detectedContacts[static_cast<std::size_t>(seed.full)]
+                                  : cache_.treeContacts[static_cast<std::size_t>(-2 - seed.full)]);
     }
-    // Carry the friction anchor of a contact that persists (both lists sorted):
-    // release what opened before this key, then take its own record. (The lanes'
-    // batch has walked the history already: fillPairLanes.)
-    const Contact* before = nullptr;
-    if (lanes) {
-      const std::size_t l = index - batchBegin;
-      for (; old < laneBatch.history[l]; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
-      if (laneBatch.persists[l]) before = &previous[old++];
-    } else {
-      while (old < oldEnd && previous[old].key() < seed.key) {
-        tally.releasedEnergy += previous[old].anchorEnergy;  // contact opened
-        ++old;
-      }
-      if (old < oldEnd && previous[old].key() == seed.key) before = &previous[old++];
+    w.before = nullptr;
+    if (lanes_) {
+      const std::size_t l = index - batchBegin_;
+      for (; old_ < laneBatch_.history[l]; ++old_) tally_.releasedEnergy += previous_[old_].anchorEnergy;
+      if (laneBatch_.persists[l]) w.before = &previous_[old_++];
+      return;
     }
-    if constexpr (Lean) {
-      const std::size_t l = index - batchBegin;
-      if (lanes && useLanes[l]) {
-        const std::int64_t objectA = groupKey(tables, a);
-        if (objectA != runObject) {  // (it has friction)
-          finishRun(index);
-          runObject = objectA;
-        }
-        if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
-        addLaneContact(laneBatch, l, in, a, other, before, c, leanTrial, leanLoad,
-                       direct ? nullptr : &cache.loads[index], tally, stats,
-                       chunk.runTerms[index - runFirst]);
-        continue;
-      }
+    while (old_ < oldEnd_ && previous_[old_].key() < seed.key) {
+      tally_.releasedEnergy += previous_[old_].anchorEnergy;  // contact opened
+      ++old_;
     }
-    const PairParameters& k = pairParameters(model, tables, a, other, overrideParameters);
-    const bool frictionless =
+    if (old_ < oldEnd_ && previous_[old_].key() == seed.key) w.before = &previous_[old_++];
+  }
+
+  // A contact the lanes worked out whole (lean): into its run and the sums.
+  void laneContact() {
+    Current& w = w_;
+    const std::int64_t objectA = groupKey(tables_, w.a);
+    if (objectA != runObject_) {  // (it has friction)
+      finishRun(w.index);
+      runObject_ = objectA;
+    }
+    const std::size_t slot = w.index - runFirst_;
+    if (chunk_.runTerms.size() <= slot) chunk_.runTerms.resize(slot + 1);
+    addLaneContact(laneBatch_, w.index - batchBegin_, in_, w.a, w.other, w.before, *w.c, leanTrial_,
+                   leanLoad_, direct_ ? nullptr : &cache_.loads[w.index], tally_, chunk_.stats,
+                   chunk_.runTerms[slot]);
+  }
+
+  // The pair's parameters; a contact with friction of another object than the
+  // last one's ends the run (its groups decide); the trial's slot in the run.
+  void beginTrial() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    const PairParameters& k = pairParameters(model_, tables_, w.a, w.other, overrideParameters_);
+    w.k = &k;
+    w.frictionless =
         k.tangentialStiffness <= 0.0 || (k.staticFriction <= 0.0 && k.kineticFriction <= 0.0);
     // The group: (a's object, the other's object or the environment item).
-    const std::int64_t objectA = groupKey(tables, a);
-    if (!frictionless && objectA != runObject) {
-      finishRun(index);
-      runObject = objectA;
+    const std::int64_t objectA = groupKey(tables_, w.a);
+    if (!w.frictionless && objectA != runObject_) {
+      finishRun(w.index);
+      runObject_ = objectA;
     }
-    FrictionTrial* trial = &leanTrial;
+    const std::size_t slot = w.index - runFirst_;
+    w.t = &leanTrial_;
     if constexpr (Lean) {
-      if (chunk.runTerms.size() <= index - runFirst) chunk.runTerms.resize(index - runFirst + 1);
+      if (chunk_.runTerms.size() <= slot) chunk_.runTerms.resize(slot + 1);
     } else {
-      if (chunk.trials.size() <= index - runFirst) chunk.trials.resize(index - runFirst + 1);
-      if (direct && chunk.runLoads.size() <= index - runFirst)
-        chunk.runLoads.resize(index - runFirst + 1);
-      trial = &chunk.trials[index - runFirst];
+      if (chunk_.trials.size() <= slot) chunk_.trials.resize(slot + 1);
+      if (direct_ && chunk_.runLoads.size() <= slot) chunk_.runLoads.resize(slot + 1);
+      w.t = &chunk_.trials[slot];
     }
-    FrictionTrial& t = *trial;
+    FrictionTrial& t = *w.t;
     t.turnA = 0;
     t.turnB = 0;
     t.ring = -1;
-    double smallerRadius = model.radius[a];
-    Vec3 relativeVelocity;
-    double inverseMass = tables.contactInverseMass[a];
+    w.smallerRadius = model_.radius[w.a];
+    w.relativeVelocity = Vec3{};
+    w.inverseMass = tables_.contactInverseMass[w.a];
     // MODEL §3.8 flat faces (collision/facets.h): a vertex or a particle against a
     // triangle or the environment, by the same law at the touching point; the
     // faceted side does not turn (its lattice rotates with its particles).
-    const bool faceted = !Lean && c.involvesFacets();
-    const bool rimmed = !Lean && c.rim >= 0;      // (Lean: neither facets nor rims)
-    double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
-    double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
-    double facetStiffness = 0.0;
-    if (faceted) {
-      facetKinematics(model, p, v, before, c, facet);
-      if (before != nullptr) before = &facet.previous;
-      t.relative = facet.relative;
-      relativeVelocity = facet.relativeVelocity;
-      inverseMass = 1.0 / facet.reducedMass;
-      smallerRadius = facet.radius;
-      t.armA = c.vertex >= 0 ? Vec3{} : c.normal * -(model.radius[a] + c.depth);
-      t.armB = Vec3{};
-      facetStiffness = facetExtraStiffness(model, k.stiffness, c);
-      ++stats.facetContacts;
-    } else if (other >= 0) {
-      const std::int32_t b = other;
-      // Worked out with its batch (above), or now (a pair the trees found).
-      if (seed.full != -1) pairGeometry(model, p, a, b, treePair);
-      const PairGeometry& g = seed.full == -1 ? batch[index - batchBegin] : treePair;
-      t.relative = g.relative;
-      c.normal = g.normal;
-      c.depth = g.depth;
-      pairArms(g.normal, g.depth, model.radius[a], model.radius[b], t.armA, t.armB);
-      armLengthA = g.armLengthA;
-      armLengthB = g.armLengthB;
-      smallerRadius = std::min(smallerRadius, model.radius[b]);
-      relativeVelocity = v[a] - v[b];
-      inverseMass += tables.contactInverseMass[b];
-      ++stats.particleContacts;
-    } else if (rimmed) {
-      // A round rim or ball (rigid about its centre, above): the contact point on
-      // the surface is c.arm from the body's centre.
-      const RimRing& round = model.rims[static_cast<std::size_t>(c.rim)];
-      t.ring = static_cast<std::int32_t>(chunk.rings.size());
-      chunk.rings.push_back(ringMotion(model, p, v, round));
-      ring = chunk.rings.back();
-      t.relative = ring.center;
-      relativeVelocity = ring.velocity;
-      inverseMass = 1.0 / ring.mass;
-      t.armA = c.arm;
-      t.armB = Vec3{};
-      // A ring: d = n·(c + R u) - h - r changes with its turning and size too.
-      // A ball: d = n·c - h - R with R fixed, and its turning moves no depth.
-      if (round.isSphere()) {
-        smallerRadius = round.sphereRadius;
-      } else {
-        squeezeRate = (dot(c.normal, c.arm) + model.radius[a]) / ring.radius;
-      }
-      ++stats.environmentContacts;
+    w.faceted = !Lean && w.c->involvesFacets();
+    w.rimmed = !Lean && w.c->rim >= 0;  // (Lean: neither facets nor rims)
+    w.squeezeRate = 0.0;
+    w.armLengthA = -1.0;
+    w.armLengthB = -1.0;
+    w.facetStiffness = 0.0;
+  }
+
+  // The touching point's kinematics, by the contact's geometry: the narrow
+  // phase's dispatch over its sides' kinds.
+  void sideGeometry() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    if (w.faceted) {
+      facetSide();
+    } else if (w.other >= 0) {
+      pairSide();
+    } else if (w.rimmed) {
+      rimSide();
     } else {
-      t.relative = p[a];
-      relativeVelocity = v[a];
-      t.armA = c.normal * -model.radius[a];  // the point on a's own surface
+      FrictionTrial& t = *w.t;
+      t.relative = p_[w.a];
+      w.relativeVelocity = v_[w.a];
+      t.armA = w.c->normal * -model_.radius[w.a];  // the point on a's own surface
       t.armB = Vec3{};
-      ++stats.environmentContacts;
+      ++chunk_.stats.environmentContacts;
     }
-    // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0.
+  }
+
+  // A vertex or a particle on a triangle, or a vertex on the environment.
+  void facetSide() {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    Contact& c = *w.c;
+    facetKinematics(model_, p_, v_, w.before, c, facet_);
+    if (w.before != nullptr) w.before = &facet_.previous;
+    t.relative = facet_.relative;
+    w.relativeVelocity = facet_.relativeVelocity;
+    w.inverseMass = 1.0 / facet_.reducedMass;
+    w.smallerRadius = facet_.radius;
+    t.armA = c.vertex >= 0 ? Vec3{} : c.normal * -(model_.radius[w.a] + c.depth);
+    t.armB = Vec3{};
+    w.facetStiffness = facetExtraStiffness(model_, w.k->stiffness, c);
+    ++chunk_.stats.facetContacts;
+  }
+
+  // Two particles: worked out with its batch (nextBatch), or now (a pair the
+  // trees found).
+  void pairSide() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    Contact& c = *w.c;
+    const std::int32_t b = w.other;
+    if (w.seed->full != -1) pairGeometry(model_, p_, w.a, b, treePair_);
+    const PairGeometry& g = w.seed->full == -1 ? batch_[w.index - batchBegin_] : treePair_;
+    t.relative = g.relative;
+    c.normal = g.normal;
+    c.depth = g.depth;
+    pairArms(g.normal, g.depth, model_.radius[w.a], model_.radius[b], t.armA, t.armB);
+    w.armLengthA = g.armLengthA;
+    w.armLengthB = g.armLengthB;
+    w.smallerRadius = std::min(w.smallerRadius, model_.radius[b]);
+    w.relativeVelocity = v_[w.a] - v_[b];
+    w.inverseMass += tables_.contactInverseMass[b];
+    ++chunk_.stats.particleContacts;
+  }
+
+  // A round rim or ball (rigid about its centre): the contact point on the
+  // surface is c.arm from the body's centre.
+  void rimSide() {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    const Contact& c = *w.c;
+    const RimRing& round = model_.rims[static_cast<std::size_t>(c.rim)];
+    t.ring = static_cast<std::int32_t>(chunk_.rings.size());
+    chunk_.rings.push_back(ringMotion(model_, p_, v_, round));
+    ring_ = chunk_.rings.back();
+    t.relative = ring_.center;
+    w.relativeVelocity = ring_.velocity;
+    w.inverseMass = 1.0 / ring_.mass;
+    t.armA = c.arm;
+    t.armB = Vec3{};
+    // A ring: d = n·(c + R u) - h - r changes with its turning and size too.
+    // A ball: d = n·c - h - R with R fixed, and its turning moves no depth.
+    if (round.isSphere()) {
+      w.smallerRadius = round.sphereRadius;
+    } else {
+      w.squeezeRate = (dot(c.normal, c.arm) + model_.radius[w.a]) / ring_.radius;
+    }
+    ++chunk_.stats.environmentContacts;
+  }
+
+  // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂ for d < 0, clamped at >= 0; its
+  // spring's energy, the power of its non-elastic part, the deepest contact.
+  void applyNormalLaw() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    Contact& c = *w.c;
+    const PairParameters& k = *w.k;
     const Vec3 n = c.normal;  // (a copy: read back from c, it stalls on its own stores)
     const double d = c.depth;
-    const double dDot = rimmed ? dot(relativeVelocity + cross(ring.omega, t.armA), n) +
-                                     squeezeRate * ring.radiusRate
-                               : dot(relativeVelocity, n);
-    double normalForce = -k.stiffness * d - k.damping * dDot;
-    if (normalForce < 0.0) normalForce = 0.0;
+    const double dDot = w.rimmed ? dot(w.relativeVelocity + cross(ring_.omega, w.t->armA), n) +
+                                       w.squeezeRate * ring_.radiusRate
+                                 : dot(w.relativeVelocity, n);
+    const law::NormalLoad<double> law = law::normalLaw<law::ScalarOps>(k.stiffness, k.damping, d, dDot);
+    const double normalForce = law.force;
     c.normalForce = normalForce;
-    tally.potential += 0.5 * k.stiffness * d * d;
-    // Power of the non-elastic part: (F_n + κ d) ḋ (the damper, or the clamp).
-    tally.dissipativePower += (normalForce + k.stiffness * d) * dDot;
-    const Vec3 normal = n * normalForce;
+    w.normalForce = normalForce;
+    tally_.potential += law.potential;
+    tally_.dissipativePower += law.dissipation;
+    w.normal = n * normalForce;
+    ContactStats& stats = chunk_.stats;
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
     // -d / r, a division, only where it may be the deepest so far: the test
     // lets through every quotient above the maximum (its rounding is far below
     // the 1e-9 margin).
-    if (-c.depth > stats.maxPenetrationFraction * smallerRadius * (1.0 - 1e-9)) {
+    if (-c.depth > stats.maxPenetrationFraction * w.smallerRadius * (1.0 - 1e-9)) {
       stats.maxPenetrationFraction =
-          std::max(stats.maxPenetrationFraction, -c.depth / smallerRadius);
+          std::max(stats.maxPenetrationFraction, -c.depth / w.smallerRadius);
     }
-
+    FrictionTrial& t = *w.t;
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
-    Vec3 rollMoment;  // rolling resistance on a
-    // The contact's loads once its sides' turning is known: left for the gather
-    // by particle, or deferred (with what the serial pass needs). (Inlined: a
-    // call reaches every capture through the closure, on every contact.)
-    const auto settle = [&](double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
-      double stiffness = 0.0, damping = 0.0;
-      contactRates(tables, k, a, other, rotationFactor, tangentialDamping, stiffness, damping);
-      ContactLoad& load = Lean     ? leanLoad
-                          : direct ? chunk.runLoads[index - runFirst]
-                                   : cache.loads[index];
-      load.a = a;
-      load.other = other;
-      load.deferred = !Lean && (faceted || rimmed || t.turnA == 2 || t.turnB == 2);
-      if (!load.deferred) {
-        load.force = normal;
-        load.torqueA = t.turnA == 1 ? rollMoment : Vec3{};
-        load.torqueB = t.turnB == 1 ? rollMoment * -1.0 : Vec3{};
-        load.stiffness = stiffness;
-        load.damping = damping;
-        return;
-      }
-      FrictionApplication& application = cache.applications[index];
-      application.kind = FrictionApplication::kNone;
-      application.force = Vec3{};
-      application.normal = normal;
-      application.rollMoment = rollMoment;
-      application.rolling = k.rollingResistance > 0.0;
-      application.armA = t.armA;
-      application.armB = t.armB;
-      application.squeeze = normalForce * squeezeRate;
-      application.stiffness = stiffness;
-      application.damping = damping;
-      application.facetStiffness = facetStiffness;
-      application.ring = t.ring;
-      application.turnA = static_cast<std::int8_t>(t.turnA);
-      application.turnB = static_cast<std::int8_t>(t.turnB);
-      application.inverse = -1;
-      if (t.turnA == 2 || t.turnB == 2) {
-        application.inverse = static_cast<std::int32_t>(chunk.inverses.size() / 12);
-        chunk.inverses.insert(chunk.inverses.end(), t.inverseA, t.inverseA + 6);
-        chunk.inverses.insert(chunk.inverses.end(), t.inverseB, t.inverseB + 6);
-      }
-      chunk.deferred.push_back(static_cast<std::int32_t>(index));
-    };
-    // Lean: the contact's friction (its group, itself, has decided: `group`;
-    // null without friction) and its loads, now.
-    const auto finishAlone = [&](const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
-      FrictionTerms terms;
-      contactFriction(t, group, c, leanLoad, terms);
-      deliverLoad(leanLoad, direct ? nullptr : &cache.loads[index], in.force, in.torque, cache);
-      chunk.runTerms[index - runFirst] = {terms.released, terms.dissipated, c.anchorEnergy};
-    };
-    // A contact without friction holds no anchor (its old one's energy is released).
-    const auto withoutAnchor = [&] {
-      c.anchor = t.relative;
-      c.anchorEnergy = 0.0;
-      c.slip = Vec3{};
-      c.giveWay = 0.0;
-      if (before != nullptr) tally.releasedEnergy += before->anchorEnergy;
-      settle(1.0, 0.0);
-      if constexpr (Lean) finishAlone(nullptr);
-    };
-    if (frictionless && k.rollingResistance <= 0.0) {
-      c.rollVelocity = Vec3{};
-      withoutAnchor();
-      continue;
-    }
-    // The contact points' velocities: the rotation of each body adds ω × arm.
-    Turning ta;
-    if (rimmed) {  // the ring turns as a whole (kind 3)
-      ta.kind = 3;
-      ta.omega = ring.omega;
-      ta.armInverseInertia = squaredNorm(t.armA) * ring.largestInverse;
+    w.rollMoment = Vec3{};
+  }
+
+  // The contact points' velocities: the rotation of each body adds ω × arm;
+  // the rolling resistance's moment.
+  void turnSides() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    Contact& c = *w.c;
+    w.ta = Turning{};
+    w.tb = Turning{};
+    if (w.rimmed) {  // the ring turns as a whole (kind 3)
+      w.ta.kind = 3;
+      w.ta.omega = ring_.omega;
+      w.ta.armInverseInertia = squaredNorm(t.armA) * ring_.largestInverse;
     } else if (Lean || c.vertex < 0) {
-      ta = turningOf(model, tables, cache, p, v, in.spin, a,
-                     armLengthA >= 0.0 ? armLengthA : norm(t.armA), t.inverseA);
+      w.ta = turningOf(model_, tables_, cache_, p_, v_, in_.spin, w.a,
+                       w.armLengthA >= 0.0 ? w.armLengthA : norm(t.armA), t.inverseA);
     }
-    Turning tb;
-    if (other >= 0 && (Lean || c.facet < 0)) {
-      tb = turningOf(model, tables, cache, p, v, in.spin, other,
-                     armLengthB >= 0.0 ? armLengthB : norm(t.armB), t.inverseB);
+    if (w.other >= 0 && (Lean || c.facet < 0)) {
+      w.tb = turningOf(model_, tables_, cache_, p_, v_, in_.spin, w.other,
+                       w.armLengthB >= 0.0 ? w.armLengthB : norm(t.armB), t.inverseB);
     }
-    t.turnA = ta.kind;
-    t.turnB = tb.kind;
-    const Vec3 rollVelocity = cross(ta.omega, t.armA) - cross(tb.omega, t.armB);
-    c.rollVelocity = rollVelocity;
-    if (k.rollingResistance > 0.0) {
-      rollMoment =
-          rollingResistanceMoment(k, c, ta.omega, tb.omega, surfaceRadius(model, c), tally);
+    t.turnA = w.ta.kind;
+    t.turnB = w.tb.kind;
+    w.rollVelocity = cross(w.ta.omega, t.armA) - cross(w.tb.omega, t.armB);
+    c.rollVelocity = w.rollVelocity;
+    if (w.k->rollingResistance > 0.0) {
+      w.rollMoment = rollingResistanceMoment(*w.k, c, w.ta.omega, w.tb.omega,
+                                             surfaceRadius(model_, c), tally_);
     }
-    if (frictionless) {
-      withoutAnchor();
-      continue;
-    }
-    const Vec3 pointVelocity = relativeVelocity + rollVelocity;
+  }
+
+  // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
+  // from where the contact stuck; the slip, the spring's and damper's loads.
+  // (Its new anchor is set when its group has decided: frictionForce.)
+  void frictionTrial() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    Contact& c = *w.c;
+    const PairParameters& k = *w.k;
+    const Vec3 pointVelocity = w.relativeVelocity + w.rollVelocity;
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
-        inverseMass + ta.armInverseInertia + (other >= 0 ? tb.armInverseInertia : 0.0);
-    t.tangentialDamping =
-        k.tangentialDampingRatio * 2.0 * std::sqrt(k.tangentialStiffness / tangentialInverse);
-    settle(inverseMass > 0.0 ? tangentialInverse / inverseMass : 1.0, t.tangentialDamping);
-    // MODEL §3.3 with an anchor: δ_t is the tangential part of the displacement
-    // from where the contact stuck.
-    // (Its new anchor is set when its group has decided: frictionForce.)
+        w.inverseMass + w.ta.armInverseInertia + (w.other >= 0 ? w.tb.armInverseInertia : 0.0);
+    t.tangentialDamping = law::tangentialDamping<law::ScalarOps>(
+        k.tangentialDampingRatio, k.tangentialStiffness, tangentialInverse);
+    settle(w.inverseMass > 0.0 ? tangentialInverse / w.inverseMass : 1.0, t.tangentialDamping);
+    anchorOffset();
+    const Vec3 n = c.normal;
+    c.slip = tangentialPart(pointVelocity, n);
+    t.slipSpeed = norm(c.slip);
+    t.elastic = t.delta * -k.tangentialStiffness;
+    t.damper = c.slip * -t.tangentialDamping;
+    // A sliding contact may stick again when its slip has fallen below the stick
+    // velocity, or has reversed since the last evaluation: kinetic friction would
+    // have stopped it within the step (without this, μ_k F_n flips the slip back
+    // and forth every step, a chatter that never comes to rest).
+    const Contact* before = w.before;
+    const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
+    t.slow = t.slipSpeed <= stickVelocity_ || reversed;
+    t.frictionLoad = k.staticFriction * w.normalForce;
+    t.tangentialInverse = tangentialInverse;
+    t.hadBefore = before != nullptr;
+    if (t.hadBefore) t.slipBefore = before->slip;
+  }
+
+  // δ_t from the anchor of the last evaluation (the contact's own point for a
+  // new one), as the history left it.
+  void anchorOffset() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
+    const Contact& c = *w.c;
+    const Contact* before = w.before;
+    const double kt = w.k->tangentialStiffness;
     t.previousEnergy = 0.0;
     t.regimeBefore = kSticking;
     t.giveWayBefore = 0.0;
@@ -1337,10 +1381,10 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       t.giveWayBefore = before->giveWay;
       t.previousEnergy = before->anchorEnergy;
     }
-    const auto tangential = [&n](const Vec3& x) { return tangentialPart(x, n); };
-    t.delta = tangential(t.relative - anchor);
+    const Vec3 n = c.normal;
+    t.delta = tangentialPart(t.relative - anchor, n);
     if (before != nullptr && t.regimeBefore != kSliding &&
-        ((faceted && before->facet != c.facet) || dot(before->normal, n) < kNormalTurn)) {
+        ((w.faceted && before->facet != c.facet) || dot(before->normal, n) < kNormalTurn)) {
       // A vertex's contact moved to another triangle, or a contact's normal
       // turned at once (inside a box past the middle of its faces, a
       // heightfield's top to its side): near an edge the normal jumps (to the
@@ -1351,32 +1395,24 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       const double held = squaredNorm(tangentialPart(t.relative - anchor, before->normal));
       const double now = squaredNorm(t.delta);
       if (now > held) t.delta = t.delta * std::sqrt(held / now);
-      tally.releasedEnergy +=
-          0.5 * k.tangentialStiffness * held - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
+      tally_.releasedEnergy += 0.5 * kt * held - 0.5 * kt * squaredNorm(t.delta);
     }
     if (t.regimeBefore == kSliding) {
       // A sliding anchor follows the slip: over the last step the contact was
       // loaded by kinetic friction (its work booked as dissipation), not by its
       // spring, so the spring holds the offset it had, F_t = -k_t δ_t (MODEL §3.3);
       // what the new normal's projection takes off is released.
-      t.delta = tangential(before->frictionForce * (-1.0 / k.tangentialStiffness));
-      tally.releasedEnergy += t.previousEnergy - 0.5 * k.tangentialStiffness * squaredNorm(t.delta);
+      t.delta = tangentialPart(before->frictionForce * (-1.0 / kt), n);
+      tally_.releasedEnergy += t.previousEnergy - 0.5 * kt * squaredNorm(t.delta);
     }
-    c.slip = tangential(pointVelocity);
-    t.slipSpeed = norm(c.slip);
-    t.elastic = t.delta * -k.tangentialStiffness;
-    t.damper = c.slip * -t.tangentialDamping;
-    // A sliding contact may stick again when its slip has fallen below the stick
-    // velocity, or has reversed since the last evaluation: kinetic friction would
-    // have stopped it within the step (without this, μ_k F_n flips the slip back
-    // and forth every step, a chatter that never comes to rest).
-    const bool reversed = before != nullptr && dot(c.slip, before->slip) < 0.0;
-    t.slow = t.slipSpeed <= stickVelocity || reversed;
+  }
 
-    t.frictionLoad = k.staticFriction * normalForce;
-    t.tangentialInverse = tangentialInverse;
-    t.hadBefore = before != nullptr;
-    if (t.hadBefore) t.slipBefore = before->slip;
+  // Lean: the group (the contact alone) decides, its friction and loads follow.
+  // Else the contact joins its group of the run (a's object with the other's
+  // object or the environment item).
+  void joinOrDecide() ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTrial& t = *w.t;
     if constexpr (Lean) {
       FrictionGroup group;
       t.group = 0;
@@ -1384,22 +1420,170 @@ void runChunk(const StageInput& in, ContactChunk& chunk) {
       decideGroup(group, &t, 1, 0);
       finishAlone(&group);
     } else {
-      const std::int64_t otherBody = other >= 0 ? groupKey(tables, other) : other;
+      const std::int64_t otherBody = w.other >= 0 ? groupKey(tables_, w.other) : w.other;
       std::size_t g = 0;
-      while (g < chunk.groups.size() && chunk.groups[g].other != otherBody) ++g;
-      if (g == chunk.groups.size()) {
-        chunk.groups.emplace_back().other = otherBody;
-      }
+      while (g < chunk_.groups.size() && chunk_.groups[g].other != otherBody) ++g;
+      if (g == chunk_.groups.size()) chunk_.groups.emplace_back().other = otherBody;
       t.group = static_cast<std::int32_t>(g);
-      joinGroup(chunk.groups[g], t);
+      joinGroup(chunk_.groups[g], t);
     }
   }
-  for (; old < oldEnd; ++old) tally.releasedEnergy += previous[old].anchorEnergy;
-  finishRun(chunk.end);
-  chunk.potential = tally.potential;
-  chunk.dissipativePower = tally.dissipativePower;
-  chunk.releasedEnergy = tally.releasedEnergy;
-}
+
+  // The contact's loads once its sides' turning is known: left for the gather
+  // by particle, or deferred (with what the serial pass needs: deferLoad).
+  void settle(double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    const FrictionTrial& t = *w.t;
+    double stiffness = 0.0, damping = 0.0;
+    contactRates(tables_, *w.k, w.a, w.other, rotationFactor, tangentialDamping, stiffness, damping);
+    ContactLoad& load = Lean      ? leanLoad_
+                        : direct_ ? chunk_.runLoads[w.index - runFirst_]
+                                  : cache_.loads[w.index];
+    load.a = w.a;
+    load.other = w.other;
+    load.deferred = !Lean && (w.faceted || w.rimmed || t.turnA == 2 || t.turnB == 2);
+    if (load.deferred) {
+      deferLoad(stiffness, damping);
+      return;
+    }
+    load.force = w.normal;
+    load.torqueA = t.turnA == 1 ? w.rollMoment : Vec3{};
+    load.torqueB = t.turnB == 1 ? w.rollMoment * -1.0 : Vec3{};
+    load.stiffness = stiffness;
+    load.damping = damping;
+  }
+
+  // A deferred contact: what the serial pass (applyDeferred) needs of it.
+  void deferLoad(double stiffness, double damping) {
+    Current& w = w_;
+    const FrictionTrial& t = *w.t;
+    FrictionApplication& application = cache_.applications[w.index];
+    application.kind = FrictionApplication::kNone;
+    application.force = Vec3{};
+    application.normal = w.normal;
+    application.rollMoment = w.rollMoment;
+    application.rolling = w.k->rollingResistance > 0.0;
+    application.armA = t.armA;
+    application.armB = t.armB;
+    application.squeeze = w.normalForce * w.squeezeRate;
+    application.stiffness = stiffness;
+    application.damping = damping;
+    application.facetStiffness = w.facetStiffness;
+    application.ring = t.ring;
+    application.turnA = static_cast<std::int8_t>(t.turnA);
+    application.turnB = static_cast<std::int8_t>(t.turnB);
+    application.inverse = -1;
+    if (t.turnA == 2 || t.turnB == 2) {
+      application.inverse = static_cast<std::int32_t>(chunk_.inverses.size() / 12);
+      chunk_.inverses.insert(chunk_.inverses.end(), t.inverseA, t.inverseA + 6);
+      chunk_.inverses.insert(chunk_.inverses.end(), t.inverseB, t.inverseB + 6);
+    }
+    chunk_.deferred.push_back(static_cast<std::int32_t>(w.index));
+  }
+
+  // Lean: the contact's friction (its group, itself, has decided: `group`;
+  // null without friction) and its loads, now.
+  void finishAlone(const FrictionGroup* group) ROBOPHI_ALWAYS_INLINE {
+    Current& w = w_;
+    FrictionTerms terms;
+    contactFriction(*w.t, group, *w.c, leanLoad_, terms);
+    deliverLoad(leanLoad_, direct_ ? nullptr : &cache_.loads[w.index], in_.force, in_.torque,
+                cache_);
+    chunk_.runTerms[w.index - runFirst_] = {terms.released, terms.dissipated, w.c->anchorEnergy};
+  }
+
+  // A contact without friction holds no anchor (its old one's energy is released).
+  void withoutAnchor() {
+    Current& w = w_;
+    Contact& c = *w.c;
+    c.anchor = w.t->relative;
+    c.anchorEnergy = 0.0;
+    c.slip = Vec3{};
+    c.giveWay = 0.0;
+    if (w.before != nullptr) tally_.releasedEnergy += w.before->anchorEnergy;
+    settle(1.0, 0.0);
+    if constexpr (Lean) finishAlone(nullptr);
+  }
+
+  // A run: the contacts from the first of a's object (the first with friction)
+  // to the next object's. Its groups decide, and its contacts' friction is
+  // worked out, when it ends (its trials are still in the chunk).
+  void finishRun(std::size_t end) {
+    if constexpr (Lean) {  // (its contacts have decided and added their loads)
+      for (std::size_t k = 0; k < end - runFirst_; ++k) {
+        const ContactChunk::RunTerms& terms = chunk_.runTerms[k];
+        tally_.releasedEnergy += terms.released;
+        tally_.dissipativePower -= terms.dissipated;
+        tally_.potential += terms.anchorEnergy;
+      }
+      runFirst_ = end;
+      return;
+    }
+    decideGroups(chunk_.groups, chunk_.trials.data(), end - runFirst_);
+    for (std::size_t index = runFirst_; index < end; ++index) runContactFriction(index);
+    chunk_.groups.clear();
+    runFirst_ = end;
+  }
+
+  // A contact of the run that ended: its friction once its group decided, onto
+  // its loads (added now when direct) or its deferred application.
+  void runContactFriction(std::size_t index) {
+    Contact& c = contacts_[index];
+    const FrictionTrial& t = chunk_.trials[index - runFirst_];
+    FrictionTerms terms;
+    ContactLoad& load = direct_ ? chunk_.runLoads[index - runFirst_] : cache_.loads[index];
+    const Vec3 friction = contactFriction(
+        t, t.group >= 0 ? &chunk_.groups[static_cast<std::size_t>(t.group)] : nullptr, c, load,
+        terms);
+    if (!load.deferred) {
+      // As the scatter in accumulateContacts, contact by contact.
+      if (direct_) scatterLoad(load, *in_.force, *in_.torque, cache_);
+    } else if (t.group >= 0) {
+      FrictionApplication& application = cache_.applications[index];
+      application.force = friction;
+      application.kind = c.involvesFacets() ? FrictionApplication::kFacet
+                         : c.rim >= 0       ? FrictionApplication::kRing
+                                            : FrictionApplication::kParticles;
+    }
+    tally_.releasedEnergy += terms.released;
+    tally_.dissipativePower -= terms.dissipated;
+    tally_.potential += c.anchorEnergy;  // ½ k_t |δ_t|² of the friction anchor
+  }
+
+  static constexpr std::size_t kBatch = detail::PairLaneBatch::kSize;
+
+  const StageInput& in_;
+  const Model& model_;
+  const ContactTables& tables_;
+  const std::vector<Vec3>& p_;
+  const std::vector<Vec3>& v_;
+  const std::vector<Contact>& previous_;
+  ContactScratch& cache_;
+  std::vector<Contact>& contacts_;
+  ContactChunk& chunk_;
+  const double stickVelocity_;
+  const bool direct_;
+  StageTally tally_;
+  std::size_t runFirst_;
+  std::size_t old_;
+  const std::size_t oldEnd_;
+  std::int64_t runObject_ = -1;
+  PairParameters overrideParameters_;
+  // Lean: the current contact's trial and loads.
+  FrictionTrial leanTrial_;
+  ContactLoad leanLoad_;
+  // Per contact, filled only for facet and rim contacts (kept out of Current:
+  // they are large, and most contacts need neither).
+  FacetKinematics facet_;
+  RingMotion ring_;  // the current rim contact's (a copy of chunk.rings.back())
+  PairGeometry batch_[kBatch];
+  PairGeometry treePair_;  // (a pair the trees found: not in the batch)
+  std::size_t batchBegin_, batchEnd_;
+  const bool lanes_;
+  detail::PairLaneBatch laneBatch_;  // (its lanes are written before they are read)
+  bool useLanes_[kBatch];
+  Current w_;
+};
 
 // The serial pass: a deferred contact's loads, in contact order (they reach
 // particles other than its two: a facet's, a ring's, an LS neighbourhood).
@@ -1488,33 +1672,12 @@ void indexLoads(std::size_t particles, ContactScratch& cache) {
   }
 }
 
-}  // namespace
-
-void findContactLoads(const Model& model, const ContactTables& tables, std::int64_t revision,
-                      int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                      const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
-                      ContactScratch& scratch, std::vector<Vec3>* force,
-                      std::vector<Vec3>* torque) {
-  scratch.chunkCount = 0;
-  scratch.direct = false;
-  if (!model.contact.enabled || model.particleCount() == 0) return;
-  ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
-  detectContacts(model, p, threads, cache);
-
-  const auto particles = static_cast<std::size_t>(model.particleCount());
-  if (cache.contactStiffnessSum.size() != particles) {
-    cache.contactStiffnessSum.assign(particles, 0.0);
-    cache.contactDampingSum.assign(particles, 0.0);
-  }
+// The chunks of the contact list: about kContactChunk contacts each, cut only
+// where a's object changes (a run, and so a group's decision, stays in one
+// chunk), each with the history contacts from its first key on. Returns their count.
+std::size_t cutChunks(const ContactTables& tables, const std::vector<Contact>& previous,
+                      ContactScratch& cache) {
   const std::size_t count = cache.seeds.size();
-  // (Resized, not cleared: the buffer swapped back holds the list of two
-  // evaluations ago, so only the difference is constructed.)
-  cache.freshContacts.resize(count);
-  cache.applications.resize(count);
-
-  // The chunks: about kContactChunk contacts each, cut only where a's object
-  // changes (a run, and so a group's decision, stays in one chunk), each with
-  // the history contacts from its first key on.
   constexpr std::size_t kContactChunk = 512;
   std::size_t chunkCount = 0;
   for (std::size_t begin = 0; begin < count;) {
@@ -1540,37 +1703,68 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
     begin = end;
   }
   if (chunkCount > 0) cache.chunks[chunkCount - 1].historyEnd = previous.size();
+  return chunkCount;
+}
 
-  // The neighbourhood rotations of the particles that turn with theirs, once each.
+// The neighbourhood rotations of the particles in contact that turn with
+// theirs (MODEL §3.3), once each, into cache.turning.
+void prepareTurning(const Model& model, const ContactTables& tables, const std::vector<Vec3>& p,
+                    const std::vector<Vec3>& v, int threads, ContactScratch& cache) {
+  const auto particles = static_cast<std::size_t>(model.particleCount());
   TurningCache& turning = cache.turning;
   if (turning.slot.size() != particles) turning.slot.assign(particles, -1);
   turning.particles.clear();
-  if (model.contact.rolling && !tables.rollNeighbour.empty()) {
-    const auto mark = [&](std::int32_t i) {
-      if (i < 0 || turning.slot[static_cast<std::size_t>(i)] >= 0 ||
-          turningKind(model, tables, i) != 2)
-        return;
-      turning.slot[static_cast<std::size_t>(i)] =
-          static_cast<std::int32_t>(turning.particles.size());
-      turning.particles.push_back(i);
-    };
-    for (const ContactSeed& seed : cache.seeds) {
-      mark(seed.a());
-      mark(seed.other());
-    }
-    const std::size_t turners = turning.particles.size();
-    turning.omega.resize(turners);
-    turning.inverse.resize(6 * turners);
-    turning.largest.resize(turners);
-    detail::parallelFor(
-        threads, static_cast<std::int64_t>(turners), [&](std::int64_t begin, std::int64_t end) {
-          for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
-            turning.largest[k] =
-                neighbourhoodRotation(model, tables, p, v, turning.particles[k], turning.omega[k],
-                                      turning.inverse.data() + 6 * k);
-          }
-        });
+  if (!model.contact.rolling || tables.rollNeighbour.empty()) return;
+  const auto mark = [&](std::int32_t i) {
+    if (i < 0 || turning.slot[static_cast<std::size_t>(i)] >= 0 ||
+        turningKind(model, tables, i) != 2)
+      return;
+    turning.slot[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(turning.particles.size());
+    turning.particles.push_back(i);
+  };
+  for (const ContactSeed& seed : cache.seeds) {
+    mark(seed.a());
+    mark(seed.other());
   }
+  const std::size_t turners = turning.particles.size();
+  turning.omega.resize(turners);
+  turning.inverse.resize(6 * turners);
+  turning.largest.resize(turners);
+  detail::parallelFor(
+      threads, static_cast<std::int64_t>(turners), [&](std::int64_t begin, std::int64_t end) {
+        for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+          turning.largest[k] = neighbourhoodRotation(model, tables, p, v, turning.particles[k],
+                                                     turning.omega[k], turning.inverse.data() + 6 * k);
+        }
+      });
+}
+
+}  // namespace
+
+void findContactLoads(const Model& model, const ContactTables& tables, std::int64_t revision,
+                      int threads, const std::vector<Vec3>& p, const std::vector<Vec3>& v,
+                      const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
+                      ContactScratch& scratch, std::vector<Vec3>* force,
+                      std::vector<Vec3>* torque) {
+  scratch.chunkCount = 0;
+  scratch.direct = false;
+  if (!model.contact.enabled || model.particleCount() == 0) return;
+  ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
+  detectContacts(model, p, threads, cache);
+
+  const auto particles = static_cast<std::size_t>(model.particleCount());
+  if (cache.contactStiffnessSum.size() != particles) {
+    cache.contactStiffnessSum.assign(particles, 0.0);
+    cache.contactDampingSum.assign(particles, 0.0);
+  }
+  const std::size_t count = cache.seeds.size();
+  // (Resized, not cleared: the buffer swapped back holds the list of two
+  // evaluations ago, so only the difference is constructed.)
+  cache.freshContacts.resize(count);
+  cache.applications.resize(count);
+
+  const std::size_t chunkCount = cutChunks(tables, previous, cache);
+  prepareTurning(model, tables, p, v, threads, cache);
 
   // Fewer contacts than a parallel loop's minimum: this thread alone.
   const int stageThreads =
@@ -1605,13 +1799,127 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
       [](void* raw, std::int64_t c) {
         const Context& x = *static_cast<const Context*>(raw);
         if (x.lean) {
-          runChunk<true>(*x.input, x.chunks[c]);
+          ChunkWalk<true>(*x.input, x.chunks[c]).run();
         } else {
-          runChunk<false>(*x.input, x.chunks[c]);
+          ChunkWalk<false>(*x.input, x.chunks[c]).run();
         }
       },
       &context);
 }
+
+namespace {
+
+// The chunks' sums and statistics, in chunk order, into the stage's; the
+// deferred loads, in contact order (applyDeferred).
+StageTally sumChunks(const StageInput& input, std::vector<Vec3>& f, std::vector<Vec3>& torque) {
+  ContactScratch& cache = input.cache;
+  StageTally tally;
+  ContactStats& stats = cache.stats;
+  for (std::size_t c = 0; c < cache.chunkCount; ++c) {
+    const ContactChunk& chunk = cache.chunks[c];
+    tally.potential += chunk.potential;
+    tally.dissipativePower += chunk.dissipativePower;
+    tally.releasedEnergy += chunk.releasedEnergy;
+    stats.particleContacts += chunk.stats.particleContacts;
+    stats.environmentContacts += chunk.stats.environmentContacts;
+    stats.facetContacts += chunk.stats.facetContacts;
+    stats.maxPenetration = std::max(stats.maxPenetration, chunk.stats.maxPenetration);
+    stats.maxPenetrationFraction =
+        std::max(stats.maxPenetrationFraction, chunk.stats.maxPenetrationFraction);
+    applyDeferred(input, chunk, f, torque);
+  }
+  return tally;
+}
+
+// MODEL §3.7, the contacts' stability limit of particle i from the sums of its
+// contacts' stiffness and damping, by Gershgorin as for the connectors
+// (estimateStability): ω² <= 2 Σk / m, 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ).
+inline double contactStabilityStep(const ContactTables& tables, std::size_t i, double stiffness,
+                                   double damping) {
+  const double omega = std::sqrt(2.0 * stiffness * tables.contactInverseMass[i]);
+  const double dampingRate = 2.0 * damping * tables.contactInverseMass[i];
+  return dampedCriticalStep(omega, dampingRate);
+}
+
+// Particle i's stability sums, once its loads are in: zeroed again; its limit
+// (a rigid tree's particle: its body's, addRigidTreeTerms) into `step`.
+inline void takeStabilitySums(const ContactTables& tables, ContactScratch& cache, std::size_t i,
+                              double stiffness, double damping, double& step) {
+  if (stiffness == 0.0 && damping == 0.0) return;
+  cache.contactStiffnessSum[i] = 0.0;
+  cache.contactDampingSum[i] = 0.0;
+  if (stiffness != 0.0 && tables.treeOf[i] < 0)
+    step = std::min(step, contactStabilityStep(tables, i, stiffness, damping));
+}
+
+// One thread: the pair contacts' loads scattered in contact order (unless the
+// chunks added them as they went), then each particle's stability sums.
+double gatherSerial(const ContactTables& tables, ContactScratch& cache, std::size_t particles,
+                    std::vector<Vec3>& f, std::vector<Vec3>& torque) {
+  double criticalStep = std::numeric_limits<double>::infinity();
+  const std::size_t count = cache.direct ? 0 : cache.seeds.size();
+  for (std::size_t index = 0; index < count; ++index) {
+    const ContactLoad& load = cache.loads[index];
+    if (!load.deferred) scatterLoad(load, f, torque, cache);
+  }
+  for (std::size_t i = 0; i < particles; ++i)
+    takeStabilitySums(tables, cache, i, cache.contactStiffnessSum[i], cache.contactDampingSum[i],
+                      criticalStep);
+  return criticalStep;
+}
+
+// Particle i's pair-contact loads, gathered: the contacts where it is the other
+// side, then those where it is a, in contact order (the scatter's terms in its
+// order: a pair contact has a < other). Returns its limit into `step`.
+inline void gatherParticle(const ContactTables& tables, ContactScratch& cache, std::size_t i,
+                           std::vector<Vec3>& f, std::vector<Vec3>& torque, double& step) {
+  const ContactLoad* loads = cache.loads.data();
+  Vec3 force = f[i], moment = torque[i];
+  double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
+  for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
+    const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
+    force -= load.force;
+    moment += load.torqueB;
+    stiffness += load.stiffness;
+    damping += load.damping;
+  }
+  for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
+    const ContactLoad& load = loads[index];
+    if (load.deferred) continue;
+    force += load.force;
+    moment += load.torqueA;
+    stiffness += load.stiffness;
+    damping += load.damping;
+  }
+  f[i] = force;
+  torque[i] = moment;
+  takeStabilitySums(tables, cache, i, stiffness, damping, step);
+}
+
+// On threads: a gather by particle (gatherParticle), the smallest limit of each
+// chunk of particles, then of all.
+double gatherThreads(const ContactTables& tables, ContactScratch& cache, std::size_t particles,
+                     std::vector<Vec3>& f, std::vector<Vec3>& torque) {
+  indexLoads(particles, cache);
+  const std::int64_t gatherChunks =
+      (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) / detail::kParallelChunk;
+  cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
+                          std::numeric_limits<double>::infinity());
+  detail::parallelFor(cache.stageThreads, static_cast<std::int64_t>(particles),
+                      [&](std::int64_t begin, std::int64_t end) {
+                        double step = std::numeric_limits<double>::infinity();
+                        for (auto i = static_cast<std::size_t>(begin);
+                             i < static_cast<std::size_t>(end); ++i)
+                          gatherParticle(tables, cache, i, f, torque, step);
+                        cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] =
+                            step;
+                      });
+  double criticalStep = std::numeric_limits<double>::infinity();
+  for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
+  return criticalStep;
+}
+
+}  // namespace
 
 void applyContactLoads(const Model& model, const ContactTables& tables,
                        const std::vector<Vec3>& p, const std::vector<Vec3>& v,
@@ -1628,105 +1936,19 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
   const auto particles = static_cast<std::size_t>(model.particleCount());
   std::vector<Vec3>& f = out.force;
   std::vector<Vec3>& torque = out.torque;
-  const std::size_t count = cache.seeds.size();
-  const std::size_t chunkCount = cache.chunkCount;
-  const int stageThreads = cache.stageThreads;
-  const bool direct = cache.direct;
-  TurningCache& turning = cache.turning;
   // (The serial pass of deferred loads reads the stage's input, not its `force`.)
   const StageInput input{model, tables, p, v, spin, previous, cache};
-
-  // The sums, in chunk order; the deferred loads, in contact order.
-  StageTally tally;
-  ContactStats& stats = cache.stats;
-  for (std::size_t c = 0; c < chunkCount; ++c) {
-    const ContactChunk& chunk = cache.chunks[c];
-    tally.potential += chunk.potential;
-    tally.dissipativePower += chunk.dissipativePower;
-    tally.releasedEnergy += chunk.releasedEnergy;
-    stats.particleContacts += chunk.stats.particleContacts;
-    stats.environmentContacts += chunk.stats.environmentContacts;
-    stats.facetContacts += chunk.stats.facetContacts;
-    stats.maxPenetration = std::max(stats.maxPenetration, chunk.stats.maxPenetration);
-    stats.maxPenetrationFraction =
-        std::max(stats.maxPenetrationFraction, chunk.stats.maxPenetrationFraction);
-    applyDeferred(input, chunk, f, torque);
-  }
-  if (count == 0) {  // every contact of the history opened
+  StageTally tally = sumChunks(input, f, torque);
+  if (cache.seeds.empty()) {  // every contact of the history opened
     for (const Contact& c : previous) tally.releasedEnergy += c.anchorEnergy;
   }
-
-  // The loads of the pair contacts: each particle adds them (the contacts where
-  // it is the other side, then those where it is a, in contact order) and takes
-  // its stability limit (a rigid tree's particle: its body's, addRigidTreeTerms),
-  // by Gershgorin as for the connectors (estimateStability):
-  // ω² <= 2 Σk / m, 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ). The sums are zeroed
-  // again. On threads, a gather by particle; on one, the scatter in contact order,
-  // which adds the same terms in the same order (a pair contact has a < other, so
-  // a particle's other-side contacts come before its own).
-  double criticalStep = std::numeric_limits<double>::infinity();
-  const auto limitOf = [&](std::size_t i, double stiffness, double damping) {
-    const double omega = std::sqrt(2.0 * stiffness * tables.contactInverseMass[i]);
-    const double dampingRate = 2.0 * damping * tables.contactInverseMass[i];
-    return dampedCriticalStep(omega, dampingRate);
-  };
-  if (stageThreads <= 1) {
-    for (std::size_t index = 0; index < (direct ? 0 : count); ++index) {
-      const ContactLoad& load = cache.loads[index];
-      if (!load.deferred) scatterLoad(load, f, torque, cache);
-    }
-    for (std::size_t i = 0; i < particles; ++i) {
-      const double stiffness = cache.contactStiffnessSum[i];
-      const double damping = cache.contactDampingSum[i];
-      if (stiffness == 0.0 && damping == 0.0) continue;
-      cache.contactStiffnessSum[i] = 0.0;
-      cache.contactDampingSum[i] = 0.0;
-      if (stiffness != 0.0 && tables.treeOf[i] < 0)
-        criticalStep = std::min(criticalStep, limitOf(i, stiffness, damping));
-    }
-  } else {
-    indexLoads(particles, cache);
-    const std::int64_t gatherChunks =
-        (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) /
-        detail::kParallelChunk;
-    cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
-                            std::numeric_limits<double>::infinity());
-    detail::parallelFor(
-        stageThreads, static_cast<std::int64_t>(particles),
-        [&](std::int64_t begin, std::int64_t end) {
-          double step = std::numeric_limits<double>::infinity();
-          const ContactLoad* loads = cache.loads.data();
-          for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
-            Vec3 force = f[i], moment = torque[i];
-            double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
-            for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
-              const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
-              force -= load.force;
-              moment += load.torqueB;
-              stiffness += load.stiffness;
-              damping += load.damping;
-            }
-            for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
-              const ContactLoad& load = loads[index];
-              if (load.deferred) continue;
-              force += load.force;
-              moment += load.torqueA;
-              stiffness += load.stiffness;
-              damping += load.damping;
-            }
-            f[i] = force;
-            torque[i] = moment;
-            if (stiffness == 0.0 && damping == 0.0) continue;
-            cache.contactStiffnessSum[i] = 0.0;
-            cache.contactDampingSum[i] = 0.0;
-            if (stiffness != 0.0 && tables.treeOf[i] < 0)
-              step = std::min(step, limitOf(i, stiffness, damping));
-          }
-          cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
-        });
-    for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
-  }
-  for (const std::int32_t i : turning.particles) turning.slot[static_cast<std::size_t>(i)] = -1;
+  // The loads of the pair contacts and each particle's stability limit: on
+  // threads, a gather by particle; on one, the scatter in contact order, which
+  // adds the same terms in the same order.
+  const double criticalStep = cache.stageThreads <= 1
+                                  ? gatherSerial(tables, cache, particles, f, torque)
+                                  : gatherThreads(tables, cache, particles, f, torque);
+  for (const std::int32_t i : cache.turning.particles) cache.turning.slot[static_cast<std::size_t>(i)] = -1;
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);

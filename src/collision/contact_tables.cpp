@@ -128,7 +128,16 @@ void classifyCarriers(const Model& model, ContactTables& cache) {
   }
 }
 
-void classifyParticles(const Model& model, ContactTables& cache) {
+// Whether particle i's object touches nothing (ContactRole::touches: goal
+// copies, path ends, inertia carriers; docs/robotics.md).
+inline bool touchesNothing(const Model& model, const ContactTables& cache, ParticleIndex i) {
+  const std::int32_t object = cache.particleObject[i];
+  return object >= 0 && !model.objects[object].contact.touches;
+}
+
+// Each particle's object, its object's contact role and material; the objects'
+// sizes (returned); whether every contact body is one particle.
+std::vector<std::int32_t> classifyObjects(const Model& model, ContactTables& cache) {
   const ParticleIndex n = model.particleCount();
   const auto objectCount = static_cast<std::int32_t>(model.objects.size());
   cache.particleObject.assign(static_cast<std::size_t>(n), -1);
@@ -152,23 +161,17 @@ void classifyParticles(const Model& model, ContactTables& cache) {
     if (objectSize[object] > 1 && !model.objects[object].contact.frictionPerParticle)
       cache.singleParticleBodies = false;
   }
-  // Single particles go to the grid unless they are much larger than the
-  // typical one (they would make the cells too large): those get a tree.
-  // Virtual particles (robotics goals and paths, docs/robotics.md) touch nothing.
-  const auto isVirtual = [&](ParticleIndex i) {
-    const std::int32_t object = cache.particleObject[i];
-    return object >= 0 && !model.objects[object].contact.touches;
-  };
-  std::vector<std::int32_t> singles;
-  for (ParticleIndex i = 0; i < n; ++i) {
-    if (isVirtual(i)) continue;
-    const std::int32_t object = cache.particleObject[i];
-    if (object < 0 || objectSize[object] == 1) singles.push_back(i);
-  }
-  // MODEL §3.3 rolling: a particle no LS ties to another spins on its own, a
-  // solid sphere with J = 2/5 m r²; the others turn with their LS neighbours.
-  // Only LS within one object make a neighbourhood: an attractor (a goal's LS to
-  // a virtual particle) or a tie to another body does not turn the particle.
+  return objectSize;
+}
+
+// MODEL §3.3 rolling: a particle no LS ties to another spins on its own, a
+// solid sphere with J = 2/5 m r²; the others turn with their LS neighbours.
+// Only LS within one object make a neighbourhood: an attractor (a goal's LS to
+// a virtual particle) or a tie to another body does not turn the particle. A
+// rigid tree's particles turn with their body (docs/model.md §7): no spin of
+// their own. Also each rim particle's rim.
+void classifyTurning(const Model& model, ContactTables& cache) {
+  const ParticleIndex n = model.particleCount();
   const auto sameBody = [&](const LinearSpring& s) {
     return s.a >= 0 && s.b >= 0 && s.a < n && s.b < n && s.a != s.b &&
            cache.particleObject[s.a] >= 0 && cache.particleObject[s.a] == cache.particleObject[s.b];
@@ -182,31 +185,39 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   for (ParticleIndex i = 0; i < n; ++i)
     cache.rollNeighbourStart[i + 1] += cache.rollNeighbourStart[i];
   cache.rollNeighbour.assign(static_cast<std::size_t>(cache.rollNeighbourStart[n]), 0);
-  {
-    std::vector<std::int32_t> fill(cache.rollNeighbourStart.begin(),
-                                   cache.rollNeighbourStart.end() - 1);
-    for (const LinearSpring& s : model.linearSprings) {
-      if (!sameBody(s)) continue;
-      cache.rollNeighbour[static_cast<std::size_t>(fill[s.a]++)] = s.b;
-      cache.rollNeighbour[static_cast<std::size_t>(fill[s.b]++)] = s.a;
-    }
+  std::vector<std::int32_t> fill(cache.rollNeighbourStart.begin(), cache.rollNeighbourStart.end() - 1);
+  for (const LinearSpring& s : model.linearSprings) {
+    if (!sameBody(s)) continue;
+    cache.rollNeighbour[static_cast<std::size_t>(fill[s.a]++)] = s.b;
+    cache.rollNeighbour[static_cast<std::size_t>(fill[s.b]++)] = s.a;
   }
   cache.rimOf.assign(static_cast<std::size_t>(n), -1);
   for (std::size_t r = 0; r < model.rims.size(); ++r) {
     const RimRing& rim = model.rims[r];
-    for (std::int32_t k = 0; k < rim.count; ++k) {
+    for (std::int32_t k = 0; k < rim.count; ++k)
       cache.rimOf[static_cast<std::size_t>(rim.first + k)] = static_cast<std::int32_t>(r);
-    }
   }
   cache.inverseSpinInertia.assign(static_cast<std::size_t>(n), 0.0);
-  // A rigid tree's particles turn with their body (docs/model.md §7): no spin of their own.
   for (ParticleIndex i = 0; i < n; ++i) {
     if (cache.treeOf[static_cast<std::size_t>(i)] >= 0) continue;
     const double inertia = 0.4 * model.mass[i] * model.radius[i] * model.radius[i];
-    if (model.contact.rolling && !isVirtual(i) && inertia > 0.0 &&
+    if (model.contact.rolling && !touchesNothing(model, cache, i) && inertia > 0.0 &&
         cache.rollNeighbourStart[i + 1] == cache.rollNeighbourStart[i]) {
       cache.inverseSpinInertia[i] = 1.0 / inertia;
     }
+  }
+}
+
+// Single particles go to the grid unless they are much larger than the
+// typical one (4 × the median radius: they would make the cells too large):
+// those are returned, for trees of their own.
+std::vector<std::int32_t> gridSingles(const Model& model, ContactTables& cache,
+                                      const std::vector<std::int32_t>& objectSize) {
+  std::vector<std::int32_t> singles;
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
+    if (touchesNothing(model, cache, i)) continue;
+    const std::int32_t object = cache.particleObject[i];
+    if (object < 0 || objectSize[object] == 1) singles.push_back(i);
   }
   double limit = 0.0;
   if (!singles.empty()) {
@@ -228,11 +239,20 @@ void classifyParticles(const Model& model, ContactTables& cache) {
       largeSingles.push_back(i);
     }
   }
-  // Tree objects: in object order, then the large single particles.
+  return largeSingles;
+}
+
+// The sphere trees' objects: in object order (objects of two or more particles
+// that touch), then the large single particles.
+void classifyTrees(const Model& model, ContactTables& cache,
+                   const std::vector<std::int32_t>& objectSize,
+                   const std::vector<std::int32_t>& largeSingles) {
+  const auto objectCount = static_cast<std::int32_t>(model.objects.size());
   std::vector<std::vector<std::int32_t>> members(static_cast<std::size_t>(objectCount));
-  for (ParticleIndex i = 0; i < n; ++i) {
+  for (ParticleIndex i = 0; i < model.particleCount(); ++i) {
     const std::int32_t object = cache.particleObject[i];
-    if (object >= 0 && objectSize[object] >= 2 && !isVirtual(i)) members[object].push_back(i);
+    if (object >= 0 && objectSize[object] >= 2 && !touchesNothing(model, cache, i))
+      members[object].push_back(i);
   }
   cache.trees.clear();
   cache.treeMembers.clear();
@@ -255,6 +275,13 @@ void classifyParticles(const Model& model, ContactTables& cache) {
       cache.trees[t].rigid = model.objects[object].rigid;
     }
   }
+}
+
+void classifyParticles(const Model& model, ContactTables& cache) {
+  const std::vector<std::int32_t> objectSize = classifyObjects(model, cache);
+  classifyTurning(model, cache);
+  const std::vector<std::int32_t> largeSingles = gridSingles(model, cache, objectSize);
+  classifyTrees(model, cache, objectSize, largeSingles);
 }
 
 // MODEL §3.8: which objects touch by their surface mesh, and which particle

@@ -173,6 +173,94 @@ void leafVerticesOnEnvironment(const Model& model, ContactScratch& cache, const 
   }
 }
 
+namespace {
+
+// The closest of a probe's candidate triangles [begin, end) of one object:
+// smallest |p - q|, the lowest index on a tie; its signed distance (m), normal
+// and barycentric weights.
+struct ClosestFacet {
+  std::int32_t triangle = -1;
+  double distance = std::numeric_limits<double>::infinity();
+  double signedDistance = 0.0;
+  Vec3 beta, normal;
+};
+
+// Candidate triangle `triangle` against the best so far (closest).
+void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, double sheet,
+              std::int32_t triangle, ClosestFacet& closest) {
+  const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
+    return cache.vertexPosition[static_cast<std::size_t>(v)];
+  };
+  const SurfaceTriangle& tri = model.surfaceTriangles[triangle];
+  const Vec3 &x0 = vertexAt(tri.vertex[0]), &x1 = vertexAt(tri.vertex[1]), &x2 = vertexAt(tri.vertex[2]);
+  const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
+  const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
+  const double distance = norm(p - q);
+  if (!(distance < closest.distance)) return;
+  Vec3 faceNormal = cross(x1 - x0, x2 - x0);
+  const double area = norm(faceNormal);
+  if (!(area > 0.0)) return;
+  faceNormal = faceNormal / area;
+  closest.distance = distance;
+  closest.triangle = triangle;
+  closest.beta = beta;
+  if (sheet > 0.0) {
+    // A sheet is touched from either side at its half thickness.
+    closest.signedDistance = distance - sheet;
+    closest.normal = distance > 0.0 ? (p - q) / distance : faceNormal;
+    return;
+  }
+  // A closed surface: outside, the direction from the surface point; inside
+  // (behind the face), the face's normal. Behind only over the face, where
+  // the closest point is the foot on the face's plane: a point beside the
+  // face and below its plane is outside (the candidates are the triangles
+  // near the probe, not all of them: a particle just above a box's top,
+  // whose top triangles were not candidates, counted as 2 cm inside it
+  // by a side's triangle, whose closest point is on its edge).
+  const double height = dot(p - x0, faceNormal);
+  const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
+  closest.signedDistance = outside ? distance : -distance;
+  closest.normal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
+}
+
+// One probe (a particle, or a vertex: probe < 0) against one faceted object's
+// candidates [begin, end): its contact with the closest triangle, when it touches.
+void resolveProbe(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+                  std::size_t begin, std::size_t end) {
+  const auto& candidates = cache.facetCandidates;
+  const ContactTables& t = *cache.tables;
+  const std::int32_t probe = candidates[begin].probe, object = candidates[begin].object;
+  const bool isVertex = probe < 0;
+  const std::int32_t vertex = isVertex ? -1 - probe : -1;
+  const std::int32_t probeObject =
+      isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object : t.particleObject[probe];
+  const bool probeFixed = isVertex ? t.objectFixed[probeObject] != 0 : model.inverseMass[probe] == 0.0;
+  if (probeFixed && t.objectFixed[object] != 0) return;
+  const Vec3 p = isVertex ? cache.vertexPosition[static_cast<std::size_t>(vertex)] : position[probe];
+  const double probeRadius = isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
+                                      : model.radius[probe];
+  const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
+  ClosestFacet closest;
+  for (std::size_t c = begin; c < end; ++c) {
+    if (c > begin && candidates[c].triangle == candidates[c - 1].triangle) continue;
+    ++cache.stats.facetTests;
+    tryFacet(model, cache, p, sheet, candidates[c].triangle, closest);
+  }
+  const double depth = closest.signedDistance - probeRadius;
+  if (closest.triangle < 0 || !(depth < 0.0)) return;
+  Contact c;
+  c.a = isVertex ? t.vertexOwner[static_cast<std::size_t>(vertex)] : probe;
+  c.other = model.objects[static_cast<std::size_t>(object)].firstParticle;
+  c.vertex = vertex;
+  c.facet = closest.triangle;
+  c.facetWeights = closest.beta;
+  c.depth = depth;
+  c.normal = closest.normal;
+  cache.treeContacts.push_back(c);
+}
+
+}  // namespace
+
 void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& position,
                             ContactScratch& cache) {
   auto& candidates = cache.facetCandidates;
@@ -183,85 +271,13 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
     if (x.object != y.object) return x.object < y.object;
     return x.triangle < y.triangle;
   });
-  const ContactTables& t = *cache.tables;
-  const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
-    return cache.vertexPosition[static_cast<std::size_t>(v)];
-  };
   std::size_t k = 0;
   while (k < candidates.size()) {
-    const std::int32_t probe = candidates[k].probe, object = candidates[k].object;
     std::size_t end = k;
-    while (end < candidates.size() && candidates[end].probe == probe &&
-           candidates[end].object == object)
+    while (end < candidates.size() && candidates[end].probe == candidates[k].probe &&
+           candidates[end].object == candidates[k].object)
       ++end;
-    const bool isVertex = probe < 0;
-    const std::int32_t vertex = isVertex ? -1 - probe : -1;
-    const std::int32_t probeObject =
-        isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object
-                 : t.particleObject[probe];
-    const bool probeFixed =
-        isVertex ? t.objectFixed[probeObject] != 0 : model.inverseMass[probe] == 0.0;
-    if (probeFixed && t.objectFixed[object] != 0) {
-      k = end;
-      continue;
-    }
-    const Vec3 p = isVertex ? vertexAt(vertex) : position[probe];
-    const double probeRadius =
-        isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
-                 : model.radius[probe];
-    const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
-    // The closest triangle: smallest |p - q|, the lowest index on a tie.
-    double best = std::numeric_limits<double>::infinity();
-    std::int32_t bestTriangle = -1;
-    Vec3 bestBeta, bestNormal;
-    double bestSigned = 0.0;
-    for (std::size_t c = k; c < end; ++c) {
-      if (c > k && candidates[c].triangle == candidates[c - 1].triangle) continue;
-      ++cache.stats.facetTests;
-      const SurfaceTriangle& tri = model.surfaceTriangles[candidates[c].triangle];
-      const Vec3 &x0 = vertexAt(tri.vertex[0]), &x1 = vertexAt(tri.vertex[1]),
-                 &x2 = vertexAt(tri.vertex[2]);
-      const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
-      const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
-      const double distance = norm(p - q);
-      if (!(distance < best)) continue;
-      Vec3 faceNormal = cross(x1 - x0, x2 - x0);
-      const double area = norm(faceNormal);
-      if (!(area > 0.0)) continue;
-      faceNormal = faceNormal / area;
-      best = distance;
-      bestTriangle = candidates[c].triangle;
-      bestBeta = beta;
-      if (sheet > 0.0) {
-        // A sheet is touched from either side at its half thickness.
-        bestSigned = distance - sheet;
-        bestNormal = distance > 0.0 ? (p - q) / distance : faceNormal;
-      } else {
-        // A closed surface: outside, the direction from the surface point; inside
-        // (behind the face), the face's normal. Behind only over the face, where
-        // the closest point is the foot on the face's plane: a point beside the
-        // face and below its plane is outside (the candidates are the triangles
-        // near the probe, not all of them: a particle just above a box's top,
-        // whose top triangles were not candidates, counted as 2 cm inside it
-        // by a side's triangle, whose closest point is on its edge).
-        const double height = dot(p - x0, faceNormal);
-        const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
-        bestSigned = outside ? distance : -distance;
-        bestNormal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
-      }
-    }
-    const double depth = bestSigned - probeRadius;
-    if (bestTriangle >= 0 && depth < 0.0) {
-      Contact c;
-      c.a = isVertex ? t.vertexOwner[static_cast<std::size_t>(vertex)] : probe;
-      c.other = model.objects[static_cast<std::size_t>(object)].firstParticle;
-      c.vertex = vertex;
-      c.facet = bestTriangle;
-      c.facetWeights = bestBeta;
-      c.depth = depth;
-      c.normal = bestNormal;
-      cache.treeContacts.push_back(c);
-    }
+    resolveProbe(model, position, cache, k, end);
     k = end;
   }
 }

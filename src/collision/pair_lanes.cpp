@@ -1,5 +1,5 @@
 // The lean contact stage's contacts four at a time (pair_lanes.h). Each line
-// mirrors the scalar stage's (contact_force.cpp: runChunk, pairGeometry,
+// mirrors the scalar stage's (contact_force.cpp: ChunkWalk, pairGeometry,
 // pairArms, turningOf, contactRates, joinGroup, frictionForce, contactFriction), operation
 // by operation and in its order: IEEE sums, products, quotients and square
 // roots round the same in a lane as in a scalar register, and no fused
@@ -7,9 +7,15 @@
 #include "collision/pair_lanes.h"
 
 #include <atomic>
+#include <cmath>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
+// The laws (templates) compiled for AVX2 where the lanes instantiate them.
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#include "collision/contact_law.h"
+#pragma GCC pop_options
 #endif
 
 namespace robophi::detail {
@@ -51,6 +57,23 @@ ROBOPHI_LANES D select(D mask, D b, D a) { return _mm256_blendv_pd(a, b, mask); 
 // std::max(a, b): a < b ? b : a.
 ROBOPHI_LANES D maxOf(D a, D b) { return select(_mm256_cmp_pd(a, b, _CMP_LT_OQ), b, a); }
 
+// The laws' operations on four lanes (collision/contact_law.h).
+struct LaneOps {
+  using N = D;
+  static ROBOPHI_LANES D add(D a, D b) { return _mm256_add_pd(a, b); }
+  static ROBOPHI_LANES D sub(D a, D b) { return _mm256_sub_pd(a, b); }
+  static ROBOPHI_LANES D mul(D a, D b) { return _mm256_mul_pd(a, b); }
+  static ROBOPHI_LANES D div(D a, D b) { return _mm256_div_pd(a, b); }
+  static ROBOPHI_LANES D sqrt(D a) { return _mm256_sqrt_pd(a); }
+  static ROBOPHI_LANES D negate(D a) { return robophi::detail::negate(a); }
+  static ROBOPHI_LANES D atLeastZero(D a) {
+    const D zero = _mm256_setzero_pd();
+    return select(_mm256_cmp_pd(a, zero, _CMP_LT_OQ), zero, a);
+  }
+  static ROBOPHI_LANES D maxOf(D a, D b) { return robophi::detail::maxOf(a, b); }
+  static ROBOPHI_LANES D constant(double a) { return all(a); }
+};
+
 ROBOPHI_LANES V3 add3(const V3& a, const V3& b) { return {add(a.x, b.x), add(a.y, b.y), add(a.z, b.z)}; }
 ROBOPHI_LANES V3 sub3(const V3& a, const V3& b) { return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)}; }
 ROBOPHI_LANES V3 scale3(const V3& a, D s) { return {mul(a.x, s), mul(a.y, s), mul(a.z, s)}; }
@@ -70,117 +93,159 @@ ROBOPHI_LANES V3 tangential3(const V3& x, const V3& n) {
   return sub3(once, scale3(n, dot3(once, n)));
 }
 
-__attribute__((target("avx2"))) void runLanes(PairLaneBatch& b, std::size_t count) {
+// The geometry of lanes l..l+3. A pair (pairGeometry, pairArms): p_a - p_b, the
+// normal (0, 0, 1 at no distance), the depth, the arms to the overlap's middle.
+// The environment: p_a, the detection's normal and depth, a's arm to its surface.
+struct LaneGeometry {
+  V3 rel, n, armA, armB;
+  D depth, armLengthA, armLengthB;
+};
+ROBOPHI_LANES LaneGeometry laneGeometry(PairLaneBatch& b, std::size_t l) {
   const D zero = _mm256_setzero_pd(), one = all(1.0), half = all(0.5);
   const V3 none{zero, zero, zero};
-  for (std::size_t l = 0; l < count; l += 4) {
-    // The geometry. A pair (pairGeometry, pairArms): p_a - p_b, the normal (0,
-    // 0, 1 at no distance), the depth, the arms to the overlap's middle. The
-    // environment: p_a, the detection's normal and depth, a's arm to its surface.
-    const D environment = _mm256_cmp_pd(load(b.environment + l), one, _CMP_EQ_OQ);
-    const V3 rel = sub3(load3(b.pax + l, b.pay + l, b.paz + l), load3(b.pbx + l, b.pby + l, b.pbz + l));
-    const D distance = _mm256_sqrt_pd(dot3(rel, rel));
-    const D apart = _mm256_cmp_pd(distance, zero, _CMP_GT_OQ);
-    const V3 pairNormal = select3(
-        apart, V3{div(rel.x, distance), div(rel.y, distance), div(rel.z, distance)},
-        V3{zero, zero, one});
-    const V3 n = select3(environment, load3(b.foundx + l, b.foundy + l, b.foundz + l), pairNormal);
-    const D ra = load(b.ra + l), rb = load(b.rb + l);
-    const D depth = select(environment, load(b.foundDepth + l), sub(distance, add(ra, rb)));
-    const V3 armA =
-        scale3(n, select(environment, negate(ra), negate(add(ra, mul(half, depth)))));
-    const V3 armB = select3(environment, none, scale3(n, add(rb, mul(half, depth))));
-    const D armLengthA = _mm256_sqrt_pd(dot3(armA, armA));
-    const D armLengthB = _mm256_sqrt_pd(dot3(armB, armB));
-    store3(b.relx + l, b.rely + l, b.relz + l, rel);
-    store3(b.nx + l, b.ny + l, b.nz + l, n);
-    store(b.depth + l, depth);
-    store3(b.armAx + l, b.armAy + l, b.armAz + l, armA);
-    store3(b.armBx + l, b.armBy + l, b.armBz + l, armB);
-    store(b.armLengthA + l, armLengthA);
-    store(b.armLengthB + l, armLengthB);
+  LaneGeometry g;
+  const D environment = _mm256_cmp_pd(load(b.environment + l), one, _CMP_EQ_OQ);
+  g.rel = sub3(load3(b.pax + l, b.pay + l, b.paz + l), load3(b.pbx + l, b.pby + l, b.pbz + l));
+  const D distance = _mm256_sqrt_pd(dot3(g.rel, g.rel));
+  const D apart = _mm256_cmp_pd(distance, zero, _CMP_GT_OQ);
+  const V3 pairNormal = select3(
+      apart, V3{div(g.rel.x, distance), div(g.rel.y, distance), div(g.rel.z, distance)},
+      V3{zero, zero, one});
+  g.n = select3(environment, load3(b.foundx + l, b.foundy + l, b.foundz + l), pairNormal);
+  const D ra = load(b.ra + l), rb = load(b.rb + l);
+  g.depth = select(environment, load(b.foundDepth + l), sub(distance, add(ra, rb)));
+  g.armA = scale3(g.n, select(environment, negate(ra), negate(add(ra, mul(half, g.depth)))));
+  g.armB = select3(environment, none, scale3(g.n, add(rb, mul(half, g.depth))));
+  g.armLengthA = _mm256_sqrt_pd(dot3(g.armA, g.armA));
+  g.armLengthB = _mm256_sqrt_pd(dot3(g.armB, g.armB));
+  store3(b.relx + l, b.rely + l, b.relz + l, g.rel);
+  store3(b.nx + l, b.ny + l, b.nz + l, g.n);
+  store(b.depth + l, g.depth);
+  store3(b.armAx + l, b.armAy + l, b.armAz + l, g.armA);
+  store3(b.armBx + l, b.armBy + l, b.armBz + l, g.armB);
+  store(b.armLengthA + l, g.armLengthA);
+  store(b.armLengthB + l, g.armLengthB);
+  return g;
+}
 
-    // MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂, clamped at >= 0.
+// MODEL §3.1: F = (-κ_c d - μ_c ḋ) k̂, clamped at >= 0; its spring's energy and
+// the power of its non-elastic part. Returns F_n.
+ROBOPHI_LANES D laneNormalLaw(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
+                              const V3& relativeVelocity) {
+  const D dDot = dot3(relativeVelocity, g.n);
+  const auto normal =
+      law::normalLaw<LaneOps>(load(b.stiffness + l), load(b.damping + l), g.depth, dDot);
+  store(b.normalForce + l, normal.force);
+  store(b.normalPotential + l, normal.potential);
+  store(b.normalDissipation + l, normal.dissipation);
+  store3(b.normalx + l, b.normaly + l, b.normalz + l, scale3(g.n, normal.force));
+  return normal.force;
+}
+
+// turningOf: a side that spins on its own turns its contact point; the contact
+// point's velocity, its inverse effective mass, c_t, and contactRates (0 when
+// both sides are fixed). Returns the contact point's velocity; c_t into `damping`.
+ROBOPHI_LANES V3 laneTurning(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
+                             const V3& relativeVelocity, D& tangentialDamping) {
+  const D zero = _mm256_setzero_pd(), one = all(1.0);
+  const D inverseMass = add(load(b.ima + l), load(b.imb + l));
+  const D spinsA = _mm256_cmp_pd(load(b.spinsA + l), one, _CMP_EQ_OQ);
+  const D spinsB = _mm256_cmp_pd(load(b.spinsB + l), one, _CMP_EQ_OQ);
+  const D armInverseA =
+      select(spinsA, mul(mul(g.armLengthA, g.armLengthA), load(b.spinInverseA + l)), zero);
+  const D armInverseB =
+      select(spinsB, mul(mul(g.armLengthB, g.armLengthB), load(b.spinInverseB + l)), zero);
+  const V3 omegaA = load3(b.wax + l, b.way + l, b.waz + l);
+  const V3 omegaB = load3(b.wbx + l, b.wby + l, b.wbz + l);
+  const V3 roll = sub3(cross3(omegaA, g.armA), cross3(omegaB, g.armB));
+  store3(b.rollx + l, b.rolly + l, b.rollz + l, roll);
+  const D tangentialInverse = add(add(inverseMass, armInverseA), armInverseB);
+  store(b.tangentialInverse + l, tangentialInverse);
+  const D kt = load(b.tangentialStiffness + l);
+  tangentialDamping =
+      law::tangentialDamping<LaneOps>(load(b.tangentialDampingRatio + l), kt, tangentialInverse);
+  store(b.tangentialDamping + l, tangentialDamping);
+  const D rotation =
+      select(_mm256_cmp_pd(inverseMass, zero, _CMP_GT_OQ), div(tangentialInverse, inverseMass), one);
+  const D bothFixed = _mm256_cmp_pd(inverseMass, zero, _CMP_EQ_OQ);
+  const auto rates = law::stabilityRates<LaneOps>(
+      load(b.stiffness + l), load(b.damping + l), kt, tangentialDamping, rotation);
+  store(b.rateStiffness + l, select(bothFixed, zero, rates.stiffness));
+  store(b.rateDamping + l, select(bothFixed, zero, rates.damping));
+  return add3(relativeVelocity, roll);
+}
+
+// The friction trial: δ_t from the anchor (from p_a - p_b itself for a new
+// contact), or the offset a sliding contact's spring holds; the slip; both
+// tangential; the spring's and damper's loads. Returns δ_t; the load into
+// `tangentialLoad`.
+ROBOPHI_LANES V3 laneTrial(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
+                           const V3& pointVelocity, D tangentialDamping, D normalForce,
+                           V3& tangentialLoad) {
+  const D one = all(1.0);
+  const D hasBefore = _mm256_cmp_pd(load(b.hasBefore + l), one, _CMP_EQ_OQ);
+  const D slidBefore = _mm256_cmp_pd(load(b.slidBefore + l), one, _CMP_EQ_OQ);
+  const V3 anchor = select3(hasBefore, load3(b.anchorx + l, b.anchory + l, b.anchorz + l), g.rel);
+  const V3 delta = tangential3(
+      select3(slidBefore, load3(b.offsetx + l, b.offsety + l, b.offsetz + l), sub3(g.rel, anchor)),
+      g.n);
+  store3(b.deltax + l, b.deltay + l, b.deltaz + l, delta);
+  const V3 slip = tangential3(pointVelocity, g.n);
+  store3(b.slipx + l, b.slipy + l, b.slipz + l, slip);
+  const D slipSpeed = _mm256_sqrt_pd(dot3(slip, slip));
+  store(b.slipSpeed + l, slipSpeed);
+  const D kt = load(b.tangentialStiffness + l);
+  const V3 elastic = scale3(delta, negate(kt));
+  const V3 damper = scale3(slip, negate(tangentialDamping));
+  store3(b.elasticx + l, b.elasticy + l, b.elasticz + l, elastic);
+  store3(b.damperx + l, b.dampery + l, b.damperz + l, damper);
+  store(b.frictionLoad + l, mul(load(b.staticFriction + l), normalForce));
+  tangentialLoad = add3(elastic, damper);
+  return delta;
+}
+
+// The group of one contact (joinGroup, decideGroup) sticks while it was not
+// sliding and |F_t| <= μ_s F_n; then frictionForce sticking (s = 1) and
+// contactFriction: the anchor, its energy, the damper's power, the loads.
+ROBOPHI_LANES void laneSticking(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
+                                const V3& delta, const V3& tangentialLoad, D tangentialDamping) {
+  const D zero = _mm256_setzero_pd(), one = all(1.0), half = all(0.5);
+  const V3 none{zero, zero, zero};
+  const D slidBefore = _mm256_cmp_pd(load(b.slidBefore + l), one, _CMP_EQ_OQ);
+  const D groupTotal = add(zero, _mm256_sqrt_pd(dot3(tangentialLoad, tangentialLoad)));
+  const D holds = _mm256_andnot_pd(
+      slidBefore, _mm256_cmp_pd(groupTotal, add(zero, load(b.frictionLoad + l)), _CMP_LE_OQ));
+  const int sticks = _mm256_movemask_pd(holds);
+  for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
+  const V3 held = scale3(delta, one);
+  const D kt = load(b.tangentialStiffness + l), slipSpeed = load(b.slipSpeed + l);
+  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(g.rel, held));
+  store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
+  store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
+  const V3 friction = scale3(tangentialLoad, one);
+  const V3 normal = load3(b.normalx + l, b.normaly + l, b.normalz + l);
+  store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
+  store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
+  // The moments of a spinning side: 0 + arm × F_t (on b: × -F_t).
+  const D spinsA = _mm256_cmp_pd(load(b.spinsA + l), one, _CMP_EQ_OQ);
+  const D spinsB = _mm256_cmp_pd(load(b.spinsB + l), one, _CMP_EQ_OQ);
+  const V3 torqueA = select3(spinsA, add3(none, cross3(g.armA, friction)), none);
+  const V3 torqueB = select3(spinsB, add3(none, cross3(g.armB, scale3(friction, all(-1.0)))), none);
+  store3(b.torqueAx + l, b.torqueAy + l, b.torqueAz + l, torqueA);
+  store3(b.torqueBx + l, b.torqueBy + l, b.torqueBz + l, torqueB);
+}
+
+__attribute__((target("avx2"))) void runLanes(PairLaneBatch& b, std::size_t count) {
+  for (std::size_t l = 0; l < count; l += 4) {
+    const LaneGeometry g = laneGeometry(b, l);
     const V3 relativeVelocity =
         sub3(load3(b.vax + l, b.vay + l, b.vaz + l), load3(b.vbx + l, b.vby + l, b.vbz + l));
-    const D inverseMass = add(load(b.ima + l), load(b.imb + l));
-    const D dDot = dot3(relativeVelocity, n);
-    const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
-    D normalForce = sub(mul(negate(stiffness), depth), mul(damping, dDot));
-    normalForce = select(_mm256_cmp_pd(normalForce, zero, _CMP_LT_OQ), zero, normalForce);
-    store(b.normalForce + l, normalForce);
-    store(b.normalPotential + l, mul(mul(mul(half, stiffness), depth), depth));
-    store(b.normalDissipation + l, mul(add(normalForce, mul(stiffness, depth)), dDot));
-    const V3 normal = scale3(n, normalForce);
-    store3(b.normalx + l, b.normaly + l, b.normalz + l, normal);
-
-    // turningOf: a side that spins on its own turns its contact point.
-    const D spinsA = _mm256_cmp_pd(load(b.spinsA + l), one, _CMP_EQ_OQ);
-    const D spinsB = _mm256_cmp_pd(load(b.spinsB + l), one, _CMP_EQ_OQ);
-    const D armInverseA =
-        select(spinsA, mul(mul(armLengthA, armLengthA), load(b.spinInverseA + l)), zero);
-    const D armInverseB =
-        select(spinsB, mul(mul(armLengthB, armLengthB), load(b.spinInverseB + l)), zero);
-    const V3 omegaA = load3(b.wax + l, b.way + l, b.waz + l);
-    const V3 omegaB = load3(b.wbx + l, b.wby + l, b.wbz + l);
-    const V3 roll = sub3(cross3(omegaA, armA), cross3(omegaB, armB));
-    store3(b.rollx + l, b.rolly + l, b.rollz + l, roll);
-    const V3 pointVelocity = add3(relativeVelocity, roll);
-    const D tangentialInverse = add(add(inverseMass, armInverseA), armInverseB);
-    store(b.tangentialInverse + l, tangentialInverse);
-    const D kt = load(b.tangentialStiffness + l);
-    const D tangentialDamping = mul(mul(load(b.tangentialDampingRatio + l), all(2.0)),
-                                    _mm256_sqrt_pd(div(kt, tangentialInverse)));
-    store(b.tangentialDamping + l, tangentialDamping);
-    // settle → contactRates (0 when both sides are fixed).
-    const D rotation =
-        select(_mm256_cmp_pd(inverseMass, zero, _CMP_GT_OQ), div(tangentialInverse, inverseMass), one);
-    const D bothFixed = _mm256_cmp_pd(inverseMass, zero, _CMP_EQ_OQ);
-    store(b.rateStiffness + l, select(bothFixed, zero, maxOf(stiffness, mul(kt, rotation))));
-    store(b.rateDamping + l,
-          select(bothFixed, zero, maxOf(damping, mul(tangentialDamping, rotation))));
-
-    // δ_t from the anchor (from p_a - p_b itself for a new contact), or the
-    // offset a sliding contact's spring holds; the slip; both tangential.
-    const D hasBefore = _mm256_cmp_pd(load(b.hasBefore + l), one, _CMP_EQ_OQ);
-    const D slidBefore = _mm256_cmp_pd(load(b.slidBefore + l), one, _CMP_EQ_OQ);
-    const V3 anchor = select3(hasBefore, load3(b.anchorx + l, b.anchory + l, b.anchorz + l), rel);
-    const V3 delta = tangential3(
-        select3(slidBefore, load3(b.offsetx + l, b.offsety + l, b.offsetz + l), sub3(rel, anchor)),
-        n);
-    store3(b.deltax + l, b.deltay + l, b.deltaz + l, delta);
-    const V3 slip = tangential3(pointVelocity, n);
-    store3(b.slipx + l, b.slipy + l, b.slipz + l, slip);
-    const D slipSpeed = _mm256_sqrt_pd(dot3(slip, slip));
-    store(b.slipSpeed + l, slipSpeed);
-    const V3 elastic = scale3(delta, negate(kt));
-    const V3 damper = scale3(slip, negate(tangentialDamping));
-    store3(b.elasticx + l, b.elasticy + l, b.elasticz + l, elastic);
-    store3(b.damperx + l, b.dampery + l, b.damperz + l, damper);
-    const D frictionLoad = mul(load(b.staticFriction + l), normalForce);
-    store(b.frictionLoad + l, frictionLoad);
-    // The group of one contact (joinGroup, decideGroup) sticks while it was not
-    // sliding and |F_t| <= μ_s F_n.
-    const V3 tangentialLoad = add3(elastic, damper);
-    const D groupTotal = add(zero, _mm256_sqrt_pd(dot3(tangentialLoad, tangentialLoad)));
-    const D holds = _mm256_andnot_pd(
-        slidBefore, _mm256_cmp_pd(groupTotal, add(zero, frictionLoad), _CMP_LE_OQ));
-    const int sticks = _mm256_movemask_pd(holds);
-    for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
-
-    // frictionForce sticking (s = 1) and contactFriction.
-    const V3 held = scale3(delta, one);
-    store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(rel, held));
-    store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
-    store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
-    const V3 friction = scale3(tangentialLoad, one);
-    store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
-    store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
-    // The moments of a spinning side: 0 + arm × F_t (on b: × -F_t).
-    const V3 torqueA = select3(spinsA, add3(none, cross3(armA, friction)), none);
-    const V3 torqueB = select3(spinsB, add3(none, cross3(armB, scale3(friction, all(-1.0)))), none);
-    store3(b.torqueAx + l, b.torqueAy + l, b.torqueAz + l, torqueA);
-    store3(b.torqueBx + l, b.torqueBy + l, b.torqueBz + l, torqueB);
+    const D normalForce = laneNormalLaw(b, l, g, relativeVelocity);
+    D tangentialDamping;
+    const V3 pointVelocity = laneTurning(b, l, g, relativeVelocity, tangentialDamping);
+    V3 tangentialLoad;
+    const V3 delta = laneTrial(b, l, g, pointVelocity, tangentialDamping, normalForce, tangentialLoad);
+    laneSticking(b, l, g, delta, tangentialLoad, tangentialDamping);
   }
 }
 

@@ -4,7 +4,7 @@
 // rolling velocity, slip and friction trial, and, when it sticks (MODEL §3.3: a
 // contact alone in its group whose anchor and damper hold within μ_s F_n, and
 // that was not sliding), its friction, loads and energy terms. Every lane does
-// the operations of the scalar stage (contact_force.cpp, runChunk) in their
+// the operations of the scalar stage (contact_force.cpp, ChunkWalk) in their
 // order, without fused multiply-adds: the same bits
 // (tests/collision/test_pair_lanes.cpp). The stage adds what the lanes found to
 // its sums and loads in contact order; the group of a contact that does not

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collision/contact_law.h"
 #include "collision/rim_contact.h"
 #include "forces/forces.h"
 #include "model/multibody_contacts.h"
@@ -138,8 +139,8 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
             tables.contactInverseMass[static_cast<std::size_t>(c.a)] +
             (c.other >= 0 ? tables.contactInverseMass[static_cast<std::size_t>(c.other)] : 0.0);
         load.tangentialStiffness = pair.tangentialStiffness;
-        load.tangentialDamping =
-            pair.tangentialDampingRatio * 2.0 * std::sqrt(pair.tangentialStiffness / inverseMass);
+        load.tangentialDamping = law::tangentialDamping<law::ScalarOps>(
+            pair.tangentialDampingRatio, pair.tangentialStiffness, inverseMass);
       }
       loads[static_cast<std::size_t>(tree)].push_back(load);
     }

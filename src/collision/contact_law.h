@@ -1,0 +1,82 @@
+#pragma once
+// The contact laws, written once (issue 36; docs/contact.md "The stage"):
+// MODEL §3.1's normal force, §3.3's anchor damping and §3.7's stability rates of
+// one contact. The scalar stage (contact_force.cpp, ScalarOps), the AVX2 lanes
+// (pair_lanes.cpp, four contacts at a time) and the rigid trees' implicit terms
+// (integrate/rigid_trees.cpp) all call these. `Ops` names the number type N and
+// its operations, each one IEEE operation (add, sub, mul, div, sqrt, negate,
+// atLeastZero: x < 0 ? 0 : x, maxOf: a < b ? b : a, constant), so that a lane
+// and a scalar register round alike and give the same bits.
+// (Templates only: pair_lanes.cpp includes this inside its AVX2 region, where
+// any function defined would be compiled for AVX2.)
+
+#include <cmath>
+
+namespace robophi::law {
+
+/// MODEL §3.1 for one contact: the normal force F_n (N), its spring's energy (J)
+/// and the power of its non-elastic part (W, dissipated).
+template <class N>
+struct NormalLoad {
+  N force, potential, dissipation;
+};
+
+/// F_n = -κ_c d - μ_c ḋ clamped at >= 0 (a damper that would pull is clamped);
+/// ½ κ_c d²; (F_n + κ_c d) ḋ, the damper's power or the clamp's.
+template <class Ops>
+[[gnu::always_inline]] inline NormalLoad<typename Ops::N> normalLaw(typename Ops::N stiffness,
+                                                                    typename Ops::N damping,
+                                                                    typename Ops::N depth,
+                                                                    typename Ops::N depthRate) {
+  using N = typename Ops::N;
+  const N force = Ops::atLeastZero(
+      Ops::sub(Ops::mul(Ops::negate(stiffness), depth), Ops::mul(damping, depthRate)));
+  const N potential = Ops::mul(Ops::mul(Ops::mul(Ops::constant(0.5), stiffness), depth), depth);
+  const N dissipation = Ops::mul(Ops::add(force, Ops::mul(stiffness, depth)), depthRate);
+  return {force, potential, dissipation};
+}
+
+/// MODEL §3.3: the anchor's damping c_t = ratio × 2 √(k_t m_eff) (N·s/m), from
+/// k_t and the contact point's inverse effective mass 1/m_eff.
+template <class Ops>
+[[gnu::always_inline]] inline typename Ops::N tangentialDamping(typename Ops::N ratio,
+                                                                typename Ops::N tangentialStiffness,
+                                                                typename Ops::N inverseMass) {
+  return Ops::mul(Ops::mul(ratio, Ops::constant(2.0)),
+                  Ops::sqrt(Ops::div(tangentialStiffness, inverseMass)));
+}
+
+/// MODEL §3.7: what one contact adds to its particles' stability sums, the
+/// larger of its normal and tangential stiffness (N/m) and damping (N·s/m), the
+/// tangential ones scaled to the particles' mass by `rotation`, (1/m_eff) / (1/m)
+/// (> 1 where the contact point also turns). (A contact between fixed sides adds
+/// nothing: its callers' test.)
+template <class N>
+struct Rates {
+  N stiffness, damping;
+};
+template <class Ops>
+[[gnu::always_inline]] inline Rates<typename Ops::N> stabilityRates(
+    typename Ops::N stiffness, typename Ops::N damping, typename Ops::N tangentialStiffness,
+    typename Ops::N tangentialDamping, typename Ops::N rotation) {
+  return {Ops::maxOf(stiffness, Ops::mul(tangentialStiffness, rotation)),
+          Ops::maxOf(damping, Ops::mul(tangentialDamping, rotation))};
+}
+
+/// The scalar operations (a template, so that none is compiled where it is not used).
+template <class T>
+struct BasicScalarOps {
+  using N = T;
+  static T add(T a, T b) { return a + b; }
+  static T sub(T a, T b) { return a - b; }
+  static T mul(T a, T b) { return a * b; }
+  static T div(T a, T b) { return a / b; }
+  static T sqrt(T a) { return std::sqrt(a); }
+  static T negate(T a) { return -a; }
+  static T atLeastZero(T a) { return a < T(0) ? T(0) : a; }
+  static T maxOf(T a, T b) { return a < b ? b : a; }
+  static T constant(double a) { return T(a); }
+};
+using ScalarOps = BasicScalarOps<double>;
+
+}  // namespace robophi::law
