@@ -520,7 +520,17 @@ struct FrictionTerms {
   double dissipated = 0.0;
 };
 
-// Friction of one contact once its group has decided. Returns F_t on a.
+// The laws' operations in the scalar stage (collision/contact_law.h): numbers
+// and vectors.
+struct StageOps : law::ScalarOps {
+  using V = Vec3;
+  static Vec3 scaleV(const Vec3& a, double s) { return a * s; }
+  static Vec3 subV(const Vec3& a, const Vec3& b) { return a - b; }
+  static double dotV(const Vec3& a, const Vec3& b) { return dot(a, b); }
+};
+
+// Friction of one contact once its group has decided (MODEL §3.3's laws:
+// law::heldFriction, law::slidingFriction). Returns F_t on a.
 inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
                           FrictionTerms& terms) {
   const double stiffness = t.tangentialStiffness;
@@ -532,12 +542,13 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
     const double s = g.regime == kBreakingAway ? g.scale : 1.0;
     c.sliding = g.regime;
     c.giveWay = g.regime == kBreakingAway ? t.giveWayBefore + norm(t.delta) * (1.0 - s) : 0.0;
-    const Vec3 delta = t.delta * s;
-    c.anchor = t.relative - delta;
-    c.anchorEnergy = 0.5 * stiffness * squaredNorm(delta);
+    const auto held = law::heldFriction<StageOps>(t.relative, t.delta, t.elastic + t.damper, s,
+                                                  stiffness, t.tangentialDamping, t.slipSpeed);
+    c.anchor = held.anchor;
+    c.anchorEnergy = held.anchorEnergy;
     if (s != 1.0) terms.released = 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
-    terms.dissipated = s * t.tangentialDamping * t.slipSpeed * t.slipSpeed;
-    return (t.elastic + t.damper) * s;
+    terms.dissipated = held.dissipated;
+    return held.force;
   }
   // Sliding: μ_k F_n against the slip (against the held load if it has stopped).
   Vec3 direction;
@@ -546,17 +557,17 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
   } else if (squaredNorm(t.elastic) > 0.0) {
     direction = t.elastic / -norm(t.elastic);
   }
-  const double friction = t.kineticFriction * c.normalForce;
-  const Vec3 consistent = direction * (friction / stiffness);
+  const auto sliding = law::slidingFriction<StageOps>(t.relative, direction, t.kineticFriction,
+                                                     c.normalForce, stiffness, t.slipSpeed);
   c.sliding = kSliding;
   c.giveWay = 0.0;
-  c.anchor = t.relative - consistent;
-  c.anchorEnergy = 0.5 * stiffness * squaredNorm(consistent);
+  c.anchor = sliding.anchor;
+  c.anchorEnergy = sliding.anchorEnergy;
   // The spring's energy at δ_t (what its work over the last step left there)
   // less what the sliding anchor keeps.
   terms.released = 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
-  terms.dissipated = friction * t.slipSpeed;
-  return direction * -friction;
+  terms.dissipated = sliding.dissipated;
+  return sliding.force;
 }
 
 // MODEL §3.3 rolling resistance: a torque μ_r F_n r against the relative

@@ -63,6 +63,52 @@ template <class Ops>
           Ops::maxOf(damping, Ops::mul(tangentialDamping, rotation))};
 }
 
+/// MODEL §3.3, friction that holds: sticking (scale 1) or breaking away (scale
+/// μ_s Σ F_n / Σ|F_t| < 1, the group's). The anchor gives way to scale × δ_t
+/// (anchor = relative - scale δ_t); the friction force is scale × (the anchor
+/// spring's and damper's load); the anchor keeps ½ k_t |scale δ_t|² (J); the
+/// damper dissipates scale c_t |v_t|² (W). `Ops::V` is the vector type
+/// (scaleV, subV, dotV).
+template <class N, class V>
+struct HeldFriction {
+  V anchor, force;
+  N anchorEnergy, dissipated;
+};
+template <class Ops>
+[[gnu::always_inline]] inline HeldFriction<typename Ops::N, typename Ops::V> heldFriction(
+    const typename Ops::V& relative, const typename Ops::V& delta,
+    const typename Ops::V& tangentialLoad, typename Ops::N scale,
+    typename Ops::N tangentialStiffness, typename Ops::N tangentialDamping,
+    typename Ops::N slipSpeed) {
+  const typename Ops::V held = Ops::scaleV(delta, scale);
+  return {Ops::subV(relative, held), Ops::scaleV(tangentialLoad, scale),
+          Ops::mul(Ops::mul(Ops::constant(0.5), tangentialStiffness), Ops::dotV(held, held)),
+          Ops::mul(Ops::mul(Ops::mul(scale, tangentialDamping), slipSpeed), slipSpeed)};
+}
+
+/// MODEL §3.3, sliding: F_t = -μ_k F_n ŝ (ŝ the unit slip direction, or the
+/// held load's where the slip stopped); the anchor trails the contact at the
+/// offset that spring would hold, μ_k F_n / k_t along ŝ, and keeps ½ k_t of its
+/// square (J); kinetic friction dissipates μ_k F_n |v_t| (W).
+template <class N, class V>
+struct SlidingFriction {
+  V anchor, force;
+  N anchorEnergy, dissipated;
+};
+template <class Ops>
+[[gnu::always_inline]] inline SlidingFriction<typename Ops::N, typename Ops::V> slidingFriction(
+    const typename Ops::V& relative, const typename Ops::V& direction,
+    typename Ops::N kineticFriction, typename Ops::N normalForce,
+    typename Ops::N tangentialStiffness, typename Ops::N slipSpeed) {
+  const typename Ops::N friction = Ops::mul(kineticFriction, normalForce);
+  const typename Ops::V consistent =
+      Ops::scaleV(direction, Ops::div(friction, tangentialStiffness));
+  return {Ops::subV(relative, consistent), Ops::scaleV(direction, Ops::negate(friction)),
+          Ops::mul(Ops::mul(Ops::constant(0.5), tangentialStiffness),
+                   Ops::dotV(consistent, consistent)),
+          Ops::mul(friction, slipSpeed)};
+}
+
 /// The scalar operations (a template, so that none is compiled where it is not used).
 template <class T>
 struct BasicScalarOps {

@@ -72,6 +72,14 @@ struct LaneOps {
   }
   static ROBOPHI_LANES D maxOf(D a, D b) { return robophi::detail::maxOf(a, b); }
   static ROBOPHI_LANES D constant(double a) { return all(a); }
+  using V = V3;
+  static ROBOPHI_LANES V3 scaleV(const V3& a, D s) { return {mul(a.x, s), mul(a.y, s), mul(a.z, s)}; }
+  static ROBOPHI_LANES V3 subV(const V3& a, const V3& b) {
+    return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)};
+  }
+  static ROBOPHI_LANES D dotV(const V3& a, const V3& b) {
+    return add(add(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z));
+  }
 };
 
 ROBOPHI_LANES V3 add3(const V3& a, const V3& b) { return {add(a.x, b.x), add(a.y, b.y), add(a.z, b.z)}; }
@@ -209,7 +217,7 @@ ROBOPHI_LANES V3 laneTrial(PairLaneBatch& b, std::size_t l, const LaneGeometry& 
 // contactFriction: the anchor, its energy, the damper's power, the loads.
 ROBOPHI_LANES void laneSticking(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
                                 const V3& delta, const V3& tangentialLoad, D tangentialDamping) {
-  const D zero = _mm256_setzero_pd(), one = all(1.0), half = all(0.5);
+  const D zero = _mm256_setzero_pd(), one = all(1.0);
   const V3 none{zero, zero, zero};
   const D slidBefore = _mm256_cmp_pd(load(b.slidBefore + l), one, _CMP_EQ_OQ);
   const D groupTotal = add(zero, _mm256_sqrt_pd(dot3(tangentialLoad, tangentialLoad)));
@@ -217,12 +225,13 @@ ROBOPHI_LANES void laneSticking(PairLaneBatch& b, std::size_t l, const LaneGeome
       slidBefore, _mm256_cmp_pd(groupTotal, add(zero, load(b.frictionLoad + l)), _CMP_LE_OQ));
   const int sticks = _mm256_movemask_pd(holds);
   for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
-  const V3 held = scale3(delta, one);
-  const D kt = load(b.tangentialStiffness + l), slipSpeed = load(b.slipSpeed + l);
-  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(g.rel, held));
-  store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
-  store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
-  const V3 friction = scale3(tangentialLoad, one);
+  const auto held = law::heldFriction<LaneOps>(g.rel, delta, tangentialLoad, one,
+                                               load(b.tangentialStiffness + l), tangentialDamping,
+                                               load(b.slipSpeed + l));
+  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, held.anchor);
+  store(b.anchorEnergy + l, held.anchorEnergy);
+  store(b.dissipated + l, held.dissipated);
+  const V3 friction = held.force;
   const V3 normal = load3(b.normalx + l, b.normaly + l, b.normalz + l);
   store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
   store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
