@@ -69,13 +69,14 @@ template <class Ops>
 /// spring's and damper's load); the anchor keeps ½ k_t |scale δ_t|² (J); the
 /// damper dissipates scale c_t |v_t|² (W). `Ops::V` is the vector type
 /// (scaleV, subV, dotV).
+/// (FrictionLoad: what either friction law gives a contact.)
 template <class N, class V>
-struct HeldFriction {
+struct FrictionLoad {
   V anchor, force;
   N anchorEnergy, dissipated;
 };
 template <class Ops>
-[[gnu::always_inline]] inline HeldFriction<typename Ops::N, typename Ops::V> heldFriction(
+[[gnu::always_inline]] inline FrictionLoad<typename Ops::N, typename Ops::V> heldFriction(
     const typename Ops::V& relative, const typename Ops::V& delta,
     const typename Ops::V& tangentialLoad, typename Ops::N scale,
     typename Ops::N tangentialStiffness, typename Ops::N tangentialDamping,
@@ -90,13 +91,8 @@ template <class Ops>
 /// held load's where the slip stopped); the anchor trails the contact at the
 /// offset that spring would hold, μ_k F_n / k_t along ŝ, and keeps ½ k_t of its
 /// square (J); kinetic friction dissipates μ_k F_n |v_t| (W).
-template <class N, class V>
-struct SlidingFriction {
-  V anchor, force;
-  N anchorEnergy, dissipated;
-};
 template <class Ops>
-[[gnu::always_inline]] inline SlidingFriction<typename Ops::N, typename Ops::V> slidingFriction(
+[[gnu::always_inline]] inline FrictionLoad<typename Ops::N, typename Ops::V> slidingFriction(
     const typename Ops::V& relative, const typename Ops::V& direction,
     typename Ops::N kineticFriction, typename Ops::N normalForce,
     typename Ops::N tangentialStiffness, typename Ops::N slipSpeed) {
