@@ -1,14 +1,13 @@
 #pragma once
 // The contact laws, written once (issue 36; docs/contact.md "The stage"):
-// MODEL §3.1's normal force, §3.3's anchor damping and §3.7's stability rates of
-// one contact. The scalar stage (contact_force.cpp, ScalarOps), the AVX2 lanes
-// (pair_lanes.cpp, four contacts at a time) and the rigid trees' implicit terms
-// (integrate/rigid_trees.cpp) all call these. `Ops` names the number type N and
-// its operations, each one IEEE operation (add, sub, mul, div, sqrt, negate,
-// atLeastZero: x < 0 ? 0 : x, maxOf: a < b ? b : a, constant), so that a lane
-// and a scalar register round alike and give the same bits.
-// (Templates only: pair_lanes.cpp includes this inside its AVX2 region, where
-// any function defined would be compiled for AVX2.)
+// MODEL §3.1's normal force, §3.3's anchor damping and friction laws and §3.7's
+// stability rates of one contact. The scalar stage (contact_force.cpp) and the
+// rigid trees' implicit terms (integrate/rigid_trees.cpp) call these; the AVX2
+// lanes (pair_lanes.cpp) mirror them operation by operation (each of their
+// functions carries the AVX2 target, which a shared template cannot). `Ops`
+// names the number type N (and vector type V) and its operations, each one
+// IEEE operation (add, sub, mul, div, sqrt, negate, atLeastZero: x < 0 ? 0 : x,
+// maxOf: a < b ? b : a, constant; scaleV, subV, dotV).
 
 #include <cmath>
 

@@ -1,21 +1,20 @@
 // The lean contact stage's contacts four at a time (pair_lanes.h). Each line
 // mirrors the scalar stage's (contact_force.cpp: ChunkWalk, pairGeometry,
-// pairArms, turningOf, contactRates, joinGroup, frictionForce, contactFriction), operation
-// by operation and in its order: IEEE sums, products, quotients and square
-// roots round the same in a lane as in a scalar register, and no fused
-// multiply-add is enabled here (-ffp-contract=off, AVX2 only).
+// pairArms, turningOf, contactRates, joinGroup, frictionForce, contactFriction)
+// and the laws it calls (collision/contact_law.h: normalLaw, tangentialDamping,
+// stabilityRates, heldFriction), operation by operation and in its order: IEEE
+// sums, products, quotients and square roots round the same in a lane as in a
+// scalar register, and no fused multiply-add is enabled here (-ffp-contract=off,
+// AVX2 only); tests/collision/test_pair_lanes.cpp checks the same bits. (The
+// laws' templates are not instantiated here: every function of this file
+// carries the AVX2 target itself, which a template shared with the scalar
+// stage cannot, under GCC's unity builds and clang alike.)
 #include "collision/pair_lanes.h"
 
 #include <atomic>
-#include <cmath>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
-// The laws (templates) compiled for AVX2 where the lanes instantiate them.
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#include "collision/contact_law.h"
-#pragma GCC pop_options
 #endif
 
 namespace robophi::detail {
@@ -56,31 +55,6 @@ ROBOPHI_LANES D negate(D a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
 ROBOPHI_LANES D select(D mask, D b, D a) { return _mm256_blendv_pd(a, b, mask); }
 // std::max(a, b): a < b ? b : a.
 ROBOPHI_LANES D maxOf(D a, D b) { return select(_mm256_cmp_pd(a, b, _CMP_LT_OQ), b, a); }
-
-// The laws' operations on four lanes (collision/contact_law.h).
-struct LaneOps {
-  using N = D;
-  static ROBOPHI_LANES D add(D a, D b) { return _mm256_add_pd(a, b); }
-  static ROBOPHI_LANES D sub(D a, D b) { return _mm256_sub_pd(a, b); }
-  static ROBOPHI_LANES D mul(D a, D b) { return _mm256_mul_pd(a, b); }
-  static ROBOPHI_LANES D div(D a, D b) { return _mm256_div_pd(a, b); }
-  static ROBOPHI_LANES D sqrt(D a) { return _mm256_sqrt_pd(a); }
-  static ROBOPHI_LANES D negate(D a) { return robophi::detail::negate(a); }
-  static ROBOPHI_LANES D atLeastZero(D a) {
-    const D zero = _mm256_setzero_pd();
-    return select(_mm256_cmp_pd(a, zero, _CMP_LT_OQ), zero, a);
-  }
-  static ROBOPHI_LANES D maxOf(D a, D b) { return robophi::detail::maxOf(a, b); }
-  static ROBOPHI_LANES D constant(double a) { return all(a); }
-  using V = V3;
-  static ROBOPHI_LANES V3 scaleV(const V3& a, D s) { return {mul(a.x, s), mul(a.y, s), mul(a.z, s)}; }
-  static ROBOPHI_LANES V3 subV(const V3& a, const V3& b) {
-    return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)};
-  }
-  static ROBOPHI_LANES D dotV(const V3& a, const V3& b) {
-    return add(add(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z));
-  }
-};
 
 ROBOPHI_LANES V3 add3(const V3& a, const V3& b) { return {add(a.x, b.x), add(a.y, b.y), add(a.z, b.z)}; }
 ROBOPHI_LANES V3 sub3(const V3& a, const V3& b) { return {sub(a.x, b.x), sub(a.y, b.y), sub(a.z, b.z)}; }
@@ -140,14 +114,16 @@ ROBOPHI_LANES LaneGeometry laneGeometry(PairLaneBatch& b, std::size_t l) {
 // the power of its non-elastic part. Returns F_n.
 ROBOPHI_LANES D laneNormalLaw(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
                               const V3& relativeVelocity) {
+  const D zero = _mm256_setzero_pd(), half = all(0.5);
   const D dDot = dot3(relativeVelocity, g.n);
-  const auto normal =
-      law::normalLaw<LaneOps>(load(b.stiffness + l), load(b.damping + l), g.depth, dDot);
-  store(b.normalForce + l, normal.force);
-  store(b.normalPotential + l, normal.potential);
-  store(b.normalDissipation + l, normal.dissipation);
-  store3(b.normalx + l, b.normaly + l, b.normalz + l, scale3(g.n, normal.force));
-  return normal.force;
+  const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
+  D normalForce = sub(mul(negate(stiffness), g.depth), mul(damping, dDot));
+  normalForce = select(_mm256_cmp_pd(normalForce, zero, _CMP_LT_OQ), zero, normalForce);
+  store(b.normalForce + l, normalForce);
+  store(b.normalPotential + l, mul(mul(mul(half, stiffness), g.depth), g.depth));
+  store(b.normalDissipation + l, mul(add(normalForce, mul(stiffness, g.depth)), dDot));
+  store3(b.normalx + l, b.normaly + l, b.normalz + l, scale3(g.n, normalForce));
+  return normalForce;
 }
 
 // turningOf: a side that spins on its own turns its contact point; the contact
@@ -170,16 +146,15 @@ ROBOPHI_LANES V3 laneTurning(PairLaneBatch& b, std::size_t l, const LaneGeometry
   const D tangentialInverse = add(add(inverseMass, armInverseA), armInverseB);
   store(b.tangentialInverse + l, tangentialInverse);
   const D kt = load(b.tangentialStiffness + l);
-  tangentialDamping =
-      law::tangentialDamping<LaneOps>(load(b.tangentialDampingRatio + l), kt, tangentialInverse);
+  tangentialDamping = mul(mul(load(b.tangentialDampingRatio + l), all(2.0)),
+                          _mm256_sqrt_pd(div(kt, tangentialInverse)));
   store(b.tangentialDamping + l, tangentialDamping);
   const D rotation =
       select(_mm256_cmp_pd(inverseMass, zero, _CMP_GT_OQ), div(tangentialInverse, inverseMass), one);
   const D bothFixed = _mm256_cmp_pd(inverseMass, zero, _CMP_EQ_OQ);
-  const auto rates = law::stabilityRates<LaneOps>(
-      load(b.stiffness + l), load(b.damping + l), kt, tangentialDamping, rotation);
-  store(b.rateStiffness + l, select(bothFixed, zero, rates.stiffness));
-  store(b.rateDamping + l, select(bothFixed, zero, rates.damping));
+  const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
+  store(b.rateStiffness + l, select(bothFixed, zero, maxOf(stiffness, mul(kt, rotation))));
+  store(b.rateDamping + l, select(bothFixed, zero, maxOf(damping, mul(tangentialDamping, rotation))));
   return add3(relativeVelocity, roll);
 }
 
@@ -225,13 +200,13 @@ ROBOPHI_LANES void laneSticking(PairLaneBatch& b, std::size_t l, const LaneGeome
       slidBefore, _mm256_cmp_pd(groupTotal, add(zero, load(b.frictionLoad + l)), _CMP_LE_OQ));
   const int sticks = _mm256_movemask_pd(holds);
   for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
-  const auto held = law::heldFriction<LaneOps>(g.rel, delta, tangentialLoad, one,
-                                               load(b.tangentialStiffness + l), tangentialDamping,
-                                               load(b.slipSpeed + l));
-  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, held.anchor);
-  store(b.anchorEnergy + l, held.anchorEnergy);
-  store(b.dissipated + l, held.dissipated);
-  const V3 friction = held.force;
+  const D half = all(0.5);
+  const V3 held = scale3(delta, one);
+  const D kt = load(b.tangentialStiffness + l), slipSpeed = load(b.slipSpeed + l);
+  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(g.rel, held));
+  store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
+  store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
+  const V3 friction = scale3(tangentialLoad, one);
   const V3 normal = load3(b.normalx + l, b.normaly + l, b.normalz + l);
   store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
   store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
