@@ -449,7 +449,7 @@ inline void contactRates(const ContactTables& tables, const PairParameters& k, s
     damping = 0.0;
     return;
   }
-  const law::Rates<double> rates = law::stabilityRates<law::ScalarOps>(
+  const law::Rates rates = law::stabilityRates(
       k.stiffness, k.damping, k.tangentialStiffness, tangentialDamping, rotationFactor);
   stiffness = rates.stiffness;
   damping = rates.damping;
@@ -520,15 +520,6 @@ struct FrictionTerms {
   double dissipated = 0.0;
 };
 
-// The laws' operations in the scalar stage (collision/contact_law.h): numbers
-// and vectors.
-struct StageOps : law::ScalarOps {
-  using V = Vec3;
-  static Vec3 scaleV(const Vec3& a, double s) { return a * s; }
-  static Vec3 subV(const Vec3& a, const Vec3& b) { return a - b; }
-  static double dotV(const Vec3& a, const Vec3& b) { return dot(a, b); }
-};
-
 // Friction of one contact once its group has decided (MODEL §3.3's laws:
 // law::heldFriction, law::slidingFriction). Returns F_t on a.
 inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
@@ -542,7 +533,7 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
     const double s = g.regime == kBreakingAway ? g.scale : 1.0;
     c.sliding = g.regime;
     c.giveWay = g.regime == kBreakingAway ? t.giveWayBefore + norm(t.delta) * (1.0 - s) : 0.0;
-    const auto held = law::heldFriction<StageOps>(t.relative, t.delta, t.elastic + t.damper, s,
+    const auto held = law::heldFriction(t.relative, t.delta, t.elastic + t.damper, s,
                                                   stiffness, t.tangentialDamping, t.slipSpeed);
     c.anchor = held.anchor;
     c.anchorEnergy = held.anchorEnergy;
@@ -557,7 +548,7 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
   } else if (squaredNorm(t.elastic) > 0.0) {
     direction = t.elastic / -norm(t.elastic);
   }
-  const auto sliding = law::slidingFriction<StageOps>(t.relative, direction, t.kineticFriction,
+  const auto sliding = law::slidingFriction(t.relative, direction, t.kineticFriction,
                                                      c.normalForce, stiffness, t.slipSpeed);
   c.sliding = kSliding;
   c.giveWay = 0.0;
@@ -1287,12 +1278,12 @@ class ChunkWalk {
     const double dDot = w.rimmed ? dot(w.relativeVelocity + cross(ring_.omega, w.t->armA), n) +
                                        w.squeezeRate * ring_.radiusRate
                                  : dot(w.relativeVelocity, n);
-    const law::NormalLoad<double> law = law::normalLaw<law::ScalarOps>(k.stiffness, k.damping, d, dDot);
-    const double normalForce = law.force;
+    const law::NormalLoad load = law::normalLaw(k.stiffness, k.damping, d, dDot);
+    const double normalForce = load.force;
     c.normalForce = normalForce;
     w.normalForce = normalForce;
-    tally_.potential += law.potential;
-    tally_.dissipativePower += law.dissipation;
+    tally_.potential += load.potential;
+    tally_.dissipativePower += load.dissipation;
     w.normal = n * normalForce;
     ContactStats& stats = chunk_.stats;
     stats.maxPenetration = std::max(stats.maxPenetration, -c.depth);
@@ -1352,7 +1343,7 @@ class ChunkWalk {
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
         w.inverseMass + w.ta.armInverseInertia + (w.other >= 0 ? w.tb.armInverseInertia : 0.0);
-    t.tangentialDamping = law::tangentialDamping<law::ScalarOps>(
+    t.tangentialDamping = law::tangentialDamping(
         k.tangentialDampingRatio, k.tangentialStiffness, tangentialInverse);
     settle(w.inverseMass > 0.0 ? tangentialInverse / w.inverseMass : 1.0, t.tangentialDamping);
     anchorOffset();

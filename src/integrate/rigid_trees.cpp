@@ -139,7 +139,7 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
             tables.contactInverseMass[static_cast<std::size_t>(c.a)] +
             (c.other >= 0 ? tables.contactInverseMass[static_cast<std::size_t>(c.other)] : 0.0);
         load.tangentialStiffness = pair.tangentialStiffness;
-        load.tangentialDamping = law::tangentialDamping<law::ScalarOps>(
+        load.tangentialDamping = law::tangentialDamping(
             pair.tangentialDampingRatio, pair.tangentialStiffness, inverseMass);
       }
       loads[static_cast<std::size_t>(tree)].push_back(load);
