@@ -7,11 +7,12 @@ from 1 mm, embedded 1e-5 m, kappa_c 1e5 and 1e7), run at a constant step for 2 s
 (creep under 1 mm). The same scenes as tests/collision/test_slope_placement.cpp.
 
   bench/slope_placement.py ROBOPHI [--damping 30] [--contact '{"tangentialStiffnessRatio": 1}']
-                           [--only l26] [--out /tmp/slope]
+                           [--body '{"damping": 20}'] [--only l26] [--out /tmp/slope]
 
 --damping is the pair's mu_c at kappa_c 5e4 (N s/m; scaled with sqrt(kappa_c)),
 30 (zeta about 0.2 for a bottom contact's share of the box) by default; --contact
-adds a scene 'contact' section. Standard library only.
+adds a scene 'contact' section; --body adds keys to the box's object (its
+connectors' damping, "rigid": true). Standard library only.
 """
 
 import argparse
@@ -31,7 +32,7 @@ PLACEMENTS = {  # gap (m; < 0 embedded), kappa_c (N/m), step (s), seconds
 }
 
 
-def scene(degrees, placement, facets, damping, contact):
+def scene(degrees, placement, facets, damping, contact, body=None):
     gap, kappa, _, _ = PLACEMENTS[placement]
     a = math.radians(degrees)
     pair_damping = damping * math.sqrt(kappa / 5e4)
@@ -44,6 +45,7 @@ def scene(degrees, placement, facets, damping, contact):
                       "cells": [3, 3, 2], "mass": 1, "material": "m", "facets": facets}]}
     if contact:
         s["contact"] = contact
+    s["objects"][0].update(body or {})
     return s
 
 
@@ -53,7 +55,7 @@ def run_case(args, case):
     name = f"{'faceted' if facets else 'lattice'}_{degrees}deg_{placement}"
     folder = os.path.join(args.out, name)
     with open(folder + ".json", "w") as f:
-        json.dump(scene(degrees, placement, facets, args.damping, args.contact), f)
+        json.dump(scene(degrees, placement, facets, args.damping, args.contact, args.body), f)
     r = subprocess.run([args.robophi, "run", folder + ".json", "--out", folder, "--force", "--quiet",
                         "--step", "constant", "--dt", str(step), "--duration", str(seconds), "--fps", "10"],
                        capture_output=True, text=True)
@@ -66,6 +68,7 @@ def main():
     parser.add_argument("robophi")
     parser.add_argument("--damping", type=float, default=30.0)
     parser.add_argument("--contact", type=json.loads, default={})
+    parser.add_argument("--body", type=json.loads, default={})
     parser.add_argument("--only", default="")
     parser.add_argument("--out", default="/tmp/robophi-slope-placement")
     args = parser.parse_args()

@@ -329,6 +329,7 @@ void World::setContactSettings(const ContactSettings& settings) {
   requireNonNegative(function, "tangentialStiffnessRatio", settings.tangentialStiffnessRatio);
   requireNonNegative(function, "tangentialDampingRatio", settings.tangentialDampingRatio);
   requireNonNegative(function, "stickVelocity", settings.stickVelocity);
+  requireNonNegative(function, "stribeckVelocity", settings.stribeckVelocity);
   if (settings.leafSize < 1)
     throw std::invalid_argument(
         detail::text("{}: leafSize = {} must be >= 1", function, settings.leafSize));

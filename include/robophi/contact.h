@@ -121,6 +121,11 @@ struct ContactSettings {
   /// MODEL §3.3 "V ≠ 0" tolerance (m/s): a sliding contact group sticks again
   /// below it; between 0 and it, friction falls from μ_s to μ_k (breaking away).
   double stickVelocity = 1.0e-4;
+  /// MODEL §3.3 sliding friction's speed scale v_S (m/s): a contact sliding at
+  /// |V| has μ(V) = μ_k + (μ_s - μ_k) exp(-(|V|/v_S)²), μ_s at the start of a
+  /// slip and μ_k once it is fast (Stribeck); 0: μ_k at any speed (the paper's
+  /// law).
+  double stribeckVelocity = 0.0;
   /// MODEL §3.3 rolling: friction acts at the contact point, single particles
   /// spin (State::spin) and objects turn as a whole. false: friction acts at the
   /// particle centres and nothing spins (the paper's model).

@@ -260,6 +260,7 @@ void ModelBuilder::setContactSettings(const ContactSettings& settings) {
   check::nonNegative(kSpec, "tangentialStiffnessRatio", settings.tangentialStiffnessRatio, "-");
   check::nonNegative(kSpec, "tangentialDampingRatio", settings.tangentialDampingRatio, "-");
   check::nonNegative(kSpec, "stickVelocity", settings.stickVelocity, "m/s");
+  check::nonNegative(kSpec, "stribeckVelocity", settings.stribeckVelocity, "m/s");
   check::atLeast(kSpec, "leafSize", settings.leafSize, 1);
   const auto objects = static_cast<std::int32_t>(model_.objects.size());
   for (const ContactPairOverride& pair : settings.pairOverrides) {

@@ -541,15 +541,18 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
     terms.dissipated = held.dissipated;
     return held.force;
   }
-  // Sliding: μ_k F_n against the slip (against the held load if it has stopped).
+  // Sliding: μ(|V|) F_n against the slip (against the held load if it has
+  // stopped); μ from μ_s at the start of a slip to μ_k (law::slidingCoefficient).
   Vec3 direction;
   if (t.slipSpeed > 0.0) {
     direction = c.slip / t.slipSpeed;
   } else if (squaredNorm(t.elastic) > 0.0) {
     direction = t.elastic / -norm(t.elastic);
   }
-  const auto sliding = law::slidingFriction(t.relative, direction, t.kineticFriction,
-                                                     c.normalForce, stiffness, t.slipSpeed);
+  const double coefficient = law::slidingCoefficient(t.staticFriction, t.kineticFriction,
+                                                      t.slipSpeed, t.stribeckVelocity);
+  const auto sliding = law::slidingFriction(t.relative, direction, coefficient, c.normalForce,
+                                            stiffness, t.slipSpeed);
   c.sliding = kSliding;
   c.giveWay = 0.0;
   c.anchor = sliding.anchor;
@@ -925,6 +928,8 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   t.armB = {b.armBx[l], b.armBy[l], b.armBz[l]};
   t.tangentialStiffness = k.tangentialStiffness;
   t.kineticFriction = k.kineticFriction;
+  t.staticFriction = k.staticFriction;
+  t.stribeckVelocity = k.stribeckVelocity;
   t.tangentialDamping = b.tangentialDamping[l];
   load.a = a;
   load.other = other;
@@ -1298,6 +1303,8 @@ class ChunkWalk {
     t.group = -1;
     t.tangentialStiffness = k.tangentialStiffness;
     t.kineticFriction = k.kineticFriction;
+    t.staticFriction = k.staticFriction;
+    t.stribeckVelocity = k.stribeckVelocity;
     w.rollMoment = Vec3{};
   }
 

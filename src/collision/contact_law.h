@@ -69,14 +69,25 @@ inline FrictionLoad heldFriction(const Vec3& relative, const Vec3& delta,
           scale * tangentialDamping * slipSpeed * slipSpeed};
 }
 
-/// MODEL §3.3, sliding: F_t = -μ_k F_n ŝ (ŝ the unit slip direction, or the
-/// held load's where the slip stopped); the anchor trails the contact at the
-/// offset that spring would hold, μ_k F_n / k_t along ŝ, and keeps ½ k_t of its
-/// square; kinetic friction dissipates μ_k F_n |v_t|.
+/// MODEL §3.3, the coefficient of a contact sliding at |V| = `slipSpeed`:
+/// μ_k + (μ_s - μ_k) exp(-(|V|/v_S)²) (Stribeck), continuous with breaking away
+/// (μ_s) at the start of a slip and μ_k once the slip is fast against v_S; μ_k
+/// at every speed when v_S = 0.
+inline double slidingCoefficient(double staticFriction, double kineticFriction, double slipSpeed,
+                                 double stribeckVelocity) {
+  if (stribeckVelocity <= 0.0) return kineticFriction;
+  const double r = slipSpeed / stribeckVelocity;
+  return kineticFriction + (staticFriction - kineticFriction) * std::exp(-r * r);
+}
+
+/// MODEL §3.3, sliding: F_t = -μ F_n ŝ, μ = slidingCoefficient (ŝ the unit slip
+/// direction, or the held load's where the slip stopped); the anchor trails the
+/// contact at the offset that spring would hold, μ F_n / k_t along ŝ, and keeps
+/// ½ k_t of its square; sliding friction dissipates μ F_n |v_t|.
 inline FrictionLoad slidingFriction(const Vec3& relative, const Vec3& direction,
-                                    double kineticFriction, double normalForce,
+                                    double coefficient, double normalForce,
                                     double tangentialStiffness, double slipSpeed) {
-  const double friction = kineticFriction * normalForce;
+  const double friction = coefficient * normalForce;
   const Vec3 consistent = direction * (friction / tangentialStiffness);
   return {relative - consistent, direction * -friction,
           0.5 * tangentialStiffness * squaredNorm(consistent), friction * slipSpeed};

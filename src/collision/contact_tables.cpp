@@ -29,6 +29,7 @@ PairParameters combine(const ContactSettings& settings, double stiffness, double
   p.kineticFriction = std::min(kineticFriction, staticFriction);
   p.tangentialStiffness = settings.tangentialStiffnessRatio * stiffness;
   p.tangentialDampingRatio = settings.tangentialDampingRatio;
+  p.stribeckVelocity = settings.stribeckVelocity;
   return p;
 }
 

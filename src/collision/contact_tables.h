@@ -30,6 +30,8 @@ struct PairParameters {
   double tangentialDampingRatio = 0.0;  // (-)
   /// μ_r (-): rolling resistance torque μ_r r F_n against the rolling (0: none).
   double rollingResistance = 0.0;
+  /// v_S (m/s): sliding friction's speed scale (law::slidingCoefficient).
+  double stribeckVelocity = 0.0;
 };
 
 /// A node of an object's sphere tree. Its particles are
@@ -297,6 +299,8 @@ struct ContactScratch {
     double inverseA[6]{}, inverseB[6]{};
     double tangentialStiffness = 0.0, tangentialDamping = 0.0;
     double kineticFriction = 0.0;  // μ_k of the pair (-)
+    double staticFriction = 0.0;   // μ_s of the pair (-)
+    double stribeckVelocity = 0.0; // v_S of the pair (m/s)
     /// Rim and ball contacts: their body's motion, in ContactScratch::rings.
     std::int32_t ring = -1;
     double slipSpeed = 0.0, previousEnergy = 0.0;

@@ -259,6 +259,7 @@ json modelEditsToJson(const Model& m) {
             {"tangential_stiffness_ratio", exactNumber(c.tangentialStiffnessRatio)},
             {"tangential_damping_ratio", exactNumber(c.tangentialDampingRatio)},
             {"stick_velocity", exactNumber(c.stickVelocity)},
+            {"stribeck_velocity", exactNumber(c.stribeckVelocity)},
             {"rolling", c.rolling},
             {"leaf_size", c.leafSize},
             {"pairs", pairs}}}};
@@ -349,6 +350,8 @@ void applyModelEdits(const json& j, Model& m) {
   settings.tangentialStiffnessRatio = number(c, "tangential_stiffness_ratio");
   settings.tangentialDampingRatio = number(c, "tangential_damping_ratio");
   settings.stickVelocity = number(c, "stick_velocity");
+  // (Checkpoints written before v_S existed slide at μ_k: 0.)
+  settings.stribeckVelocity = c.contains("stribeck_velocity") ? number(c, "stribeck_velocity") : 0.0;
   settings.rolling = c.at("rolling").get<bool>();
   settings.leafSize = c.at("leaf_size").get<std::int32_t>();
   settings.pairOverrides.clear();

@@ -111,6 +111,8 @@ void readContactSettings(DiagnosticSink& sink, const nlohmann::json& value, Mode
   s.tangentialDampingRatio =
       r.numberOr("tangentialDampingRatio", s.tangentialDampingRatio, Bound::kNonNegative, "");
   s.stickVelocity = r.numberOr("stickVelocity", s.stickVelocity, Bound::kNonNegative, "m/s");
+  s.stribeckVelocity =
+      r.numberOr("stribeckVelocity", s.stribeckVelocity, Bound::kNonNegative, "m/s");
   s.rolling = r.boolean("rolling").value_or(s.rolling);
   s.leafSize = r.integer("leafSize", 1).value_or(s.leafSize);
   r.finish();

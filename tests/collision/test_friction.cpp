@@ -1,11 +1,15 @@
 // MODEL §3.3: Coulomb friction realised with an anchor spring. A sliding block
 // stops after v0²/(2 μ_k g); on a slope it sticks below atan(μ_s) without creep
-// and slides above it at g (sin α - μ_k cos α).
+// and slides above it at g (sin α - μ_k cos α). With a Stribeck velocity v_S
+// the sliding coefficient falls from μ_s to μ_k with the slip speed
+// (law::slidingCoefficient): the block stops after ∫ v dv / (g μ(v)), and a slip
+// that starts slowly on a slope between atan μ_k and atan μ_s dies out.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
+#include "collision/contact_law.h"
 #include "collision/contact_test_util.h"
 
 namespace robophi {
@@ -18,9 +22,10 @@ constexpr double kStaticFriction = 0.5, kKineticFriction = 0.4, kFrictionG = 9.8
 // tilted by `slope` (rad) about y: the ground acts as a slope rising towards -x.
 // The particle is the paper's, which does not turn (contact.rolling off): a
 // block that sticks or slides. (A particle that turns rolls: test_rolling.cpp.)
-World restingParticle(double slope, const Vec3& velocity = {}) {
+World restingParticle(double slope, const Vec3& velocity = {}, double stribeckVelocity = 0.0) {
   Model model;
   model.contact.rolling = false;
+  model.contact.stribeckVelocity = stribeckVelocity;
   State state;
   const double damping = 2.0 * 0.5 * std::sqrt(kStiffness * kBallMass);  // ζ = 0.5
   model.gravity = Vec3{std::sin(slope), 0.0, -std::cos(slope)} * kFrictionG;
@@ -92,6 +97,68 @@ TEST(Friction, EnergyAccountCloses) {
   std::printf("sliding energy: total %.9f -> %.9f J (dissipated %.6f J)\n", initial, final,
               world.energy().dissipated);
   EXPECT_NEAR(final, initial, 1e-3 * 0.5 * 1.25);
+}
+
+TEST(Friction, TheSlidingCoefficientFallsFromStaticToKinetic) {
+  EXPECT_EQ(law::slidingCoefficient(0.5, 0.3, 0.0, 0.05), 0.5);  // continuous with μ_s
+  EXPECT_NEAR(law::slidingCoefficient(0.5, 0.3, 0.05, 0.05), 0.3 + 0.2 / M_E, 1e-15);
+  EXPECT_EQ(law::slidingCoefficient(0.5, 0.3, 1.0, 0.05), 0.3);  // exp(-400) = 0
+  EXPECT_EQ(law::slidingCoefficient(0.5, 0.3, 1e-6, 0.0), 0.3);  // v_S = 0: the paper's law
+  double previous = 1.0;
+  for (double v = 0.0; v < 0.3; v += 0.001) {  // monotone between the two
+    const double mu = law::slidingCoefficient(0.5, 0.3, v, 0.05);
+    EXPECT_LE(mu, previous);
+    EXPECT_GE(mu, 0.3);
+    previous = mu;
+  }
+}
+
+// The block of SlidingBlockStopsAfterTheCoulombDistance with v_S = 0.2 m/s: it
+// stops after ∫₀^v0 v dv / (g μ(v)) (Simpson's rule here), shorter than with μ_k
+// alone, and its energy account closes.
+TEST(Friction, WithAStribeckVelocityTheBlockStopsAfterTheIntegralDistance) {
+  constexpr double kSpeed = 0.3, kStribeck = 0.2;
+  World world = restingParticle(0.0, {kSpeed, 0.0, 0.0}, kStribeck);
+  constexpr int kPanels = 20'000;
+  const auto integrand = [](double v) {
+    return v / (kFrictionG * law::slidingCoefficient(kStaticFriction, kKineticFriction, v, kStribeck));
+  };
+  double sum = integrand(0.0) + integrand(kSpeed);
+  for (int k = 1; k < kPanels; ++k) sum += (k % 2 == 1 ? 4.0 : 2.0) * integrand(k * kSpeed / kPanels);
+  const double expected = sum * kSpeed / kPanels / 3.0;
+  const double coulomb = kSpeed * kSpeed / (2.0 * kKineticFriction * kFrictionG);
+  world.step(1.0e-5);
+  const double initial = world.energy().total();
+  for (int step = 0; step < 60'000; ++step) world.step(1.0e-5);  // 0.6 s; stops at 0.07 s
+  const double travelled = world.state().position[0].x;
+  std::printf("Stribeck block: travelled %.6f m, integral %.6f m (%.3f%%), mu_k alone %.6f m\n",
+              travelled, expected, 100.0 * (travelled / expected - 1.0), coulomb);
+  EXPECT_NEAR(travelled / expected, 1.0, 0.005);
+  EXPECT_LT(expected, 0.95 * coulomb);  // 0.912 of it
+  EXPECT_LT(norm(world.state().velocity[0]), 1e-3);
+  EXPECT_EQ(world.contacts()[0].sliding, 0);
+  EXPECT_NEAR(world.energy().total(), initial, 1e-3 * 0.5 * kSpeed * kSpeed);
+}
+
+// A slip started at 2 cm/s down a slope between atan μ_k (21.8°) and atan μ_s
+// (26.6°): with μ_k alone it never stops (tan 24° > μ_k), with v_S = 0.1 m/s
+// friction near μ_s brings it back to sticking within a few millimetres.
+TEST(Friction, ASlowSlipOnASlopeBelowTheStaticAngleDiesOutWithAStribeckVelocity) {
+  const double angle = 24.0 * M_PI / 180.0;
+  const Vec3 slip{0.02, 0.0, 0.0};
+  World stribeck = restingParticle(angle, slip, 0.1);
+  World coulomb = restingParticle(angle, slip, 0.0);
+  for (int step = 0; step < 20'000; ++step) {  // 2 s
+    stribeck.step(1.0e-4);
+    coulomb.step(1.0e-4);
+  }
+  const double held = stribeck.state().position[0].x, slid = coulomb.state().position[0].x;
+  std::printf("slow slip at 24 deg: %.3e m with v_S = 0.1 m/s (speed %.1e), %.3f m with mu_k\n",
+              held, norm(stribeck.state().velocity[0]), slid);
+  EXPECT_LT(held, 5e-3);
+  EXPECT_LT(norm(stribeck.state().velocity[0]), 1e-6);
+  EXPECT_EQ(stribeck.contacts()[0].sliding, 0);
+  EXPECT_GT(slid, 0.5);
 }
 
 // A ball sliding down a wall (a box, environment item 1) lands on the ground (a

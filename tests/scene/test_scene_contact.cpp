@@ -36,7 +36,8 @@ TEST(SceneContact, ReadsMaterialsEnvironmentMediumAndPairs) {
       "spheres": [{"center": [0, 0, 5], "radius": 0.5}]
     },
     "medium": {"viscosity": 0.3},
-    "contact": {"stickVelocity": 1e-3, "selfCollision": false, "leafSize": 8},
+    "contact": {"stickVelocity": 1e-3, "stribeckVelocity": 0.05, "selfCollision": false,
+                "leafSize": 8},
     "contactPairs": [{"objects": ["wheel", "environment"], "staticFriction": 1.2,
                       "kineticFriction": 1.0}]
   })";
@@ -58,6 +59,7 @@ TEST(SceneContact, ReadsMaterialsEnvironmentMediumAndPairs) {
   EXPECT_DOUBLE_EQ(model.environment.viscosity, 0.3);
   EXPECT_FALSE(model.contact.selfCollision);
   EXPECT_DOUBLE_EQ(model.contact.stickVelocity, 1e-3);
+  EXPECT_DOUBLE_EQ(model.contact.stribeckVelocity, 0.05);
   EXPECT_EQ(model.contact.leafSize, 8);
   ASSERT_EQ(model.contact.pairOverrides.size(), 1u);
   EXPECT_EQ(model.contact.pairOverrides[0].objectB, -1);
@@ -164,6 +166,8 @@ const BadContactKey kBadKeys[] = {
      "missing required key 'radius'", "/environment/spheres/0"},
     {"leaf size", R"("contact": {"leafSize": 0})", "'leafSize' must be an integer in [1,",
      "/contact/leafSize"},
+    {"Stribeck velocity", R"("contact": {"stribeckVelocity": -0.1})",
+     "'stribeckVelocity' must be >= 0 m/s, got -0.1", "/contact/stribeckVelocity"},
     {"viscosity", R"("medium": {"viscosity": -2})", "'viscosity' must be >= 0 N·s/m, got -2",
      "/medium/viscosity"},
     {"ground type", R"("environment": {"ground": 1})", "'ground': expected true, false or a plane",
