@@ -44,11 +44,10 @@ PlacedRigidObject placeRigidObject(ModelBuilder& builder, ObjectPlacement object
   g.linearSprings.clear();
   g.torsionSprings.clear();
   g.jointSprings.clear();
-  // It touches through its particles, not through a facet mesh: the facets'
-  // contacts against the environment are not yet right on a carried surface
-  // (a rigid box with facets finds ground contacts in the air).
-  g.surfaceVertices.clear();
-  g.surfaceTriangles.clear();
+  // A faceted object keeps its surface mesh: its vertices, embedded in the
+  // particles, ride the body exactly (the embedding is exact for any rigid
+  // motion), and the contact law sees the body's inverse mass at each
+  // (ContactTables::vertexInverseMass).
   object.velocity.clear();
   const PlacedObject placed = builder.addObject(object);
 

@@ -1214,7 +1214,7 @@ class ChunkWalk {
     Current& w = w_;
     FrictionTrial& t = *w.t;
     Contact& c = *w.c;
-    facetKinematics(model_, p_, v_, w.before, c, facet_);
+    facetKinematics(model_, tables_, p_, v_, w.before, c, facet_);
     if (w.before != nullptr) w.before = &facet_.previous;
     t.relative = facet_.relative;
     w.relativeVelocity = facet_.relativeVelocity;

@@ -107,6 +107,13 @@ Mat3 inverseOf(const Mat3& a) {
 // its centre, along a direction n, is 1/m + (r × n)ᵀ I⁻¹ (r × n) for the body
 // alone, at most 1/m + λ_max([r]×ᵀ I⁻¹ [r]×) over n; joints to other bodies only
 // lower it.
+// A rigid body's inverse effective mass at offset r from its mass centre, the
+// largest over directions: 1/m + λ_max([r]×ᵀ I⁻¹ [r]×) (1/kg).
+double bodyPointInverseMass(const BodyMassProperties& mp, const Vec3& offset) {
+  const Mat3 r = Mat3::crossMatrix(offset);
+  return 1.0 / mp.mass + largestEigenvalue(transpose(r) * inverseOf(mp.inertia) * r);
+}
+
 void classifyCarriers(const Model& model, ContactTables& cache) {
   const auto n = static_cast<std::size_t>(model.particleCount());
   cache.treeOf.assign(n, -1);
@@ -119,12 +126,10 @@ void classifyCarriers(const Model& model, ContactTables& cache) {
     for (const BodyParticle& bp : tree.particles) {
       const auto i = static_cast<std::size_t>(bp.particle);
       const BodyMassProperties& mp = tree.multibody.bodies[static_cast<std::size_t>(bp.body)].mass;
-      const Mat3 r = Mat3::crossMatrix(bp.p_BP - mp.centerOfMass);
       cache.treeOf[i] = static_cast<std::int32_t>(t);
       cache.treeBodyOf[i] = bp.body;
       cache.movable[i] = 1;
-      cache.contactInverseMass[i] =
-          1.0 / mp.mass + largestEigenvalue(transpose(r) * inverseOf(mp.inertia) * r);
+      cache.contactInverseMass[i] = bodyPointInverseMass(mp, bp.p_BP - mp.centerOfMass);
     }
   }
 }
@@ -285,6 +290,43 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   classifyTrees(model, cache, objectSize, largeSingles);
 }
 
+// How each surface vertex moves under the contacts' loads (ContactTables::
+// vertexInverseMass, vertexOnBody): a vertex whose particles all ride one rigid
+// tree body is a point of that body (its offset Σ w_k p_BP,k: the embedding is
+// exact for a rigid motion); the others move with their particles.
+void vertexCarriers(const Model& model, ContactTables& cache) {
+  const auto n = static_cast<std::size_t>(model.particleCount());
+  std::vector<Vec3> offset(n);  // p_BP of each tree particle
+  for (const RigidTree& tree : model.rigidTrees)
+    for (const BodyParticle& bp : tree.particles) offset[static_cast<std::size_t>(bp.particle)] = bp.p_BP;
+  const std::size_t vertices = model.surfaceVertices.size();
+  cache.vertexInverseMass.assign(vertices, 0.0);
+  cache.vertexOnBody.assign(vertices, 0);
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const SurfaceVertex& vertex = model.surfaceVertices[v];
+    const auto owner = static_cast<std::size_t>(cache.vertexOwner[v]);
+    const std::int32_t tree = cache.treeOf[owner], body = cache.treeBodyOf[owner];
+    bool onBody = tree >= 0;
+    double spread = 0.0;
+    Vec3 at;
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+      if (vertex.particle[k] < 0) continue;
+      const auto i = static_cast<std::size_t>(vertex.particle[k]);
+      spread += vertex.weight[k] * vertex.weight[k] * cache.contactInverseMass[i];
+      at += offset[i] * vertex.weight[k];
+      onBody = onBody && cache.treeOf[i] == tree && cache.treeBodyOf[i] == body;
+    }
+    cache.vertexOnBody[v] = onBody ? 1 : 0;
+    if (!onBody) {
+      cache.vertexInverseMass[v] = spread;
+      continue;
+    }
+    const BodyMassProperties& mp =
+        model.rigidTrees[static_cast<std::size_t>(tree)].multibody.bodies[static_cast<std::size_t>(body)].mass;
+    cache.vertexInverseMass[v] = bodyPointInverseMass(mp, at - mp.centerOfMass);
+  }
+}
+
 // MODEL §3.8: which objects touch by their surface mesh, and which particle
 // carries each vertex and triangle (CSR lists by particle).
 void classifySurfaces(const Model& model, ContactTables& cache) {
@@ -309,6 +351,7 @@ void classifySurfaces(const Model& model, ContactTables& cache) {
   cache.vertexOwner.resize(model.surfaceVertices.size());
   for (std::size_t v = 0; v < model.surfaceVertices.size(); ++v)
     cache.vertexOwner[v] = owner(model.surfaceVertices[v]);
+  vertexCarriers(model, cache);
   std::vector<std::int32_t> triangleOwner(model.surfaceTriangles.size());
   for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
     // The particle of largest summed weight over the three vertices.

@@ -139,6 +139,14 @@ struct ContactTables {
   std::vector<std::int8_t> objectFixed;  // (objects)
   /// The particle that carries each vertex (its largest weight), (vertices).
   std::vector<std::int32_t> vertexOwner;
+  /// Each vertex's inverse effective mass as the contact law sees it (1/kg),
+  /// (vertices): Σ w_k² × contactInverseMass_k over its particles, or, for a
+  /// vertex carried whole by one rigid tree body, that body's at the vertex
+  /// (classifyCarriers' bound, 1/m + λ_max([r]×ᵀ I⁻¹ [r]×)).
+  std::vector<double> vertexInverseMass;
+  /// 1 where a vertex is carried whole by one rigid tree body (the owner's:
+  /// treeOf, treeBodyOf of vertexOwner), (vertices).
+  std::vector<std::int8_t> vertexOnBody;
   /// Per particle, the vertices and the triangles it carries (CSR): a sphere-tree
   /// leaf holding the particle stands for them. A triangle's carrier is the
   /// particle of largest total weight over its three vertices.

@@ -22,15 +22,6 @@ inline Vec3 embedded(const SurfaceVertex& v, const std::vector<Vec3>& p) {
   return x;
 }
 
-// Σ w_k² / m_k: the inverse of a vertex's effective mass (1/kg).
-inline double vertexInverseMass(const Model& model, const SurfaceVertex& v) {
-  double sum = 0.0;
-  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
-    if (v.particle[k] >= 0) sum += v.weight[k] * v.weight[k] * model.inverseMass[v.particle[k]];
-  }
-  return sum;
-}
-
 // The point of triangle (a, b, c) closest to p, as barycentric weights
 // (Ericson, Real-Time Collision Detection §5.1.5).
 Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -234,7 +225,7 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   const std::int32_t vertex = isVertex ? -1 - probe : -1;
   const std::int32_t probeObject =
       isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object : t.particleObject[probe];
-  const bool probeFixed = isVertex ? t.objectFixed[probeObject] != 0 : model.inverseMass[probe] == 0.0;
+  const bool probeFixed = isVertex ? t.objectFixed[probeObject] != 0 : t.movable[probe] == 0;
   if (probeFixed && t.objectFixed[object] != 0) return;
   const Vec3 p = isVertex ? cache.vertexPosition[static_cast<std::size_t>(vertex)] : position[probe];
   const double probeRadius = isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
@@ -282,17 +273,64 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
   }
 }
 
-void facetKinematics(const Model& model, const std::vector<Vec3>& position,
-                     const std::vector<Vec3>& velocity, const Contact* before, const Contact& c,
-                     FacetKinematics& out) {
-  // The touching side: particle a, or the vertex.
+FacetCarrier facetCarrier(const Model& model, const ContactTables& tables,
+                          const std::vector<Vec3>& position, const Contact& c, bool touching) {
+  FacetCarrier out;
+  const auto vertexCarrier = [&](std::int32_t v, std::int32_t& tree, std::int32_t& body) {
+    const auto owner = static_cast<std::size_t>(tables.vertexOwner[static_cast<std::size_t>(v)]);
+    tree = tables.vertexOnBody[static_cast<std::size_t>(v)] != 0 ? tables.treeOf[owner] : -1;
+    body = tables.treeBodyOf[owner];
+  };
+  if (touching) {
+    if (c.vertex < 0) {  // a particle: its surface point towards the triangle
+      const auto i = static_cast<std::size_t>(c.a);
+      out.tree = tables.treeOf[i];
+      out.body = tables.treeBodyOf[i];
+      out.point = position[i] - c.normal * model.radius[i];
+      out.inverseMass = tables.contactInverseMass[i];
+      return out;
+    }
+    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
+    vertexCarrier(c.vertex, out.tree, out.body);
+    out.point = embedded(v, position) -
+                c.normal * model.objects[static_cast<std::size_t>(v.object)].surfaceRadius;
+    out.inverseMass = tables.vertexInverseMass[static_cast<std::size_t>(c.vertex)];
+    return out;
+  }
+  if (c.facet < 0) return out;  // the environment
+  const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
+  for (int j = 0; j < 3; ++j) {
+    std::int32_t tree = -1, body = -1;
+    vertexCarrier(t.vertex[j], tree, body);
+    if (tree < 0 || (j > 0 && (tree != out.tree || body != out.body))) {
+      out.tree = -1;
+      break;
+    }
+    out.tree = tree;
+    out.body = body;
+    const double b = weightOf(c.facetWeights, j);
+    out.inverseMass += b * b * tables.vertexInverseMass[static_cast<std::size_t>(t.vertex[j])];
+  }
+  const auto at = [&](std::int32_t v) {
+    return embedded(model.surfaceVertices[static_cast<std::size_t>(v)], position);
+  };
+  out.point = trianglePoint(t, c.facetWeights, at) +
+              c.normal * model.objects[static_cast<std::size_t>(t.object)].surfaceRadius;
+  return out;
+}
+
+void facetKinematics(const Model& model, const ContactTables& tables,
+                     const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                     const Contact* before, const Contact& c, FacetKinematics& out) {
+  // The touching side: particle a, or the vertex; the inverse masses are the
+  // contact law's (ContactTables: a rigid body's at the point).
   Vec3 x = position[c.a], xDot = velocity[c.a];
-  double inverseMass = model.inverseMass[c.a];
+  double inverseMass = tables.contactInverseMass[c.a];
   if (c.vertex >= 0) {
     const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
     x = embedded(v, position);
     xDot = embedded(v, velocity);
-    inverseMass = vertexInverseMass(model, v);
+    inverseMass = tables.vertexInverseMass[static_cast<std::size_t>(c.vertex)];
   }
   out.radius = model.radius[c.a];
   out.hasPrevious = before != nullptr;
@@ -315,7 +353,7 @@ void facetKinematics(const Model& model, const std::vector<Vec3>& position,
   double targetInverseMass = 0.0;
   for (int j = 0; j < 3; ++j) {
     const double b = weightOf(c.facetWeights, j);
-    targetInverseMass += b * b * vertexInverseMass(model, vertexOf(model, t, j));
+    targetInverseMass += b * b * tables.vertexInverseMass[static_cast<std::size_t>(t.vertex[j])];
   }
   out.relative = x - q;
   out.relativeVelocity = xDot - qDot;

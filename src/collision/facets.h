@@ -58,9 +58,24 @@ struct FacetKinematics {
   /// A length for the penetration fraction (m): the touching particle's radius.
   double radius = 0.0;
 };
-void facetKinematics(const Model& model, const std::vector<Vec3>& position,
-                     const std::vector<Vec3>& velocity, const Contact* before, const Contact& c,
-                     FacetKinematics& out);
+/// One side of a facet contact as a rigid tree body carries it (docs/model.md §7
+/// "Contacts on rigid trees"): the touching side (`touching`: particle a, or
+/// the vertex) or the touched triangle. `tree` is -1 unless one tree body
+/// carries the side's point whole (a particle of a tree; a vertex or all three
+/// vertices of a triangle on one body: ContactTables::vertexOnBody); `point`
+/// is the contact point on that side (m) and `inverseMass` the contact law's
+/// inverse effective mass there (1/kg).
+struct FacetCarrier {
+  std::int32_t tree = -1, body = -1;
+  Vec3 point;
+  double inverseMass = 0.0;
+};
+FacetCarrier facetCarrier(const Model& model, const ContactTables& tables,
+                          const std::vector<Vec3>& position, const Contact& c, bool touching);
+
+void facetKinematics(const Model& model, const ContactTables& tables,
+                     const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
+                     const Contact* before, const Contact& c, FacetKinematics& out);
 /// Adds the force `onA` (N) on the touching side and -onA on the touched side,
 /// spread over their particles by the vertices' and barycentric weights.
 void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
