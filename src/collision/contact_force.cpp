@@ -520,6 +520,14 @@ struct FrictionTerms {
   double dissipated = 0.0;
 };
 
+// The pair's friction parameters a contact's trial reads (k_t, μ_k, μ_s, v_S).
+inline void takeFrictionParameters(FrictionTrial& t, const PairParameters& k) {
+  t.tangentialStiffness = k.tangentialStiffness;
+  t.kineticFriction = k.kineticFriction;
+  t.staticFriction = k.staticFriction;
+  t.stribeckVelocity = k.stribeckVelocity;
+}
+
 // Friction of one contact once its group has decided (MODEL §3.3's laws:
 // law::heldFriction, law::slidingFriction). Returns F_t on a.
 inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contact& c,
@@ -926,10 +934,7 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   t.relative = {b.relx[l], b.rely[l], b.relz[l]};
   t.armA = {b.armAx[l], b.armAy[l], b.armAz[l]};
   t.armB = {b.armBx[l], b.armBy[l], b.armBz[l]};
-  t.tangentialStiffness = k.tangentialStiffness;
-  t.kineticFriction = k.kineticFriction;
-  t.staticFriction = k.staticFriction;
-  t.stribeckVelocity = k.stribeckVelocity;
+  takeFrictionParameters(t, k);
   t.tangentialDamping = b.tangentialDamping[l];
   load.a = a;
   load.other = other;
@@ -1301,10 +1306,7 @@ class ChunkWalk {
     }
     FrictionTrial& t = *w.t;
     t.group = -1;
-    t.tangentialStiffness = k.tangentialStiffness;
-    t.kineticFriction = k.kineticFriction;
-    t.staticFriction = k.staticFriction;
-    t.stribeckVelocity = k.stribeckVelocity;
+    takeFrictionParameters(t, k);
     w.rollMoment = Vec3{};
   }
 
