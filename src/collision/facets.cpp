@@ -273,49 +273,17 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
   }
 }
 
-FacetCarrier facetCarrier(const Model& model, const ContactTables& tables,
-                          const std::vector<Vec3>& position, const Contact& c, bool touching) {
+FacetCarrier vertexCarrier(const Model& model, const ContactTables& tables,
+                           const std::vector<Vec3>& position, const Contact& c) {
   FacetCarrier out;
-  const auto vertexCarrier = [&](std::int32_t v, std::int32_t& tree, std::int32_t& body) {
-    const auto owner = static_cast<std::size_t>(tables.vertexOwner[static_cast<std::size_t>(v)]);
-    tree = tables.vertexOnBody[static_cast<std::size_t>(v)] != 0 ? tables.treeOf[owner] : -1;
-    body = tables.treeBodyOf[owner];
-  };
-  if (touching) {
-    if (c.vertex < 0) {  // a particle: its surface point towards the triangle
-      const auto i = static_cast<std::size_t>(c.a);
-      out.tree = tables.treeOf[i];
-      out.body = tables.treeBodyOf[i];
-      out.point = position[i] - c.normal * model.radius[i];
-      out.inverseMass = tables.contactInverseMass[i];
-      return out;
-    }
-    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
-    vertexCarrier(c.vertex, out.tree, out.body);
-    out.point = embedded(v, position) -
-                c.normal * model.objects[static_cast<std::size_t>(v.object)].surfaceRadius;
-    out.inverseMass = tables.vertexInverseMass[static_cast<std::size_t>(c.vertex)];
-    return out;
-  }
-  if (c.facet < 0) return out;  // the environment
-  const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
-  for (int j = 0; j < 3; ++j) {
-    std::int32_t tree = -1, body = -1;
-    vertexCarrier(t.vertex[j], tree, body);
-    if (tree < 0 || (j > 0 && (tree != out.tree || body != out.body))) {
-      out.tree = -1;
-      break;
-    }
-    out.tree = tree;
-    out.body = body;
-    const double b = weightOf(c.facetWeights, j);
-    out.inverseMass += b * b * tables.vertexInverseMass[static_cast<std::size_t>(t.vertex[j])];
-  }
-  const auto at = [&](std::int32_t v) {
-    return embedded(model.surfaceVertices[static_cast<std::size_t>(v)], position);
-  };
-  out.point = trianglePoint(t, c.facetWeights, at) +
-              c.normal * model.objects[static_cast<std::size_t>(t.object)].surfaceRadius;
+  const auto v = static_cast<std::size_t>(c.vertex);
+  const auto owner = static_cast<std::size_t>(tables.vertexOwner[v]);
+  out.tree = tables.vertexOnBody[v] != 0 ? tables.treeOf[owner] : -1;
+  out.body = tables.treeBodyOf[owner];
+  const SurfaceVertex& vertex = model.surfaceVertices[v];
+  out.point = embedded(vertex, position) -
+              c.normal * model.objects[static_cast<std::size_t>(vertex.object)].surfaceRadius;
+  out.inverseMass = tables.vertexInverseMass[v];
   return out;
 }
 

@@ -58,20 +58,18 @@ struct FacetKinematics {
   /// A length for the penetration fraction (m): the touching particle's radius.
   double radius = 0.0;
 };
-/// One side of a facet contact as a rigid tree body carries it (docs/model.md §7
-/// "Contacts on rigid trees"): the touching side (`touching`: particle a, or
-/// the vertex) or the touched triangle. `tree` is -1 unless one tree body
-/// carries the side's point whole (a particle of a tree; a vertex or all three
-/// vertices of a triangle on one body: ContactTables::vertexOnBody); `point`
-/// is the contact point on that side (m) and `inverseMass` the contact law's
-/// inverse effective mass there (1/kg).
+/// The vertex of a vertex contact (c.vertex >= 0) as a rigid tree body carries
+/// it (docs/model.md §7 "Contacts on rigid trees"): `tree` is -1 unless one
+/// tree body carries the vertex whole (ContactTables::vertexOnBody); `point`
+/// is the vertex (its sheet's thickness inward along the contact's normal) and
+/// `inverseMass` the contact law's inverse effective mass there (1/kg).
 struct FacetCarrier {
   std::int32_t tree = -1, body = -1;
   Vec3 point;
   double inverseMass = 0.0;
 };
-FacetCarrier facetCarrier(const Model& model, const ContactTables& tables,
-                          const std::vector<Vec3>& position, const Contact& c, bool touching);
+FacetCarrier vertexCarrier(const Model& model, const ContactTables& tables,
+                           const std::vector<Vec3>& position, const Contact& c);
 
 void facetKinematics(const Model& model, const ContactTables& tables,
                      const std::vector<Vec3>& position, const std::vector<Vec3>& velocity,
