@@ -64,6 +64,9 @@ Vec3 vertexPosition(const Model& model, const State& state, std::int32_t vertex)
 // of a triangle, a round body's surface point, a's own surface against the
 // environment, or midway through the overlap of two particles' spheres.
 Vec3 contactPoint(const Model& model, const State& state, const Contact& c) {
+  if (c.vertex >= 0 && c.edgeVertex >= 0)  // a point of an edge
+    return vertexPosition(model, state, c.vertex) * (1.0 - c.edgeWeight) +
+           vertexPosition(model, state, c.edgeVertex) * c.edgeWeight;
   if (c.vertex >= 0) return vertexPosition(model, state, c.vertex);
   if (c.facet >= 0) {
     const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];

@@ -205,22 +205,30 @@ struct Contact {
   Vec3 arm;
   /// Barycentric weights (-) of the contact point on `facet` (sum 1).
   Vec3 facetWeights;
+  /// Edge contacts (MODEL §3.8, docs/contact.md "Edges"): the touching side is
+  /// the point (1 - s) x_vertex + s x_edgeVertex of the surface edge from
+  /// `vertex` to `edgeVertex`, s = edgeWeight, and the touched side a point of
+  /// an edge of `facet` (one of facetWeights is 0). -1 for every other contact.
+  std::int32_t edgeVertex = -1;
+  double edgeWeight = 0.0;
 
   bool withEnvironment() const { return other < 0; }
   std::int32_t environmentItem() const { return -1 - other; }
   /// A contact of a surface vertex or against a triangle (MODEL §3.8).
   bool involvesFacets() const { return vertex >= 0 || facet >= 0; }
-  /// Sort key: (a, other, vertex) with environment contacts after a's particle
-  /// contacts, and a's own contacts before its vertices' contacts with the same partner.
+  /// Sort key: (a, other, vertex, edgeVertex) with environment contacts after
+  /// a's particle contacts, a's own contacts before its vertices' contacts with
+  /// the same partner, and a vertex's contact before its edges'.
   struct Key {
     std::uint64_t pair = 0;
     std::uint32_t vertex = 0;
+    std::uint32_t edge = 0;
     auto operator<=>(const Key&) const = default;
   };
   Key key() const {
     return {(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
                 static_cast<std::uint32_t>(other),
-            static_cast<std::uint32_t>(vertex + 1)};
+            static_cast<std::uint32_t>(vertex + 1), static_cast<std::uint32_t>(edgeVertex + 1)};
   }
 };
 

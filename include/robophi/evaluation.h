@@ -49,6 +49,8 @@ struct Evaluation {
   double releasedAnchorEnergy = 0.0;
   /// The largest stable explicit step (s) of the touching contacts: per
   /// particle, Gershgorin on the sum of its contacts' stiffness and damping;
+  /// and no longer than the approach of two faceted bodies' ridges still apart
+  /// allows (an edge contact starts at the surface: collision/edges.h);
   /// infinite without contacts. The adaptive step keeps below it.
   double contactCriticalStep = std::numeric_limits<double>::infinity();
   /// A bound on the largest damping rate (1/s) of the joint drives that act

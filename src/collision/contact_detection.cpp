@@ -9,6 +9,7 @@
 
 #include "collision/contact_stage.h"
 #include "collision/environment.h"
+#include "collision/edges.h"
 #include "collision/facets.h"
 #include "collision/rim_contact.h"
 #include "collision/sphere_tree.h"
@@ -482,15 +483,22 @@ void treesVersusTrees(const Model& model, const std::vector<Vec3>& position, boo
   testTreePairs(model, position, cache);
 }
 
-}  // namespace
-
-void detectContacts(const Model& model, const std::vector<Vec3>& position, int threads,
-                    ContactScratch& cache) {
+// The last evaluation's finds and counts, cleared.
+void clearFinds(ContactScratch& cache) {
   cache.stats = ContactStats{};
   cache.seeds.clear();
   cache.detectedContacts.clear();
   cache.treeContacts.clear();
   cache.facetCandidates.clear();
+  cache.edgeCandidates.clear();
+}
+
+}  // namespace
+
+void detectContacts(const Model& model, const std::vector<Vec3>& position,
+                    const std::vector<Vec3>& velocity, int threads,
+                    const std::vector<Contact>& previous, ContactScratch& cache) {
+  clearFinds(cache);
   // The trees' node spheres are refitted when a search reads them: the tree
   // search, a rebuild of the trees' pair list, or the grid cells and
   // environment items the trees search at every evaluation.
@@ -499,6 +507,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   if (!treeListKept || !cache.tables->gridParticles.empty() || items > 0)
     refitSphereTrees(model, position, cache);
   updateSurfacePositions(model, position, cache);  // MODEL §3.8
+  if (!cache.tables->edges.empty()) updateEdgeShapes(model, cache);
   // Grid particles: the neighbour list (rebuilt when a particle has moved more
   // than half the skin), then each particle's touching partners in ascending
   // order, then the environment. The trees search the grid at every evaluation.
@@ -545,6 +554,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position, int t
   }
   rimsVersusEnvironment(model, position, cache);
   resolveFacetCandidates(model, position, cache);  // MODEL §3.8: closest triangles
+  resolveEdgeCandidates(model, velocity, previous, cache);  // MODEL §3.8: crossed edges
   if (!cache.treeContacts.empty()) {
     // Merged in (as std::merge: on equal keys the grid's first).
     const auto byKey = [](const Contact& x, const Contact& y) { return x.key() < y.key(); };

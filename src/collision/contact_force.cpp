@@ -707,6 +707,8 @@ inline void startBarePair(Contact& c, std::int32_t a, std::int32_t other) {
   c.vertex = -1;
   c.facet = -1;
   c.facetWeights = Vec3{};
+  c.edgeVertex = -1;
+  c.edgeWeight = 0.0;
 }
 
 // A contact the detection found with its geometry (an environment, rim or
@@ -722,6 +724,8 @@ inline void startFoundContact(Contact& c, const Contact& found) {
   c.vertex = found.vertex;
   c.facet = found.facet;
   c.facetWeights = found.facetWeights;
+  c.edgeVertex = found.edgeVertex;
+  c.edgeWeight = found.edgeWeight;
 }
 
 // The contact point of a pair halfway through its overlap: the arms from a's
@@ -1761,7 +1765,7 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
   scratch.direct = false;
   if (!model.contact.enabled || model.particleCount() == 0) return;
   ContactScratch& cache = prepareContactScratch(model, tables, revision, p, scratch);
-  detectContacts(model, p, threads, cache);
+  detectContacts(model, p, v, threads, previous, cache);
 
   const auto particles = static_cast<std::size_t>(model.particleCount());
   if (cache.contactStiffnessSum.size() != particles) {
@@ -1964,7 +1968,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);
   out.energy.contact = tally.potential;
-  out.contactCriticalStep = criticalStep;
+  // (With the ridges' approach: an edge contact starts at the surface, edges.h.)
+  out.contactCriticalStep = std::min(criticalStep, cache.edgeApproachStep);
   out.dissipativePower += tally.dissipativePower + viscousPower;
   out.releasedAnchorEnergy = tally.releasedEnergy;
   out.contactStats = cache.stats;

@@ -15,9 +15,12 @@ namespace robophi {
 /// Contact::key(): particle pairs (a < other) and particle-environment contacts
 /// (with depth and normal), which the contact stage builds its contacts from.
 /// Counts its work in scratch.stats. The grid particles' search runs on up to
-/// `threads` threads (the same list for any count).
-void detectContacts(const Model& model, const std::vector<Vec3>& position, int threads,
-                    ContactScratch& scratch);
+/// `threads` threads (the same list for any count). `previous`, the friction
+/// history (sorted by key), and the velocities tell an edge contact that goes
+/// on or closes from one that would start deep inside a body (edges.h).
+void detectContacts(const Model& model, const std::vector<Vec3>& position,
+                    const std::vector<Vec3>& velocity, int threads,
+                    const std::vector<Contact>& previous, ContactScratch& scratch);
 
 /// The contact stage, in two parts, so that the connector stages can run beside
 /// the first (evaluate.cpp); the same bits for any thread count and whether the

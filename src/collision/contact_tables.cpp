@@ -329,6 +329,46 @@ void vertexCarriers(const Model& model, ContactTables& cache) {
 
 // MODEL §3.8: which objects touch by their surface mesh, and which particle
 // carries each vertex and triangle (CSR lists by particle).
+
+// The edges two triangles of one faceted object's closed surface share, in
+// (vertex, vertex) order (ContactTables::SurfaceEdge). An edge of one triangle
+// only or of more than two is not listed: its side has no normal pair.
+std::vector<ContactTables::SurfaceEdge> sharedEdges(const Model& model, const ContactTables& tables) {
+  struct Side {
+    std::int32_t low, high, triangle, opposite;
+  };
+  std::vector<Side> sides;
+  for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
+    const SurfaceTriangle& tri = model.surfaceTriangles[t];
+    // (A sheet, touched from both sides, has no outward normals: no ridges.)
+    if (tables.objectFaceted[static_cast<std::size_t>(tri.object)] == 0 ||
+        model.objects[static_cast<std::size_t>(tri.object)].surfaceRadius > 0.0)
+      continue;
+    for (int j = 0; j < 3; ++j) {
+      const std::int32_t u = tri.vertex[static_cast<std::size_t>(j)];
+      const std::int32_t w = tri.vertex[static_cast<std::size_t>((j + 1) % 3)];
+      sides.push_back({std::min(u, w), std::max(u, w), static_cast<std::int32_t>(t),
+                       tri.vertex[static_cast<std::size_t>((j + 2) % 3)]});
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
+    return std::tie(x.low, x.high, x.triangle) < std::tie(y.low, y.high, y.triangle);
+  });
+  std::vector<ContactTables::SurfaceEdge> edges;
+  for (std::size_t k = 0; k < sides.size();) {
+    std::size_t end = k;
+    while (end < sides.size() && sides[end].low == sides[k].low && sides[end].high == sides[k].high)
+      ++end;
+    if (end - k == 2) {
+      edges.push_back({{sides[k].low, sides[k].high},
+                       {sides[k].triangle, sides[k + 1].triangle},
+                       {sides[k].opposite, sides[k + 1].opposite}});
+    }
+    k = end;
+  }
+  return edges;
+}
+
 void classifySurfaces(const Model& model, ContactTables& cache) {
   const auto objects = model.objects.size();
   const auto n = static_cast<std::size_t>(model.particleCount());
@@ -387,6 +427,11 @@ void classifySurfaces(const Model& model, ContactTables& cache) {
   };
   csr(cache.vertexOwner, cache.ownedVertexStart, cache.ownedVertex);
   csr(triangleOwner, cache.ownedTriangleStart, cache.ownedTriangle);
+  cache.edges = sharedEdges(model, cache);
+  std::vector<std::int32_t> edgeOwner(cache.edges.size());
+  for (std::size_t e = 0; e < cache.edges.size(); ++e)
+    edgeOwner[e] = triangleOwner[static_cast<std::size_t>(cache.edges[e].triangle[0])];
+  csr(edgeOwner, cache.ownedEdgeStart, cache.ownedEdge);
 }
 
 }  // namespace

@@ -152,6 +152,15 @@ struct ContactTables {
   /// particle of largest total weight over its three vertices.
   std::vector<std::int32_t> ownedVertexStart, ownedVertex;      // (particles + 1), (vertices)
   std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
+  /// The edges of faceted objects' surface meshes that two triangles of the
+  /// object share (MODEL §3.8 "Edges"): vertex[0] < vertex[1], the two
+  /// triangles, and the vertex of each triangle off the edge. An edge's
+  /// carrier is its first triangle's; edges are listed by carrier as triangles.
+  struct SurfaceEdge {
+    std::array<std::int32_t, 2> vertex{-1, -1}, triangle{-1, -1}, opposite{-1, -1};
+  };
+  std::vector<SurfaceEdge> edges;
+  std::vector<std::int32_t> ownedEdgeStart, ownedEdge;  // (particles + 1), (edges)
   /// Model::noContactPairs: object pairs {a < b} that never touch (sorted).
   std::vector<std::array<std::int32_t, 2>> noContactPairs;
   /// ObjectInfo::contactGroup per object (-1: none), or empty when no object has one.
@@ -224,7 +233,7 @@ struct ContactSeed {
   static ContactSeed pair(std::int32_t a, std::int32_t other) {
     return {{(static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
                  static_cast<std::uint32_t>(other),
-             0},
+             0, 0},
             -1};
   }
   static ContactSeed found(const Contact& c, std::int32_t full) { return {c.key(), full}; }
@@ -426,6 +435,26 @@ struct ContactScratch {
     std::int32_t probe, object, triangle;
   };
   std::vector<FacetCandidate> facetCandidates;
+  /// Edge pairs that touch (MODEL §3.8 "Edges"): edge `edge` of the lower
+  /// object against edge `otherEdge` of `object`, at s, t along them; reduced
+  /// to the deepest per (edge, object).
+  struct EdgeCandidate {
+    std::int32_t edge, object, otherEdge;
+    double s, t, depth, shorter;
+    Vec3 normal;
+  };
+  std::vector<EdgeCandidate> edgeCandidates;
+  /// The longest step (s) before a pair of ridges still apart closes past the
+  /// onset of an edge contact (edges.h), infinite when none approaches.
+  double edgeApproachStep = 0.0;
+  /// At this evaluation: each faceted object's triangles' unit normals, and
+  /// per ContactTables::edges whether it is a ridge (convex, and bent: edges.cpp).
+  std::vector<Vec3> triangleNormal;  // (surface triangles)
+  std::vector<std::int8_t> edgeRidge;
+  std::vector<std::int32_t> lowRidges, highRidges;  // a leaf pair's ridges (edges.cpp)
+  /// (vertex, other, far end) of both ends of the friction history's edge
+  /// contacts, sorted.
+  std::vector<std::array<std::int32_t, 3>> edgeHistory;
   ContactStats stats;
 };
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collision/edges.h"
 #include "collision/environment.h"
 
 namespace robophi {
@@ -54,6 +55,18 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
   return {1.0 - v - w, v, w};
 }
 
+// The touching side of a facet contact as surface vertices and weights: its
+// vertex (weight 1), or the two ends of its edge (1 - s, s).
+struct TouchingVertices {
+  std::int32_t count = 0;
+  std::int32_t vertex[2] = {-1, -1};
+  double weight[2] = {0.0, 0.0};
+};
+inline TouchingVertices touchingVertices(const Contact& c) {
+  if (c.edgeVertex < 0) return {1, {c.vertex, -1}, {1.0, 0.0}};
+  return {2, {c.vertex, c.edgeVertex}, {1.0 - c.edgeWeight, c.edgeWeight}};
+}
+
 inline const SurfaceVertex& vertexOf(const Model& model, const SurfaceTriangle& t, int j) {
   return model.surfaceVertices[static_cast<std::size_t>(t.vertex[static_cast<std::size_t>(j)])];
 }
@@ -66,6 +79,13 @@ inline double weightOf(const Vec3& beta, int j) {
 template <typename VertexPoint>
 inline Vec3 trianglePoint(const SurfaceTriangle& t, const Vec3& beta, VertexPoint x) {
   return x(t.vertex[0]) * beta.x + x(t.vertex[1]) * beta.y + x(t.vertex[2]) * beta.z;
+}
+
+// The point at s along a contact's touching edge, from the vertices' embeddings
+// in `p` (positions or velocities).
+inline Vec3 edgePoint(const Model& model, const Contact& c, double s, const std::vector<Vec3>& p) {
+  return embedded(model.surfaceVertices[static_cast<std::size_t>(c.vertex)], p) * (1.0 - s) +
+         embedded(model.surfaceVertices[static_cast<std::size_t>(c.edgeVertex)], p) * s;
 }
 
 void addTriangles(ContactScratch& cache, std::int32_t probe, std::int32_t object,
@@ -138,6 +158,7 @@ void leavesWithFacets(const Model& model, const std::vector<Vec3>& position, Con
   };
   if (facetedB) probe(a, facetedA, b);
   if (facetedA) probe(b, facetedB, a);
+  if (facetedA && facetedB && !t.edges.empty()) leafEdgesOnLeafEdges(model, cache, a, b);
 }
 
 void particleOnLeafFacets(ContactScratch& cache, const TreeNode& leaf, std::int32_t particle) {
@@ -294,11 +315,19 @@ void facetKinematics(const Model& model, const ContactTables& tables,
   // contact law's (ContactTables: a rigid body's at the point).
   Vec3 x = position[c.a], xDot = velocity[c.a];
   double inverseMass = tables.contactInverseMass[c.a];
-  if (c.vertex >= 0) {
+  if (c.vertex >= 0 && c.edgeVertex < 0) {
     const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
     x = embedded(v, position);
     xDot = embedded(v, velocity);
     inverseMass = tables.vertexInverseMass[static_cast<std::size_t>(c.vertex)];
+  } else if (c.vertex >= 0) {  // an edge's point (1 - s) x_0 + s x_1
+    x = edgePoint(model, c, c.edgeWeight, position);
+    xDot = edgePoint(model, c, c.edgeWeight, velocity);
+    inverseMass = 0.0;
+    const TouchingVertices side = touchingVertices(c);
+    for (int j = 0; j < 2; ++j)
+      inverseMass += side.weight[j] * side.weight[j] *
+                     tables.vertexInverseMass[static_cast<std::size_t>(side.vertex[j])];
   }
   out.radius = model.radius[c.a];
   out.hasPrevious = before != nullptr;
@@ -332,6 +361,10 @@ void facetKinematics(const Model& model, const ContactTables& tables,
     const SurfaceTriangle& old = model.surfaceTriangles[static_cast<std::size_t>(before->facet)];
     const Vec3 qOld = trianglePoint(old, before->facetWeights, at);
     out.previous.anchor = before->anchor + (qOld - q);
+    // An edge's touching point moves along its edge too: x - q_now =
+    // (x_old - q_old) + (q_old - q_now) - (x_old - x_now).
+    if (before->edgeVertex >= 0 && c.edgeVertex >= 0)
+      out.previous.anchor -= edgePoint(model, c, before->edgeWeight, position) - x;
   }
 }
 
@@ -342,8 +375,12 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
       if (v.particle[k] >= 0) force[v.particle[k]] += f * v.weight[k];
     }
   };
-  if (c.vertex >= 0) {
+  if (c.vertex >= 0 && c.edgeVertex < 0) {
     spread(model.surfaceVertices[static_cast<std::size_t>(c.vertex)], onA);
+  } else if (c.vertex >= 0) {
+    const TouchingVertices side = touchingVertices(c);
+    for (int j = 0; j < 2; ++j)
+      spread(model.surfaceVertices[static_cast<std::size_t>(side.vertex[j])], onA * side.weight[j]);
   } else {
     force[c.a] += onA;
   }
@@ -360,8 +397,12 @@ void addTriangleRates(const Model& model, const Contact& c, double stiffness, do
   double reach = 1.0;
   if (c.vertex >= 0) {
     reach = 0.0;
-    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
-    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) reach += std::abs(v.weight[k]);
+    const TouchingVertices side = touchingVertices(c);
+    for (int j = 0; j < side.count; ++j) {
+      const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(side.vertex[j])];
+      for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k)
+        reach += std::abs(side.weight[j] * v.weight[k]);
+    }
   }
   for (int j = 0; j < 3; ++j) {
     const SurfaceVertex& v = vertexOf(model, t, j);
@@ -381,12 +422,15 @@ void addTriangleRates(const Model& model, const Contact& c, double stiffness, do
 
 double facetExtraStiffness(const Model& model, double stiffness, const Contact& c) {
   if (c.vertex < 0 || model.inverseMass[c.a] == 0.0) return 0.0;
-  const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
   double sum = 0.0, own = 0.0;
-  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
-    if (v.particle[k] < 0) continue;
-    sum += std::abs(v.weight[k]);
-    if (v.particle[k] == c.a) own = std::abs(v.weight[k]);
+  const TouchingVertices side = touchingVertices(c);
+  for (int j = 0; j < side.count; ++j) {
+    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(side.vertex[j])];
+    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
+      if (v.particle[k] < 0) continue;
+      sum += std::abs(side.weight[j] * v.weight[k]);
+      if (v.particle[k] == c.a) own += std::abs(side.weight[j] * v.weight[k]);
+    }
   }
   const double extra = sum * own - 1.0;
   return extra > 0.0 ? extra * stiffness : 0.0;

@@ -64,6 +64,10 @@ std::uint64_t stateHash(const State& state) {
     hashValue(h, c.vertex);
     hashValue(h, c.facet);
     hashValue(h, c.facetWeights);
+    if (c.edgeVertex >= 0) {  // (none: hashed as before edges)
+      hashValue(h, c.edgeVertex);
+      hashValue(h, c.edgeWeight);
+    }
     hashValue(h, c.frictionForce);  // a sliding anchor holds it (MODEL §3.3)
   }
   // Rigid trees (none: nothing hashed, so a model without them hashes as before).

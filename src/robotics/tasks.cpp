@@ -91,12 +91,17 @@ std::pair<Vec3, double> blockedPoint(const Model& model, const State& s, const C
     }
     return {mass > 0.0 ? sum / mass : s.position[mine], ball.sphereRadius};
   }
-  if (c.vertex >= 0 && mine == c.a) {
-    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(c.vertex)];
-    Vec3 at;
-    for (std::size_t k = 0; k < SurfaceVertex::kMaxParticles; ++k)
-      if (v.particle[k] >= 0) at += s.position[v.particle[k]] * v.weight[k];
-    return {at, model.radius[mine]};
+  if (c.vertex >= 0 && mine == c.a) {  // a vertex, or a point of an edge
+    const auto vertexAt = [&](std::int32_t index, double share) {
+      const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(index)];
+      Vec3 at;
+      for (std::size_t k = 0; k < SurfaceVertex::kMaxParticles; ++k)
+        if (v.particle[k] >= 0) at += s.position[v.particle[k]] * (v.weight[k] * share);
+      return at;
+    };
+    if (c.edgeVertex < 0) return {vertexAt(c.vertex, 1.0), model.radius[mine]};
+    return {vertexAt(c.vertex, 1.0 - c.edgeWeight) + vertexAt(c.edgeVertex, c.edgeWeight),
+            model.radius[mine]};
   }
   return {s.position[mine], model.radius[mine]};
 }

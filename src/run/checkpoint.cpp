@@ -37,7 +37,7 @@ double number(const json& j, const char* key) { return numberFromJson(j.at(key),
 // ---- State and Contact: one line per field.
 
 json contactToJson(const Contact& c) {
-  return {{"a", c.a},
+  json out = {{"a", c.a},
           {"other", c.other},
           {"depth", exactNumber(c.depth)},
           {"normal_force", exactNumber(c.normalForce)},
@@ -54,6 +54,11 @@ json contactToJson(const Contact& c) {
           {"vertex", c.vertex},
           {"facet", c.facet},
           {"facet_weights", exactVec3(c.facetWeights)}};
+  if (c.edgeVertex >= 0) {  // an edge contact's (older checkpoints have none)
+    out["edge_vertex"] = c.edgeVertex;
+    out["edge_weight"] = exactNumber(c.edgeWeight);
+  }
+  return out;
 }
 
 Contact contactFromJson(const json& j) {
@@ -75,6 +80,10 @@ Contact contactFromJson(const json& j) {
   c.vertex = j.at("vertex").get<std::int32_t>();
   c.facet = j.at("facet").get<std::int32_t>();
   c.facetWeights = vec3FromJson(j.at("facet_weights"), "facet_weights");
+  if (j.contains("edge_vertex")) {
+    c.edgeVertex = j.at("edge_vertex").get<std::int32_t>();
+    c.edgeWeight = number(j, "edge_weight");
+  }
   return c;
 }
 
@@ -98,6 +107,37 @@ json stateToJson(const State& s) {
           {"external", exactNumber(s.external)}};
 }
 
+namespace {
+
+// The friction history's references into the model in range, and its order
+// the contacts' (Contact::key): a checkpoint written for another scene, or
+// edited, is refused by name rather than read out of bounds.
+void checkHistory(const std::vector<Contact>& history, const Model& model) {
+  const auto count = [](const auto& items) { return static_cast<std::int64_t>(items.size()); };
+  const std::int64_t particles = model.particleCount();
+  for (std::size_t k = 0; k < history.size(); ++k) {
+    const Contact& c = history[k];
+    const auto check = [&](const char* field, std::int64_t value, std::int64_t low,
+                           std::int64_t end) {
+      if (value < low || value >= end)
+        throw std::runtime_error(fmt::format(
+            "the checkpoint's friction_history[{}].{} = {} is outside [{}, {})", k, field, value,
+            low, end));
+    };
+    check("a", c.a, 0, particles);
+    check("other", c.other, -model.environment.itemCount(), particles);
+    check("vertex", c.vertex, -1, count(model.surfaceVertices));
+    check("edge_vertex", c.edgeVertex, -1, count(model.surfaceVertices));
+    check("facet", c.facet, -1, count(model.surfaceTriangles));
+    check("rim", c.rim, -1, count(model.rims));
+    if (k > 0 && !(history[k - 1].key() < c.key()))
+      throw std::runtime_error(fmt::format(
+          "the checkpoint's friction_history[{}] is out of the contacts' order", k));
+  }
+}
+
+}  // namespace
+
 State stateFromJson(const json& j, const Model& model) {
   State s;
   s.time = number(j, "time");
@@ -117,6 +157,7 @@ State stateFromJson(const json& j, const Model& model) {
     throw std::runtime_error(fmt::format("the checkpoint's state has {} rigid trees, the scene {}",
                                          s.treePositions.size(), model.rigidTrees.size()));
   for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
+  checkHistory(s.frictionHistory, model);
   s.dissipated = number(j, "dissipated");
   s.external = number(j, "external");
   const auto n = static_cast<std::size_t>(model.particleCount());

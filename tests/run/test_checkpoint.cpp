@@ -39,7 +39,7 @@ TEST(Checkpoint, StateAndContactsReadBackBitExactly) {
   state.velocity[1] = {M_PI, -M_E, 1e-17};
   Contact c;
   c.a = 0;
-  c.other = -3;
+  c.other = 1;
   c.depth = -1.0 / 7.0;
   c.normalForce = 12.345678901234567;
   c.frictionForce = {0.1, -0.2, 0.3};
@@ -66,6 +66,42 @@ TEST(Checkpoint, StateAndContactsReadBackBitExactly) {
   Model bigger = model;
   bigger.addParticle(1.0, 0.1, false, object);
   EXPECT_THROW(stateFromJson(j, bigger), std::runtime_error);
+}
+
+TEST(Checkpoint, AnEdgeContactReadsBackAndAHistoryOutsideTheModelIsRefused) {
+  // Two faceted cubes resting on crossed ridges: one edge contact.
+  SceneLoadResult loaded =
+      loadSceneFile(ROBOPHI_SOURCE_DIR "/tests/scene/stress/crossed_cubes_rest.json");
+  ASSERT_TRUE(loaded.scene);
+  const Model& model = loaded.scene->model;
+  State state = loaded.scene->initial;
+  Contact c;
+  c.a = 0;
+  c.other = model.objects[1].firstParticle;
+  c.vertex = 3;
+  c.edgeVertex = 7;
+  c.edgeWeight = 1.0 / 3.0;
+  c.facet = 5;
+  c.facetWeights = {0.25, 0.75, 0.0};
+  state.frictionHistory = {c};
+  const nlohmann::json j = nlohmann::json::parse(stateToJson(state).dump());
+  const State back = stateFromJson(j, model);
+  EXPECT_EQ(stateHash(back), stateHash(state));
+  EXPECT_EQ(back.frictionHistory[0].edgeVertex, 7);
+  EXPECT_TRUE(sameBits(back.frictionHistory[0].edgeWeight, c.edgeWeight));
+  // An index past the model's surface, and two records out of order.
+  nlohmann::json bad = j;
+  bad["friction_history"][0]["edge_vertex"] = static_cast<int>(model.surfaceVertices.size());
+  try {
+    stateFromJson(bad, model);
+    ADD_FAILURE() << "an edge vertex past the model's was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("friction_history[0].edge_vertex"), std::string::npos)
+        << e.what();
+  }
+  bad = j;
+  bad["friction_history"].push_back(j["friction_history"][0]);
+  EXPECT_THROW(stateFromJson(bad, model), std::runtime_error);
 }
 
 TEST(Checkpoint, NonFiniteNumbersReadBack) {
