@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "collision/facets.h"
 #include "collision/rim_contact.h"
 #include "integrate/rigid_trees.h"
 #include "robophi/kinematics.h"
@@ -51,28 +52,16 @@ Vec3 solve3(const Mat3& A, const Vec3& b) {
   return Vec3{dot(b, cross(c1, c2)), dot(c0, cross(b, c2)), dot(c0, cross(c1, b))} / det;
 }
 
-// A surface vertex's position (Σ weight p, MODEL §3.8).
-Vec3 vertexPosition(const Model& model, const State& state, std::int32_t vertex) {
-  const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(vertex)];
-  Vec3 x;
-  for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k)
-    if (v.particle[k] >= 0) x += state.position[static_cast<std::size_t>(v.particle[k])] * v.weight[k];
-  return x;
-}
-
 // Where a contact acts (docs/contact.md "Where a contact acts"): a vertex, a point
 // of a triangle, a round body's surface point, a's own surface against the
 // environment, or midway through the overlap of two particles' spheres.
 Vec3 contactPoint(const Model& model, const State& state, const Contact& c) {
-  if (c.vertex >= 0 && c.edgeVertex >= 0)  // a point of an edge
-    return vertexPosition(model, state, c.vertex) * (1.0 - c.edgeWeight) +
-           vertexPosition(model, state, c.edgeVertex) * c.edgeWeight;
-  if (c.vertex >= 0) return vertexPosition(model, state, c.vertex);
+  if (c.vertex >= 0) return touchingPoint(model, c, state.position);  // a vertex, or on an edge
   if (c.facet >= 0) {
     const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
-    return vertexPosition(model, state, t.vertex[0]) * c.facetWeights.x +
-           vertexPosition(model, state, t.vertex[1]) * c.facetWeights.y +
-           vertexPosition(model, state, t.vertex[2]) * c.facetWeights.z;
+    return surfaceVertexPoint(model, t.vertex[0], state.position) * c.facetWeights.x +
+           surfaceVertexPoint(model, t.vertex[1], state.position) * c.facetWeights.y +
+           surfaceVertexPoint(model, t.vertex[2], state.position) * c.facetWeights.z;
   }
   if (c.rim >= 0)
     return rimCenter(model, model.rims[static_cast<std::size_t>(c.rim)], state.position) + c.arm;

@@ -3,6 +3,8 @@
 // with triangles are (facets.cpp), and turned into facet contacts.
 #include "collision/edges.h"
 
+#include "collision/facets.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -85,13 +87,7 @@ double closingSpeed(const Model& model, const std::vector<Vec3>& velocity,
                     const ContactTables::SurfaceEdge& mine,
                     const ContactTables::SurfaceEdge& theirs, double s, double t,
                     const Vec3& normal) {
-  const auto rate = [&](std::int32_t index) {
-    const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(index)];
-    Vec3 x;
-    for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k)
-      if (v.particle[k] >= 0) x += velocity[static_cast<std::size_t>(v.particle[k])] * v.weight[k];
-    return x;
-  };
+  const auto rate = [&](std::int32_t v) { return surfaceVertexPoint(model, v, velocity); };
   const Vec3 a = rate(mine.vertex[0]) * (1.0 - s) + rate(mine.vertex[1]) * s;
   const Vec3 b = rate(theirs.vertex[0]) * (1.0 - t) + rate(theirs.vertex[1]) * t;
   return -dot(a - b, normal);

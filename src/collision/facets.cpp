@@ -97,6 +97,15 @@ void addTriangles(ContactScratch& cache, std::int32_t probe, std::int32_t object
 
 }  // namespace
 
+Vec3 surfaceVertexPoint(const Model& model, std::int32_t vertex, const std::vector<Vec3>& values) {
+  return embedded(model.surfaceVertices[static_cast<std::size_t>(vertex)], values);
+}
+
+Vec3 touchingPoint(const Model& model, const Contact& c, const std::vector<Vec3>& values) {
+  return c.edgeVertex < 0 ? surfaceVertexPoint(model, c.vertex, values)
+                          : edgePoint(model, c, c.edgeWeight, values);
+}
+
 double facetTreeMargin(const Model& model, const std::vector<Vec3>& position,
                        const ContactTables& tables, const std::vector<std::int32_t>& members) {
   double margin = 0.0;
