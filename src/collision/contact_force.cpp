@@ -69,44 +69,42 @@ constexpr double kSlidingSpeed = 2.0;
 // (From values, not a ContactLoad just written: read back whole, its vectors
 // stall on their stores.)
 inline void scatterLoad(std::int32_t a, std::int32_t other, const Vec3& force, const Vec3& torqueA,
-                        const Vec3& torqueB, double stiffness, double damping,
-                        std::vector<Vec3>& f, std::vector<Vec3>& torque, ContactScratch& cache) {
+                        const Vec3& torqueB, const law::Rates& rates, std::vector<Vec3>& f,
+                        std::vector<Vec3>& torque, ContactScratch& cache) {
   const auto i = static_cast<std::size_t>(a);
   if (other >= 0) {
     const auto b = static_cast<std::size_t>(other);
     f[b] -= force;
     torque[b] += torqueB;
-    cache.contactStiffnessSum[b] += stiffness;
-    cache.contactDampingSum[b] += damping;
+    cache.contactRateSum[b].add(rates);
   }
   f[i] += force;
   torque[i] += torqueA;
-  cache.contactStiffnessSum[i] += stiffness;
-  cache.contactDampingSum[i] += damping;
+  cache.contactRateSum[i].add(rates);
 }
 inline void scatterLoad(const ContactScratch::ContactLoad& load, std::vector<Vec3>& f,
                         std::vector<Vec3>& torque, ContactScratch& cache) {
-  scatterLoad(load.a, load.other, load.force, load.torqueA, load.torqueB, load.stiffness,
-              load.damping, f, torque, cache);
+  scatterLoad(load.a, load.other, load.force, load.torqueA, load.torqueB, load.rates, f, torque,
+              cache);
 }
 
 // A lean contact's loads: recorded for the gather by particle (`record`), or
 // added now in contact order (scatterLoad).
 inline void deliverLoad(ContactScratch::ContactLoad* record, std::int32_t a, std::int32_t other,
                         const Vec3& force, const Vec3& torqueA, const Vec3& torqueB,
-                        double stiffness, double damping, std::vector<Vec3>* f,
-                        std::vector<Vec3>* torque, ContactScratch& cache) {
+                        const law::Rates& rates, std::vector<Vec3>* f, std::vector<Vec3>* torque,
+                        ContactScratch& cache) {
   if (record != nullptr) {
-    *record = {force, torqueA, torqueB, stiffness, damping, a, other, false};
+    *record = {force, torqueA, torqueB, rates, a, other, false};
   } else {
-    scatterLoad(a, other, force, torqueA, torqueB, stiffness, damping, *f, *torque, cache);
+    scatterLoad(a, other, force, torqueA, torqueB, rates, *f, *torque, cache);
   }
 }
 inline void deliverLoad(const ContactScratch::ContactLoad& load,
                         ContactScratch::ContactLoad* record, std::vector<Vec3>* f,
                         std::vector<Vec3>* torque, ContactScratch& cache) {
-  deliverLoad(record, load.a, load.other, load.force, load.torqueA, load.torqueB, load.stiffness,
-              load.damping, f, torque, cache);
+  deliverLoad(record, load.a, load.other, load.force, load.torqueA, load.torqueB, load.rates, f,
+              torque, cache);
 }
 
 // x's part in the plane normal to the unit n, projected twice: a displacement or
@@ -220,7 +218,8 @@ inline bool smallestEigenvalueAbove(const double* m, double ratio, double& small
 // Jacobi rotations.
 double symmetricPseudoInverse(const double* packed, double* inverse) {
   double smallest = 0.0;
-  if (!smallestEigenvalueAbove(packed, 1.0e-6, smallest)) return jacobiPseudoInverse(packed, inverse);
+  if (!smallestEigenvalueAbove(packed, 1.0e-6, smallest))
+    return jacobiPseudoInverse(packed, inverse);
   const double xx = packed[0], yy = packed[1], zz = packed[2];
   const double xy = packed[3], xz = packed[4], yz = packed[5];
   const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
@@ -433,26 +432,20 @@ inline double surfaceRadius(const Model& model, const Contact& c) {
 inline std::int64_t groupKey(const ContactTables& tables, std::int32_t particle) {
   const std::int32_t object = tables.particleObject[particle];
   return object >= 0 && tables.frictionAlone[particle] == 0 ? object
-                                                           : (std::int64_t{1} << 40) + particle;
+                                                            : (std::int64_t{1} << 40) + particle;
 }
 
 // The stability rates of one contact (the larger of the normal and the
 // tangential stiffness and damping, the tangential ones for the contact point's
 // effective mass: rotationFactor), 0 when both its sides are fixed.
-inline void contactRates(const ContactTables& tables, const PairParameters& k, std::int32_t a,
-                         std::int32_t other, double rotationFactor, double tangentialDamping,
-                         double& stiffness, double& damping) {
+inline law::Rates contactRates(const ContactTables& tables, const PairParameters& k, std::int32_t a,
+                               std::int32_t other, double rotationFactor,
+                               double tangentialDamping) {
   const std::vector<double>& w = tables.contactInverseMass;
   const double inverseMass = w[a] + (other >= 0 ? w[other] : 0.0);
-  if (inverseMass == 0.0) {
-    stiffness = 0.0;
-    damping = 0.0;
-    return;
-  }
-  const law::Rates rates = law::stabilityRates(
-      k.stiffness, k.damping, k.tangentialStiffness, tangentialDamping, rotationFactor);
-  stiffness = rates.stiffness;
-  damping = rates.damping;
+  if (inverseMass == 0.0) return {};
+  return law::stabilityRates(k.stiffness, k.damping, k.tangentialStiffness, tangentialDamping,
+                             rotationFactor);
 }
 
 // Adds a deferred contact's rates to its particles' sums: a rim's contact acts
@@ -460,28 +453,23 @@ inline void contactRates(const ContactTables& tables, const PairParameters& k, s
 // F m_j / M).
 void addDeferredRates(const Model& model, const Contact& c, const FrictionApplication& application,
                       ContactScratch& cache) {
-  if (application.facetStiffness > 0.0)
-    cache.contactStiffnessSum[c.a] += application.facetStiffness;
-  if (application.stiffness == 0.0 && application.damping == 0.0) return;
+  std::vector<law::Rates>& sums = cache.contactRateSum;
+  if (application.facetStiffness > 0.0) sums[c.a].add({application.facetStiffness, 0.0});
+  const law::Rates& rates = application.rates;
+  if (rates.stiffness == 0.0 && rates.damping == 0.0) return;
   if (c.rim >= 0) {
     const RimRing& rim = model.rims[static_cast<std::size_t>(c.rim)];
     double mass = 0.0;
     for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) mass += model.mass[j];
-    for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j) {
-      const double share = model.mass[j] / mass;
-      cache.contactStiffnessSum[j] += application.stiffness * share;
-      cache.contactDampingSum[j] += application.damping * share;
-    }
+    for (std::int32_t j = rim.first; j < rim.first + rim.count; ++j)
+      sums[j].add(rates, model.mass[j] / mass);
     return;
   }
-  cache.contactStiffnessSum[c.a] += application.stiffness;
-  cache.contactDampingSum[c.a] += application.damping;
+  sums[c.a].add(rates);
   if (c.facet >= 0) {  // (the touched side is the triangle's particles)
-    addTriangleRates(model, c, application.stiffness, application.damping,
-                     cache.contactStiffnessSum, cache.contactDampingSum);
+    addTriangleRates(model, c, rates, sums);
   } else if (c.other >= 0) {
-    cache.contactStiffnessSum[c.other] += application.stiffness;
-    cache.contactDampingSum[c.other] += application.damping;
+    sums[c.other].add(rates);
   }
 }
 
@@ -541,8 +529,8 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
     const double s = g.regime == kBreakingAway ? g.scale : 1.0;
     c.sliding = g.regime;
     c.giveWay = g.regime == kBreakingAway ? t.giveWayBefore + norm(t.delta) * (1.0 - s) : 0.0;
-    const auto held = law::heldFriction(t.relative, t.delta, t.elastic + t.damper, s,
-                                                  stiffness, t.tangentialDamping, t.slipSpeed);
+    const auto held = law::heldFriction(t.relative, t.delta, t.elastic + t.damper, s, stiffness,
+                                        t.tangentialDamping, t.slipSpeed);
     c.anchor = held.anchor;
     c.anchorEnergy = held.anchorEnergy;
     if (s != 1.0) terms.released = 0.5 * stiffness * squaredNorm(t.delta) - c.anchorEnergy;
@@ -557,8 +545,8 @@ inline Vec3 frictionForce(const FrictionTrial& t, const FrictionGroup& g, Contac
   } else if (squaredNorm(t.elastic) > 0.0) {
     direction = t.elastic / -norm(t.elastic);
   }
-  const double coefficient = law::slidingCoefficient(t.staticFriction, t.kineticFriction,
-                                                      t.slipSpeed, t.stribeckVelocity);
+  const double coefficient =
+      law::slidingCoefficient(t.staticFriction, t.kineticFriction, t.slipSpeed, t.stribeckVelocity);
   const auto sliding = law::slidingFriction(t.relative, direction, coefficient, c.normalForce,
                                             stiffness, t.slipSpeed);
   c.sliding = kSliding;
@@ -765,8 +753,8 @@ inline Vec3 laneSpin(const std::vector<Vec3>& spin, std::int32_t i, std::int32_t
 
 // Lane l's other side: a particle, or the environment (its side at rest, the
 // detection's normal and depth).
-void fillLaneOther(const StageInput& in, const ContactSeed& seed, std::int32_t kindB,
-                   std::size_t l, detail::PairLaneBatch& b) {
+void fillLaneOther(const StageInput& in, const ContactSeed& seed, std::int32_t kindB, std::size_t l,
+                   detail::PairLaneBatch& b) {
   const std::int32_t other = seed.other();
   const bool environment = other < 0;
   Vec3 pb, vb, wb, foundNormal;
@@ -840,13 +828,50 @@ void fillLane(const StageInput& in, const ContactSeed& seed, const Contact* befo
 // The lanes past a batch of `count` up to the next four: a copy of its first.
 void padLanes(detail::PairLaneBatch& b, std::size_t count) {
   for (std::size_t l = count; l % 4 != 0; ++l) {
-    for (double* x :
-         {b.pax, b.pay, b.paz, b.pbx, b.pby, b.pbz, b.vax, b.vay, b.vaz, b.vbx, b.vby, b.vbz,
-          b.wax, b.way, b.waz, b.wbx, b.wby, b.wbz, b.anchorx, b.anchory, b.anchorz, b.hasBefore,
-          b.offsetx, b.offsety, b.offsetz, b.slidBefore, b.environment, b.foundx, b.foundy,
-          b.foundz, b.foundDepth, b.ra, b.rb, b.ima, b.imb, b.spinInverseA, b.spinInverseB,
-          b.spinsA, b.spinsB, b.stiffness, b.damping, b.tangentialStiffness, b.staticFriction,
-          b.tangentialDampingRatio})
+    for (double* x : {b.pax,
+                      b.pay,
+                      b.paz,
+                      b.pbx,
+                      b.pby,
+                      b.pbz,
+                      b.vax,
+                      b.vay,
+                      b.vaz,
+                      b.vbx,
+                      b.vby,
+                      b.vbz,
+                      b.wax,
+                      b.way,
+                      b.waz,
+                      b.wbx,
+                      b.wby,
+                      b.wbz,
+                      b.anchorx,
+                      b.anchory,
+                      b.anchorz,
+                      b.hasBefore,
+                      b.offsetx,
+                      b.offsety,
+                      b.offsetz,
+                      b.slidBefore,
+                      b.environment,
+                      b.foundx,
+                      b.foundy,
+                      b.foundz,
+                      b.foundDepth,
+                      b.ra,
+                      b.rb,
+                      b.ima,
+                      b.imb,
+                      b.spinInverseA,
+                      b.spinInverseB,
+                      b.spinsA,
+                      b.spinsB,
+                      b.stiffness,
+                      b.damping,
+                      b.tangentialStiffness,
+                      b.staticFriction,
+                      b.tangentialDampingRatio})
       x[l] = x[0];
   }
 }
@@ -924,8 +949,8 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
     runTerms = {-0.0, b.dissipated[l], b.anchorEnergy[l]};
     deliverLoad(record, a, other, {b.forcex[l], b.forcey[l], b.forcez[l]},
                 {b.torqueAx[l], b.torqueAy[l], b.torqueAz[l]},
-                {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]}, b.rateStiffness[l],
-                b.rateDamping[l], in.force, in.torque, cache);
+                {b.torqueBx[l], b.torqueBy[l], b.torqueBz[l]},
+                {b.rateStiffness[l], b.rateDamping[l]}, in.force, in.torque, cache);
     return;
   }
   // The trial and the loads before friction (settle), as the scalar stage
@@ -946,8 +971,7 @@ inline void addLaneContact(const detail::PairLaneBatch& b, std::size_t l, const 
   load.force = {b.normalx[l], b.normaly[l], b.normalz[l]};
   load.torqueA = Vec3{};
   load.torqueB = Vec3{};
-  load.stiffness = b.rateStiffness[l];
-  load.damping = b.rateDamping[l];
+  load.rates = {b.rateStiffness[l], b.rateDamping[l]};
   t.previousEnergy = before != nullptr ? before->anchorEnergy : 0.0;
   t.regimeBefore = before != nullptr ? before->sliding : kSticking;
   t.giveWayBefore = before != nullptr ? before->giveWay : 0.0;
@@ -1003,11 +1027,22 @@ template <bool Lean>
 class ChunkWalk {
  public:
   ChunkWalk(const StageInput& in, ContactChunk& chunk)
-      : in_(in), model_(in.model), tables_(in.tables), p_(in.p), v_(in.v), previous_(in.previous),
-        cache_(in.cache), contacts_(in.cache.freshContacts), chunk_(chunk),
-        stickVelocity_(in.model.contact.stickVelocity), direct_(in.force != nullptr),
-        runFirst_(chunk.begin), old_(chunk.historyBegin), oldEnd_(chunk.historyEnd),
-        batchBegin_(chunk.begin), batchEnd_(chunk.begin),
+      : in_(in),
+        model_(in.model),
+        tables_(in.tables),
+        p_(in.p),
+        v_(in.v),
+        previous_(in.previous),
+        cache_(in.cache),
+        contacts_(in.cache.freshContacts),
+        chunk_(chunk),
+        stickVelocity_(in.model.contact.stickVelocity),
+        direct_(in.force != nullptr),
+        runFirst_(chunk.begin),
+        old_(chunk.historyBegin),
+        oldEnd_(chunk.historyEnd),
+        batchBegin_(chunk.begin),
+        batchEnd_(chunk.begin),
         lanes_(Lean && in.tables.overrides.empty() && detail::pairLanesAvailable()) {
     chunk_.stats = ContactStats{};
     chunk_.groups.clear();
@@ -1040,8 +1075,8 @@ class ChunkWalk {
     double squeezeRate = 0.0;                     // rims: n·u, ∂d/∂R
     double armLengthA = -1.0, armLengthB = -1.0;  // |arm|s of a batch-worked pair
     double facetStiffness = 0.0, normalForce = 0.0;
-    Vec3 relativeVelocity, rollVelocity;          // of the centres; ω × arm's
-    Vec3 normal, rollMoment;                      // F_n k̂; the rolling resistance on a
+    Vec3 relativeVelocity, rollVelocity;  // of the centres; ω × arm's
+    Vec3 normal, rollMoment;              // F_n k̂; the rolling resistance on a
     Turning ta, tb;
   };
 
@@ -1050,8 +1085,10 @@ class ChunkWalk {
     // new one to write, the history's to read). (The lanes fetch a batch ahead:
     // fillPairLanes.)
     constexpr std::size_t kAhead = 6;
-    if (!lanes_ && index + kAhead < chunk_.end) prefetchContact(contacts_.data() + index + kAhead, true);
-    if (!lanes_ && old_ + kAhead < oldEnd_) prefetchContact(previous_.data() + old_ + kAhead, false);
+    if (!lanes_ && index + kAhead < chunk_.end)
+      prefetchContact(contacts_.data() + index + kAhead, true);
+    if (!lanes_ && old_ + kAhead < oldEnd_)
+      prefetchContact(previous_.data() + old_ + kAhead, false);
     if (index == batchEnd_) nextBatch(index);
     startContact(index);
     if constexpr (Lean) {
@@ -1090,7 +1127,8 @@ class ChunkWalk {
     if (!lanes_) {
       for (std::size_t j = batchBegin_; j < batchEnd_; ++j) {
         const ContactSeed& pair = cache_.seeds[j];
-        if (pair.full == -1) pairGeometry(model_, p_, pair.a(), pair.other(), batch_[j - batchBegin_]);
+        if (pair.full == -1)
+          pairGeometry(model_, p_, pair.a(), pair.other(), batch_[j - batchBegin_]);
       }
       return;
     }
@@ -1131,7 +1169,8 @@ class ChunkWalk {
     w.before = nullptr;
     if (lanes_) {
       const std::size_t l = index - batchBegin_;
-      for (; old_ < laneBatch_.history[l]; ++old_) tally_.releasedEnergy += previous_[old_].anchorEnergy;
+      for (; old_ < laneBatch_.history[l]; ++old_)
+        tally_.releasedEnergy += previous_[old_].anchorEnergy;
       if (laneBatch_.persists[l]) w.before = &previous_[old_++];
       return;
     }
@@ -1356,8 +1395,8 @@ class ChunkWalk {
     // m_eff at the contact point: 1/m_a + 1/m_b plus the rotations' share.
     const double tangentialInverse =
         w.inverseMass + w.ta.armInverseInertia + (w.other >= 0 ? w.tb.armInverseInertia : 0.0);
-    t.tangentialDamping = law::tangentialDamping(
-        k.tangentialDampingRatio, k.tangentialStiffness, tangentialInverse);
+    t.tangentialDamping =
+        law::tangentialDamping(k.tangentialDampingRatio, k.tangentialStiffness, tangentialInverse);
     settle(w.inverseMass > 0.0 ? tangentialInverse / w.inverseMass : 1.0, t.tangentialDamping);
     anchorOffset();
     const Vec3 n = c.normal;
@@ -1449,8 +1488,8 @@ class ChunkWalk {
   void settle(double rotationFactor, double tangentialDamping) ROBOPHI_ALWAYS_INLINE {
     Current& w = w_;
     const FrictionTrial& t = *w.t;
-    double stiffness = 0.0, damping = 0.0;
-    contactRates(tables_, *w.k, w.a, w.other, rotationFactor, tangentialDamping, stiffness, damping);
+    const law::Rates rates =
+        contactRates(tables_, *w.k, w.a, w.other, rotationFactor, tangentialDamping);
     ContactLoad& load = Lean      ? leanLoad_
                         : direct_ ? chunk_.runLoads[w.index - runFirst_]
                                   : cache_.loads[w.index];
@@ -1458,18 +1497,17 @@ class ChunkWalk {
     load.other = w.other;
     load.deferred = !Lean && (w.faceted || w.rimmed || t.turnA == 2 || t.turnB == 2);
     if (load.deferred) {
-      deferLoad(stiffness, damping);
+      deferLoad(rates);
       return;
     }
     load.force = w.normal;
     load.torqueA = t.turnA == 1 ? w.rollMoment : Vec3{};
     load.torqueB = t.turnB == 1 ? w.rollMoment * -1.0 : Vec3{};
-    load.stiffness = stiffness;
-    load.damping = damping;
+    load.rates = rates;
   }
 
   // A deferred contact: what the serial pass (applyDeferred) needs of it.
-  void deferLoad(double stiffness, double damping) {
+  void deferLoad(const law::Rates& rates) {
     Current& w = w_;
     const FrictionTrial& t = *w.t;
     FrictionApplication& application = cache_.applications[w.index];
@@ -1481,8 +1519,7 @@ class ChunkWalk {
     application.armA = t.armA;
     application.armB = t.armB;
     application.squeeze = w.normalForce * w.squeezeRate;
-    application.stiffness = stiffness;
-    application.damping = damping;
+    application.rates = rates;
     application.facetStiffness = w.facetStiffness;
     application.ring = t.ring;
     application.turnA = static_cast<std::int8_t>(t.turnA);
@@ -1633,7 +1670,8 @@ void applyDeferred(const StageInput& in, const ContactChunk& chunk, std::vector<
     // Rolling resistance.
     if (application.rolling) {
       const Vec3& moment = application.rollMoment;
-      if (rim != nullptr) applyRingLoad(model, in.tables, p, *rim, *ring, Vec3{}, moment, 0.0, f, torque);
+      if (rim != nullptr)
+        applyRingLoad(model, in.tables, p, *rim, *ring, Vec3{}, moment, 0.0, f, torque);
       applyMoment(model, in.tables, p, application.turnA, inverseA, a, moment, f, torque);
       if (other >= 0)
         applyMoment(model, in.tables, p, application.turnB, inverseB, other, moment * -1.0, f,
@@ -1748,8 +1786,9 @@ void prepareTurning(const Model& model, const ContactTables& tables, const std::
   detail::parallelFor(
       threads, static_cast<std::int64_t>(turners), [&](std::int64_t begin, std::int64_t end) {
         for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
-          turning.largest[k] = neighbourhoodRotation(model, tables, p, v, turning.particles[k],
-                                                     turning.omega[k], turning.inverse.data() + 6 * k);
+          turning.largest[k] =
+              neighbourhoodRotation(model, tables, p, v, turning.particles[k], turning.omega[k],
+                                    turning.inverse.data() + 6 * k);
         }
       });
 }
@@ -1768,10 +1807,7 @@ void findContactLoads(const Model& model, const ContactTables& tables, std::int6
   detectContacts(model, p, v, threads, previous, cache);
 
   const auto particles = static_cast<std::size_t>(model.particleCount());
-  if (cache.contactStiffnessSum.size() != particles) {
-    cache.contactStiffnessSum.assign(particles, 0.0);
-    cache.contactDampingSum.assign(particles, 0.0);
-  }
+  if (cache.contactRateSum.size() != particles) cache.contactRateSum.assign(particles, {});
   const std::size_t count = cache.seeds.size();
   // (Resized, not cleared: the buffer swapped back holds the list of two
   // evaluations ago, so only the difference is constructed.)
@@ -1849,22 +1885,21 @@ StageTally sumChunks(const StageInput& input, std::vector<Vec3>& f, std::vector<
 // MODEL §3.7, the contacts' stability limit of particle i from the sums of its
 // contacts' stiffness and damping, by Gershgorin as for the connectors
 // (estimateStability): ω² <= 2 Σk / m, 2ζω <= 2 Σc / m, δ < 2/ω (√(1+ζ²) - ζ).
-inline double contactStabilityStep(const ContactTables& tables, std::size_t i, double stiffness,
-                                   double damping) {
-  const double omega = std::sqrt(2.0 * stiffness * tables.contactInverseMass[i]);
-  const double dampingRate = 2.0 * damping * tables.contactInverseMass[i];
+inline double contactStabilityStep(const ContactTables& tables, std::size_t i,
+                                   const law::Rates& sum) {
+  const double omega = std::sqrt(2.0 * sum.stiffness * tables.contactInverseMass[i]);
+  const double dampingRate = 2.0 * sum.damping * tables.contactInverseMass[i];
   return dampedCriticalStep(omega, dampingRate);
 }
 
 // Particle i's stability sums, once its loads are in: zeroed again; its limit
 // (a rigid tree's particle: its body's, addRigidTreeTerms) into `step`.
 inline void takeStabilitySums(const ContactTables& tables, ContactScratch& cache, std::size_t i,
-                              double stiffness, double damping, double& step) {
-  if (stiffness == 0.0 && damping == 0.0) return;
-  cache.contactStiffnessSum[i] = 0.0;
-  cache.contactDampingSum[i] = 0.0;
-  if (stiffness != 0.0 && tables.treeOf[i] < 0)
-    step = std::min(step, contactStabilityStep(tables, i, stiffness, damping));
+                              const law::Rates& sum, double& step) {
+  if (sum.stiffness == 0.0 && sum.damping == 0.0) return;
+  cache.contactRateSum[i] = {};
+  if (sum.stiffness != 0.0 && tables.treeOf[i] < 0)
+    step = std::min(step, contactStabilityStep(tables, i, sum));
 }
 
 // One thread: the pair contacts' loads scattered in contact order (unless the
@@ -1878,8 +1913,7 @@ double gatherSerial(const ContactTables& tables, ContactScratch& cache, std::siz
     if (!load.deferred) scatterLoad(load, f, torque, cache);
   }
   for (std::size_t i = 0; i < particles; ++i)
-    takeStabilitySums(tables, cache, i, cache.contactStiffnessSum[i], cache.contactDampingSum[i],
-                      criticalStep);
+    takeStabilitySums(tables, cache, i, cache.contactRateSum[i], criticalStep);
   return criticalStep;
 }
 
@@ -1890,25 +1924,23 @@ inline void gatherParticle(const ContactTables& tables, ContactScratch& cache, s
                            std::vector<Vec3>& f, std::vector<Vec3>& torque, double& step) {
   const ContactLoad* loads = cache.loads.data();
   Vec3 force = f[i], moment = torque[i];
-  double stiffness = cache.contactStiffnessSum[i], damping = cache.contactDampingSum[i];
+  law::Rates sum = cache.contactRateSum[i];
   for (std::int32_t k = cache.otherStart[i]; k < cache.otherStart[i + 1]; ++k) {
     const ContactLoad& load = loads[cache.otherContact[static_cast<std::size_t>(k)]];
     force -= load.force;
     moment += load.torqueB;
-    stiffness += load.stiffness;
-    damping += load.damping;
+    sum.add(load.rates);
   }
   for (std::int32_t index = cache.aStart[i]; index < cache.aStart[i + 1]; ++index) {
     const ContactLoad& load = loads[index];
     if (load.deferred) continue;
     force += load.force;
     moment += load.torqueA;
-    stiffness += load.stiffness;
-    damping += load.damping;
+    sum.add(load.rates);
   }
   f[i] = force;
   torque[i] = moment;
-  takeStabilitySums(tables, cache, i, stiffness, damping, step);
+  takeStabilitySums(tables, cache, i, sum, step);
 }
 
 // On threads: a gather by particle (gatherParticle), the smallest limit of each
@@ -1920,15 +1952,14 @@ double gatherThreads(const ContactTables& tables, ContactScratch& cache, std::si
       (static_cast<std::int64_t>(particles) + detail::kParallelChunk - 1) / detail::kParallelChunk;
   cache.chunkSteps.assign(static_cast<std::size_t>(gatherChunks),
                           std::numeric_limits<double>::infinity());
-  detail::parallelFor(cache.stageThreads, static_cast<std::int64_t>(particles),
-                      [&](std::int64_t begin, std::int64_t end) {
-                        double step = std::numeric_limits<double>::infinity();
-                        for (auto i = static_cast<std::size_t>(begin);
-                             i < static_cast<std::size_t>(end); ++i)
-                          gatherParticle(tables, cache, i, f, torque, step);
-                        cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] =
-                            step;
-                      });
+  detail::parallelFor(
+      cache.stageThreads, static_cast<std::int64_t>(particles),
+      [&](std::int64_t begin, std::int64_t end) {
+        double step = std::numeric_limits<double>::infinity();
+        for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i)
+          gatherParticle(tables, cache, i, f, torque, step);
+        cache.chunkSteps[static_cast<std::size_t>(begin / detail::kParallelChunk)] = step;
+      });
   double criticalStep = std::numeric_limits<double>::infinity();
   for (const double step : cache.chunkSteps) criticalStep = std::min(criticalStep, step);
   return criticalStep;
@@ -1936,10 +1967,10 @@ double gatherThreads(const ContactTables& tables, ContactScratch& cache, std::si
 
 }  // namespace
 
-void applyContactLoads(const Model& model, const ContactTables& tables,
-                       const std::vector<Vec3>& p, const std::vector<Vec3>& v,
-                       const std::vector<Vec3>& spin, const std::vector<Contact>& previous,
-                       ContactScratch& cache, Evaluation& out) {
+void applyContactLoads(const Model& model, const ContactTables& tables, const std::vector<Vec3>& p,
+                       const std::vector<Vec3>& v, const std::vector<Vec3>& spin,
+                       const std::vector<Contact>& previous, ContactScratch& cache,
+                       Evaluation& out) {
   if (!model.contact.enabled || model.particleCount() == 0) {
     out.contactCriticalStep = std::numeric_limits<double>::infinity();
     out.contacts.clear();
@@ -1963,7 +1994,8 @@ void applyContactLoads(const Model& model, const ContactTables& tables,
   const double criticalStep = cache.stageThreads <= 1
                                   ? gatherSerial(tables, cache, particles, f, torque)
                                   : gatherThreads(tables, cache, particles, f, torque);
-  for (const std::int32_t i : cache.turning.particles) cache.turning.slot[static_cast<std::size_t>(i)] = -1;
+  for (const std::int32_t i : cache.turning.particles)
+    cache.turning.slot[static_cast<std::size_t>(i)] = -1;
   std::swap(out.contacts, cache.freshContacts);
 
   const double viscousPower = accumulateViscosity(model, p, v, f, cache);

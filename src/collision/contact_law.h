@@ -38,8 +38,15 @@ inline double tangentialDamping(double ratio, double tangentialStiffness, double
 /// tangential ones scaled to the particles' mass by `rotation`, (1/m_eff) / (1/m)
 /// (> 1 where the contact point also turns). (A contact between fixed sides adds
 /// nothing: its callers' test.)
+/// A particle's stability sums are Rates too: Σ of its contacts' rates, each
+/// contact's added by `add` (with the share of it the particle carries), the
+/// one place they are summed.
 struct Rates {
-  double stiffness, damping;
+  double stiffness = 0.0, damping = 0.0;
+  void add(const Rates& rates, double share = 1.0) {
+    stiffness += rates.stiffness * share;
+    damping += rates.damping * share;
+  }
 };
 inline Rates stabilityRates(double stiffness, double damping, double tangentialStiffness,
                             double tangentialDamping, double rotation) {
@@ -64,8 +71,7 @@ inline FrictionLoad heldFriction(const Vec3& relative, const Vec3& delta,
                                  double tangentialStiffness, double tangentialDamping,
                                  double slipSpeed) {
   const Vec3 held = delta * scale;
-  return {relative - held, tangentialLoad * scale,
-          0.5 * tangentialStiffness * squaredNorm(held),
+  return {relative - held, tangentialLoad * scale, 0.5 * tangentialStiffness * squaredNorm(held),
           scale * tangentialDamping * slipSpeed * slipSpeed};
 }
 
@@ -84,9 +90,9 @@ inline double slidingCoefficient(double staticFriction, double kineticFriction, 
 /// direction, or the held load's where the slip stopped); the anchor trails the
 /// contact at the offset that spring would hold, μ F_n / k_t along ŝ, and keeps
 /// ½ k_t of its square; sliding friction dissipates μ F_n |v_t|.
-inline FrictionLoad slidingFriction(const Vec3& relative, const Vec3& direction,
-                                    double coefficient, double normalForce,
-                                    double tangentialStiffness, double slipSpeed) {
+inline FrictionLoad slidingFriction(const Vec3& relative, const Vec3& direction, double coefficient,
+                                    double normalForce, double tangentialStiffness,
+                                    double slipSpeed) {
   const double friction = coefficient * normalForce;
   const Vec3 consistent = direction * (friction / tangentialStiffness);
   return {relative - consistent, direction * -friction,

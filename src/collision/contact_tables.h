@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collision/contact_law.h"
 #include "collision/environment.h"
 #include "robophi/contact.h"
 #include "robophi/model.h"
@@ -277,9 +278,9 @@ struct ContactScratch {
   /// The CompiledModel::contactRevision the trees were built for; -1: none yet.
   std::int64_t revision = -1;
   /// Per particle, the stiffness (N/m) and damping (N·s/m) of its touching
-  /// contacts, summed during the contact stage for its stability limit and
-  /// zeroed again after it, (particleCount).
-  std::vector<double> contactStiffnessSum, contactDampingSum;
+  /// contacts (law::Rates::add), summed during the contact stage for its
+  /// stability limit and zeroed again after it, (particleCount).
+  std::vector<law::Rates> contactRateSum;
   /// The tree objects with their node ranges, their nodes and permuted particles.
   std::vector<TreeObject> trees;
   std::vector<TreeNode> nodes;
@@ -315,9 +316,9 @@ struct ContactScratch {
     std::int32_t turnA = 0, turnB = 0;
     double inverseA[6]{}, inverseB[6]{};
     double tangentialStiffness = 0.0, tangentialDamping = 0.0;
-    double kineticFriction = 0.0;  // μ_k of the pair (-)
-    double staticFriction = 0.0;   // μ_s of the pair (-)
-    double stribeckVelocity = 0.0; // v_S of the pair (m/s)
+    double kineticFriction = 0.0;   // μ_k of the pair (-)
+    double staticFriction = 0.0;    // μ_s of the pair (-)
+    double stribeckVelocity = 0.0;  // v_S of the pair (m/s)
     /// Rim and ball contacts: their body's motion, in ContactScratch::rings.
     std::int32_t ring = -1;
     double slipSpeed = 0.0, previousEnergy = 0.0;
@@ -355,16 +356,15 @@ struct ContactScratch {
   /// they act and how each side turns.
   struct FrictionApplication {
     static constexpr std::int8_t kNone = 0, kParticles = 1, kFacet = 2, kRing = 3;
-    Vec3 force;              // friction force on a (N), Contact::frictionForce
-    Vec3 normal;             // normal force on a (N)
-    Vec3 rollMoment;         // rolling resistance moment on a (N·m)
-    Vec3 armA, armB;         // particle centre to contact point (m)
-    double squeeze = 0.0;    // rims: the radial load S (N)
-    double stiffness = 0.0;  // its stability rates (N/m, N·s/m), and a facet
-    double damping = 0.0;    // vertex's extra stiffness on a (N/m)
-    double facetStiffness = 0.0;
-    bool rolling = false;    // rollMoment applies (μ_r > 0)
-    std::int32_t ring = -1;  // index into its chunk's rings, or -1
+    Vec3 force;                   // friction force on a (N), Contact::frictionForce
+    Vec3 normal;                  // normal force on a (N)
+    Vec3 rollMoment;              // rolling resistance moment on a (N·m)
+    Vec3 armA, armB;              // particle centre to contact point (m)
+    double squeeze = 0.0;         // rims: the radial load S (N)
+    law::Rates rates;             // its stability rates (N/m, N·s/m), and a facet
+    double facetStiffness = 0.0;  // vertex's extra stiffness on a (N/m)
+    bool rolling = false;         // rollMoment applies (μ_r > 0)
+    std::int32_t ring = -1;       // index into its chunk's rings, or -1
     /// Index of its A⁺ pair (12 doubles: a's, then the other's) in its chunk's
     /// inverses when a side turns with its neighbourhood, else -1.
     std::int32_t inverse = -1;
@@ -376,7 +376,7 @@ struct ContactScratch {
   /// stability rates each of them gets; nothing for a deferred contact.
   struct ContactLoad {
     Vec3 force, torqueA, torqueB;
-    double stiffness = 0.0, damping = 0.0;
+    law::Rates rates;
     std::int32_t a = -1, other = -1;  // Contact::a, Contact::other
     bool deferred = false;
   };

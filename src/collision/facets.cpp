@@ -213,7 +213,8 @@ void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, do
     return cache.vertexPosition[static_cast<std::size_t>(v)];
   };
   const SurfaceTriangle& tri = model.surfaceTriangles[triangle];
-  const Vec3 &x0 = vertexAt(tri.vertex[0]), &x1 = vertexAt(tri.vertex[1]), &x2 = vertexAt(tri.vertex[2]);
+  const Vec3 &x0 = vertexAt(tri.vertex[0]), &x1 = vertexAt(tri.vertex[1]),
+             &x2 = vertexAt(tri.vertex[2]);
   const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
   const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
   const double distance = norm(p - q);
@@ -254,12 +255,15 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   const bool isVertex = probe < 0;
   const std::int32_t vertex = isVertex ? -1 - probe : -1;
   const std::int32_t probeObject =
-      isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object : t.particleObject[probe];
+      isVertex ? model.surfaceVertices[static_cast<std::size_t>(vertex)].object
+               : t.particleObject[probe];
   const bool probeFixed = isVertex ? t.objectFixed[probeObject] != 0 : t.movable[probe] == 0;
   if (probeFixed && t.objectFixed[object] != 0) return;
-  const Vec3 p = isVertex ? cache.vertexPosition[static_cast<std::size_t>(vertex)] : position[probe];
-  const double probeRadius = isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
-                                      : model.radius[probe];
+  const Vec3 p =
+      isVertex ? cache.vertexPosition[static_cast<std::size_t>(vertex)] : position[probe];
+  const double probeRadius =
+      isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
+               : model.radius[probe];
   const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
   ClosestFacet closest;
   for (std::size_t c = begin; c < end; ++c) {
@@ -398,8 +402,8 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
   for (int j = 0; j < 3; ++j) spread(vertexOf(model, t, j), onA * -weightOf(c.facetWeights, j));
 }
 
-void addTriangleRates(const Model& model, const Contact& c, double stiffness, double damping,
-                      std::vector<double>& stiffnessSum, std::vector<double>& dampingSum) {
+void addTriangleRates(const Model& model, const Contact& c, const law::Rates& rates,
+                      std::vector<law::Rates>& sums) {
   const SurfaceTriangle& t = model.surfaceTriangles[static_cast<std::size_t>(c.facet)];
   // The row's reach: Σ|w| of the touching side (1 for a particle) and of the
   // triangle's particles (Σ_j |β_j| Σ_k |w_jk|).
@@ -423,8 +427,7 @@ void addTriangleRates(const Model& model, const Contact& c, double stiffness, do
     for (int k = 0; k < SurfaceVertex::kMaxParticles; ++k) {
       if (v.particle[k] < 0) continue;
       const double share = 0.5 * reach * std::abs(weightOf(c.facetWeights, j) * v.weight[k]);
-      stiffnessSum[static_cast<std::size_t>(v.particle[k])] += stiffness * share;
-      dampingSum[static_cast<std::size_t>(v.particle[k])] += damping * share;
+      sums[static_cast<std::size_t>(v.particle[k])].add(rates, share);
     }
   }
 }

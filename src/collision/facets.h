@@ -92,8 +92,8 @@ void distributeFacetForce(const Model& model, const Contact& c, const Vec3& onA,
 /// factor 2 (2 Σκ / m). (Not the object's first particle, the contact's label:
 /// given every contact on a light cloth, it held a cloth draped over a box to
 /// steps of 8.5e-7 s.)
-void addTriangleRates(const Model& model, const Contact& c, double stiffness, double damping,
-                      std::vector<double>& stiffnessSum, std::vector<double>& dampingSum);
+void addTriangleRates(const Model& model, const Contact& c, const law::Rates& rates,
+                      std::vector<law::Rates>& sums);
 /// A vertex moves its heaviest particle by more than the particle alone: the
 /// extra stiffness (N/m) that particle's stability sum gets, Σ|w| |w_a| - 1 times
 /// `stiffness` (0 when none).
