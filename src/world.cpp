@@ -21,10 +21,10 @@ namespace {
 // kick follows (0: none, evaluated at the state's velocities).
 void measureKickPower(const Model& model, const State& state, Workspace& workspace,
                       Evaluation& evaluation, double kickStep) {
-  const PowerKick kick = verletKickPower(
-      model, workspace.forceScratch().bodyMotion, state.position, state.velocity,
-      evaluation.force, 1.0, evaluation.jointMotorEffort, evaluation.jointLossEffort,
-      workspace.forceScratch().linkPreload);
+  const PowerKick kick =
+      verletKickPower(model, workspace.forceScratch().bodyMotion, state.position, state.velocity,
+                      evaluation.force, 1.0, evaluation.jointMotorEffort,
+                      evaluation.jointLossEffort, workspace.forceScratch().linkPreload);
   evaluation.dissipativeKick = kick.dissipative;
   evaluation.drivingKick = kick.driving;
   evaluation.kickStep = kickStep;
@@ -62,16 +62,18 @@ World::World(CompiledModel model, State initial, Integrator integrator)
   }
   const std::vector<RigidTree>& trees = model_.model().rigidTrees;
   if (initial.treePositions.size() != trees.size() || initial.treeVelocities.size() != trees.size())
-    throw std::invalid_argument(detail::text("World: the initial state has {} rigid trees; the model has {}",
-                                             initial.treePositions.size(), trees.size()));
+    throw std::invalid_argument(
+        detail::text("World: the initial state has {} rigid trees; the model has {}",
+                     initial.treePositions.size(), trees.size()));
   for (std::size_t t = 0; t < trees.size(); ++t) {
     const Multibody& mb = trees[t].multibody;
     if (initial.treePositions[t].size() != static_cast<std::size_t>(mb.positionCount) ||
         initial.treeVelocities[t].size() != static_cast<std::size_t>(mb.velocityCount))
-      throw std::invalid_argument(detail::text(
-          "World: rigid tree {} '{}' has {} coordinates and {} rates in the initial state, not {} and {}",
-          t, mb.name, initial.treePositions[t].size(), initial.treeVelocities[t].size(),
-          mb.positionCount, mb.velocityCount));
+      throw std::invalid_argument(
+          detail::text("World: rigid tree {} '{}' has {} coordinates and {} rates in the initial "
+                       "state, not {} and {}",
+                       t, mb.name, initial.treePositions[t].size(),
+                       initial.treeVelocities[t].size(), mb.positionCount, mb.velocityCount));
   }
   current_.state_ = std::move(initial);
   if (!trees.empty()) placeTreeParticles(model_.model(), current_.state_, treeWorkspaces_);
@@ -125,6 +127,7 @@ void World::resumeAfterStep(Evaluation evaluation) {
 EnergyTally World::Snapshot::energy() const {
   EnergyTally e = evaluation_.energy;
   e.dissipated = state_.dissipated;
+  e.implicitLoss = state_.implicitLoss;
   e.external = state_.external;
   return e;
 }
@@ -222,8 +225,8 @@ StepStatus World::step(double dt) {
     const double startV = powerAtStart + 0.5 * kickStepAtStart * dissipativeKickAtStart;
     const double endU = evaluation.dissipativePower;
     const double endV = endU + 0.5 * dt * evaluation.dissipativeKick;
-    state.dissipated -= 0.25 * dt *
-                        ((2.0 * startV + 0.5 * dt * dissipativeKickAtStart) + (endU + endV));
+    state.dissipated -=
+        0.25 * dt * ((2.0 * startV + 0.5 * dt * dissipativeKickAtStart) + (endU + endV));
     // The driving power is measured at the state's velocities v.
     const double drivingEndU = evaluation.drivingPower - 0.5 * dt * evaluation.drivingKick;
     state.external += 0.25 * dt *

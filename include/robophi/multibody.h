@@ -233,7 +233,8 @@ struct MultibodyWorkspace {
   MultibodyKinematics kinematics;
   /// The inputs a caller composes for a step (the world's tree stage), kept to reuse.
   MultibodyInputs inputs;
-  std::vector<double> mass, massMatrix, rhs, tau, scratch, servo, velocityFree, delassus, impulse, column;
+  std::vector<double> mass, massMatrix, rhs, tau, scratch, servo, velocityFree, delassus, impulse,
+      column;
   std::vector<std::int32_t> constrained;
 };
 
@@ -245,6 +246,9 @@ struct MultibodyStepReport {
   /// their implicit springs' step (½ κ δ² v⁺² a step) removed (J), >= 0 up to the
   /// step's own error. The servos' targets' rates do work (β q̇* v⁺ δ) booked as inputWork.
   double dissipated = 0.0;
+  /// Of `dissipated`, the implicit point loads' scheme loss (J): ½ δ² u⁺ᵀ K u⁺ and
+  /// the damper's work at v⁺ beyond the trapezoid rule's, integration error.
+  double implicitLoss = 0.0;
   /// Number of joints at a hard stop or held by friction after the step.
   int constrainedJoints = 0;
 };
@@ -253,7 +257,7 @@ struct MultibodyStepReport {
 /// damping and servos implicit ((M + dt B + dt² K) v⁺ = ...), hard stops and
 /// joint friction as bounded impulses on v⁺, then q⁺ = q ⊕ v⁺ dt.
 MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double>& q,
-                                  std::vector<double>& v, const MultibodyInputs& inputs,
-                                  double dt, const Vec3& gravity, MultibodyWorkspace& workspace);
+                                  std::vector<double>& v, const MultibodyInputs& inputs, double dt,
+                                  const Vec3& gravity, MultibodyWorkspace& workspace);
 
 }  // namespace robophi

@@ -27,6 +27,10 @@ struct EnergyTally {
   /// Work removed so far by damping, friction and viscosity (>= 0 when the
   /// account is right; it only grows).
   double dissipated = 0.0;
+  /// Of `dissipated`, the rigid trees' implicit contact loads' scheme loss (J,
+  /// docs/model.md §7): integration error, not the work of a dissipative force,
+  /// so the adaptive step's energy test counts it as error (MODEL §4.1).
+  double implicitLoss = 0.0;
   /// Work done on the system from outside (J): by fixed particles moving
   /// kinematically (a moving virtual robot), and by edits made between steps
   /// (World's edit API: joint targets, virtual obstacles, a disturbance).
@@ -67,6 +71,8 @@ struct State {
   std::vector<std::vector<double>> treePositions, treeVelocities;
   /// Work removed by dissipative forces since t = 0 (J), EnergyTally::dissipated.
   double dissipated = 0.0;
+  /// Of it, the implicit contact loads' scheme loss (J), EnergyTally::implicitLoss.
+  double implicitLoss = 0.0;
   /// Work done from outside since t = 0 (J), EnergyTally::external.
   double external = 0.0;
 

@@ -1894,8 +1894,9 @@ inline double contactStabilityStep(const ContactTables& tables, std::size_t i,
 
 // Particle i's stability sums, once its loads are in: zeroed again; its limit
 // (a rigid tree's particle: its body's, addRigidTreeTerms) into `step`.
+// (`sum` by value: it may be the particle's own entry, zeroed here.)
 inline void takeStabilitySums(const ContactTables& tables, ContactScratch& cache, std::size_t i,
-                              const law::Rates& sum, double& step) {
+                              law::Rates sum, double& step) {
   if (sum.stiffness == 0.0 && sum.damping == 0.0) return;
   cache.contactRateSum[i] = {};
   if (sum.stiffness != 0.0 && tables.treeOf[i] < 0)

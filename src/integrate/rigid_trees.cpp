@@ -18,7 +18,8 @@ namespace {
 
 // Position and velocity of a tree particle from its body's pose and velocity.
 // Position, velocity and spin (its body's angular velocity) of a tree particle.
-void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_WP, Vec3& v_WP, Vec3& w_W) {
+void bodyPoint(const MultibodyKinematics& kin, const BodyParticle& bp, Vec3& p_WP, Vec3& v_WP,
+               Vec3& w_W) {
   p_WP = kin.X_WB[static_cast<std::size_t>(bp.body)] * bp.p_BP;
   v_WP = pointVelocity(kin, bp.body, p_WP);
   w_W = kin.velocity[static_cast<std::size_t>(bp.body)].angular;
@@ -35,8 +36,8 @@ void composeTreeInputs(const Model& model, const RigidTree& tree, const std::vec
   const Multibody& mb = tree.multibody;
   const auto n = static_cast<std::size_t>(mb.velocityCount);
   MultibodyInputs& in = ws.inputs;
-  for (auto* values : {&in.effort, &in.servoStiffness, &in.servoDamping, &in.servoTarget,
-                       &in.servoTargetRate})
+  for (auto* values :
+       {&in.effort, &in.servoStiffness, &in.servoDamping, &in.servoTarget, &in.servoTargetRate})
     values->assign(n, 0.0);
   in.effortLimit.assign(n, std::numeric_limits<double>::infinity());
   bool compensate = false;
@@ -66,8 +67,10 @@ void composeTreeInputs(const Model& model, const RigidTree& tree, const std::vec
     }
     in.effort[i] = effort;
     in.servoStiffness[i] = joint.servoStiffness;
-    in.servoTarget[i] = joint.servoStiffness > 0.0 ? joint.servoTarget
-                                                   : q[static_cast<std::size_t>(mb.bodies[static_cast<std::size_t>(mb.dofBody[i])].qStart)];
+    in.servoTarget[i] = joint.servoStiffness > 0.0
+                            ? joint.servoTarget
+                            : q[static_cast<std::size_t>(
+                                  mb.bodies[static_cast<std::size_t>(mb.dofBody[i])].qStart)];
     in.servoDamping[i] = damping;
     in.servoTargetRate[i] = damping > 0.0 ? dampedRate / damping : 0.0;
   }
@@ -83,7 +86,8 @@ void composeTreeInputs(const Model& model, const RigidTree& tree, const std::vec
   inverseDynamics(mb, kin, nullptr, model.gravity, nullptr, held.data());
   for (std::size_t i = 0; i < n; ++i) {
     const std::int32_t k = tree.jointOfRate[i];
-    if (k >= 0 && model.joints[static_cast<std::size_t>(k)].compensateGravity) in.effort[i] += held[i];
+    if (k >= 0 && model.joints[static_cast<std::size_t>(k)].compensateGravity)
+      in.effort[i] += held[i];
   }
 }
 
@@ -167,8 +171,8 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
       if (c.sliding == 0 && pair.tangentialStiffness > 0.0) {
         const double inverseMass = sides[0].inverseMass + sides[1].inverseMass;
         load.tangentialStiffness = pair.tangentialStiffness;
-        load.tangentialDamping = law::tangentialDamping(
-            pair.tangentialDampingRatio, pair.tangentialStiffness, inverseMass);
+        load.tangentialDamping = law::tangentialDamping(pair.tangentialDampingRatio,
+                                                        pair.tangentialStiffness, inverseMass);
       }
       loads[static_cast<std::size_t>(side.tree)].push_back(load);
     }
@@ -182,7 +186,8 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
                           const std::vector<Vec3>& position, Evaluation& evaluation) {
   if (evaluation.contacts.empty()) return;
   // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
-  std::vector<std::vector<double>> stiffness(model.rigidTrees.size()), damping(model.rigidTrees.size());
+  std::vector<std::vector<double>> stiffness(model.rigidTrees.size()),
+      damping(model.rigidTrees.size());
   bool any = false;
   PairParameters overridden;
   const auto book = [&](const Contact& c, std::int32_t particle) {
@@ -214,8 +219,9 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
     const RigidTree& tree = model.rigidTrees[t];
     std::vector<double> w(tree.multibody.bodies.size(), 0.0);
     for (const BodyParticle& bp : tree.particles)
-      w[static_cast<std::size_t>(bp.body)] = std::max(w[static_cast<std::size_t>(bp.body)],
-                                                      tables.contactInverseMass[static_cast<std::size_t>(bp.particle)]);
+      w[static_cast<std::size_t>(bp.body)] =
+          std::max(w[static_cast<std::size_t>(bp.body)],
+                   tables.contactInverseMass[static_cast<std::size_t>(bp.particle)]);
     for (std::size_t b = 0; b < stiffness[t].size(); ++b)
       if (stiffness[t][b] != 0.0)
         step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * stiffness[t][b] * w[b]),
@@ -261,8 +267,9 @@ void treeAccelerations(const Model& model, std::size_t treeIndex, const State& s
     const bool oneDof = velocityCountOf(body.joint) == 1;
     double effort = in.effort[i];
     if (oneDof) {
-      effort += -in.servoStiffness[i] * (q[static_cast<std::size_t>(body.qStart)] - in.servoTarget[i]) -
-                in.servoDamping[i] * (v[i] - in.servoTargetRate[i]);
+      effort +=
+          -in.servoStiffness[i] * (q[static_cast<std::size_t>(body.qStart)] - in.servoTarget[i]) -
+          in.servoDamping[i] * (v[i] - in.servoTargetRate[i]);
       const double limit = std::min(body.effortLimit, in.effortLimit[i]);
       effort = std::clamp(effort, -limit, limit) - body.damping * v[i];
     }
@@ -275,7 +282,8 @@ void treeAccelerations(const Model& model, std::size_t treeIndex, const State& s
   forwardDynamics(mb, kin, tau.data(), model.gravity, in.wrench.data(), a.data());
 }
 
-void placeTreeParticles(const Model& model, State& state, std::vector<MultibodyWorkspace>& scratch) {
+void placeTreeParticles(const Model& model, State& state,
+                        std::vector<MultibodyWorkspace>& scratch) {
   sizeScratch(model, scratch);
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
     const RigidTree& tree = model.rigidTrees[t];
@@ -308,6 +316,7 @@ void stepRigidTrees(const Model& model, const ContactTables& tables, double dt,
     const MultibodyStepReport report =
         stepMultibody(mb, q, v, inputs, implicitLoads[t], dt, model.gravity, ws);
     state.dissipated += report.dissipated;
+    state.implicitLoss += report.implicitLoss;
     state.external += report.inputWork;
     MultibodyKinematics& kin = ws.kinematics;
     updateKinematics(mb, q.data(), kin);
@@ -341,8 +350,9 @@ void addRigidTreeTerms(const Model& model, const ContactTables& tables, const St
     const std::vector<double>& rates = state.treeVelocities[t];
     for (const MultibodyBody& body : mb.bodies)
       if (body.armature != 0.0 && velocityCountOf(body.joint) == 1)
-        evaluation.energy.kinetic +=
-            0.5 * body.armature * rates[static_cast<std::size_t>(body.vStart)] * rates[static_cast<std::size_t>(body.vStart)];
+        evaluation.energy.kinetic += 0.5 * body.armature *
+                                     rates[static_cast<std::size_t>(body.vStart)] *
+                                     rates[static_cast<std::size_t>(body.vStart)];
     evaluation.energy.gravity += gravitationalEnergy(kin, model.gravity);
     // The joints' servos' springs ½ κ (q − q*)².
     double servo = 0.0;

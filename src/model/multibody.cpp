@@ -4,12 +4,12 @@
 // joint damping and servos, hard stops and joint friction.
 #include "robophi/multibody.h"
 
-#include "model/multibody_contacts.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "model/multibody_contacts.h"
 
 namespace robophi {
 
@@ -79,20 +79,27 @@ void solveTree(const double* H, int n, const std::vector<std::int32_t>& parent, 
 
 int positionCountOf(BodyJointKind kind) {
   switch (kind) {
-    case BodyJointKind::kWeld: return 0;
+    case BodyJointKind::kWeld:
+      return 0;
     case BodyJointKind::kRevolute:
-    case BodyJointKind::kPrismatic: return 1;
-    case BodyJointKind::kFree: return 7;
-    case BodyJointKind::kBall: return 4;
+    case BodyJointKind::kPrismatic:
+      return 1;
+    case BodyJointKind::kFree:
+      return 7;
+    case BodyJointKind::kBall:
+      return 4;
   }
   return 0;
 }
 
 int velocityCountOf(BodyJointKind kind) {
   switch (kind) {
-    case BodyJointKind::kFree: return 6;
-    case BodyJointKind::kBall: return 3;
-    default: return positionCountOf(kind);
+    case BodyJointKind::kFree:
+      return 6;
+    case BodyJointKind::kBall:
+      return 3;
+    default:
+      return positionCountOf(kind);
   }
 }
 
@@ -140,7 +147,8 @@ void finalize(Multibody& multibody) {
     if (!isRotation(body.X_PJ.rotation)) fail("X_PJ's rotation is not a rotation");
     if (body.joint == BodyJointKind::kRevolute || body.joint == BodyJointKind::kPrismatic) {
       const double n = norm(body.axis);
-      if (!(std::abs(n - 1.0) < 1e-9)) fail("axis must be a unit vector, |axis| = " + std::to_string(n));
+      if (!(std::abs(n - 1.0) < 1e-9))
+        fail("axis must be a unit vector, |axis| = " + std::to_string(n));
       if (!(body.lower <= body.upper)) fail("lower limit above upper");
     }
     if (!(body.damping >= 0) || !(body.friction >= 0) || !(body.armature >= 0) ||
@@ -205,7 +213,9 @@ void updateKinematics(const Multibody& multibody, const double* q, MultibodyKine
     const double* qb = q + body.qStart;
     SpatialVector* S = kin.motion.data() + body.vStart;
     switch (body.joint) {
-      case BodyJointKind::kWeld: kin.X_WB[b] = X_WP * body.X_PJ; break;
+      case BodyJointKind::kWeld:
+        kin.X_WB[b] = X_WP * body.X_PJ;
+        break;
       case BodyJointKind::kRevolute: {
         const Pose X_WJ = X_WP * body.X_PJ;
         kin.X_WB[b] = {X_WJ.rotation * rotationAboutAxis(body.axis, qb[0]), X_WJ.translation};
@@ -253,7 +263,8 @@ void updateKinematics(const Multibody& multibody, const double* q, MultibodyKine
     const Mat3 Ic = X.rotation * body.mass.inertia * transpose(X.rotation);
     kin.mass[b] = m;
     kin.firstMoment[b] = c * m;
-    kin.inertiaAtOrigin[b] = Ic + m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
+    kin.inertiaAtOrigin[b] =
+        Ic + m * (Mat3::diagonal({dot(c, c), dot(c, c), dot(c, c)}) - outer(c, c));
   }
 }
 
@@ -332,7 +343,8 @@ void inverseDynamics(const Multibody& multibody, const MultibodyKinematics& kin,
         A = A + kin.motion[body.vStart + k] * a[body.vStart + k];
     acceleration[b] = A;
     const SpatialVector& V = kin.velocity[b];
-    const SpatialVector IV = applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], V);
+    const SpatialVector IV =
+        applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], V);
     force[b] = applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], A) +
                crossForce(V, IV);
     if (externalWrench) force[b] = force[b] + externalWrench[b] * -1.0;
@@ -412,8 +424,8 @@ double gravitationalEnergy(const MultibodyKinematics& kin, const Vec3& gravity) 
 SpatialVector spatialMomentum(const MultibodyKinematics& kin) {
   SpatialVector total{};
   for (std::size_t b = 0; b < kin.mass.size(); ++b)
-    total = total + applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b],
-                                 kin.velocity[b]);
+    total = total +
+            applyInertia(kin.mass[b], kin.firstMoment[b], kin.inertiaAtOrigin[b], kin.velocity[b]);
   return total;
 }
 
@@ -422,8 +434,9 @@ namespace {
 // The unit quaternion (w, x, y, z) at `wxyz` turned by exp(δ ω) on the left:
 // R⁺ = exp(δ ω) R, ω in the frame R maps into.
 void turnQuaternion(double* wxyz, const double* omega, double dt) {
-  const Quaternion turned = normalized(quaternionFromRotationVector(Vec3{omega[0], omega[1], omega[2]} * dt) *
-                                       Quaternion{wxyz[0], wxyz[1], wxyz[2], wxyz[3]});
+  const Quaternion turned =
+      normalized(quaternionFromRotationVector(Vec3{omega[0], omega[1], omega[2]} * dt) *
+                 Quaternion{wxyz[0], wxyz[1], wxyz[2], wxyz[3]});
   wxyz[0] = turned.w;
   wxyz[1] = turned.x;
   wxyz[2] = turned.y;
@@ -437,10 +450,15 @@ void integrateConfiguration(const Multibody& multibody, double* q, const double*
     double* qb = q + body.qStart;
     const double* vb = v + body.vStart;
     switch (body.joint) {
-      case BodyJointKind::kWeld: break;
+      case BodyJointKind::kWeld:
+        break;
       case BodyJointKind::kRevolute:
-      case BodyJointKind::kPrismatic: qb[0] += dt * vb[0]; break;
-      case BodyJointKind::kBall: turnQuaternion(qb, vb, dt); break;  // ω in J
+      case BodyJointKind::kPrismatic:
+        qb[0] += dt * vb[0];
+        break;
+      case BodyJointKind::kBall:
+        turnQuaternion(qb, vb, dt);
+        break;  // ω in J
       case BodyJointKind::kFree:
         qb[0] += dt * vb[3];
         qb[1] += dt * vb[4];
@@ -515,8 +533,9 @@ void restoreMomentum(const Multibody& multibody, const double* q, double* v,
 // factored in ws.massMatrix): velocity = v_free + A⁻¹ Σ e_r λ_r with each λ_r in
 // its bounds and its row's target met where the bounds allow. Rows already solved
 // keep their impulses as the starting point.
-void solveImpulses(const std::vector<ImpulseRow>& rows, int nv, const std::vector<std::int32_t>& parent,
-                   MultibodyWorkspace& ws, std::vector<double>& velocity) {
+void solveImpulses(const std::vector<ImpulseRow>& rows, int nv,
+                   const std::vector<std::int32_t>& parent, MultibodyWorkspace& ws,
+                   std::vector<double>& velocity) {
   const auto n = static_cast<std::size_t>(nv);
   const std::size_t m = rows.size(), known = ws.impulse.size();
   ws.impulse.resize(m, 0.0);
@@ -534,8 +553,9 @@ void solveImpulses(const std::vector<ImpulseRow>& rows, int nv, const std::vecto
       const double w = column[rows[r].dof];
       const double old = ws.impulse[r];
       const double soft = rows[r].softness;
-      const double next = std::clamp(old + (rows[r].target - velocity[rows[r].dof] - soft * old) / (w + soft),
-                                     rows[r].low, rows[r].high);
+      const double next =
+          std::clamp(old + (rows[r].target - velocity[rows[r].dof] - soft * old) / (w + soft),
+                     rows[r].low, rows[r].high);
       const double delta = next - old;
       if (delta != 0.0) {
         ws.impulse[r] = next;
@@ -575,8 +595,7 @@ void assemblePointLoads(const Multibody& multibody, const MultibodyKinematics& k
     pointJacobian(multibody, kin, load.body, load.point, J, nullptr);
     // Columns: the Jacobian's non-zero rates (the body's ancestors' rates).
     Vec3 pointVelocity{};
-    for (std::size_t i = 0; i < n; ++i)
-      pointVelocity += Vec3{J[i], J[n + i], J[2 * n + i]} * v[i];
+    for (std::size_t i = 0; i < n; ++i) pointVelocity += Vec3{J[i], J[n + i], J[2 * n + i]} * v[i];
     const Vec3 stiffnessTimesVelocity =
         pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, pointVelocity);
     for (std::size_t i = 0; i < n; ++i) {
@@ -595,8 +614,8 @@ void assemblePointLoads(const Multibody& multibody, const MultibodyKinematics& k
 }  // namespace
 
 MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double>& q,
-                                  std::vector<double>& v, const MultibodyInputs& inputs,
-                                  double dt, const Vec3& gravity, MultibodyWorkspace& ws) {
+                                  std::vector<double>& v, const MultibodyInputs& inputs, double dt,
+                                  const Vec3& gravity, MultibodyWorkspace& ws) {
   return stepMultibody(multibody, q, v, inputs, {}, dt, gravity, ws);
 }
 
@@ -633,7 +652,7 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
   // every step, the energy error steering the step down to microseconds). A servo
   // leaves the matrix once, so the rounds end.
   ws.scratch.resize(n);
-  ws.servo.resize(2 * n);  // each rate's servo (κ, β)
+  ws.servo.resize(2 * n);                  // each rate's servo (κ, β)
   thread_local std::vector<double> bound;  // each rate's effort bound
   bound.assign(n, 0.0);
   std::vector<std::int32_t>& asRow = ws.constrained;  // 1: the rate's servo is a row
@@ -646,22 +665,25 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
       const bool oneDof = velocityCountOf(body.joint) == 1;
       const double qi = oneDof ? q[body.qStart] : 0.0;
-      const double kappa = inputAt(inputs.servoStiffness, i), beta = inputAt(inputs.servoDamping, i);
-      const double target = inputAt(inputs.servoTarget, i), targetRate = inputAt(inputs.servoTargetRate, i);
+      const double kappa = inputAt(inputs.servoStiffness, i),
+                   beta = inputAt(inputs.servoDamping, i);
+      const double target = inputAt(inputs.servoTarget, i),
+                   targetRate = inputAt(inputs.servoTargetRate, i);
       double effort = inputAt(inputs.effort, i);
       const double damping = oneDof ? body.damping : 0.0;
       const double limit = std::min(body.effortLimit, inputs.effortLimit.empty()
                                                           ? std::numeric_limits<double>::infinity()
                                                           : inputs.effortLimit[i]);
       bound[i] = limit;
-      if (oneDof && ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0)) effort = std::clamp(effort, -limit, limit);
+      if (oneDof && ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0))
+        effort = std::clamp(effort, -limit, limit);
       ws.servo[2 * i] = kappa;
       ws.servo[2 * i + 1] = beta;
       ws.scratch[i] = effort;
       const double k = asRow[i] != 0 ? 0.0 : kappa, b = asRow[i] != 0 ? 0.0 : beta;
       ws.massMatrix[i * n + i] += (oneDof ? body.armature : 0.0) + dt * (damping + b) + dt * dt * k;
-      ws.rhs[i] = dt * (effort - ws.tau[i] - k * (qi + dt * v[i] - target) - b * (v[i] - targetRate) -
-                        damping * v[i]);
+      ws.rhs[i] = dt * (effort - ws.tau[i] - k * (qi + dt * v[i] - target) -
+                        b * (v[i] - targetRate) - damping * v[i]);
       if (loaded) ws.rhs[i] += loadRhs[i];
     }
     factorTree(ws.massMatrix.data(), nv, multibody.dofParent);
@@ -670,9 +692,11 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     for (std::size_t i = 0; i < n; ++i) {
       const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
       const MultibodyBody& body = multibody.bodies[multibody.dofBody[i]];
-      if ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0 || velocityCountOf(body.joint) != 1) continue;
+      if ((kappa == 0.0 && beta == 0.0) || asRow[i] != 0 || velocityCountOf(body.joint) != 1)
+        continue;
       const double next = v[i] + ws.rhs[i];
-      const double effort = ws.scratch[i] - kappa * (q[body.qStart] + dt * next - inputAt(inputs.servoTarget, i)) -
+      const double effort = ws.scratch[i] -
+                            kappa * (q[body.qStart] + dt * next - inputAt(inputs.servoTarget, i)) -
                             beta * (next - inputAt(inputs.servoTargetRate, i));
       if (std::abs(effort) <= bound[i]) continue;
       asRow[i] = 1;
@@ -700,7 +724,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
     const double gain = beta + dt * kappa;  // τ = gain (target − v⁺)
     const double target = (beta * inputAt(inputs.servoTargetRate, i) -
-                           kappa * (q[body.qStart] - inputAt(inputs.servoTarget, i))) / gain;
+                           kappa * (q[body.qStart] - inputAt(inputs.servoTarget, i))) /
+                          gain;
     rows.push_back({static_cast<std::int32_t>(i), target, dt * (-bound[i] - ws.scratch[i]),
                     dt * (bound[i] - ws.scratch[i]), 1.0 / (dt * gain)});
   }
@@ -718,9 +743,12 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       // Held at the stop; a joint already past it (moved there by an edit) comes
       // back a fifth of the way a step, not at once (no energy made in one step).
       const auto back = [&](double gap) { return (gap >= 0.0 ? gap : 0.2 * gap) / dt; };
-      if (predicted > body.upper) rows.push_back({i, back(body.upper - qi), -1e300, 0.0, 0.0});
-      else if (predicted < body.lower) rows.push_back({i, back(body.lower - qi), 0.0, 1e300, 0.0});
-      else continue;
+      if (predicted > body.upper)
+        rows.push_back({i, back(body.upper - qi), -1e300, 0.0, 0.0});
+      else if (predicted < body.lower)
+        rows.push_back({i, back(body.lower - qi), 0.0, 1e300, 0.0});
+      else
+        continue;
       stopped[b] = 1;
     }
     if (rows.size() == before && round > 0) break;
@@ -741,7 +769,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
     // implicit servo's); saturated, its effort is a bounded drive's, from outside,
     // and so is the spring's change (its effort no longer follows from it).
     const double kappa = ws.servo[2 * i], beta = ws.servo[2 * i + 1];
-    const double e = q[multibody.bodies[multibody.dofBody[i]].qStart] - inputAt(inputs.servoTarget, i);
+    const double e =
+        q[multibody.bodies[multibody.dofBody[i]].qStart] - inputAt(inputs.servoTarget, i);
     const double springChange = 0.5 * kappa * ((e + dt * rate) * (e + dt * rate) - e * e);
     if (impulse <= rows[r].low || impulse >= rows[r].high) {
       report.inputWork += impulse * rate + springChange;
@@ -755,20 +784,23 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
 
   // The momentum the step must end with (a free tree): h⁺ = h + dt W, W the
   // external wrenches and gravity at q (internal joint loads cancel).
-  const bool freeTree = !multibody.bodies.empty() && multibody.bodies[0].joint == BodyJointKind::kFree;
+  const bool freeTree =
+      !multibody.bodies.empty() && multibody.bodies[0].joint == BodyJointKind::kFree;
   SpatialVector momentumTarget{};
   if (freeTree) {
     momentumTarget = spatialMomentum(kin);
     for (std::size_t b = 0; b < multibody.bodies.size(); ++b) {
       const Vec3 weight = gravity * kin.mass[b];
-      momentumTarget = momentumTarget + SpatialVector{cross(kin.firstMoment[b], gravity) , weight} * dt;
+      momentumTarget =
+          momentumTarget + SpatialVector{cross(kin.firstMoment[b], gravity), weight} * dt;
       if (!inputs.wrench.empty()) momentumTarget = momentumTarget + inputs.wrench[b] * dt;
     }
     // Efforts on the free joint's own rates are external too: τ = Sᵀ W gives the
     // wrench W = (τ_ω + p × τ_v, τ_v) about the world origin, p the base origin.
     const MultibodyBody& base = multibody.bodies[0];
     const double* tau = ws.scratch.data() + base.vStart;
-    const Vec3 p{q[static_cast<std::size_t>(base.qStart)], q[static_cast<std::size_t>(base.qStart) + 1],
+    const Vec3 p{q[static_cast<std::size_t>(base.qStart)],
+                 q[static_cast<std::size_t>(base.qStart) + 1],
                  q[static_cast<std::size_t>(base.qStart) + 2]};
     const Vec3 torque{tau[0], tau[1], tau[2]}, force{tau[3], tau[4], tau[5]};
     momentumTarget = momentumTarget + SpatialVector{torque + cross(p, force), force} * dt;
@@ -784,16 +816,22 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       after += column * ws.velocityFree[i];
       change += column * (ws.velocityFree[i] - v[i]);
     }
-    const Vec3 spring = pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, after);
-    const Vec3 damper = pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, change);
+    const Vec3 spring =
+        pointLoadTimes(load.normal, load.normalStiffness, load.tangentialStiffness, after);
+    const Vec3 damper =
+        pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, change);
     // The damper's work at v⁺, δ u⁺ᵀ C u⁺, less what the contact stage books by the
     // trapezoid rule, ½ δ (uᵀ C u + u⁺ᵀ C u⁺), u = J v the point's velocity.
     const Vec3 before = after - change;
-    report.dissipated +=
+    const double schemeLoss =
         0.5 * dt * dt * dot(after, spring) +
         0.5 * dt *
-            (dot(after, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, after)) -
-             dot(before, pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, before)));
+            (dot(after,
+                 pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, after)) -
+             dot(before,
+                 pointLoadTimes(load.normal, load.normalDamping, load.tangentialDamping, before)));
+    report.dissipated += schemeLoss;
+    report.implicitLoss += schemeLoss;
     if (freeTree) {
       const Vec3 force = -(spring * dt + damper);
       momentumTarget = momentumTarget + SpatialVector{cross(load.point, force), force} * dt;
@@ -820,7 +858,8 @@ MultibodyStepReport stepMultibody(const Multibody& multibody, std::vector<double
       // The implicit servo's work dt τ v⁺ = −Δ(½ κ e²) − ½ κ dt² v⁺² − β dt v⁺² + β q̇* dt v⁺.
       // (A servo row's work is booked with its impulse, above.)
       const bool implicitServo = asRow[i] == 0;
-      const double kappa = implicitServo ? ws.servo[2 * i] : 0.0, beta = implicitServo ? ws.servo[2 * i + 1] : 0.0;
+      const double kappa = implicitServo ? ws.servo[2 * i] : 0.0,
+                   beta = implicitServo ? ws.servo[2 * i + 1] : 0.0;
       report.dissipated += dt * (body.damping + beta + 0.5 * dt * kappa) * vi * vi;
       if (beta > 0.0) report.inputWork += dt * beta * inputAt(inputs.servoTargetRate, i) * vi;
     }

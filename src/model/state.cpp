@@ -45,6 +45,7 @@ std::uint64_t stateHash(const State& state) {
   hashBytes(h, state.spin.data(), state.spin.size() * sizeof(Vec3));
   hashValue(h, state.stepCount);
   hashValue(h, state.dissipated);
+  if (state.implicitLoss != 0.0) hashValue(h, state.implicitLoss);  // (rigid trees' contacts only)
   hashValue(h, state.external);
   // The friction history field by field (Contact has padding bytes).
   for (const Contact& c : state.frictionHistory) {

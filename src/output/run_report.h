@@ -64,6 +64,8 @@ struct RunReport {
   /// The bound on largestAccountError in use (RunOptions::energyAccountBound).
   double accountBound = 0.0;
   double dissipated = 0.0;
+  /// Of it, the rigid trees' implicit contact loads' scheme loss (J, State::implicitLoss).
+  double implicitLoss = 0.0;
   /// Work done between steps by the step tasks (J, EnergyTally::external).
   double externalWork = 0.0;
   StabilityEstimate stability;

@@ -52,9 +52,9 @@ bool RunWriter::reserveReplay(std::size_t bytes) {
 
 const std::vector<std::string>& runFileNames() {
   static const std::vector<std::string> names = {
-      "summary.json", "model.json",   "energy.csv",  "particles.csv",   "objects.csv",
-      "joints.csv",   "contacts.csv", "sensors.csv", "replay.html", "checkpoint.json",
-      "world.json",   "trajectory.json"};
+      "summary.json", "model.json",      "energy.csv",   "particles.csv",
+      "objects.csv",  "joints.csv",      "contacts.csv", "sensors.csv",
+      "replay.html",  "checkpoint.json", "world.json",   "trajectory.json"};
   return names;
 }
 
@@ -634,6 +634,7 @@ std::string summaryJson(const Scene& scene, const RunSettings& settings, const R
                  {"account_bound", report.accountBound},
                  {"scale_J", report.energyScale},
                  {"dissipated_J", report.dissipated},
+                 {"implicit_loss_J", report.implicitLoss},
                  {"external_work_J", report.externalWork}};
   s["outcomes"] = report.outcomes;
   if (!report.goalsNotReached.empty()) s["goals_not_reached"] = report.goalsNotReached;

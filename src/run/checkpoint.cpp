@@ -38,22 +38,22 @@ double number(const json& j, const char* key) { return numberFromJson(j.at(key),
 
 json contactToJson(const Contact& c) {
   json out = {{"a", c.a},
-          {"other", c.other},
-          {"depth", exactNumber(c.depth)},
-          {"normal_force", exactNumber(c.normalForce)},
-          {"friction_force", exactVec3(c.frictionForce)},
-          {"anchor_energy", exactNumber(c.anchorEnergy)},
-          {"normal", exactVec3(c.normal)},
-          {"slip", exactVec3(c.slip)},
-          {"anchor", exactVec3(c.anchor)},
-          {"roll_velocity", exactVec3(c.rollVelocity)},
-          {"rim", c.rim},
-          {"arm", exactVec3(c.arm)},
-          {"give_way", exactNumber(c.giveWay)},
-          {"sliding", c.sliding},
-          {"vertex", c.vertex},
-          {"facet", c.facet},
-          {"facet_weights", exactVec3(c.facetWeights)}};
+              {"other", c.other},
+              {"depth", exactNumber(c.depth)},
+              {"normal_force", exactNumber(c.normalForce)},
+              {"friction_force", exactVec3(c.frictionForce)},
+              {"anchor_energy", exactNumber(c.anchorEnergy)},
+              {"normal", exactVec3(c.normal)},
+              {"slip", exactVec3(c.slip)},
+              {"anchor", exactVec3(c.anchor)},
+              {"roll_velocity", exactVec3(c.rollVelocity)},
+              {"rim", c.rim},
+              {"arm", exactVec3(c.arm)},
+              {"give_way", exactNumber(c.giveWay)},
+              {"sliding", c.sliding},
+              {"vertex", c.vertex},
+              {"facet", c.facet},
+              {"facet_weights", exactVec3(c.facetWeights)}};
   if (c.edgeVertex >= 0) {  // an edge contact's (older checkpoints have none)
     out["edge_vertex"] = c.edgeVertex;
     out["edge_weight"] = exactNumber(c.edgeWeight);
@@ -104,6 +104,7 @@ json stateToJson(const State& s) {
           {"tree_velocities", trees(s.treeVelocities)},
           {"friction_history", history},
           {"dissipated", exactNumber(s.dissipated)},
+          {"implicit_loss", exactNumber(s.implicitLoss)},
           {"external", exactNumber(s.external)}};
 }
 
@@ -120,9 +121,9 @@ void checkHistory(const std::vector<Contact>& history, const Model& model) {
     const auto check = [&](const char* field, std::int64_t value, std::int64_t low,
                            std::int64_t end) {
       if (value < low || value >= end)
-        throw std::runtime_error(fmt::format(
-            "the checkpoint's friction_history[{}].{} = {} is outside [{}, {})", k, field, value,
-            low, end));
+        throw std::runtime_error(
+            fmt::format("the checkpoint's friction_history[{}].{} = {} is outside [{}, {})", k,
+                        field, value, low, end));
     };
     check("a", c.a, 0, particles);
     check("other", c.other, -model.environment.itemCount(), particles);
@@ -131,8 +132,8 @@ void checkHistory(const std::vector<Contact>& history, const Model& model) {
     check("facet", c.facet, -1, count(model.surfaceTriangles));
     check("rim", c.rim, -1, count(model.rims));
     if (k > 0 && !(history[k - 1].key() < c.key()))
-      throw std::runtime_error(fmt::format(
-          "the checkpoint's friction_history[{}] is out of the contacts' order", k));
+      throw std::runtime_error(
+          fmt::format("the checkpoint's friction_history[{}] is out of the contacts' order", k));
   }
 }
 
@@ -159,6 +160,8 @@ State stateFromJson(const json& j, const Model& model) {
   for (const json& c : j.at("friction_history")) s.frictionHistory.push_back(contactFromJson(c));
   checkHistory(s.frictionHistory, model);
   s.dissipated = number(j, "dissipated");
+  // (Optional: checkpoints written before it have none.)
+  s.implicitLoss = j.contains("implicit_loss") ? number(j, "implicit_loss") : 0.0;
   s.external = number(j, "external");
   const auto n = static_cast<std::size_t>(model.particleCount());
   if (s.position.size() != n || s.velocity.size() != n) {
@@ -392,7 +395,8 @@ void applyModelEdits(const json& j, Model& m) {
   settings.tangentialDampingRatio = number(c, "tangential_damping_ratio");
   settings.stickVelocity = number(c, "stick_velocity");
   // (Checkpoints written before v_S existed slide at μ_k: 0.)
-  settings.stribeckVelocity = c.contains("stribeck_velocity") ? number(c, "stribeck_velocity") : 0.0;
+  settings.stribeckVelocity =
+      c.contains("stribeck_velocity") ? number(c, "stribeck_velocity") : 0.0;
   settings.rolling = c.at("rolling").get<bool>();
   settings.leafSize = c.at("leaf_size").get<std::int32_t>();
   settings.pairOverrides.clear();
@@ -527,8 +531,10 @@ RunSettings runSettingsFromJson(const json& j) {
   s.stabilitySafety = number(a, "stability_safety");
   s.maxRejectionsInARow = a.at("max_rejections_in_a_row").get<int>();
   // (Checkpoints written before energy jumps were taken have none: none was taken.)
-  if (a.contains("jump_limit")) s.jumpLimit = number(a, "jump_limit");
-  else s.jumpLimit = 0.0;
+  if (a.contains("jump_limit"))
+    s.jumpLimit = number(a, "jump_limit");
+  else
+    s.jumpLimit = 0.0;
   return r;
 }
 

@@ -54,7 +54,7 @@ std::string adaptiveStepLimitProblem(const RunSettings& settings,
                                      const StabilityEstimate& stability) {
   if (settings.stepMode != StepMode::kAdaptive) return {};
   const double ceiling = settings.adaptive.stabilitySafety *
-                        criticalStepFor(stability, settings.integrator == Integrator::kTaylor);
+                         criticalStepFor(stability, settings.integrator == Integrator::kTaylor);
   const double fewest = settings.duration / ceiling;
   if (fewest <= kMaxRunSteps) return {};
   return fmt::format(
@@ -634,6 +634,7 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
   const EnergyTally finalEnergy = world.energy();
   report.finalTotal = finalEnergy.total();
   report.dissipated = finalEnergy.dissipated;
+  report.implicitLoss = finalEnergy.implicitLoss;
   report.externalWork = finalEnergy.external;
   report.energyDrift = (report.finalTotal - report.initialTotal) / report.energyScale;
   report.largestAccountError = largestAccountError / report.energyScale;
@@ -653,9 +654,10 @@ RunReport runSteps(const Scene& scene, const RunOptions& options, StagingFolder*
               "step matrix has determinant 1 + (omega delta)^2/2; docs/model.md \"The paper's "
               "scheme\"): give the connectors or the particles damping (then it is stable "
               "below 2 gamma/omega^2 + 2 c/k) or use --integrator verlet"
-            : fmt::format("the step is too large for the model's stiffness (estimate "
-                          "2/omega_max = {:.3g} s)",
-                          report.stability.criticalStep);
+            : fmt::format(
+                  "the step is too large for the model's stiffness (estimate "
+                  "2/omega_max = {:.3g} s)",
+                  report.stability.criticalStep);
     fail(report, "diverged", at,
          fmt::format("the energy grew to {:.3g} times its scale {:.3g} J (the initial scale or "
                      "the work from outside, whichever is larger; E + dissipated - external, "

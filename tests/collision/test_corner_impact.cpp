@@ -16,6 +16,7 @@
 #include <string>
 
 #include "collision/scene_world.h"
+#include "robophi/adaptive_step.h"
 
 namespace robophi {
 namespace {
@@ -121,6 +122,35 @@ TEST(CornerImpact, ACubeThrownOnACornerSinksAsTheLawStoresItsEnergy) {
       }
     }
   }
+}
+
+// The same impact under the default adaptive step (MODEL §4), the corner on
+// the vertical diagonal (m_eff = m, no spin): an undamped, frictionless contact
+// gives the speed back, and the sink is the law's. A rigid body's vertex
+// contact with the environment is implicit in the body's step (docs/model.md
+// §7); its backward-Euler loss is integration error, which the energy test must
+// see: booked as dissipation, the step crossed the impact in 3 steps of up to
+// 0.1 ms, the cube bounced back at 5.3 m/s of 20 and sank 1.37 mm, with the
+// account closed.
+TEST(CornerImpact, UnderTheAdaptiveStepTheImpactIsElasticAndSinksAsTheLawSays) {
+  const double roll = M_PI / 4, pitch = std::atan(1.0 / std::sqrt(2.0)), stiffness = 2e8;
+  const Vec3 corner = lowestCorner(roll, pitch);
+  World world = test::sceneWorld(thrownCorner(stiffness, roll, pitch, 1e-3 - corner.z));
+  AdaptiveStepper stepper(world.model(), AdaptiveStepSettings{});
+  double deepest = 0.0;
+  while (world.state().time < 0.01) {
+    const AdaptiveStepResult r = stepper.advance(world, 0.01 - world.state().time);
+    ASSERT_TRUE(r.ok) << r.failure;
+    for (const Contact& c : world.contacts()) deepest = std::max(deepest, -c.depth);
+  }
+  const double expected = 20.0 * std::sqrt(1.0 / (0.5 * stiffness));
+  const Vec3 v = test::comVelocity(world);
+  std::printf(
+      "corner impact, adaptive step: %lld steps, sinks %.3f mm (law %.3f mm), leaves at "
+      "%.3f m/s\n",
+      static_cast<long long>(stepper.stats().accepted), 1e3 * deepest, 1e3 * expected, v.z);
+  EXPECT_NEAR(deepest, expected, 0.03 * expected);
+  EXPECT_NEAR(v.z, 20.0, 0.4);
 }
 
 }  // namespace
