@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "collision/contact_tables.h"
+#include "robophi/surface_points.h"
 
 namespace robophi {
 
@@ -23,11 +24,7 @@ namespace robophi {
 double facetTreeMargin(const Model& model, const std::vector<Vec3>& position,
                        const ContactTables& tables, const std::vector<std::int32_t>& members);
 
-/// x_v = Σ w_k p_k of surface vertex `vertex` from `values` (positions or velocities).
-Vec3 surfaceVertexPoint(const Model& model, std::int32_t vertex, const std::vector<Vec3>& values);
-/// A vertex or edge contact's touching point (c.vertex >= 0): its vertex, or
-/// (1 - s) x_vertex + s x_edgeVertex on its edge, from `values`.
-Vec3 touchingPoint(const Model& model, const Contact& c, const std::vector<Vec3>& values);
+// (surfaceVertexPoint and touchingPoint: robophi/surface_points.h.)
 
 /// Vertex positions x_v = Σ w_k p_k of every surface vertex into scratch.vertexPosition.
 void updateSurfacePositions(const Model& model, const std::vector<Vec3>& position,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "output/json_numbers.h"
+#include "robophi/surface_points.h"
 
 namespace robophi::robotics {
 
@@ -66,8 +67,8 @@ struct Blocking {
   double force = 0.0;  ///< |Σ F_n n| (N)
   Vec3 normal;         ///< unit: Σ F_n n, each normal pointing into the robot
   Vec3 push;           ///< Σ F_n n (N)
-  Vec3 point;          ///< the blocked points (a particle's, a surface vertex's, a ball's centre), by force
-  double radius = 0.0; ///< the patch they span about `point` (m), with their radii
+  Vec3 point;  ///< the blocked points (a particle's, a surface vertex's, a ball's centre), by force
+  double radius = 0.0;         ///< the patch they span about `point` (m), with their radii
   std::vector<Vec3> touching;  ///< every contact's normal (into the robot), blocking or not
   Vec3 held;  ///< Σ F_n n (N) of every contact against the pull, the virtual obstacles' too
 };
@@ -91,18 +92,8 @@ std::pair<Vec3, double> blockedPoint(const Model& model, const State& s, const C
     }
     return {mass > 0.0 ? sum / mass : s.position[mine], ball.sphereRadius};
   }
-  if (c.vertex >= 0 && mine == c.a) {  // a vertex, or a point of an edge
-    const auto vertexAt = [&](std::int32_t index, double share) {
-      const SurfaceVertex& v = model.surfaceVertices[static_cast<std::size_t>(index)];
-      Vec3 at;
-      for (std::size_t k = 0; k < SurfaceVertex::kMaxParticles; ++k)
-        if (v.particle[k] >= 0) at += s.position[v.particle[k]] * (v.weight[k] * share);
-      return at;
-    };
-    if (c.edgeVertex < 0) return {vertexAt(c.vertex, 1.0), model.radius[mine]};
-    return {vertexAt(c.vertex, 1.0 - c.edgeWeight) + vertexAt(c.edgeVertex, c.edgeWeight),
-            model.radius[mine]};
-  }
+  if (c.vertex >= 0 && mine == c.a)  // a vertex, or a point of an edge
+    return {touchingPoint(model, c, s.position), model.radius[mine]};
   return {s.position[mine], model.radius[mine]};
 }
 
@@ -180,8 +171,8 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   // elastic energy so far. Shares of it bound the work the obstacles inject.
   {
     const EnergyTally e = world.energy();
-    energyScale_ = std::max(energyScale_, e.kinetic + e.linearSpring + e.torsionSpring +
-                                              e.jointSpring + e.contact);
+    energyScale_ = std::max(
+        energyScale_, e.kinetic + e.linearSpring + e.torsionSpring + e.jointSpring + e.contact);
   }
   const GoalStatus status = goalStatus(world, goal);
   const double t = world.state().time;
@@ -205,8 +196,10 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   if (pushing_) {
     // Free: nearer the goal by a tenth of where it was stuck, or touching nothing
     // for a window (an obstacle lifts it off what held it for a moment).
-    if (touching) untouchedSince_ = -1.0;
-    else if (untouchedSince_ < 0.0) untouchedSince_ = t;
+    if (touching)
+      untouchedSince_ = -1.0;
+    else if (untouchedSince_ < 0.0)
+      untouchedSince_ = t;
     if (status.worstDistance < 0.9 * stuckDistance_ ||
         (untouchedSince_ >= 0.0 && t - untouchedSince_ >= spec_.window)) {
       untouchedSince_ = -1.0;
@@ -278,8 +271,8 @@ std::optional<std::string> LocalMinimumEscape::update(World& world, const GoalSp
   // blocking point, turned towards the escape direction by kTilt: the robot is
   // lifted off what holds it (no friction: the obstacle's material has none) and
   // rests on a slope that its own pull slides it down, along the surface.
-  const Vec3 approach =
-      blocking.normal * std::cos(kTilt) + *along * std::sin(kTilt);  // from the obstacle to the robot
+  const Vec3 approach = blocking.normal * std::cos(kTilt) +
+                        *along * std::sin(kTilt);  // from the obstacle to the robot
   const Model& model = world.model();
   if (material_ < 0) {
     Material virtualMaterial = model.materials.front();
