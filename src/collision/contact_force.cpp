@@ -828,50 +828,15 @@ void fillLane(const StageInput& in, const ContactSeed& seed, const Contact* befo
 // The lanes past a batch of `count` up to the next four: a copy of its first.
 void padLanes(detail::PairLaneBatch& b, std::size_t count) {
   for (std::size_t l = count; l % 4 != 0; ++l) {
-    for (double* x : {b.pax,
-                      b.pay,
-                      b.paz,
-                      b.pbx,
-                      b.pby,
-                      b.pbz,
-                      b.vax,
-                      b.vay,
-                      b.vaz,
-                      b.vbx,
-                      b.vby,
-                      b.vbz,
-                      b.wax,
-                      b.way,
-                      b.waz,
-                      b.wbx,
-                      b.wby,
-                      b.wbz,
-                      b.anchorx,
-                      b.anchory,
-                      b.anchorz,
-                      b.hasBefore,
-                      b.offsetx,
-                      b.offsety,
-                      b.offsetz,
-                      b.slidBefore,
-                      b.environment,
-                      b.foundx,
-                      b.foundy,
-                      b.foundz,
-                      b.foundDepth,
-                      b.ra,
-                      b.rb,
-                      b.ima,
-                      b.imb,
-                      b.spinInverseA,
-                      b.spinInverseB,
-                      b.spinsA,
-                      b.spinsB,
-                      b.stiffness,
-                      b.damping,
-                      b.tangentialStiffness,
-                      b.staticFriction,
-                      b.tangentialDampingRatio})
+    // clang-format off
+    for (double* x :
+         {b.pax, b.pay, b.paz, b.pbx, b.pby, b.pbz, b.vax, b.vay, b.vaz, b.vbx, b.vby, b.vbz,
+          b.wax, b.way, b.waz, b.wbx, b.wby, b.wbz, b.anchorx, b.anchory, b.anchorz, b.hasBefore,
+          b.offsetx, b.offsety, b.offsetz, b.slidBefore, b.environment, b.foundx, b.foundy,
+          b.foundz, b.foundDepth, b.ra, b.rb, b.ima, b.imb, b.spinInverseA, b.spinInverseB,
+          b.spinsA, b.spinsB, b.stiffness, b.damping, b.tangentialStiffness, b.staticFriction,
+          b.tangentialDampingRatio})
+      // clang-format on
       x[l] = x[0];
   }
 }

@@ -186,8 +186,7 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
                           const std::vector<Vec3>& position, Evaluation& evaluation) {
   if (evaluation.contacts.empty()) return;
   // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
-  std::vector<std::vector<double>> stiffness(model.rigidTrees.size()),
-      damping(model.rigidTrees.size());
+  std::vector<std::vector<law::Rates>> sums(model.rigidTrees.size());
   bool any = false;
   PairParameters overridden;
   const auto book = [&](const Contact& c, std::int32_t particle) {
@@ -196,14 +195,10 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
     const std::int32_t t = tables.treeOf[static_cast<std::size_t>(particle)];
     if (t < 0) return;
     const auto tree = static_cast<std::size_t>(t);
-    if (stiffness[tree].empty()) {
-      stiffness[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), 0.0);
-      damping[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), 0.0);
-    }
+    if (sums[tree].empty()) sums[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), {});
     const PairParameters& pair = pairParameters(model, tables, a, other, overridden);
     const auto b = static_cast<std::size_t>(tables.treeBodyOf[static_cast<std::size_t>(particle)]);
-    stiffness[tree][b] += pair.stiffness + pair.tangentialStiffness;
-    damping[tree][b] += pair.damping;
+    sums[tree][b].add({pair.stiffness + pair.tangentialStiffness, pair.damping});
     any = true;
   };
   for (const Contact& c : evaluation.contacts) {
@@ -215,17 +210,17 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
   // Each body's inverse effective mass bound is its particles' (ContactTables).
   double step = evaluation.contactCriticalStep;
   for (std::size_t t = 0; t < model.rigidTrees.size(); ++t) {
-    if (stiffness[t].empty()) continue;
+    if (sums[t].empty()) continue;
     const RigidTree& tree = model.rigidTrees[t];
     std::vector<double> w(tree.multibody.bodies.size(), 0.0);
     for (const BodyParticle& bp : tree.particles)
       w[static_cast<std::size_t>(bp.body)] =
           std::max(w[static_cast<std::size_t>(bp.body)],
                    tables.contactInverseMass[static_cast<std::size_t>(bp.particle)]);
-    for (std::size_t b = 0; b < stiffness[t].size(); ++b)
-      if (stiffness[t][b] != 0.0)
-        step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * stiffness[t][b] * w[b]),
-                                                 2.0 * damping[t][b] * w[b]));
+    for (std::size_t b = 0; b < sums[t].size(); ++b)
+      if (sums[t][b].stiffness != 0.0)
+        step = std::min(step, dampedCriticalStep(std::sqrt(2.0 * sums[t][b].stiffness * w[b]),
+                                                 2.0 * sums[t][b].damping * w[b]));
   }
   evaluation.contactCriticalStep = step;
 }
