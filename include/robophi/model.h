@@ -150,6 +150,14 @@ struct Material {
   double rollingResistance = 0.0;
 };
 
+/// Two materials in contact (docs/contact.md "Materials and pairs"): each is
+/// half of the contact, so their stiffnesses and their dampings are in series
+/// (κ_a κ_b / (κ_a + κ_b); 0 when both are 0); the friction coefficients are the
+/// geometric means, the rolling resistance the mean. The one place this rule is
+/// written: the contact stage's pair table and a scene's contact pairs (their
+/// defaults) both take it from here.
+Material combineMaterials(const Material& a, const Material& b);
+
 /// A round body (MODEL §3.5, docs/contact.md "Round rims", "Round balls"): `count`
 /// particles [first, first + count) that meet the environment as one rigid round
 /// surface about their mass centre, instead of a polygon or lattice of spheres.

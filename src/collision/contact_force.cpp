@@ -1367,8 +1367,10 @@ class ChunkWalk {
     const Vec3 n = c.normal;
     c.slip = tangentialPart(pointVelocity, n);
     t.slipSpeed = norm(c.slip);
-    t.elastic = t.delta * -k.tangentialStiffness;
-    t.damper = c.slip * -t.tangentialDamping;
+    const auto loads =
+        law::anchorLoads(t.delta, c.slip, k.tangentialStiffness, t.tangentialDamping);
+    t.elastic = loads.elastic;
+    t.damper = loads.damper;
     // A sliding contact may stick again when its slip has fallen below the stick
     // velocity, or has reversed since the last evaluation: kinetic friction would
     // have stopped it within the step (without this, μ_k F_n flips the slip back

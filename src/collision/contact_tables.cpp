@@ -16,9 +16,6 @@ namespace robophi {
 
 namespace {
 
-// Series springs (and dashpots): each material is half of the contact.
-double series(double a, double b) { return a + b > 0.0 ? a * b / (a + b) : 0.0; }
-
 PairParameters combine(const ContactSettings& settings, double stiffness, double damping,
                        double staticFriction, double kineticFriction, double rolling = 0.0) {
   PairParameters p;
@@ -445,20 +442,16 @@ ContactTables compileContactTables(const Model& model) {
     for (const ObjectInfo& o : model.objects) tables.objectContactGroup.push_back(o.contactGroup);
   {
     const ContactSettings& settings = model.contact;
-    // Material-pair table (docs/contact.md: series κ_c and μ_c, geometric-mean friction).
+    // Material-pair table (combineMaterials: series κ_c and μ_c, geometric-mean friction).
     cache->materialCount = static_cast<std::int32_t>(model.materials.size());
     const auto m = static_cast<std::size_t>(cache->materialCount);
     cache->materialPairs.resize(m * m);
     for (std::size_t i = 0; i < m; ++i) {
       for (std::size_t j = 0; j < m; ++j) {
-        const Material& a = model.materials[i];
-        const Material& b = model.materials[j];
+        const Material pair = combineMaterials(model.materials[i], model.materials[j]);
         cache->materialPairs[i * m + j] =
-            combine(settings, series(a.contactStiffness, b.contactStiffness),
-                    series(a.contactDamping, b.contactDamping),
-                    std::sqrt(a.staticFriction * b.staticFriction),
-                    std::sqrt(a.kineticFriction * b.kineticFriction),
-                    0.5 * (a.rollingResistance + b.rollingResistance));
+            combine(settings, pair.contactStiffness, pair.contactDamping, pair.staticFriction,
+                    pair.kineticFriction, pair.rollingResistance);
       }
     }
     const std::int32_t items = model.environment.itemCount();

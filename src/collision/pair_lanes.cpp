@@ -1,17 +1,21 @@
-// The lean contact stage's contacts four at a time (pair_lanes.h). Each line
-// mirrors the scalar stage's (contact_force.cpp: ChunkWalk, pairGeometry,
-// pairArms, turningOf, contactRates, joinGroup, frictionForce, contactFriction)
-// and the laws it calls (collision/contact_law.h: normalLaw, tangentialDamping,
-// stabilityRates, heldFriction), operation by operation and in its order: IEEE
-// sums, products, quotients and square roots round the same in a lane as in a
-// scalar register, and no fused multiply-add is enabled here (-ffp-contract=off,
-// AVX2 only); tests/collision/test_pair_lanes.cpp checks the same bits. (The
-// laws' templates are not instantiated here: every function of this file
-// carries the AVX2 target itself, which a template shared with the scalar
-// stage cannot, under GCC's unity builds and clang alike.)
+// The lean contact stage's contacts four at a time (pair_lanes.h). The laws
+// are not written here: collision/contact_law.inl, the scalar stage's source,
+// is included below for this file's Lane and V3 (four contacts' numbers and
+// vectors), in a namespace of its own compiled for AVX2 (STYLE 21). What is
+// left here is the scalar stage's walk around the laws (contact_force.cpp:
+// ChunkWalk, pairGeometry, pairArms, turningOf, contactRates, joinGroup,
+// frictionForce), operation by operation and in its order: IEEE sums,
+// products, quotients and square roots round the same in a lane as in a
+// scalar register, and no fused multiply-add is enabled here
+// (-ffp-contract=off, AVX2 only); tests/collision/test_pair_lanes.cpp checks
+// the same bits.
 #include "collision/pair_lanes.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+
+#include "robophi/vec3.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -24,6 +28,15 @@ namespace {
 std::atomic<bool> allowed{true};
 
 #if defined(__x86_64__) && defined(__GNUC__)
+
+// Every function from here to runLanes is compiled for AVX2, the law's
+// templates (contact_law.inl) included.
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#endif
 
 #define ROBOPHI_LANES __attribute__((target("avx2"), always_inline)) inline
 
@@ -75,6 +88,35 @@ ROBOPHI_LANES V3 tangential3(const V3& x, const V3& n) {
   return sub3(once, scale3(n, dot3(once, n)));
 }
 
+// Four contacts' numbers as one number type for the laws (contact_law.inl):
+// its operations are the lanes' add, sub, mul, div, negate, sqrt and maxOf,
+// and nonNegative (x < 0 ? 0 : x); a double is the same in every lane.
+struct Lane {
+  D v;
+  ROBOPHI_LANES Lane(D lanes) : v(lanes) {}
+  ROBOPHI_LANES Lane(double s) : v(all(s)) {}
+};
+ROBOPHI_LANES Lane operator+(Lane a, Lane b) { return add(a.v, b.v); }
+ROBOPHI_LANES Lane operator-(Lane a, Lane b) { return sub(a.v, b.v); }
+ROBOPHI_LANES Lane operator*(Lane a, Lane b) { return mul(a.v, b.v); }
+ROBOPHI_LANES Lane operator/(Lane a, Lane b) { return div(a.v, b.v); }
+ROBOPHI_LANES Lane operator-(Lane a) { return negate(a.v); }
+ROBOPHI_LANES Lane sqrt(Lane a) { return _mm256_sqrt_pd(a.v); }
+ROBOPHI_LANES Lane max(Lane a, Lane b) { return maxOf(a.v, b.v); }
+ROBOPHI_LANES Lane nonNegative(Lane a) {
+  const D zero = _mm256_setzero_pd();
+  return select(_mm256_cmp_pd(a.v, zero, _CMP_LT_OQ), zero, a.v);
+}
+// And four contacts' vectors as the laws' vector type.
+ROBOPHI_LANES V3 operator-(const V3& a, const V3& b) { return sub3(a, b); }
+ROBOPHI_LANES V3 operator*(const V3& a, Lane s) { return scale3(a, s.v); }
+ROBOPHI_LANES Lane squaredNorm(const V3& a) { return dot3(a, a); }
+
+// The laws, from the scalar stage's source.
+namespace lanes {
+#include "collision/contact_law.inl"  // NOLINT(bugprone-suspicious-include)
+}  // namespace lanes
+
 // The geometry of lanes l..l+3. A pair (pairGeometry, pairArms): p_a - p_b, the
 // normal (0, 0, 1 at no distance), the depth, the arms to the overlap's middle.
 // The environment: p_a, the detection's normal and depth, a's arm to its surface.
@@ -114,16 +156,15 @@ ROBOPHI_LANES LaneGeometry laneGeometry(PairLaneBatch& b, std::size_t l) {
 // the power of its non-elastic part. Returns F_n.
 ROBOPHI_LANES D laneNormalLaw(PairLaneBatch& b, std::size_t l, const LaneGeometry& g,
                               const V3& relativeVelocity) {
-  const D zero = _mm256_setzero_pd(), half = all(0.5);
   const D dDot = dot3(relativeVelocity, g.n);
-  const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
-  D normalForce = sub(mul(negate(stiffness), g.depth), mul(damping, dDot));
-  normalForce = select(_mm256_cmp_pd(normalForce, zero, _CMP_LT_OQ), zero, normalForce);
-  store(b.normalForce + l, normalForce);
-  store(b.normalPotential + l, mul(mul(mul(half, stiffness), g.depth), g.depth));
-  store(b.normalDissipation + l, mul(add(normalForce, mul(stiffness, g.depth)), dDot));
-  store3(b.normalx + l, b.normaly + l, b.normalz + l, scale3(g.n, normalForce));
-  return normalForce;
+  const auto normal =
+      lanes::normalLaw(Lane{load(b.stiffness + l)}, Lane{load(b.damping + l)}, Lane{g.depth},
+                       Lane{dDot});
+  store(b.normalForce + l, normal.force.v);
+  store(b.normalPotential + l, normal.potential.v);
+  store(b.normalDissipation + l, normal.dissipation.v);
+  store3(b.normalx + l, b.normaly + l, b.normalz + l, scale3(g.n, normal.force.v));
+  return normal.force.v;
 }
 
 // turningOf: a side that spins on its own turns its contact point; the contact
@@ -146,15 +187,19 @@ ROBOPHI_LANES V3 laneTurning(PairLaneBatch& b, std::size_t l, const LaneGeometry
   const D tangentialInverse = add(add(inverseMass, armInverseA), armInverseB);
   store(b.tangentialInverse + l, tangentialInverse);
   const D kt = load(b.tangentialStiffness + l);
-  tangentialDamping = mul(mul(load(b.tangentialDampingRatio + l), all(2.0)),
-                          _mm256_sqrt_pd(div(kt, tangentialInverse)));
+  tangentialDamping =
+      lanes::tangentialDamping(Lane{load(b.tangentialDampingRatio + l)}, Lane{kt},
+                               Lane{tangentialInverse})
+          .v;
   store(b.tangentialDamping + l, tangentialDamping);
   const D rotation =
       select(_mm256_cmp_pd(inverseMass, zero, _CMP_GT_OQ), div(tangentialInverse, inverseMass), one);
   const D bothFixed = _mm256_cmp_pd(inverseMass, zero, _CMP_EQ_OQ);
-  const D stiffness = load(b.stiffness + l), damping = load(b.damping + l);
-  store(b.rateStiffness + l, select(bothFixed, zero, maxOf(stiffness, mul(kt, rotation))));
-  store(b.rateDamping + l, select(bothFixed, zero, maxOf(damping, mul(tangentialDamping, rotation))));
+  const auto rates =
+      lanes::stabilityRates(Lane{load(b.stiffness + l)}, Lane{load(b.damping + l)}, Lane{kt},
+                            Lane{tangentialDamping}, Lane{rotation});
+  store(b.rateStiffness + l, select(bothFixed, zero, rates.stiffness.v));
+  store(b.rateDamping + l, select(bothFixed, zero, rates.damping.v));
   return add3(relativeVelocity, roll);
 }
 
@@ -177,13 +222,12 @@ ROBOPHI_LANES V3 laneTrial(PairLaneBatch& b, std::size_t l, const LaneGeometry& 
   store3(b.slipx + l, b.slipy + l, b.slipz + l, slip);
   const D slipSpeed = _mm256_sqrt_pd(dot3(slip, slip));
   store(b.slipSpeed + l, slipSpeed);
-  const D kt = load(b.tangentialStiffness + l);
-  const V3 elastic = scale3(delta, negate(kt));
-  const V3 damper = scale3(slip, negate(tangentialDamping));
-  store3(b.elasticx + l, b.elasticy + l, b.elasticz + l, elastic);
-  store3(b.damperx + l, b.dampery + l, b.damperz + l, damper);
+  const auto loads = lanes::anchorLoads(delta, slip, Lane{load(b.tangentialStiffness + l)},
+                                        Lane{tangentialDamping});
+  store3(b.elasticx + l, b.elasticy + l, b.elasticz + l, loads.elastic);
+  store3(b.damperx + l, b.dampery + l, b.damperz + l, loads.damper);
   store(b.frictionLoad + l, mul(load(b.staticFriction + l), normalForce));
-  tangentialLoad = add3(elastic, damper);
+  tangentialLoad = add3(loads.elastic, loads.damper);
   return delta;
 }
 
@@ -200,13 +244,13 @@ ROBOPHI_LANES void laneSticking(PairLaneBatch& b, std::size_t l, const LaneGeome
       slidBefore, _mm256_cmp_pd(groupTotal, add(zero, load(b.frictionLoad + l)), _CMP_LE_OQ));
   const int sticks = _mm256_movemask_pd(holds);
   for (int k = 0; k < 4; ++k) b.sticks[l + static_cast<std::size_t>(k)] = ((sticks >> k) & 1) != 0;
-  const D half = all(0.5);
-  const V3 held = scale3(delta, one);
-  const D kt = load(b.tangentialStiffness + l), slipSpeed = load(b.slipSpeed + l);
-  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, sub3(g.rel, held));
-  store(b.anchorEnergy + l, mul(mul(half, kt), dot3(held, held)));
-  store(b.dissipated + l, mul(mul(mul(one, tangentialDamping), slipSpeed), slipSpeed));
-  const V3 friction = scale3(tangentialLoad, one);
+  const auto held = lanes::heldFriction(g.rel, delta, tangentialLoad, Lane{one},
+                                        Lane{load(b.tangentialStiffness + l)},
+                                        Lane{tangentialDamping}, Lane{load(b.slipSpeed + l)});
+  store3(b.newAnchorx + l, b.newAnchory + l, b.newAnchorz + l, held.anchor);
+  store(b.anchorEnergy + l, held.anchorEnergy.v);
+  store(b.dissipated + l, held.dissipated.v);
+  const V3 friction = held.force;
   const V3 normal = load3(b.normalx + l, b.normaly + l, b.normalz + l);
   store3(b.frictionx + l, b.frictiony + l, b.frictionz + l, friction);
   store3(b.forcex + l, b.forcey + l, b.forcez + l, add3(normal, friction));
@@ -233,12 +277,19 @@ __attribute__((target("avx2"))) void runLanes(PairLaneBatch& b, std::size_t coun
   }
 }
 
+#undef ROBOPHI_LANES
+
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+
+// (compiled for any x86-64: it runs first)
 const bool kHaveAvx2 = [] {
   __builtin_cpu_init();  // (a static initialiser may run before libgcc's)
   return __builtin_cpu_supports("avx2") != 0;
 }();
-
-#undef ROBOPHI_LANES
 
 #endif
 

@@ -7,6 +7,18 @@
 
 namespace robophi {
 
+Material combineMaterials(const Material& a, const Material& b) {
+  const auto series = [](double x, double y) { return x + y > 0.0 ? x * y / (x + y) : 0.0; };
+  Material pair;
+  pair.name = a.name + "+" + b.name;
+  pair.contactStiffness = series(a.contactStiffness, b.contactStiffness);
+  pair.contactDamping = series(a.contactDamping, b.contactDamping);
+  pair.staticFriction = std::sqrt(a.staticFriction * b.staticFriction);
+  pair.kineticFriction = std::sqrt(a.kineticFriction * b.kineticFriction);
+  pair.rollingResistance = 0.5 * (a.rollingResistance + b.rollingResistance);
+  return pair;
+}
+
 ParticleIndex Model::addParticle(double particleMass, double particleRadius, bool fixed,
                                  std::int32_t object, double damping) {
   const auto index = particleCount();

@@ -170,15 +170,14 @@ void readContactPairs(DiagnosticSink& sink, const nlohmann::json& list, Model& m
     const Material& ma = model.materials[static_cast<std::size_t>(model.objects[*a].material)];
     const Material& mb =
         *b >= 0 ? model.materials[static_cast<std::size_t>(model.objects[*b].material)] : ma;
-    const auto series = [](double x, double y) { return x + y > 0 ? x * y / (x + y) : 0.0; };
+    const Material pair = combineMaterials(ma, mb);
     ContactPairOverride o;
     o.objectA = *a;
     o.objectB = *b;
-    o.stiffness = stiffness.value_or(series(ma.contactStiffness, mb.contactStiffness));
-    o.damping = damping.value_or(series(ma.contactDamping, mb.contactDamping));
-    o.staticFriction = staticFriction.value_or(std::sqrt(ma.staticFriction * mb.staticFriction));
-    o.kineticFriction =
-        kineticFriction.value_or(std::sqrt(ma.kineticFriction * mb.kineticFriction));
+    o.stiffness = stiffness.value_or(pair.contactStiffness);
+    o.damping = damping.value_or(pair.contactDamping);
+    o.staticFriction = staticFriction.value_or(pair.staticFriction);
+    o.kineticFriction = kineticFriction.value_or(pair.kineticFriction);
     if (o.kineticFriction > o.staticFriction) {
       sink.error(
           kineticFriction ? r.memberPointer("kineticFriction") : r.memberPointer("staticFriction"),
