@@ -490,6 +490,8 @@ void clearFinds(ContactScratch& cache) {
   cache.detectedContacts.clear();
   cache.treeContacts.clear();
   cache.facetCandidates.clear();
+  cache.facetExits.clear();
+  cache.facetInside.clear();
   cache.edgeCandidates.clear();
 }
 
