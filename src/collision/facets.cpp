@@ -332,12 +332,15 @@ inline const Vec3& probePosition(const Contact& c, const std::vector<Vec3>& posi
 // whose plane the deepest of these probes is least behind (the separating
 // axis of the contact's probes, as SAT takes for two convex bodies); on a tie,
 // the face it is least behind. Only faces the probe itself is no deeper behind
-// than the deepest probe of the pair is behind its closest face: a probe on a
-// face's plane (set flush, within rounding) never leaves through the far side.
-// So a box's bottom vertices above the other box's top edge push up, not
-// sideways through the side face they are nearer. A probe alone keeps its
-// closest face.
-void chooseExitFaces(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
+// than the deepest probe of the pair is behind its closest face (a probe on a
+// face's plane, set flush within rounding, never leaves through the far side),
+// or the plane it pushed out through at the last evaluation (`previous`,
+// sorted by key), which goes on at any depth. So a box's bottom vertices above
+// the other box's top edge push up, not sideways through the side face they
+// are nearer, and a box that leans on the edge below stays on the faces it
+// leans on. A probe alone keeps its closest face.
+void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
+                     const std::vector<Contact>& previous, ContactScratch& cache,
                      std::size_t begin, std::size_t end) {
   const auto& inside = cache.facetInside;
   const auto& exits = cache.facetExits;
@@ -365,9 +368,16 @@ void chooseExitFaces(const Model& model, const std::vector<Vec3>& position, Cont
     Contact& c = cache.treeContacts[static_cast<std::size_t>(in.contact)];
     const ContactScratch::FacetExit* best = nullptr;
     double bestScore = std::numeric_limits<double>::infinity();
+    // The face it pushed out through at the last evaluation goes on at any
+    // depth (its depth changes continuously there).
+    const auto before = std::lower_bound(
+        previous.begin(), previous.end(), c.key(),
+        [](const Contact& x, const Contact::Key& key) { return x.key() < key; });
+    const bool had = before != previous.end() && before->key() == c.key();
     for (std::int32_t e = in.firstExit; e < in.firstExit + in.exitCount; ++e) {
       const ContactScratch::FacetExit& face = exits[static_cast<std::size_t>(e)];
-      if (-face.height > reach) continue;
+      const bool goesOn = had && dot(face.normal, before->normal) > 1.0 - 1e-6;
+      if (-face.height > reach && !goesOn) continue;
       const double score = behind(face);
       if (score < bestScore ||
           (score == bestScore && best != nullptr && face.height > best->height)) {
@@ -389,7 +399,7 @@ void chooseExitFaces(const Model& model, const std::vector<Vec3>& position, Cont
 }  // namespace
 
 void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& position,
-                            ContactScratch& cache) {
+                            const std::vector<Contact>& previous, ContactScratch& cache) {
   auto& candidates = cache.facetCandidates;
   if (candidates.empty()) return;
   using Candidate = ContactScratch::FacetCandidate;
@@ -420,7 +430,7 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
         return x.probeObject == y.probeObject && x.object == y.object;
       },
       [&](std::size_t begin, std::size_t end) {
-        chooseExitFaces(model, position, cache, begin, end);
+        chooseExitFaces(model, position, previous, cache, begin, end);
       });
 }
 
