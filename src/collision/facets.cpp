@@ -208,9 +208,9 @@ struct ClosestFacet {
 };
 
 // Candidate triangle `triangle` against the best so far (closest); on a closed
-// surface, the triangle is also one of the probe's exit faces (appended to
-// `exits`) when the probe is behind it, over it.
-void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double sheet,
+// surface, with `exits`, the triangle is also one of the probe's exit faces
+// (appended to ContactScratch::facetExits) when the probe is behind it, over it.
+void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double sheet, bool exits,
               std::int32_t triangle, ClosestFacet& closest) {
   const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
     return cache.vertexPosition[static_cast<std::size_t>(v)];
@@ -245,7 +245,7 @@ void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double s
   // by a side's triangle, whose closest point is on its edge).
   const double height = dot(p - x0, faceNormal);
   const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
-  if (!outside) cache.facetExits.push_back({triangle, height, beta, faceNormal});
+  if (exits && !outside) cache.facetExits.push_back({triangle, height, beta, faceNormal});
   if (!closer) return;
   closest.distance = distance;
   closest.triangle = triangle;
@@ -276,12 +276,17 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
       isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
                : model.radius[probe];
   const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
+  // Two bodies that keep their shape choose their faces together
+  // (chooseExitFaces): their probes' exit faces are kept.
+  const bool shapesKept = probeObject != object &&
+                          model.objects[static_cast<std::size_t>(probeObject)].rigid &&
+                          model.objects[static_cast<std::size_t>(object)].rigid;
   ClosestFacet closest;
   const std::size_t firstExit = cache.facetExits.size();
   for (std::size_t c = begin; c < end; ++c) {
     if (c > begin && candidates[c].triangle == candidates[c - 1].triangle) continue;
     ++cache.stats.facetTests;
-    tryFacet(model, cache, p, sheet, candidates[c].triangle, closest);
+    tryFacet(model, cache, p, sheet, shapesKept, candidates[c].triangle, closest);
   }
   const double depth = closest.signedDistance - probeRadius;
   if (closest.triangle < 0 || !(depth < 0.0)) {
@@ -297,10 +302,7 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   c.depth = depth;
   c.normal = closest.normal;
   const auto exits = static_cast<std::int32_t>(cache.facetExits.size() - firstExit);
-  // (Between two bodies that keep their shape: chooseExitFaces.)
-  const bool shapesKept = model.objects[static_cast<std::size_t>(probeObject)].rigid &&
-                          model.objects[static_cast<std::size_t>(object)].rigid;
-  if (exits > 0 && closest.signedDistance < 0.0 && probeObject != object && shapesKept)
+  if (exits > 0 && closest.signedDistance < 0.0)
     cache.facetInside.push_back({static_cast<std::int32_t>(cache.treeContacts.size()), probeObject,
                                  object, static_cast<std::int32_t>(firstExit), exits,
                                  closest.distance});
