@@ -342,8 +342,8 @@ inline const Vec3& probePosition(const Contact& c, const std::vector<Vec3>& posi
 // are nearer, and a box that leans on the edge below stays on the faces it
 // leans on. A probe alone keeps its closest face.
 void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
-                     const std::vector<Contact>& previous, ContactScratch& cache,
-                     std::size_t begin, std::size_t end) {
+                     const std::vector<Contact>& previous, ContactScratch& cache, std::size_t begin,
+                     std::size_t end) {
   const auto& inside = cache.facetInside;
   const auto& exits = cache.facetExits;
   // How far the deepest probe is behind a face's plane (m), once per triangle.
@@ -372,9 +372,9 @@ void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
     double bestScore = std::numeric_limits<double>::infinity();
     // The face it pushed out through at the last evaluation goes on at any
     // depth (its depth changes continuously there).
-    const auto before = std::lower_bound(
-        previous.begin(), previous.end(), c.key(),
-        [](const Contact& x, const Contact::Key& key) { return x.key() < key; });
+    const auto before =
+        std::lower_bound(previous.begin(), previous.end(), c.key(),
+                         [](const Contact& x, const Contact::Key& key) { return x.key() < key; });
     const bool had = before != previous.end() && before->key() == c.key();
     for (std::int32_t e = in.firstExit; e < in.firstExit + in.exitCount; ++e) {
       const ContactScratch::FacetExit& face = exits[static_cast<std::size_t>(e)];
