@@ -340,7 +340,11 @@ inline const Vec3& probePosition(const Contact& c, const std::vector<Vec3>& posi
 // sorted by key), which goes on at any depth. So a box's bottom vertices above
 // the other box's top edge push up, not sideways through the side face they
 // are nearer, and a box that leans on the edge below stays on the faces it
-// leans on. A probe alone keeps its closest face.
+// leans on. The contact takes that face's normal and point, and no more depth
+// than it has behind its closest face: the depth is the closest face's, which
+// never jumps (taking the chosen face's own depth jumped a flush edge vertex's
+// from 0 to the pair's 0.06 mm and stalled three stacked cubes at 6 ms). A
+// probe alone keeps its closest face.
 void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
                      const std::vector<Contact>& previous, ContactScratch& cache, std::size_t begin,
                      std::size_t end) {
@@ -393,7 +397,7 @@ void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
                       : model.radius[c.a];
     c.facet = best->triangle;
     c.facetWeights = best->beta;
-    c.depth = best->height - probeRadius;
+    c.depth = std::max(best->height, -in.closestDepth) - probeRadius;  // (the lesser depth)
     c.normal = best->normal;
   }
 }
