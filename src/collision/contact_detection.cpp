@@ -490,8 +490,6 @@ void clearFinds(ContactScratch& cache) {
   cache.detectedContacts.clear();
   cache.treeContacts.clear();
   cache.facetCandidates.clear();
-  cache.facetExits.clear();
-  cache.facetInside.clear();
   cache.edgeCandidates.clear();
 }
 
@@ -555,7 +553,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position,
     }
   }
   rimsVersusEnvironment(model, position, cache);
-  resolveFacetCandidates(model, position, previous, cache);  // MODEL §3.8: closest triangles
+  resolveFacetCandidates(model, position, cache);  // MODEL §3.8: closest triangles
   resolveEdgeCandidates(model, velocity, previous, cache);  // MODEL §3.8: crossed edges
   if (!cache.treeContacts.empty()) {
     // Merged in (as std::merge: on equal keys the grid's first).

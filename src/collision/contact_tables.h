@@ -435,21 +435,6 @@ struct ContactScratch {
     std::int32_t probe, object, triangle;
   };
   std::vector<FacetCandidate> facetCandidates;
-  /// A facet contact's probe inside a closed surface, and the faces it could
-  /// leave through (facets.cpp chooseExitFaces): candidate triangles it is
-  /// behind, over the triangle.
-  struct FacetExit {
-    std::int32_t triangle;
-    double height;  // the probe's signed distance to the triangle's plane (< 0, m)
-    Vec3 beta, normal;
-  };
-  struct FacetInside {
-    std::int32_t contact, probeObject, object, firstExit, exitCount;
-    double closestDepth;  // behind its closest face (m)
-  };
-  std::vector<FacetExit> facetExits;
-  std::vector<FacetInside> facetInside;
-  std::vector<std::pair<std::int32_t, double>> facetExitScores;  // (a pair's, per triangle)
   /// Edge pairs that touch (MODEL §3.8 "Edges"): edge `edge` of the lower
   /// object against edge `otherEdge` of `object`, at s, t along them; reduced
   /// to the deepest per (edge, object).

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <tuple>
 
 #include "collision/edges.h"
 #include "collision/environment.h"
@@ -207,10 +206,8 @@ struct ClosestFacet {
   Vec3 beta, normal;
 };
 
-// Candidate triangle `triangle` against the best so far (closest); on a closed
-// surface, with `exits`, the triangle is also one of the probe's exit faces
-// (appended to ContactScratch::facetExits) when the probe is behind it, over it.
-void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double sheet, bool exits,
+// Candidate triangle `triangle` against the best so far (closest).
+void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, double sheet,
               std::int32_t triangle, ClosestFacet& closest) {
   const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
     return cache.vertexPosition[static_cast<std::size_t>(v)];
@@ -221,17 +218,16 @@ void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double s
   const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
   const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
   const double distance = norm(p - q);
-  const bool closer = distance < closest.distance;
-  if (!closer && sheet > 0.0) return;
+  if (!(distance < closest.distance)) return;
   Vec3 faceNormal = cross(x1 - x0, x2 - x0);
   const double area = norm(faceNormal);
   if (!(area > 0.0)) return;
   faceNormal = faceNormal / area;
+  closest.distance = distance;
+  closest.triangle = triangle;
+  closest.beta = beta;
   if (sheet > 0.0) {
     // A sheet is touched from either side at its half thickness.
-    closest.distance = distance;
-    closest.triangle = triangle;
-    closest.beta = beta;
     closest.signedDistance = distance - sheet;
     closest.normal = distance > 0.0 ? (p - q) / distance : faceNormal;
     return;
@@ -245,19 +241,12 @@ void tryFacet(const Model& model, ContactScratch& cache, const Vec3& p, double s
   // by a side's triangle, whose closest point is on its edge).
   const double height = dot(p - x0, faceNormal);
   const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
-  if (exits && !outside) cache.facetExits.push_back({triangle, height, beta, faceNormal});
-  if (!closer) return;
-  closest.distance = distance;
-  closest.triangle = triangle;
-  closest.beta = beta;
   closest.signedDistance = outside ? distance : -distance;
   closest.normal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
 }
 
 // One probe (a particle, or a vertex: probe < 0) against one faceted object's
-// candidates [begin, end): its contact with the closest triangle, when it
-// touches; a contact inside a closed surface keeps its exit faces
-// (ContactScratch::facetInside) for chooseExitFaces.
+// candidates [begin, end): its contact with the closest triangle, when it touches.
 void resolveProbe(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
                   std::size_t begin, std::size_t end) {
   const auto& candidates = cache.facetCandidates;
@@ -276,23 +265,14 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
       isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
                : model.radius[probe];
   const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
-  // Two bodies that keep their shape choose their faces together
-  // (chooseExitFaces): their probes' exit faces are kept.
-  const bool shapesKept = probeObject != object &&
-                          model.objects[static_cast<std::size_t>(probeObject)].rigid &&
-                          model.objects[static_cast<std::size_t>(object)].rigid;
   ClosestFacet closest;
-  const std::size_t firstExit = cache.facetExits.size();
   for (std::size_t c = begin; c < end; ++c) {
     if (c > begin && candidates[c].triangle == candidates[c - 1].triangle) continue;
     ++cache.stats.facetTests;
-    tryFacet(model, cache, p, sheet, shapesKept, candidates[c].triangle, closest);
+    tryFacet(model, cache, p, sheet, candidates[c].triangle, closest);
   }
   const double depth = closest.signedDistance - probeRadius;
-  if (closest.triangle < 0 || !(depth < 0.0)) {
-    cache.facetExits.resize(firstExit);
-    return;
-  }
+  if (closest.triangle < 0 || !(depth < 0.0)) return;
   Contact c;
   c.a = isVertex ? t.vertexOwner[static_cast<std::size_t>(vertex)] : probe;
   c.other = model.objects[static_cast<std::size_t>(object)].firstParticle;
@@ -301,111 +281,13 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   c.facetWeights = closest.beta;
   c.depth = depth;
   c.normal = closest.normal;
-  const auto exits = static_cast<std::int32_t>(cache.facetExits.size() - firstExit);
-  if (exits > 0 && closest.signedDistance < 0.0)
-    cache.facetInside.push_back({static_cast<std::int32_t>(cache.treeContacts.size()), probeObject,
-                                 object, static_cast<std::int32_t>(firstExit), exits,
-                                 closest.distance});
   cache.treeContacts.push_back(c);
-}
-
-// Calls run(begin, end) for each run [begin, end) of `items` whose neighbours
-// are `same`.
-template <typename Item, typename Same, typename Run>
-void forEachRun(const std::vector<Item>& items, Same same, Run run) {
-  for (std::size_t begin = 0; begin < items.size();) {
-    std::size_t end = begin + 1;
-    while (end < items.size() && same(items[begin], items[end])) ++end;
-    run(begin, end);
-    begin = end;
-  }
-}
-
-// A facet contact's probe position (a vertex's or a particle's).
-inline const Vec3& probePosition(const Contact& c, const std::vector<Vec3>& position,
-                                 const ContactScratch& cache) {
-  return c.vertex >= 0 ? cache.vertexPosition[static_cast<std::size_t>(c.vertex)] : position[c.a];
-}
-
-// MODEL §3.8 "Which face": the probes of one rigid body inside another,
-// [begin, end) of ContactScratch::facetInside. A probe behind several faces
-// (near an edge: a box set on another flush with its sides, or slid a little)
-// leaves through the face that the pair as a whole penetrates least: the face
-// whose plane the deepest of these probes is least behind (the separating
-// axis of the contact's probes, as SAT takes for two convex bodies); on a tie,
-// the face it is least behind. Only faces the probe itself is no deeper behind
-// than the deepest probe of the pair is behind its closest face (a probe on a
-// face's plane, set flush within rounding, never leaves through the far side),
-// or the plane it pushed out through at the last evaluation (`previous`,
-// sorted by key), which goes on at any depth. So a box's bottom vertices above
-// the other box's top edge push up, not sideways through the side face they
-// are nearer, and a box that leans on the edge below stays on the faces it
-// leans on. The contact takes that face's normal and point, and no more depth
-// than it has behind its closest face: the depth is the closest face's, which
-// never jumps (taking the chosen face's own depth jumped a flush edge vertex's
-// from 0 to the pair's 0.06 mm and stalled three stacked cubes at 6 ms). A
-// probe alone keeps its closest face.
-void chooseExitFaces(const Model& model, const std::vector<Vec3>& position,
-                     const std::vector<Contact>& previous, ContactScratch& cache, std::size_t begin,
-                     std::size_t end) {
-  const auto& inside = cache.facetInside;
-  const auto& exits = cache.facetExits;
-  // How far the deepest probe is behind a face's plane (m), once per triangle.
-  std::vector<std::pair<std::int32_t, double>>& scores = cache.facetExitScores;
-  scores.clear();
-  const auto behind = [&](const ContactScratch::FacetExit& face) {
-    for (const auto& [triangle, score] : scores)
-      if (triangle == face.triangle) return score;
-    const Vec3& x0 = cache.vertexPosition[static_cast<std::size_t>(
-        model.surfaceTriangles[face.triangle].vertex[0])];
-    double deepest = -std::numeric_limits<double>::infinity();
-    for (std::size_t k = begin; k < end; ++k) {
-      const Contact& q = cache.treeContacts[static_cast<std::size_t>(inside[k].contact)];
-      deepest = std::max(deepest, -dot(probePosition(q, position, cache) - x0, face.normal));
-    }
-    scores.emplace_back(face.triangle, deepest);
-    return deepest;
-  };
-  double reach = 0.0;  // the deepest probe's depth behind its closest face (m)
-  for (std::size_t k = begin; k < end; ++k) reach = std::max(reach, inside[k].closestDepth);
-  for (std::size_t k = begin; k < end; ++k) {
-    const ContactScratch::FacetInside& in = inside[k];
-    if (in.exitCount < 2) continue;
-    Contact& c = cache.treeContacts[static_cast<std::size_t>(in.contact)];
-    const ContactScratch::FacetExit* best = nullptr;
-    double bestScore = std::numeric_limits<double>::infinity();
-    // The face it pushed out through at the last evaluation goes on at any
-    // depth (its depth changes continuously there).
-    const auto before =
-        std::lower_bound(previous.begin(), previous.end(), c.key(),
-                         [](const Contact& x, const Contact::Key& key) { return x.key() < key; });
-    const bool had = before != previous.end() && before->key() == c.key();
-    for (std::int32_t e = in.firstExit; e < in.firstExit + in.exitCount; ++e) {
-      const ContactScratch::FacetExit& face = exits[static_cast<std::size_t>(e)];
-      const bool goesOn = had && dot(face.normal, before->normal) > 1.0 - 1e-6;
-      if (-face.height > reach && !goesOn) continue;
-      const double score = behind(face);
-      if (score < bestScore ||
-          (score == bestScore && best != nullptr && face.height > best->height)) {
-        best = &face;
-        bestScore = score;
-      }
-    }
-    if (best == nullptr || best->triangle == c.facet) continue;
-    const double probeRadius =
-        c.vertex >= 0 ? model.objects[static_cast<std::size_t>(in.probeObject)].surfaceRadius
-                      : model.radius[c.a];
-    c.facet = best->triangle;
-    c.facetWeights = best->beta;
-    c.depth = std::max(best->height, -in.closestDepth) - probeRadius;  // (the lesser depth)
-    c.normal = best->normal;
-  }
 }
 
 }  // namespace
 
 void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& position,
-                            const std::vector<Contact>& previous, ContactScratch& cache) {
+                            ContactScratch& cache) {
   auto& candidates = cache.facetCandidates;
   if (candidates.empty()) return;
   using Candidate = ContactScratch::FacetCandidate;
@@ -414,30 +296,15 @@ void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& positio
     if (x.object != y.object) return x.object < y.object;
     return x.triangle < y.triangle;
   });
-  forEachRun(
-      candidates,
-      [](const Candidate& x, const Candidate& y) {
-        return x.probe == y.probe && x.object == y.object;
-      },
-      [&](std::size_t begin, std::size_t end) {
-        resolveProbe(model, position, cache, begin, end);
-      });
-  // Each pair (probe's object, touched object) of inside probes chooses its
-  // exit faces (in contact order within a pair: deterministic).
-  auto& inside = cache.facetInside;
-  using Inside = ContactScratch::FacetInside;
-  std::sort(inside.begin(), inside.end(), [](const Inside& x, const Inside& y) {
-    return std::tie(x.probeObject, x.object, x.contact) <
-           std::tie(y.probeObject, y.object, y.contact);
-  });
-  forEachRun(
-      inside,
-      [](const Inside& x, const Inside& y) {
-        return x.probeObject == y.probeObject && x.object == y.object;
-      },
-      [&](std::size_t begin, std::size_t end) {
-        chooseExitFaces(model, position, previous, cache, begin, end);
-      });
+  std::size_t k = 0;
+  while (k < candidates.size()) {
+    std::size_t end = k;
+    while (end < candidates.size() && candidates[end].probe == candidates[k].probe &&
+           candidates[end].object == candidates[k].object)
+      ++end;
+    resolveProbe(model, position, cache, k, end);
+    k = end;
+  }
 }
 
 FacetCarrier vertexCarrier(const Model& model, const ContactTables& tables,

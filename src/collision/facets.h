@@ -41,12 +41,10 @@ void particleOnLeafFacets(ContactScratch& scratch, const TreeNode& leaf, std::in
 void leafVerticesOnEnvironment(const Model& model, ContactScratch& scratch, const TreeNode& leaf,
                                std::int32_t item);
 /// Reduces the candidates to one contact per (particle or vertex, faceted
-/// object): the closest triangle (lowest index on a tie; between two rigid
-/// bodies, the face the pair penetrates least, with `previous`, the last
-/// evaluation's contacts sorted by key), appended to scratch.treeContacts when
-/// it touches, with depth, normal, facet and weights.
+/// object): the closest triangle (lowest index on a tie), appended to
+/// scratch.treeContacts when it touches, with depth, normal, facet and weights.
 void resolveFacetCandidates(const Model& model, const std::vector<Vec3>& position,
-                            const std::vector<Contact>& previous, ContactScratch& scratch);
+                            ContactScratch& scratch);
 
 /// What the contact law needs of a facet contact: the relative position of the
 /// touching point and the point it touches (the triangle's point at the contact's

@@ -97,7 +97,7 @@ TEST(Facets, APointBesideAFaceAndBelowItsPlaneIsOutside) {
       scratch.facetCandidates.push_back({probe, 0, static_cast<std::int32_t>(t)});
     }
     EXPECT_FALSE(scratch.facetCandidates.empty());
-    resolveFacetCandidates(model, position, {}, scratch);
+    resolveFacetCandidates(model, position, scratch);
     return scratch.treeContacts;
   };
   std::vector<Vec3> position = built.initial.position;

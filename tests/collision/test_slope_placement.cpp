@@ -199,70 +199,24 @@ TEST(SlopePlacementSliding, AboveTheFrictionAngleAtTheKineticLaw) {
   }
 }
 
-// Five rigid faceted boxes stacked flush (their sides in line) on a slope, set
-// with zero gap and full gravity at t = 0, and the rigid placement cases'
-// Stribeck velocity (0.1 m/s, above): a box's bottom vertices lie on the box
-// below's top edges, as near its side faces as its top. Before each probe
-// chose its face with the pair (facets.cpp chooseExitFaces: the face the pair's
-// probes are least behind, and the face it was pushing through goes on; MODEL
-// §3.8), the vertices sunk past a side face were pushed out sideways: at 15°
-// the boxes tipped 5-9°, rode 2-3 mm up on each other's edges and crept 0.14,
-// 2.8, 9.2, 16.9 and 24.7 mm (adaptive step, v_S 0); at 20° the step stalled.
-// Now (measured 2026-12-07, 2 s at a fixed 0.1 ms): at 10° 0.06-0.70 mm, at
-// 15° 0.12, 0.34, 0.51, 0.71 and 0.93 mm, each box's centre 0.05-0.22 mm lower
-// (the contacts' compression), at rest. (Without the Stribeck velocity the top
-// box slides 2.5 mm at 15°: full tilted gravity at t = 0 finds no normal force
-// yet, the box starts sliding, and μ_k = 0.30 against tan 15° = 0.27 stops it
-// slowly.) Slow under the sanitizers.
-class RigidStack : public ::testing::TestWithParam<double> {};
-
-// Four faceted boxes 0.05 m high stacked flush on boxScene's box, each set with
-// zero gap on the one below.
-std::string stackedBoxes(bool facets, bool rigid) {
+// Five faceted boxes stacked on a 15° slope (tan 15° = 0.27, below μ_k too): the
+// bottom one as above, four 0.05 m high on it, each set with zero gap on the
+// one below, full gravity from t = 0. The stack must hold, no box creeping
+// 1 mm. It does not yet (issue 36; measured 2026-12-06 over 2 s: boxes 0-3
+// creep 1.2, 3.3, 7.8 and 14 mm and the top box slides off, 1.85 m; as lattices
+// ("facets": false) all five slide, 0.9-1.7 m), so it is disabled.
+TEST(SlopePlacementStack, DISABLED_FiveBoxesHoldOnFifteenDegrees) {
+  const bool facets = true;
   std::string boxes;
   for (int k = 1; k < 5; ++k) {
     char text[512];
     std::snprintf(text, sizeof text,
                   R"(, {"name": "box%d", "type": "box", "center": [0, 0, %.17g],
                         "size": [0.15, 0.15, 0.05], "cells": [3, 3, 2], "mass": 1,
-                        "material": "m", "facets": %s, "rigid": %s})",
-                  k, 0.075 + 0.05 * k, facets ? "true" : "false", rigid ? "true" : "false");
+                        "material": "m", "facets": %s})",
+                  k, 0.075 + 0.05 * k, facets ? "true" : "false");
     boxes += text;
   }
-  return boxes;
-}
-
-TEST_P(RigidStack, FlushBoxesStayLevelAndStop) {
-  const double degrees = GetParam();
-  const std::string boxes = stackedBoxes(true, true);
-  World world = test::sceneWorld(boxScene(degrees * kSlopeDegree, kZeroGap, true, boxes, true, 0.1));
-  std::vector<Vec3> start;
-  for (int k = 0; k < 5; ++k) start.push_back(test::centerOfMass(world, k));
-  test::advance(world, 2.0, kZeroGap.step);
-  for (int k = 0; k < 5; ++k) {
-    const Vec3 end = test::centerOfMass(world, k);
-    const Vec3 from = start[static_cast<std::size_t>(k)];
-    std::printf("rigid stack on %.0f deg: box %d creeps %.3e m, rises %.3e m\n", degrees, k,
-                end.x - from.x, end.z - from.z);
-    EXPECT_LT(std::fabs(end.x - from.x), 1e-3) << "box " << k;
-    EXPECT_LT(std::fabs(end.z - from.z), 5e-4) << "box " << k;
-  }
-  EXPECT_LT(norm(test::comVelocity(world)), 1e-3);
-}
-
-INSTANTIATE_TEST_SUITE_P(Slopes, RigidStack, ::testing::Values(10.0, 15.0));
-
-// Five faceted boxes stacked on a 15° slope (tan 15° = 0.27, below μ_k too): the
-// bottom one as above, four 0.05 m high on it, each set with zero gap on the
-// one below, full gravity from t = 0. The stack must hold, no box creeping
-// 1 mm. These deformable (lattice) boxes do not yet (issue 36; measured
-// 2026-12-07 over 2 s: boxes 0-3 creep 1.2, 3.3, 7.8 and 14 mm and the top box
-// slides off, 1.85 m, as on 2026-12-06: the lattices ring, and the pair's face
-// rule is the rigid bodies' only; as lattices without facets all five slide,
-// 0.9-1.7 m), so it is disabled. The rigid boxes hold: RigidStack above.
-TEST(SlopePlacementStack, DISABLED_FiveBoxesHoldOnFifteenDegrees) {
-  const bool facets = true;
-  const std::string boxes = stackedBoxes(facets, false);
   World world = test::sceneWorld(boxScene(15.0 * kSlopeDegree, kZeroGap, facets, boxes));
   std::vector<Vec3> start;
   for (int k = 0; k < 5; ++k) start.push_back(test::centerOfMass(world, k));
