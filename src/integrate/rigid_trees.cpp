@@ -185,7 +185,8 @@ void collectImplicitLoads(const Model& model, const ContactTables& tables, const
 void limitTreeContactStep(const Model& model, const ContactTables& tables,
                           const std::vector<Vec3>& position, Evaluation& evaluation) {
   if (evaluation.contacts.empty()) return;
-  // Stiffness and damping sums per (tree, body), in scratch's spare vectors.
+  // Stiffness and damping sums per (tree, body) (allocated per evaluation: a
+  // vector per touching tree).
   std::vector<std::vector<law::Rates>> sums(model.rigidTrees.size());
   bool any = false;
   PairParameters overridden;
