@@ -287,6 +287,24 @@ void classifyParticles(const Model& model, ContactTables& cache) {
   classifyTrees(model, cache, objectSize, largeSingles);
 }
 
+// ContactTables::vertexTriangleStart/vertexTriangle: each vertex's triangles.
+void vertexTriangles(const Model& model, ContactTables& cache) {
+  const std::size_t n = model.surfaceVertices.size();
+  cache.vertexTriangleStart.assign(n + 1, 0);
+  for (const SurfaceTriangle& t : model.surfaceTriangles)
+    for (const std::int32_t v : t.vertex)
+      ++cache.vertexTriangleStart[static_cast<std::size_t>(v) + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    cache.vertexTriangleStart[v + 1] += cache.vertexTriangleStart[v];
+  cache.vertexTriangle.resize(3 * model.surfaceTriangles.size());
+  std::vector<std::int32_t> fill(cache.vertexTriangleStart.begin(),
+                                 cache.vertexTriangleStart.end() - 1);
+  for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t)
+    for (const std::int32_t v : model.surfaceTriangles[t].vertex)
+      cache.vertexTriangle[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] =
+          static_cast<std::int32_t>(t);
+}
+
 // How each surface vertex moves under the contacts' loads (ContactTables::
 // vertexInverseMass, vertexOnBody): a vertex whose particles all ride one rigid
 // tree body is a point of that body (its offset Σ w_k p_BP,k: the embedding is
@@ -424,6 +442,7 @@ void classifySurfaces(const Model& model, ContactTables& cache) {
   };
   csr(cache.vertexOwner, cache.ownedVertexStart, cache.ownedVertex);
   csr(triangleOwner, cache.ownedTriangleStart, cache.ownedTriangle);
+  vertexTriangles(model, cache);
   cache.edges = sharedEdges(model, cache);
   std::vector<std::int32_t> edgeOwner(cache.edges.size());
   for (std::size_t e = 0; e < cache.edges.size(); ++e)

@@ -153,6 +153,9 @@ struct ContactTables {
   /// particle of largest total weight over its three vertices.
   std::vector<std::int32_t> ownedVertexStart, ownedVertex;      // (particles + 1), (vertices)
   std::vector<std::int32_t> ownedTriangleStart, ownedTriangle;  // (particles + 1), (triangles)
+  /// Per surface vertex, the triangles it is a corner of (CSR): the faces a
+  /// vertex probe presses with (facets.cpp, "Which face").
+  std::vector<std::int32_t> vertexTriangleStart, vertexTriangle;  // (vertices + 1), (3 triangles)
   /// The edges of faceted objects' surface meshes that two triangles of the
   /// object share (MODEL §3.8 "Edges"): vertex[0] < vertex[1], the two
   /// triangles, and the vertex of each triangle off the edge. An edge's

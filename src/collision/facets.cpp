@@ -4,6 +4,7 @@
 #include "collision/facets.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -198,17 +199,77 @@ namespace {
 
 // The closest of a probe's candidate triangles [begin, end) of one object:
 // smallest |p - q|, the lowest index on a tie; its signed distance (m), normal
-// and barycentric weights.
+// and barycentric weights. `faceToFace`: whether the probe (a vertex) presses
+// on it with a face of its own (FacesOfVertex).
 struct ClosestFacet {
   std::int32_t triangle = -1;
   double distance = std::numeric_limits<double>::infinity();
   double signedDistance = 0.0;
   Vec3 beta, normal;
+  bool faceToFace = false;
 };
 
-// Candidate triangle `triangle` against the best so far (closest).
+// A face of a vertex probe's own body and a face it is behind are face to face
+// when their outward normals are opposed within about 25° (cos 25° ≈ 0.9): a
+// box set on another, or tilted a little on it.
+constexpr double kFaceToFace = 0.9;
+// How deep behind the face it presses (as a fraction of its particle's radius:
+// a resting contact's depth, the step's penetration bound) a vertex may be for
+// that face to take it. The force is then the face's normal times the closest
+// face's depth, which is not the gradient of that depth's energy: the work it
+// does beyond that energy, as the vertex leaves, is at most κ h²/4 for a depth
+// h behind the pressed face, so h is kept small; deeper (bodies set
+// overlapping, a crushed body) the closest face takes it.
+constexpr double kPressedDepth = 0.1;
+
+// The outward normals of the triangles a vertex is a corner of, at this
+// evaluation (the first kMax distinct ones: a box's corner has three, a
+// smooth mesh's vertex a fan).
+struct FacesOfVertex {
+  static constexpr int kMax = 16;
+  std::array<Vec3, kMax> normal;
+  int count = 0;
+  // Whether a face of normal n (unit, outward) is opposed to one of these.
+  bool opposes(const Vec3& n) const {
+    for (int k = 0; k < count; ++k)
+      if (dot(normal[static_cast<std::size_t>(k)], n) < -kFaceToFace) return true;
+    return false;
+  }
+};
+
+inline Vec3 faceNormalOf(const SurfaceTriangle& tri, const ContactScratch& cache) {
+  const auto at = [&](int j) -> const Vec3& {
+    return cache.vertexPosition[static_cast<std::size_t>(tri.vertex[static_cast<std::size_t>(j)])];
+  };
+  return cross(at(1) - at(0), at(2) - at(0));
+}
+
+FacesOfVertex facesOfVertex(const Model& model, const ContactScratch& cache, std::int32_t vertex) {
+  const ContactTables& t = *cache.tables;
+  FacesOfVertex faces;
+  const auto v = static_cast<std::size_t>(vertex);
+  for (std::int32_t k = t.vertexTriangleStart[v]; k < t.vertexTriangleStart[v + 1]; ++k) {
+    Vec3 n =
+        faceNormalOf(model.surfaceTriangles[t.vertexTriangle[static_cast<std::size_t>(k)]], cache);
+    const double area = norm(n);
+    if (!(area > 0.0)) continue;
+    n = n / area;
+    bool known = false;
+    for (int j = 0; j < faces.count; ++j)
+      known = known || dot(faces.normal[static_cast<std::size_t>(j)], n) > 1.0 - 1e-9;
+    if (known) continue;
+    faces.normal[static_cast<std::size_t>(faces.count++)] = n;
+    if (faces.count == FacesOfVertex::kMax) break;
+  }
+  return faces;
+}
+
+// Candidate triangle `triangle` against the best so far (closest); and, for a
+// vertex probe (`faces` not null) behind it over it, against the face to face
+// triangle it is least behind (`pressed`: distance is that height, negative).
 void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, double sheet,
-              std::int32_t triangle, ClosestFacet& closest) {
+              const FacesOfVertex* faces, std::int32_t triangle, ClosestFacet& closest,
+              ClosestFacet& pressed) {
   const auto vertexAt = [&](std::int32_t v) -> const Vec3& {
     return cache.vertexPosition[static_cast<std::size_t>(v)];
   };
@@ -218,16 +279,18 @@ void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, do
   const Vec3 beta = closestOnTriangle(p, x0, x1, x2);
   const Vec3 q = x0 * beta.x + x1 * beta.y + x2 * beta.z;
   const double distance = norm(p - q);
-  if (!(distance < closest.distance)) return;
+  const bool closer = distance < closest.distance;
+  if (!closer && faces == nullptr) return;
   Vec3 faceNormal = cross(x1 - x0, x2 - x0);
   const double area = norm(faceNormal);
   if (!(area > 0.0)) return;
   faceNormal = faceNormal / area;
-  closest.distance = distance;
-  closest.triangle = triangle;
-  closest.beta = beta;
   if (sheet > 0.0) {
+    if (!closer) return;
     // A sheet is touched from either side at its half thickness.
+    closest.distance = distance;
+    closest.triangle = triangle;
+    closest.beta = beta;
     closest.signedDistance = distance - sheet;
     closest.normal = distance > 0.0 ? (p - q) / distance : faceNormal;
     return;
@@ -241,12 +304,31 @@ void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, do
   // by a side's triangle, whose closest point is on its edge).
   const double height = dot(p - x0, faceNormal);
   const bool outside = height >= 0.0 || distance * (1.0 - 1e-9) > -height;
+  const bool faceToFace = !outside && faces != nullptr && faces->opposes(faceNormal);
+  if (faceToFace && height > pressed.signedDistance) {
+    pressed.triangle = triangle;
+    pressed.signedDistance = height;
+    pressed.beta = beta;
+    pressed.normal = faceNormal;
+  }
+  if (!closer) return;
+  closest.distance = distance;
+  closest.triangle = triangle;
+  closest.beta = beta;
   closest.signedDistance = outside ? distance : -distance;
   closest.normal = outside && distance > 0.0 ? (p - q) / distance : faceNormal;
+  closest.faceToFace = faceToFace;
 }
 
 // One probe (a particle, or a vertex: probe < 0) against one faceted object's
-// candidates [begin, end): its contact with the closest triangle, when it touches.
+// candidates [begin, end): its contact with the closest triangle, when it
+// touches. MODEL §3.8 "Which face": a vertex inside a closed surface that is
+// behind a face it is face to face with (a face of its own body opposed to it:
+// a box's bottom corner on another box's top) and nearer another face (the
+// side, where the boxes' sides are flush, or the corner has slid a fraction of
+// a millimetre past the edge) pushes out through the face it presses with, at
+// the closest face's depth: the face's normal and point, the depth that
+// changes continuously as the corner crosses the edge.
 void resolveProbe(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
                   std::size_t begin, std::size_t end) {
   const auto& candidates = cache.facetCandidates;
@@ -265,11 +347,16 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
       isVertex ? model.objects[static_cast<std::size_t>(probeObject)].surfaceRadius
                : model.radius[probe];
   const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
-  ClosestFacet closest;
+  FacesOfVertex faces;
+  const bool pressing = isVertex && sheet <= 0.0 && probeObject != object;
+  if (pressing) faces = facesOfVertex(model, cache, vertex);
+  ClosestFacet closest, pressed;
+  pressed.signedDistance = -std::numeric_limits<double>::infinity();
   for (std::size_t c = begin; c < end; ++c) {
     if (c > begin && candidates[c].triangle == candidates[c - 1].triangle) continue;
     ++cache.stats.facetTests;
-    tryFacet(model, cache, p, sheet, candidates[c].triangle, closest);
+    tryFacet(model, cache, p, sheet, pressing ? &faces : nullptr, candidates[c].triangle, closest,
+             pressed);
   }
   const double depth = closest.signedDistance - probeRadius;
   if (closest.triangle < 0 || !(depth < 0.0)) return;
@@ -277,10 +364,13 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   c.a = isVertex ? t.vertexOwner[static_cast<std::size_t>(vertex)] : probe;
   c.other = model.objects[static_cast<std::size_t>(object)].firstParticle;
   c.vertex = vertex;
-  c.facet = closest.triangle;
-  c.facetWeights = closest.beta;
+  const bool turn = pressed.triangle >= 0 && !closest.faceToFace && closest.signedDistance < 0.0 &&
+                    -pressed.signedDistance <= kPressedDepth * model.radius[c.a];
+  const ClosestFacet& face = turn ? pressed : closest;
+  c.facet = face.triangle;
+  c.facetWeights = face.beta;
   c.depth = depth;
-  c.normal = closest.normal;
+  c.normal = face.normal;
   cache.treeContacts.push_back(c);
 }
 

@@ -199,7 +199,17 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
     if (sums[tree].empty()) sums[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), {});
     const PairParameters& pair = pairParameters(model, tables, a, other, overridden);
     const auto b = static_cast<std::size_t>(tables.treeBodyOf[static_cast<std::size_t>(particle)]);
-    sums[tree][b].add({pair.stiffness + pair.tangentialStiffness, pair.damping});
+    // The anchor's damper while it holds (MODEL §3.3: c_t for the pair's
+    // effective mass, as the contact law's); none while it slides.
+    double tangentialDamping = 0.0;
+    if (c.sliding != 1 && pair.tangentialStiffness > 0.0) {
+      double inverseMass = tables.contactInverseMass[static_cast<std::size_t>(a)];
+      if (other >= 0) inverseMass += tables.contactInverseMass[static_cast<std::size_t>(other)];
+      tangentialDamping = law::tangentialDamping(pair.tangentialDampingRatio,
+                                                 pair.tangentialStiffness, inverseMass);
+    }
+    sums[tree][b].add(law::stabilityRates(pair.stiffness, pair.damping, pair.tangentialStiffness,
+                                          tangentialDamping, 1.0));
     any = true;
   };
   for (const Contact& c : evaluation.contacts) {
