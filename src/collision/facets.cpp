@@ -322,7 +322,8 @@ void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, do
 
 // One probe (a particle, or a vertex: probe < 0) against one faceted object's
 // candidates [begin, end): its contact with the closest triangle, when it
-// touches. MODEL §3.8 "Which face": a vertex inside a closed surface that is
+// touches. MODEL §3.8 "Which face": a rigid body's vertex inside another rigid
+// body's closed surface that is
 // behind a face it is face to face with (a face of its own body opposed to it:
 // a box's bottom corner on another box's top) and nearer another face (the
 // side, where the boxes' sides are flush, or the corner has slid a fraction of
@@ -348,7 +349,12 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
                : model.radius[probe];
   const double sheet = model.objects[static_cast<std::size_t>(object)].surfaceRadius;
   FacesOfVertex faces;
-  const bool pressing = isVertex && sheet <= 0.0 && probeObject != object;
+  // Faces that keep their shape: two rigid bodies (a lattice's faces bend and
+  // ring under load, and the rule's work beyond the energy pumped a stack of
+  // lattice boxes: docs/contact.md "Stacks").
+  const bool pressing = isVertex && sheet <= 0.0 && probeObject != object &&
+                        model.objects[static_cast<std::size_t>(probeObject)].rigid &&
+                        model.objects[static_cast<std::size_t>(object)].rigid;
   if (pressing) faces = facesOfVertex(model, cache, vertex);
   ClosestFacet closest, pressed;
   pressed.signedDistance = -std::numeric_limits<double>::infinity();
