@@ -23,7 +23,8 @@ import os
 import re
 import sys
 
-SEARCHED_DIRS = ("src", "include", "python/src")
+from source_files import sources
+
 LAW_HOME = "src/collision/contact_law.inl"
 MATERIAL_HOME = "src/model/model.cpp"
 
@@ -50,16 +51,6 @@ COPIES = [
     (re.compile(r"sqrt\(\s*\w+\.(static|kinetic)Friction\s*\*"), MATERIAL_HOME,
      "a geometric mean of friction coefficients"),
 ]
-
-
-def sources(repo):
-    for top in SEARCHED_DIRS:
-        for folder, dirs, files in os.walk(os.path.join(repo, top)):
-            dirs[:] = sorted(d for d in dirs if d not in {"build", "__pycache__"})
-            for name in sorted(files):
-                if name.endswith((".cpp", ".h", ".hpp", ".inl")):
-                    path = os.path.join(folder, name)
-                    yield os.path.relpath(path, repo).replace(os.sep, "/"), path
 
 
 def main() -> int:

@@ -17,7 +17,8 @@ import os
 import re
 import sys
 
-SEARCHED_DIRS = ("src", "include", "python/src")
+from source_files import sources
+
 # Readers that choose a generator (or an XML element) by its written name.
 READER_DIRS = ("src/scene/", "src/build/")
 COMPARISON = re.compile(r"""\bkind\s*[!=]=\s*"|"\s*[!=]=\s*\w*\.?kind\b""")
@@ -26,21 +27,14 @@ COMPARISON = re.compile(r"""\bkind\s*[!=]=\s*"|"\s*[!=]=\s*\w*\.?kind\b""")
 def main() -> int:
     repo = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     found = []
-    for top in SEARCHED_DIRS:
-        for folder, dirs, files in os.walk(os.path.join(repo, top)):
-            dirs[:] = sorted(d for d in dirs if d not in {"build", "__pycache__"})
-            for name in sorted(files):
-                if not name.endswith((".cpp", ".h", ".hpp", ".inl")):
-                    continue
-                path = os.path.join(folder, name)
-                rel = os.path.relpath(path, repo).replace(os.sep, "/")
-                if rel.startswith(READER_DIRS):
-                    continue
-                with open(path, encoding="utf-8") as f:
-                    for number, line in enumerate(f, 1):
-                        code = line.split("//", 1)[0]
-                        if COMPARISON.search(code):
-                            found.append(f"{rel}:{number}: {line.strip()}")
+    for rel, path in sources(repo):
+        if rel.startswith(READER_DIRS):
+            continue
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                code = line.split("//", 1)[0]
+                if COMPARISON.search(code):
+                    found.append(f"{rel}:{number}: {line.strip()}")
     for line in found:
         print(line)
     print(f"check_physics_names: {len(found)} comparison(s) of a kind with a name outside the readers")
