@@ -507,7 +507,7 @@ void detectContacts(const Model& model, const std::vector<Vec3>& position,
   if (!treeListKept || !cache.tables->gridParticles.empty() || items > 0)
     refitSphereTrees(model, position, cache);
   updateSurfacePositions(model, position, cache);  // MODEL §3.8
-  if (!cache.tables->edges.empty()) updateEdgeShapes(model, cache);
+  if (!cache.tables->edges.empty()) updateEdgeShapes(cache);
   // Grid particles: the neighbour list (rebuilt when a particle has moved more
   // than half the skin), then each particle's touching partners in ascending
   // order, then the environment. The trees search the grid at every evaluation.

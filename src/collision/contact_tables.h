@@ -450,7 +450,8 @@ struct ContactScratch {
   /// The longest step (s) before a pair of ridges still apart closes past the
   /// onset of an edge contact (edges.h), infinite when none approaches.
   double edgeApproachStep = 0.0;
-  /// At this evaluation: each faceted object's triangles' unit normals, and
+  /// At this evaluation: each faceted object's triangles' unit normals (the
+  /// closest-triangle search and the edges read them), and
   /// per ContactTables::edges whether it is a ridge (convex, and bent: edges.cpp).
   std::vector<Vec3> triangleNormal;  // (surface triangles)
   std::vector<std::int8_t> edgeRidge;

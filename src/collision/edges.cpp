@@ -29,12 +29,6 @@ bool insideCone(const Vec3& n, const Vec3& c1, const Vec3& c2) {
   return dot(cross(c1, n), axis) > kEdgeConeMargin && dot(cross(n, c2), axis) > kEdgeConeMargin;
 }
 
-Vec3 unitNormal(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
-  const Vec3 n = cross(p1 - p0, p2 - p0);
-  const double length = norm(n);
-  return length > 0.0 ? n / length : Vec3{};
-}
-
 // An edge as the detection sees it: its ends and its faces' outward normals,
 // and whether it is a convex ridge (updateEdgeShapes).
 struct EdgeShape {
@@ -126,18 +120,12 @@ bool edgesTouch(const Vec3& x0, const Vec3& x1, const Vec3& a1, const Vec3& a2, 
          -out.depth < 0.5 * out.shorter;
 }
 
-void updateEdgeShapes(const Model& model, ContactScratch& cache) {
+void updateEdgeShapes(ContactScratch& cache) {
   const std::vector<ContactTables::SurfaceEdge>& edges = cache.tables->edges;
   const auto at = [&](std::int32_t v) -> const Vec3& {
     return cache.vertexPosition[static_cast<std::size_t>(v)];
   };
-  // Each triangle's normal once (a box's 72 edges share its 48 triangles).
-  cache.triangleNormal.resize(model.surfaceTriangles.size());
-  for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
-    const SurfaceTriangle& tri = model.surfaceTriangles[t];
-    if (cache.tables->objectFaceted[static_cast<std::size_t>(tri.object)] == 0) continue;
-    cache.triangleNormal[t] = unitNormal(at(tri.vertex[0]), at(tri.vertex[1]), at(tri.vertex[2]));
-  }
+  // (The triangles' normals: updateSurfacePositions, once a triangle.)
   cache.edgeRidge.resize(edges.size());
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const ContactTables::SurfaceEdge& edge = edges[k];

@@ -11,9 +11,9 @@
 
 namespace robophi {
 
-/// The faceted objects' triangles' normals and whether each edge is a ridge,
-/// from scratch.vertexPosition (ContactScratch::triangleNormal, edgeRidge).
-void updateEdgeShapes(const Model& model, ContactScratch& scratch);
+/// Whether each edge is a ridge (ContactScratch::edgeRidge), from
+/// scratch.vertexPosition and scratch.triangleNormal (updateSurfacePositions).
+void updateEdgeShapes(ContactScratch& scratch);
 /// Two faceted leaves of different objects: their edge pairs that touch, into
 /// scratch.edgeCandidates (the lower object's edge first).
 void leafEdgesOnLeafEdges(const Model& model, ContactScratch& scratch, const TreeNode& a,

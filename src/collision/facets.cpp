@@ -134,6 +134,19 @@ void updateSurfacePositions(const Model& model, const std::vector<Vec3>& positio
   cache.vertexPosition.resize(model.surfaceVertices.size());
   for (std::size_t v = 0; v < model.surfaceVertices.size(); ++v)
     cache.vertexPosition[v] = embedded(model.surfaceVertices[v], position);
+  // Each faceted triangle's unit normal once (the closest-triangle search and
+  // the edges read it; a box's 72 edges share its 48 triangles); zero for a
+  // degenerate triangle.
+  cache.triangleNormal.resize(model.surfaceTriangles.size());
+  for (std::size_t t = 0; t < model.surfaceTriangles.size(); ++t) {
+    const SurfaceTriangle& tri = model.surfaceTriangles[t];
+    if (cache.tables->objectFaceted[static_cast<std::size_t>(tri.object)] == 0) continue;
+    const Vec3& x0 = cache.vertexPosition[static_cast<std::size_t>(tri.vertex[0])];
+    const Vec3 n = cross(cache.vertexPosition[static_cast<std::size_t>(tri.vertex[1])] - x0,
+                         cache.vertexPosition[static_cast<std::size_t>(tri.vertex[2])] - x0);
+    const double area = norm(n);
+    cache.triangleNormal[t] = area > 0.0 ? n / area : Vec3{};
+  }
 }
 
 void leavesWithFacets(const Model& model, const std::vector<Vec3>& position, ContactScratch& cache,
@@ -237,23 +250,16 @@ struct FacesOfVertex {
   }
 };
 
-inline Vec3 faceNormalOf(const SurfaceTriangle& tri, const ContactScratch& cache) {
-  const auto at = [&](int j) -> const Vec3& {
-    return cache.vertexPosition[static_cast<std::size_t>(tri.vertex[static_cast<std::size_t>(j)])];
-  };
-  return cross(at(1) - at(0), at(2) - at(0));
-}
-
-FacesOfVertex facesOfVertex(const Model& model, const ContactScratch& cache, std::int32_t vertex) {
+// The distinct unit normals of a vertex's triangles (this evaluation's,
+// ContactScratch::triangleNormal).
+FacesOfVertex facesOfVertex(const ContactScratch& cache, std::int32_t vertex) {
   const ContactTables& t = *cache.tables;
   FacesOfVertex faces;
   const auto v = static_cast<std::size_t>(vertex);
   for (std::int32_t k = t.vertexTriangleStart[v]; k < t.vertexTriangleStart[v + 1]; ++k) {
-    Vec3 n =
-        faceNormalOf(model.surfaceTriangles[t.vertexTriangle[static_cast<std::size_t>(k)]], cache);
-    const double area = norm(n);
-    if (!(area > 0.0)) continue;
-    n = n / area;
+    const Vec3& n = cache.triangleNormal[static_cast<std::size_t>(
+        t.vertexTriangle[static_cast<std::size_t>(k)])];
+    if (squaredNorm(n) == 0.0) continue;  // a degenerate triangle
     bool known = false;
     for (int j = 0; j < faces.count; ++j)
       known = known || dot(faces.normal[static_cast<std::size_t>(j)], n) > 1.0 - 1e-9;
@@ -266,7 +272,8 @@ FacesOfVertex facesOfVertex(const Model& model, const ContactScratch& cache, std
 
 // Candidate triangle `triangle` against the best so far (closest); and, for a
 // vertex probe (`faces` not null) behind it over it, against the face to face
-// triangle it is least behind (`pressed`: distance is that height, negative).
+// triangle it is least behind (`pressed`: its signedDistance is the probe's
+// height over that face's plane, negative; -inf while there is none).
 void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, double sheet,
               const FacesOfVertex* faces, std::int32_t triangle, ClosestFacet& closest,
               ClosestFacet& pressed) {
@@ -281,10 +288,9 @@ void tryFacet(const Model& model, const ContactScratch& cache, const Vec3& p, do
   const double distance = norm(p - q);
   const bool closer = distance < closest.distance;
   if (!closer && faces == nullptr) return;
-  Vec3 faceNormal = cross(x1 - x0, x2 - x0);
-  const double area = norm(faceNormal);
-  if (!(area > 0.0)) return;
-  faceNormal = faceNormal / area;
+  // This evaluation's unit normal (updateSurfacePositions); zero if degenerate.
+  const Vec3& faceNormal = cache.triangleNormal[static_cast<std::size_t>(triangle)];
+  if (squaredNorm(faceNormal) == 0.0) return;
   if (sheet > 0.0) {
     if (!closer) return;
     // A sheet is touched from either side at its half thickness.
@@ -355,7 +361,7 @@ void resolveProbe(const Model& model, const std::vector<Vec3>& position, Contact
   const bool pressing = isVertex && sheet <= 0.0 && probeObject != object &&
                         model.objects[static_cast<std::size_t>(probeObject)].rigid &&
                         model.objects[static_cast<std::size_t>(object)].rigid;
-  if (pressing) faces = facesOfVertex(model, cache, vertex);
+  if (pressing) faces = facesOfVertex(cache, vertex);
   ClosestFacet closest, pressed;
   pressed.signedDistance = -std::numeric_limits<double>::infinity();
   for (std::size_t c = begin; c < end; ++c) {

@@ -26,7 +26,9 @@ double facetTreeMargin(const Model& model, const std::vector<Vec3>& position,
 
 // (surfaceVertexPoint and touchingPoint: robophi/surface_points.h.)
 
-/// Vertex positions x_v = Σ w_k p_k of every surface vertex into scratch.vertexPosition.
+/// Vertex positions x_v = Σ w_k p_k of every surface vertex into
+/// scratch.vertexPosition, and each faceted triangle's unit normal into
+/// scratch.triangleNormal (zero for a degenerate one).
 void updateSurfacePositions(const Model& model, const std::vector<Vec3>& position,
                             ContactScratch& scratch);
 

@@ -199,8 +199,10 @@ void limitTreeContactStep(const Model& model, const ContactTables& tables,
     if (sums[tree].empty()) sums[tree].assign(model.rigidTrees[tree].multibody.bodies.size(), {});
     const PairParameters& pair = pairParameters(model, tables, a, other, overridden);
     const auto b = static_cast<std::size_t>(tables.treeBodyOf[static_cast<std::size_t>(particle)]);
-    // The anchor's damper while it holds (MODEL §3.3: c_t for the pair's
-    // effective mass, as the contact law's); none while it slides.
+    // The anchor's damper while it holds or breaks away (MODEL §3.3), none
+    // while it slides: c_t for the two sides' particles' inverse mass bounds
+    // (the contact law takes the touching vertex's and triangle's, from the
+    // same bodies).
     double tangentialDamping = 0.0;
     if (c.sliding != 1 && pair.tangentialStiffness > 0.0) {
       double inverseMass = tables.contactInverseMass[static_cast<std::size_t>(a)];
